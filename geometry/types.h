@@ -1,0 +1,99 @@
+// Value types shared by every stage: planes, sections, cutting planes, grids, meshes.
+// Vocabulary of the thesis (Introduction §3.1-3.2): a cutting plane P carries sections, the
+// connected components of O ∩ P; each section is a planar region bounded by section-contours.
+// Units: millimetres. World frame right-handed.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace xsect {
+
+using Vec2 = Eigen::Vector2d;
+using Vec3 = Eigen::Vector3d;
+using Mat4 = Eigen::Matrix4d;
+
+/// A plane with an orthonormal, right-handed frame (u, v, normal) and an origin.
+/// Plane coordinates (a, b) in mm map to origin + a*u + b*v.
+struct Plane {
+  Vec3 origin = Vec3::Zero();
+  Vec3 u = Vec3::UnitX();
+  Vec3 v = Vec3::UnitY();
+  Vec3 normal = Vec3::UnitZ();
+
+  Vec3 toWorld(const Vec2& p) const { return origin + p.x() * u + p.y() * v; }
+  /// Plane coordinates of the orthogonal projection of x on the plane.
+  Vec2 toPlane(const Vec3& x) const {
+    const Vec3 d = x - origin;
+    return {d.dot(u), d.dot(v)};
+  }
+  /// Signed distance of x to the plane (positive on the normal's side).
+  double signedDistance(const Vec3& x) const { return (x - origin).dot(normal); }
+  Vec3 project(const Vec3& x) const { return x - signedDistance(x) * normal; }
+};
+
+/// A closed polygonal curve in plane coordinates (mm); the last vertex connects to the first.
+using Ring = std::vector<Vec2>;
+
+/// A section: one connected planar region, an outer contour (counter-clockwise) with holes
+/// (clockwise), in the (u, v) frame of its plane.
+struct Section {
+  Ring outer;
+  std::vector<Ring> holes;
+  int label = 1;  ///< material label (1 for single-material inputs)
+};
+
+/// Axis-aligned rectangle in plane coordinates (mm): the part of the plane that was observed.
+struct PlaneRect {
+  Vec2 min = Vec2::Zero();
+  Vec2 max = Vec2::Zero();
+  bool contains(const Vec2& p) const {
+    return p.x() >= min.x() && p.x() <= max.x() && p.y() >= min.y() && p.y() <= max.y();
+  }
+};
+
+/// A cutting plane P_i with its sections S_i = O ∩ P_i.
+struct CuttingPlane {
+  int slice = -1;          ///< index of the input slice; -1 for a virtual plane
+  std::string name;        ///< e.g. the image path, or "end-plane +x"
+  Plane plane;
+  std::vector<Section> sections;
+  PlaneRect extent;        ///< observed part of the plane (image bounds) in plane coordinates
+  double pixel_mm = 0.0;   ///< image pixel size (finest detail the sections carry); 0 if unknown
+  bool is_virtual = false; ///< virtual empty plane added to close open cells (issue: open ends)
+};
+
+/// A regular grid of voxel centres: centre (i, j, k) is at origin + voxel * (i, j, k).
+struct GridSpec {
+  Vec3 origin = Vec3::Zero();
+  double voxel = 1.0;
+  std::array<int, 3> dims{0, 0, 0};
+  std::int64_t count() const {
+    return std::int64_t(dims[0]) * dims[1] * dims[2];
+  }
+  std::int64_t index(int i, int j, int k) const {
+    return (std::int64_t(k) * dims[1] + j) * dims[0] + i;
+  }
+  Vec3 centre(int i, int j, int k) const { return origin + voxel * Vec3(i, j, k); }
+};
+
+/// Dense scalar field on a GridSpec, x fastest. Negative = inside.
+struct ScalarField {
+  GridSpec grid;
+  std::vector<float> values;
+  float at(int i, int j, int k) const { return values[grid.index(i, j, k)]; }
+};
+
+/// Triangle mesh, consistently oriented with outward normals when closed.
+struct TriangleMesh {
+  std::vector<Eigen::Vector3f> vertices;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+/// Betti numbers of a solid: components, tunnels (total genus of its boundary), cavities.
+using Betti = std::array<int, 3>;
+
+}  // namespace xsect

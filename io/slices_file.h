@@ -1,0 +1,30 @@
+// slices.yaml (GUIDE.md, input contract): a list of slices, each an image, its 4x4
+// image_to_world pose (pixel (i, j, 0, 1) -> mm) and an optional field-of-view mask.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "geometry/types.h"
+
+namespace xsect {
+
+struct SliceRecord {
+  std::string image;               ///< path as written in the file (relative to the file)
+  std::string image_resolved;      ///< absolute path, resolved against the file's folder
+  Mat4 image_to_world = Mat4::Identity();
+  std::optional<std::string> fov;  ///< as written
+  std::optional<std::string> fov_resolved;
+};
+
+/// Reads and validates slices.yaml. Throws InputError naming the file, the key
+/// (e.g. "slices[3].image_to_world") and line for: missing keys, wrong types, a matrix that is
+/// not 4x4, non-finite numbers, a last row other than (0 0 0 1), zero or non-orthogonal pixel
+/// axes, a missing image file.
+std::vector<SliceRecord> readSlicesFile(const std::string& path);
+
+/// Writes slices.yaml with paths exactly as given in SliceRecord::image / fov.
+void writeSlicesFile(const std::string& path, const std::vector<SliceRecord>& slices);
+
+}  // namespace xsect

@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Installs the Debian packages xsect builds and runs with (only what is missing).
+set -euo pipefail
+PKGS=(build-essential cmake ninja-build pkg-config libcgal-dev libopencv-dev libopenvdb-dev
+      libboost-iostreams-dev libtbb-dev libyaml-cpp-dev libeigen3-dev libgtest-dev libbenchmark-dev
+      nlohmann-json3-dev libcli11-dev zlib1g-dev libssl-dev python3)
+missing=()
+for p in "${PKGS[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "installing: ${missing[*]}" >&2
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
