@@ -1,6 +1,180 @@
-// STUB: replaced by the phantom implementation.
-#include <stdexcept>
+// `xsect phantom SPEC.yaml --out DIR` (GUIDE.md, command-line contract): renders a synthetic
+// phantom into DIR, written through StagedOutput so that DIR appears complete or not at all:
+//   images/NNN.png     8-bit slice images (NNN = frame index; dropped frames are not written)
+//   images/fov.png     the shared sector field of view (freehand with sector: true)
+//   slices.yaml        the slices with their RECORDED poses (true pose + tracking jitter)
+//   true_poses.yaml    the same slices with their true poses (what the images were rendered from)
+//   truth.yaml         the analytic shape, its Betti numbers and reach
+//   config.yaml        a run configuration for `xsect run`, merged with the spec's `config:` map
+#include <yaml-cpp/yaml.h>
+
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+#include <tbb/parallel_for.h>
+
+#include "io/input_error.h"
+#include "io/phantom_spec.h"
+#include "io/slices_file.h"
+#include "io/staged_output.h"
+#include "io/truth_file.h"
+#include "io/yaml_number.h"
 #include "pipeline/commands.h"
+#include "pipeline/phantom_render.h"
+
 namespace xsect {
-int phantomCommand(const PhantomOptions&) { throw std::runtime_error("phantom: not implemented"); }
+namespace {
+
+namespace fs = std::filesystem;
+
+/// A value rounded to two significant digits (for a readable default voxel size).
+double roundTwoDigits(double v) {
+  const double e = std::pow(10.0, std::floor(std::log10(v)) - 1);
+  return std::round(v / e) * e;
+}
+
+/// Deep merge of `over` into `base` (maps merge key by key; anything else replaces). Keys with
+/// dots ("reconstruction.voxel_size_mm") address nested maps.
+void mergeInto(YAML::Node base, const YAML::Node& over, const std::string& file,
+               const std::string& prefix) {
+  for (const auto& kv : over) {
+    const std::string key = kv.first.Scalar();
+    if (key.empty()) throw InputError(file, prefix + key, "empty key");
+    YAML::Node target = base;
+    std::string last = key;
+    for (std::size_t dot; (dot = last.find('.')) != std::string::npos;) {
+      const std::string head = last.substr(0, dot);
+      if (head.empty()) throw InputError(file, prefix + key, "empty component in key path");
+      if (!target[head] || !target[head].IsMap()) target[head] = YAML::Node(YAML::NodeType::Map);
+      target = target[head];
+      last = last.substr(dot + 1);
+    }
+    if (kv.second.IsMap() && target[last] && target[last].IsMap())
+      mergeInto(target[last], kv.second, file, prefix + key + ".");
+    else
+      target[last] = YAML::Clone(kv.second);
+  }
+}
+
+std::string configYaml(const PhantomSpec& spec, const Vec3& bmin, const Vec3& bmax) {
+  YAML::Node c(YAML::NodeType::Map);
+  c["input"]["slices"] = "slices.yaml";
+  const auto& d = spec.degradations;
+  if (d.noise_sigma > 0 || d.speckle > 0) {
+    c["segmentation"]["method"] = "otsu";
+    c["segmentation"]["sigma_px"] = "1.5";
+  } else {
+    c["segmentation"]["method"] = "threshold";
+    c["segmentation"]["threshold"] = "128";
+  }
+  c["conformity"]["enforce"] = false;
+  c["reconstruction"]["method"] = "nearest_plane";
+  const double voxel = roundTwoDigits(std::max(spec.image.pixel_mm, (bmax - bmin).norm() / 100.0));
+  c["reconstruction"]["voxel_size_mm"] = yamlNumberText(voxel);
+  c["reconstruction"]["end_margin_mm"] = "auto";
+  c["smoothing"]["method"] = "none";
+  c["output"]["dir"] = "out";
+  YAML::Node mesh(YAML::NodeType::Sequence);
+  mesh.push_back("ply");
+  c["output"]["mesh"] = mesh;
+  mergeInto(c, YAML::Load(spec.config_yaml), spec.path, "config.");
+  YAML::Emitter out;
+  out << c;
+  return std::string(out.c_str()) + "\n";
+}
+
+void writeText(const fs::path& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary);
+  if (!f) throw std::runtime_error("cannot write " + path.string());
+  f << text;
+  if (!f) throw std::runtime_error("write failed: " + path.string());
+}
+
+}  // namespace
+
+int phantomCommand(const PhantomOptions& options) {
+  const PhantomSpec spec = readPhantomSpec(options.spec);
+  Vec3 bmin, bmax;
+  bounds(spec.shape, &bmin, &bmax);
+  const SlicePlan plan = planSlices(spec.pattern, spec.image, bmin, bmax, spec.seed);
+  const int n = int(plan.poses.size());
+  if (!options.quiet)
+    std::cerr << "phantom: " << spec.shape.kind << ", " << spec.pattern.kind << " pattern, " << n
+              << " slices of " << plan.width << "x" << plan.height << " px at "
+              << plan.pixel_mm << " mm\n";
+
+  StagedOutput out(options.out);
+  fs::create_directories(out.file("images"));
+  cv::Mat fov;
+  std::optional<std::string> fovName;
+  if (plan.sector) {
+    fov = sectorMask(*plan.sector, plan.width, plan.height);
+    fovName = "images/fov.png";
+    if (!cv::imwrite(out.file(*fovName).string(), fov))
+      throw std::runtime_error("cannot write " + out.file(*fovName).string());
+  }
+  const int digits = std::max(3, int(std::to_string(std::max(0, n - 1)).size()));
+  auto imageName = [&](int i) {
+    std::ostringstream os;
+    os << "images/" << std::setw(digits) << std::setfill('0') << i << ".png";
+    return os.str();
+  };
+  std::vector<char> dropped(n), clipped(n);
+  for (int i = 0; i < n; ++i)
+    dropped[i] = dropFrame(spec.degradations.drop_probability, spec.seed, i);
+
+  std::atomic<int> done{0};
+  std::mutex progress;
+  tbb::parallel_for(0, n, [&](int i) {
+    if (!dropped[i]) {
+      const RenderedSlice r = renderSlice(spec.shape, plan.poses[i], plan.width, plan.height, fov,
+                                          spec.degradations, spec.seed, i);
+      clipped[i] = r.clipped;
+      const fs::path file = out.file(imageName(i));
+      if (!cv::imwrite(file.string(), r.image)) throw std::runtime_error("cannot write " + file.string());
+    }
+    const int k = ++done;
+    if (!options.quiet && (k == n || k % std::max(1, n / 10) == 0)) {
+      std::lock_guard<std::mutex> lock(progress);
+      std::cerr << "phantom: rendered " << k << "/" << n << " slices\n";
+    }
+  });
+
+  std::vector<SliceRecord> recorded, truth;
+  for (int i = 0; i < n; ++i) {
+    if (dropped[i]) continue;
+    SliceRecord r;
+    r.image = imageName(i);
+    r.fov = fovName;
+    r.image_to_world = plan.poses[i];
+    truth.push_back(r);
+    r.image_to_world = jitterPose(plan.poses[i], plan.width, plan.height,
+                                  spec.degradations.pose_jitter_mm,
+                                  spec.degradations.pose_jitter_deg, spec.seed, i);
+    recorded.push_back(r);
+  }
+  if (recorded.empty())
+    throw InputError(spec.path, "degradations.drop_probability", "every frame was dropped");
+  writeSlicesFile(out.file("slices.yaml").string(), recorded);
+  writeSlicesFile(out.file("true_poses.yaml").string(), truth);
+  writeTruthFile(out.file("truth.yaml").string(), spec.shape);
+  writeText(out.file("config.yaml"), configYaml(spec, bmin, bmax));
+  out.commit();
+
+  const int nClipped = int(std::count(clipped.begin(), clipped.end(), 1));
+  if (!options.quiet) {
+    if (nClipped > 0)
+      std::cerr << "phantom: warning: in " << nClipped
+                << " slices the section reaches the image or field-of-view border\n";
+    std::cerr << "phantom: wrote " << recorded.size() << " slices (" << (n - int(recorded.size()))
+              << " dropped) to " << out.destination().string() << "\n";
+  }
+  return 0;
+}
+
 }  // namespace xsect

@@ -1,7 +1,262 @@
-// STUB: replaced by the pipeline implementation.
-#include <stdexcept>
+// `xsect run` and `xsect check`: the stages of GUIDE.md wired together, timed, reported.
+// load -> segment -> conform -> reconstruct (method 1) -> mesh -> diagnose -> write.
+#include <sys/resource.h>
+#include <tbb/info.h>
+#include <tbb/task_arena.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "geometry/end_planes.h"
+#include "geometry/mesh_topology.h"
+#include "geometry/polygon.h"
+#include "geometry/sampled_reconstruction.h"
+#include "geometry/volume_mesher.h"
+#include "io/csl_file.h"
+#include "io/file_hash.h"
+#include "io/input_error.h"
+#include "io/mesh_io.h"
+#include "io/run_config.h"
+#include "io/slices_file.h"
+#include "io/staged_output.h"
 #include "pipeline/commands.h"
+#include "pipeline/library_versions.h"
+#include "pipeline/load_sections.h"
+#include "pipeline/progress.h"
+
 namespace xsect {
-int runCommand(const RunOptions&) { throw std::runtime_error("run: not implemented"); }
-int checkCommand(const RunOptions&) { throw std::runtime_error("check: not implemented"); }
+namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
+
+namespace {
+
+double peakMemoryMb() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_maxrss) / 1024.0;
+}
+
+class StageClock {
+ public:
+  void end(const std::string& stage) {
+    const auto now = std::chrono::steady_clock::now();
+    timings[stage] = std::chrono::duration<double>(now - last_).count();
+    memory[stage] = peakMemoryMb();
+    last_ = now;
+  }
+  json timings = json::object(), memory = json::object();
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+struct Inputs {
+  RunConfig config;
+  std::vector<CuttingPlane> planes;
+  std::vector<std::string> input_files;  // hashed into the manifest
+  std::vector<std::string> warnings;
+  int slices = 0;
+};
+
+/// Stages load + segment (+ conform, which this version reports but does not enforce).
+Inputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress) {
+  Inputs in;
+  progress.stage("load");
+  in.config = readRunConfig(o.config, o.overrides);
+  in.warnings = in.config.warnings;
+  const RunConfig& c = in.config;
+  if (c.reconstruction_method != "nearest_plane")
+    throw InputError(c.path, "reconstruction.method",
+                     "'" + c.reconstruction_method + "' is not available in this version (nearest_plane)");
+  if (c.smoothing_method != "none")
+    throw InputError(c.path, "smoothing.method",
+                     "'" + c.smoothing_method + "' is not available in this version (none)");
+  in.input_files.push_back(c.path);
+  in.input_files.push_back(c.input_path);
+  std::vector<SliceRecord> slices;
+  if (c.input_kind == "slices") {
+    slices = readSlicesFile(c.input_path);
+    for (const auto& s : slices) {
+      in.input_files.push_back(s.image_resolved);
+      if (s.fov_resolved) in.input_files.push_back(*s.fov_resolved);
+    }
+  } else if (c.input_kind == "csl") {
+    in.planes = readCslFile(c.input_path);
+  } else {
+    throw InputError(c.path, "input." + c.input_kind,
+                     "this input kind is not available in this version (slices | csl)");
+  }
+  clock.end("load");
+  progress.stage("segment");
+  if (c.input_kind == "slices")
+    in.planes = sectionsFromSlices(slices, c.input_path, c.segmentation, &in.warnings);
+  in.slices = int(in.planes.size());
+  clock.end("segment");
+  progress.stage("conform");
+  if (c.conformity_enforce)
+    in.warnings.push_back(
+        "conformity.enforce: enforcement along plane intersections is not available in this "
+        "version; the sections are used as segmented");
+  clock.end("conform");
+  return in;
+}
+
+json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+void writeText(const fs::path& p, const std::string& text) {
+  std::ofstream f(p, std::ios::binary);
+  f << text;
+  if (!f) throw std::runtime_error("cannot write " + p.string());
+}
+
+}  // namespace
+
+int runCommand(const RunOptions& o) {
+  Progress progress(o.quiet);
+  StageClock clock;
+  Inputs in = loadInputs(o, clock, progress);
+  const RunConfig& c = in.config;
+  const fs::path outDir = o.out.empty() ? fs::path(c.output_dir) : fs::absolute(o.out);
+
+  int sections = 0, planesWithSections = 0;
+  for (const auto& p : in.planes) {
+    sections += int(p.sections.size());
+    planesWithSections += !p.sections.empty();
+  }
+  if (sections == 0)
+    throw InputError(c.input_path, "", "no section found in any slice (check segmentation settings)");
+
+  progress.stage("reconstruct");
+  ReconstructionParams rp;
+  rp.voxel_mm = c.voxel_size_mm;
+  rp.end_margin_mm = c.end_margin_mm;
+  SampledReconstruction rec;
+  try {
+    rec = reconstructNearestPlane(in.planes, rp, [&](double f) { progress.update(f); });
+  } catch (const std::invalid_argument& e) {
+    throw InputError(c.path, "reconstruction", e.what());
+  }
+  clock.end("reconstruct");
+  in.warnings.push_back("open ends closed by 6 virtual empty planes at " +
+                        std::to_string(rec.end_margin_mm) + " mm beyond the sections' bounds" +
+                        (rec.end_margin_auto ? " (automatic margin)" : ""));
+
+  progress.stage("mesh");
+  const TriangleMesh mesh = meshZeroLevel(rec.field);
+  clock.end("mesh");
+
+  progress.stage("diagnose");
+  const MeshTopology topo = meshTopology(mesh);
+  if (topo.betti != rec.voxel_betti)
+    in.warnings.push_back("Betti numbers of the mesh and of the voxel solid differ");
+  if (!topo.watertight) in.warnings.push_back("the mesh is not watertight");
+  clock.end("diagnose");
+
+  progress.stage("write");
+  StagedOutput out(outDir);
+  for (const auto& fmt : c.mesh_formats) writeMesh(out.file("mesh." + fmt).string(), mesh);
+
+  // graph.json: the sections (nodes); connectivity edges come with the arrangement stage.
+  json nodes = json::array();
+  int id = 0;
+  for (const auto& p : in.planes)
+    for (std::size_t s = 0; s < p.sections.size(); ++s) {
+      const Section& sec = p.sections[s];
+      nodes.push_back({{"id", id++}, {"slice", p.slice}, {"section", s},
+                       {"area_mm2", sectionArea(sec)},
+                       {"centroid_mm", vec(p.plane.toWorld(sectionCentroid(sec)))}});
+    }
+  json graph = {{"method", c.reconstruction_method}, {"nodes", nodes}, {"edges", json::array()}};
+  writeText(out.file("graph.json"), graph.dump(2) + "\n");
+
+  const double total = [&] {
+    double t = 0;
+    for (auto& [k, v] : clock.timings.items()) t += v.get<double>();
+    return t;
+  }();
+  json report;
+  report["xsect_version"] = XSECT_VERSION;
+  report["betti"] = topo.betti;
+  report["voxel_betti"] = rec.voxel_betti;
+  report["watertight"] = topo.watertight;
+  report["counts"] = {{"slices", in.slices}, {"planes_with_sections", planesWithSections},
+                      {"sections", sections}, {"end_planes", rec.end_planes.size()},
+                      {"cells", nullptr}, {"voxels", rec.field.grid.count()},
+                      {"voxels_inside", rec.voxels_inside},
+                      {"mesh_vertices", mesh.vertices.size()},
+                      {"mesh_triangles", mesh.triangles.size()}};
+  report["reconstruction"] = {{"method", c.reconstruction_method},
+                              {"voxel_size_mm", c.voxel_size_mm},
+                              {"grid_origin_mm", vec(rec.field.grid.origin)},
+                              {"grid_dims", rec.field.grid.dims},
+                              {"end_margin_mm", rec.end_margin_mm},
+                              {"end_margin_auto", rec.end_margin_auto},
+                              {"volume_mm3", topo.volume_mm3}};
+  report["topology_repair"] = {{"specks_removed", rec.repair.specks_removed},
+                               {"cavities_filled", rec.repair.cavities_filled},
+                               {"critical_voxels_added", rec.repair.critical_voxels_added}};
+  report["timings_s"] = clock.timings;
+  report["timings_s"]["total"] = total;
+  report["peak_memory_mb"] = clock.memory;
+  report["throughput"] = {{"reconstruct_voxels_per_s",
+                           rec.evaluate_seconds > 0 ? double(rec.field.grid.count()) / rec.evaluate_seconds : 0.0},
+                          {"method1_evaluate_s", rec.evaluate_seconds}};
+  report["warnings"] = in.warnings;
+  writeText(out.file("report.json"), report.dump(2) + "\n");
+
+  json manifest;
+  manifest["config_path"] = c.path;
+  manifest["config_resolved"] = c.resolved_yaml;
+  manifest["config_sha256"] = sha256Hex(c.resolved_yaml);
+  manifest["overrides"] = o.overrides;
+  json files = json::array();
+  for (const auto& f : in.input_files) files.push_back({{"path", f}, {"sha256", sha256File(f)}});
+  manifest["inputs"] = files;
+  manifest["libraries"] = libraryVersions();
+  manifest["threads"] = tbb::this_task_arena::max_concurrency();
+  json outputs = json::array();
+  for (const auto& e : fs::directory_iterator(out.dir()))
+    outputs.push_back(e.path().filename().string());
+  std::sort(outputs.begin(), outputs.end());
+  manifest["outputs"] = outputs;
+  writeText(out.file("manifest.json"), manifest.dump(2) + "\n");
+  out.commit();
+  progress.finish();
+  for (const auto& w : in.warnings) progress.note("warning: " + w);
+  if (!o.quiet)
+    std::cerr << "betti " << topo.betti[0] << " " << topo.betti[1] << " " << topo.betti[2]
+              << "; outputs in " << outDir.string() << "\n";
+  return 0;
+}
+
+int checkCommand(const RunOptions& o) {
+  Progress progress(o.quiet);
+  StageClock clock;
+  Inputs in = loadInputs(o, clock, progress);
+  progress.finish();
+  int sections = 0;
+  for (const auto& p : in.planes) sections += int(p.sections.size());
+  json r;
+  r["config"] = in.config.path;
+  r["valid"] = true;
+  r["counts"] = {{"slices", in.slices}, {"sections", sections}};
+  Vec3 lo, hi;
+  if (sectionBounds(in.planes, &lo, &hi)) {
+    const double margin = in.config.end_margin_mm ? *in.config.end_margin_mm
+                                                  : automaticEndMargin(in.planes, 10 * in.config.voxel_size_mm);
+    const Vec3 ext = hi - lo + Vec3::Constant(2 * margin);
+    r["sections_bounds_mm"] = {vec(lo), vec(hi)};
+    r["end_margin_mm"] = margin;
+    r["estimated_voxels"] = (ext / in.config.voxel_size_mm).array().ceil().prod();
+  } else {
+    in.warnings.push_back("no section found in any slice");
+  }
+  r["warnings"] = in.warnings;
+  std::cout << r.dump(2) << "\n";
+  return 0;
+}
+
 }  // namespace xsect

@@ -1,0 +1,94 @@
+// Method 1 on a grid, with open ends closed and the sampled topology repaired
+// (see sampled_reconstruction.h).
+#include "geometry/sampled_reconstruction.h"
+
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "geometry/end_planes.h"
+#include "geometry/nearest_plane_reconstruction.h"
+#include "geometry/section_distance_field.h"
+
+namespace xsect {
+
+SampledReconstruction reconstructNearestPlane(const std::vector<CuttingPlane>& realPlanes,
+                                              const ReconstructionParams& params,
+                                              const std::function<void(double)>& progress) {
+  if (!(params.voxel_mm > 0)) throw std::invalid_argument("voxel size must be positive");
+  SampledReconstruction out;
+  Vec3 lo, hi;
+  if (!sectionBounds(realPlanes, &lo, &hi))
+    throw std::invalid_argument("no section in any slice: nothing to reconstruct");
+  const double h = params.voxel_mm;
+  out.end_margin_auto = !params.end_margin_mm;
+  out.end_margin_mm = params.end_margin_mm ? *params.end_margin_mm
+                                           : std::max(2.0 * h, automaticEndMargin(realPlanes, 10.0 * h));
+  out.end_planes = endPlanes(lo, hi, out.end_margin_mm);
+
+  std::vector<CuttingPlane> planes = realPlanes;
+  planes.insert(planes.end(), out.end_planes.begin(), out.end_planes.end());
+
+  // Grid: the box closed by the end planes, plus two layers of outside voxels.
+  GridSpec grid;
+  grid.voxel = h;
+  const Vec3 boxLo = lo - Vec3::Constant(out.end_margin_mm), boxHi = hi + Vec3::Constant(out.end_margin_mm);
+  grid.origin = boxLo - Vec3::Constant(2 * h);
+  double count = 1;
+  for (int a = 0; a < 3; ++a) {
+    grid.dims[a] = int(std::ceil((boxHi[a] - boxLo[a]) / h)) + 5;
+    count *= grid.dims[a];
+  }
+  if (count > 2147483647.0)
+    throw std::invalid_argument("grid of " + std::to_string(std::int64_t(count)) +
+                                " voxels is too large: increase reconstruction.voxel_size_mm");
+
+  // f_i rasters, one per plane (virtual planes hold no section).
+  const double band = params.band_voxels * h;
+  std::vector<SectionDistanceField> fields(planes.size());
+  tbb::parallel_for(std::size_t(0), planes.size(), [&](std::size_t i) {
+    const double step = planes[i].pixel_mm > 0 ? std::min(planes[i].pixel_mm, 0.5 * h) : 0.5 * h;
+    fields[i] = sectionDistanceField(planes[i].sections, step, std::max(band, 3 * step));
+  });
+
+  const auto t0 = std::chrono::steady_clock::now();
+  NearestPlaneField npf = nearestPlaneReconstruction(planes, fields, grid, progress);
+  out.evaluate_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  // Evidence for the repair: voxels next to a plane (within half a voxel diagonal), clearly inside
+  // or clearly outside its sections (by half a voxel).
+  const std::size_t n = npf.value.values.size();
+  const float near = float(0.5 * std::sqrt(3.0) * h), margin = float(0.5 * h);
+  std::vector<std::uint8_t> inAnchor(n), outAnchor(n);
+  out.inside.resize(n);
+  tbb::parallel_for(std::size_t(0), n, [&](std::size_t q) {
+    const float v = npf.value.values[q];
+    const bool next = npf.plane_distance[q] <= near;
+    out.inside[q] = v < 0;
+    inAnchor[q] = next && v <= -margin && !planes[npf.nearest_plane[q]].is_virtual;
+    outAnchor[q] = next && v >= margin;
+  });
+  out.repair = repairSampledTopology(out.inside, inAnchor, outAnchor, grid);
+
+  // The field for meshing: the evaluated values, with their sign forced to the repaired set.
+  out.field = std::move(npf.value);
+  const float nudge = float(0.05 * h);
+  std::int64_t inside = 0;
+  for (std::size_t q = 0; q < n; ++q) {
+    float& v = out.field.values[q];
+    if (out.inside[q]) {
+      ++inside;
+      if (v >= 0) v = -nudge;
+    } else if (v < 0) {
+      v = nudge;
+    }
+  }
+  out.voxels_inside = inside;
+  out.voxel_betti = voxelBetti(out.inside, grid);
+  return out;
+}
+
+}  // namespace xsect

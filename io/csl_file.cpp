@@ -1,0 +1,147 @@
+// .csl reader (see csl_file.h).
+#include "io/csl_file.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "geometry/polygon.h"
+#include "io/input_error.h"
+
+namespace xsect {
+
+namespace {
+
+/// Whitespace tokens with their line numbers.
+struct Tokens {
+  std::vector<std::pair<std::string, int>> items;
+  std::size_t at = 0;
+  std::string file;
+  const std::pair<std::string, int>& next(const std::string& what) {
+    if (at >= items.size())
+      throw InputError(file, what, "unexpected end of file",
+                       items.empty() ? -1 : items.back().second);
+    return items[at++];
+  }
+  double number(const std::string& what) {
+    const auto& [t, line] = next(what);
+    char* end = nullptr;
+    const double v = std::strtod(t.c_str(), &end);
+    if (end == t.c_str() || *end != '\0' || !std::isfinite(v))
+      throw InputError(file, what, "expected a number, got '" + t + "'", line);
+    return v;
+  }
+  long integer(const std::string& what, long lo) {
+    const auto& [t, line] = next(what);
+    char* end = nullptr;
+    const long v = std::strtol(t.c_str(), &end, 10);
+    if (end == t.c_str() || *end != '\0' || v < lo)
+      throw InputError(file, what, "expected an integer >= " + std::to_string(lo) + ", got '" + t + "'", line);
+    return v;
+  }
+};
+
+}  // namespace
+
+std::vector<CuttingPlane> readCslFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "", "cannot open file");
+  Tokens tk;
+  tk.file = path;
+  std::string line;
+  for (int ln = 1; std::getline(in, line); ++ln) {
+    std::istringstream ss(line);
+    for (std::string t; ss >> t;) tk.items.emplace_back(t, ln);
+  }
+  if (tk.next("header").first != "CSLC") throw InputError(path, "header", "expected 'CSLC'", 1);
+  const long nPlanes = tk.integer("plane count", 1);
+  tk.integer("label count", 0);
+
+  struct Raw { Vec3 n; double d; std::vector<Vec3> pts; std::vector<Ring> outers, holes; int line; };
+  std::vector<Raw> raw(nPlanes);
+  Vec3 lo = Vec3::Constant(1e300), hi = -lo;
+  for (long p = 0; p < nPlanes; ++p) {
+    const std::string key = "plane " + std::to_string(p + 1);
+    Raw& r = raw[p];
+    r.line = tk.items[std::min(tk.at, tk.items.size() - 1)].second;
+    tk.integer(key + " index", 0);
+    const long nv = tk.integer(key + " vertex count", 0);
+    const long nc = tk.integer(key + " component count", 0);
+    for (int k = 0; k < 3; ++k) r.n[k] = tk.number(key + " normal");
+    r.d = tk.number(key + " offset D");
+    const double len = r.n.norm();
+    if (len < 1e-12) throw InputError(path, key + " normal", "plane normal (A, B, C) is zero", r.line);
+    r.n /= len;
+    r.d /= len;
+    r.pts.resize(nv);
+    for (long v = 0; v < nv; ++v) {
+      for (int k = 0; k < 3; ++k) r.pts[v][k] = tk.number(key + " vertex " + std::to_string(v));
+      lo = lo.cwiseMin(r.pts[v]);
+      hi = hi.cwiseMax(r.pts[v]);
+    }
+    for (long c = 0; c < nc; ++c) {
+      const std::string ckey = key + " component " + std::to_string(c);
+      const auto& [head, hline] = tk.next(ckey);
+      const bool hole = head.find('h') != std::string::npos;
+      char* end = nullptr;
+      const long count = std::strtol(head.c_str(), &end, 10);
+      if (end == head.c_str() || count < 3 || (*end != '\0' && *end != 'h'))
+        throw InputError(path, ckey, "expected a vertex count (optionally with h<parent>), got '" + head + "'", hline);
+      tk.integer(ckey + " label", 0);
+      std::vector<long> idx(count);
+      for (long q = 0; q < count; ++q) {
+        idx[q] = tk.integer(ckey + " vertex index", 0);
+        if (idx[q] >= nv)
+          throw InputError(path, ckey, "vertex index " + std::to_string(idx[q]) + " out of range", hline);
+      }
+      (hole ? r.holes : r.outers).emplace_back();
+      Ring& ring = (hole ? r.holes : r.outers).back();
+      for (long q : idx) ring.emplace_back(double(q), 0.0);  // keep indices until the frame exists
+    }
+  }
+  if (tk.at != tk.items.size())
+    throw InputError(path, "", "unexpected content after the last plane", tk.items[tk.at].second);
+
+  const Vec3 centre = 0.5 * (lo + hi);
+  std::vector<CuttingPlane> planes(nPlanes);
+  for (long p = 0; p < nPlanes; ++p) {
+    Raw& r = raw[p];
+    CuttingPlane& cp = planes[p];
+    cp.slice = int(p);
+    cp.name = "plane " + std::to_string(p + 1);
+    Plane& pl = cp.plane;
+    pl.normal = r.n;
+    const int axis = std::abs(r.n.x()) < 0.6 ? 0 : (std::abs(r.n.y()) < 0.6 ? 1 : 2);
+    pl.u = r.n.cross(Vec3::Unit(axis)).normalized();
+    pl.v = pl.normal.cross(pl.u);
+    if (!r.pts.empty()) {
+      Vec3 m = Vec3::Zero();
+      for (const auto& q : r.pts) m += q;
+      m /= double(r.pts.size());
+      pl.origin = m;
+      for (const auto& q : r.pts)
+        if (std::abs(pl.signedDistance(q)) > 1e-3 * (1.0 + (hi - lo).norm()))
+          throw InputError(path, cp.name, "vertices do not lie on one plane", r.line);
+    } else {
+      // empty plane: choose the sign of D that brings it nearer the data
+      const Vec3 a = -r.d * r.n, b = r.d * r.n;
+      const double da = std::abs((centre - a).dot(r.n)), db = std::abs((centre - b).dot(r.n));
+      pl.origin = da <= db ? a : b;
+    }
+    const auto toPlane = [&](Ring& ring) {
+      for (auto& q : ring) q = pl.toPlane(r.pts[std::size_t(q.x())]);
+    };
+    for (auto& ring : r.outers) toPlane(ring);
+    for (auto& ring : r.holes) toPlane(ring);
+    cp.sections = sectionsFromRings(std::move(r.outers), std::move(r.holes));
+    if (!cp.sections.empty()) {
+      Vec2 emin = Vec2::Constant(1e300), emax = -emin;
+      for (const auto& s : cp.sections)
+        for (const auto& q : s.outer) emin = emin.cwiseMin(q), emax = emax.cwiseMax(q);
+      cp.extent = {emin, emax};
+    }
+  }
+  return planes;
+}
+
+}  // namespace xsect

@@ -1,0 +1,20 @@
+// .csl cross-section files (OReX / "CSLC"): planes A x + B y + C z + D = 0 with closed contours
+// of 3D vertices; 'h' marks holes. Read directly into cutting planes with sections.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "geometry/types.h"
+
+namespace xsect {
+
+/// Each plane's frame: normal (A, B, C) normalised, origin at the mean of its vertices (their
+/// projection defines the plane: the file's D is not trusted), u, v completing a right-handed frame.
+/// A plane with no vertex is an empty section; its offset is the file's D, with the sign that
+/// puts the plane nearer the other planes' vertices. Contour orientation is normalised
+/// (outer counter-clockwise, holes clockwise). Labels are ignored (one material).
+/// Throws InputError naming the file, line and field on malformed content.
+std::vector<CuttingPlane> readCslFile(const std::string& path);
+
+}  // namespace xsect

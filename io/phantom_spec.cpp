@@ -1,0 +1,270 @@
+// Reader of the phantom SPEC.yaml (format in phantom_spec.h). Strict: unknown keys are errors,
+// since a misspelt key would otherwise silently fall back to a default.
+#include "io/phantom_spec.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <set>
+
+#include "io/input_error.h"
+#include "io/yaml_fields.h"
+#include "io/yaml_number.h"
+
+namespace xsect {
+namespace {
+
+int lineOf(const YAML::Node& n) { return n ? yamlLine(n) : -1; }
+
+struct Reader {
+  std::string file;
+
+  void keys(const YAML::Node& map, const std::string& prefix,
+            const std::set<std::string>& allowed) const {
+    for (const auto& kv : map) {
+      const std::string k = kv.first.Scalar();
+      if (!allowed.count(k)) {
+        std::string list;
+        for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+        throw InputError(file, prefix + k, "unknown key (expected one of: " + list + ")",
+                         lineOf(kv.first));
+      }
+    }
+  }
+  YAML::Node map(const YAML::Node& parent, const std::string& key, const std::string& path,
+                 bool required) const {
+    const YAML::Node n = parent[key];
+    if (!n) {
+      if (required) throw InputError(file, path, "missing", lineOf(parent));
+      return YAML::Node(YAML::NodeType::Map);
+    }
+    if (!n.IsMap()) throw InputError(file, path, "must be a map", lineOf(n));
+    return n;
+  }
+  double number(const YAML::Node& parent, const std::string& key, const std::string& path,
+                std::optional<double> def, double lo = -INFINITY, bool loOpen = false,
+                double hi = INFINITY) const {
+    const YAML::Node n = parent[key];
+    if (!n) {
+      if (!def) throw InputError(file, path, "missing", lineOf(parent));
+      return *def;
+    }
+    const double v = yamlNumber(n, file, path);
+    if (v < lo || (loOpen && v == lo) || v > hi) {
+      std::string range = loOpen ? "> " : ">= ";
+      range += yamlNumberText(lo);
+      if (std::isfinite(hi)) range += " and <= " + yamlNumberText(hi);
+      throw InputError(file, path, "must be " + range + " (got " + n.Scalar() + ")", lineOf(n));
+    }
+    return v;
+  }
+  int integer(const YAML::Node& parent, const std::string& key, const std::string& path,
+              std::optional<int> def, int lo, int hi) const {
+    const YAML::Node n = parent[key];
+    if (!n) {
+      if (!def) throw InputError(file, path, "missing", lineOf(parent));
+      return *def;
+    }
+    const double v = yamlNumber(n, file, path);
+    if (v != std::floor(v) || v < lo || v > hi)
+      throw InputError(file, path,
+                       "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                           "] (got " + n.Scalar() + ")",
+                       lineOf(n));
+    return int(v);
+  }
+  Vec3 vec3(const YAML::Node& parent, const std::string& key, const std::string& path,
+            const Vec3& def, bool unit = false) const {
+    const YAML::Node n = parent[key];
+    if (!n) return def;
+    if (!n.IsSequence() || n.size() != 3)
+      throw InputError(file, path, "must be a list of 3 numbers", lineOf(n));
+    Vec3 v;
+    for (int i = 0; i < 3; ++i) v[i] = yamlNumber(n[i], file, path + "[" + std::to_string(i) + "]");
+    if (unit) {
+      if (v.norm() < 1e-12) throw InputError(file, path, "must be a non-zero vector", lineOf(n));
+      v.normalize();
+    }
+    return v;
+  }
+  /// An integer, or the word "auto" (returned as 0).
+  int sizeOrAuto(const YAML::Node& parent, const std::string& key, const std::string& path) const {
+    const YAML::Node n = parent[key];
+    if (n && n.IsScalar() && n.Scalar() == "auto") return 0;
+    return integer(parent, key, path, 0, 0, 20000);
+  }
+};
+
+PhantomShape readShape(const Reader& r, const YAML::Node& root) {
+  const YAML::Node sh = r.map(root, "shape", "shape", true);
+  r.keys(sh, "shape.", {"kind", "params", "centre", "rotation_deg"});
+  PhantomShape s;
+  if (!sh["kind"]) throw InputError(r.file, "shape.kind", "missing", lineOf(sh));
+  s.kind = yamlString(sh["kind"], r.file, "shape.kind");
+  const auto spec = phantomShapeParams(s.kind);
+  if (spec.empty())
+    throw InputError(r.file, "shape.kind", checkPhantomShape(s)->message, lineOf(sh["kind"]));
+  const YAML::Node params = r.map(sh, "params", "shape.params", false);
+  for (const auto& kv : params) {
+    const std::string k = kv.first.Scalar();
+    if (!spec.count(k)) {
+      std::string list;
+      for (const auto& [name, def] : spec) list += (list.empty() ? "" : ", ") + name;
+      throw InputError(r.file, "shape.params." + k,
+                       "unknown parameter for " + s.kind + " (expected: " + list + ")",
+                       lineOf(kv.first));
+    }
+    s.params[k] = yamlNumber(kv.second, r.file, "shape.params." + k);
+  }
+  if (const auto problem = checkPhantomShape(s)) {
+    const YAML::Node at = params[problem->param];
+    throw InputError(r.file, "shape.params." + problem->param, problem->message,
+                     at ? lineOf(at) : lineOf(sh));
+  }
+  s.centre = r.vec3(sh, "centre", "shape.centre", Vec3::Zero());
+  s.rotation = rotationFromEulerXyzDeg(r.vec3(sh, "rotation_deg", "shape.rotation_deg", Vec3::Zero()));
+  try {
+    return completePhantomShape(std::move(s));
+  } catch (const std::runtime_error& e) {
+    throw InputError(r.file, "shape.params", e.what(), lineOf(params));
+  }
+}
+
+SlicingPattern readPattern(const Reader& r, const YAML::Node& root) {
+  const YAML::Node pn = r.map(root, "pattern", "pattern", true);
+  SlicingPattern p;
+  if (!pn["kind"]) throw InputError(r.file, "pattern.kind", "missing", lineOf(pn));
+  p.kind = yamlString(pn["kind"], r.file, "pattern.kind");
+  const int maxCount = 10000;
+  if (p.kind == "parallel") {
+    r.keys(pn, "pattern.", {"kind", "count", "direction", "spacing_mm", "span_mm", "positions_mm",
+                            "tilt_deg"});
+    p.direction = r.vec3(pn, "direction", "pattern.direction", Vec3::UnitZ(), true);
+    if (const YAML::Node pos = pn["positions_mm"]) {
+      if (!pos.IsSequence() || pos.size() == 0)
+        throw InputError(r.file, "pattern.positions_mm", "must be a non-empty list of numbers",
+                         lineOf(pos));
+      for (std::size_t i = 0; i < pos.size(); ++i)
+        p.positions_mm.push_back(
+            yamlNumber(pos[i], r.file, "pattern.positions_mm[" + std::to_string(i) + "]"));
+      if (pn["count"] || pn["spacing_mm"] || pn["span_mm"])
+        throw InputError(r.file, "pattern.positions_mm",
+                         "excludes count, spacing_mm and span_mm", lineOf(pos));
+      p.count = int(p.positions_mm.size());
+    } else {
+      p.count = r.integer(pn, "count", "pattern.count", std::nullopt, 1, maxCount);
+      if (pn["spacing_mm"] && pn["span_mm"])
+        throw InputError(r.file, "pattern.span_mm", "give spacing_mm or span_mm, not both",
+                         lineOf(pn["span_mm"]));
+      if (pn["spacing_mm"])
+        p.spacing_mm = r.number(pn, "spacing_mm", "pattern.spacing_mm", std::nullopt, 0, true);
+      if (pn["span_mm"]) p.span_mm = r.number(pn, "span_mm", "pattern.span_mm", std::nullopt, 0);
+    }
+    p.tilt_deg = r.number(pn, "tilt_deg", "pattern.tilt_deg", 0.0, 0, false, 89);
+  } else if (p.kind == "multiaxial") {
+    r.keys(pn, "pattern.", {"kind", "count", "counts"});
+    if (const YAML::Node cs = pn["counts"]) {
+      if (pn["count"])
+        throw InputError(r.file, "pattern.counts", "give count or counts, not both", lineOf(cs));
+      if (!cs.IsSequence() || cs.size() != 3)
+        throw InputError(r.file, "pattern.counts", "must be a list of 3 integers [nx, ny, nz]",
+                         lineOf(cs));
+      for (int i = 0; i < 3; ++i) {
+        YAML::Node wrap;
+        wrap["v"] = cs[i];
+        p.counts[i] = r.integer(wrap, "v", "pattern.counts[" + std::to_string(i) + "]",
+                                std::nullopt, 0, maxCount);
+      }
+      if (p.counts[0] + p.counts[1] + p.counts[2] == 0)
+        throw InputError(r.file, "pattern.counts", "at least one plane is required", lineOf(cs));
+    } else {
+      p.count = r.integer(pn, "count", "pattern.count", std::nullopt, 1, maxCount);
+      p.counts = {p.count, p.count, p.count};
+    }
+  } else if (p.kind == "random") {
+    r.keys(pn, "pattern.", {"kind", "count"});
+    p.count = r.integer(pn, "count", "pattern.count", std::nullopt, 1, maxCount);
+  } else if (p.kind == "fan") {
+    r.keys(pn, "pattern.", {"kind", "count", "axis", "span_deg"});
+    p.count = r.integer(pn, "count", "pattern.count", std::nullopt, 1, maxCount);
+    p.axis = r.vec3(pn, "axis", "pattern.axis", Vec3::UnitZ(), true);
+    p.span_deg = r.number(pn, "span_deg", "pattern.span_deg", 180.0, 0, true, 180);
+  } else if (p.kind == "freehand") {
+    r.keys(pn, "pattern.", {"kind", "count", "direction", "span_mm", "tilt_deg", "drift_mm",
+                            "sector", "sector_angle_deg", "apex_px"});
+    p.count = r.integer(pn, "count", "pattern.count", std::nullopt, 1, maxCount);
+    p.direction = r.vec3(pn, "direction", "pattern.direction", Vec3::UnitZ(), true);
+    if (pn["span_mm"]) p.span_mm = r.number(pn, "span_mm", "pattern.span_mm", std::nullopt, 0, true);
+    p.tilt_deg = r.number(pn, "tilt_deg", "pattern.tilt_deg", 3.0, 0, false, 30);
+    p.drift_mm = r.number(pn, "drift_mm", "pattern.drift_mm", 1.0, 0);
+    if (pn["sector"]) p.sector = yamlBool(pn["sector"], r.file, "pattern.sector");
+    p.sector_angle_deg =
+        r.number(pn, "sector_angle_deg", "pattern.sector_angle_deg", 0.0, 0, false, 170);
+    p.apex_px = r.number(pn, "apex_px", "pattern.apex_px", 0.0, 0);
+  } else {
+    throw InputError(r.file, "pattern.kind",
+                     "unknown pattern '" + p.kind +
+                         "' (expected one of: parallel, multiaxial, random, fan, freehand)",
+                     lineOf(pn["kind"]));
+  }
+  return p;
+}
+
+}  // namespace
+
+PhantomSpec readPhantomSpec(const std::string& path) {
+  const Reader r{path};
+  const YAML::Node root = loadYamlFile(path);
+  if (!root.IsMap()) throw InputError(path, "", "top level must be a map (keys shape, pattern, ...)");
+  r.keys(root, "", {"seed", "shape", "pattern", "image", "degradations", "config"});
+  PhantomSpec s;
+  s.path = path;
+  if (root["seed"]) {
+    const double v = yamlNumber(root["seed"], path, "seed");
+    if (v < 0 || v != std::floor(v) || v > 9007199254740992.0)
+      throw InputError(path, "seed", "must be a non-negative integer", lineOf(root["seed"]));
+    s.seed = std::uint64_t(v);
+  }
+  s.shape = readShape(r, root);
+  s.pattern = readPattern(r, root);
+
+  const YAML::Node im = r.map(root, "image", "image", false);
+  r.keys(im, "image.", {"pixel_mm", "width", "height", "margin_px"});
+  Vec3 bmin, bmax;
+  bounds(s.shape, &bmin, &bmax);
+  const YAML::Node px = im["pixel_mm"];
+  if (px && !(px.IsScalar() && px.Scalar() == "auto"))
+    s.image.pixel_mm = r.number(im, "pixel_mm", "image.pixel_mm", std::nullopt, 0, true);
+  else
+    s.image.pixel_mm = (bmax - bmin).norm() / 160.0;
+  s.image.width = r.sizeOrAuto(im, "width", "image.width");
+  s.image.height = r.sizeOrAuto(im, "height", "image.height");
+  s.image.margin_px = r.integer(im, "margin_px", "image.margin_px", 4, 0, 1000);
+  const double diameter = (bmax - bmin).norm();
+  const double autoPixels = diameter / s.image.pixel_mm;
+  if ((s.image.width == 0 || s.image.height == 0) && autoPixels > 8000)
+    throw InputError(path, "image.pixel_mm",
+                     "too small for the shape: the automatic image would exceed 8000 pixels",
+                     lineOf(px));
+
+  const YAML::Node dg = r.map(root, "degradations", "degradations", false);
+  r.keys(dg, "degradations.", {"noise_sigma", "speckle", "blur_sigma_px", "pose_jitter_mm",
+                               "pose_jitter_deg", "drop_probability"});
+  auto& d = s.degradations;
+  d.noise_sigma = r.number(dg, "noise_sigma", "degradations.noise_sigma", 0.0, 0);
+  d.speckle = r.number(dg, "speckle", "degradations.speckle", 0.0, 0);
+  d.blur_sigma_px = r.number(dg, "blur_sigma_px", "degradations.blur_sigma_px", 0.0, 0, false, 50);
+  d.pose_jitter_mm = r.number(dg, "pose_jitter_mm", "degradations.pose_jitter_mm", 0.0, 0);
+  d.pose_jitter_deg =
+      r.number(dg, "pose_jitter_deg", "degradations.pose_jitter_deg", 0.0, 0, false, 45);
+  d.drop_probability =
+      r.number(dg, "drop_probability", "degradations.drop_probability", 0.0, 0, false, 0.99);
+
+  const YAML::Node cfg = r.map(root, "config", "config", false);
+  YAML::Emitter out;
+  out << cfg;
+  s.config_yaml = cfg.size() ? out.c_str() : "{}";
+  return s;
+}
+
+}  // namespace xsect

@@ -1,0 +1,67 @@
+// The phantom specification SPEC.yaml read by `xsect phantom` (GUIDE.md, Phantoms), validated
+// where it enters: every problem is an InputError naming the spec file, the key and the line.
+//
+// Format (lengths in mm, angles in degrees; keys in [] are optional, with their defaults):
+//   [seed: 1]                       # non-negative integer: drives every random choice
+//   shape:
+//     kind: torus                   # sphere | ellipsoid | torus | genus2 | hollow_sphere |
+//                                   # two_spheres | vessel_tree | twisted_cylinder | notched_torus
+//     params: {major_radius: 12, minor_radius: 4}   # per kind, see geometry/phantom_shape.cpp
+//     [centre: [0, 0, 0]]           # world position of the shape's origin, mm
+//     [rotation_deg: [0, 0, 0]]     # xyz Euler angles: R = Rz * Ry * Rx
+//   pattern:
+//     kind: multiaxial              # parallel | multiaxial | random | fan | freehand
+//     parallel:   count, [direction: [0,0,1]], [spacing_mm | span_mm], [positions_mm: [...]],
+//                 [tilt_deg: 0]
+//     multiaxial: count (per axis) | counts: [nx, ny, nz]
+//     random:     count
+//     fan:        count, [axis: [0,0,1]], [span_deg: 180]
+//     freehand:   count, [direction: [0,0,1]], [span_mm], [tilt_deg: 3], [drift_mm: 1],
+//                 [sector: false], [sector_angle_deg: auto], [apex_px: height / 4]
+//   [image:]
+//     [pixel_mm: auto]              # auto = bounding-sphere diameter / 160
+//     [width: auto]                 # pixels, or auto = cover the bounding sphere's projection
+//     [height: auto]
+//     [margin_px: 4]
+//   [degradations:]
+//     [noise_sigma: 0]              # additive Gaussian noise, grey levels (of 255)
+//     [speckle: 0]                  # std of the multiplicative speckle factor (1 + speckle*N(0,1))
+//     [blur_sigma_px: 0]            # Gaussian blur, pixels
+//     [pose_jitter_mm: 0]           # recorded pose error: translation std per axis, mm
+//     [pose_jitter_deg: 0]          # recorded pose error: rotation std, degrees
+//     [drop_probability: 0]         # probability that a frame is omitted from slices.yaml
+//   [config:]                       # merged into the generated config.yaml, nested maps or
+//     reconstruction: {voxel_size_mm: 0.25}   # dotted keys ("reconstruction.voxel_size_mm: 0.25")
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "geometry/phantom_shape.h"
+#include "geometry/slicing_pattern.h"
+
+namespace xsect {
+
+struct PhantomDegradations {
+  double noise_sigma = 0.0;       ///< grey levels
+  double speckle = 0.0;           ///< std of the multiplicative factor
+  double blur_sigma_px = 0.0;     ///< pixels
+  double pose_jitter_mm = 0.0;    ///< mm, per axis
+  double pose_jitter_deg = 0.0;   ///< degrees
+  double drop_probability = 0.0;  ///< [0, 1)
+};
+
+struct PhantomSpec {
+  std::string path;                 ///< the spec file
+  std::uint64_t seed = 1;
+  PhantomShape shape;               ///< validated and completed (defaults, vessel tubes)
+  SlicingPattern pattern;
+  ImageSpec image;                  ///< pixel_mm resolved (never auto)
+  PhantomDegradations degradations;
+  std::string config_yaml;          ///< the spec's `config:` map as YAML text ("{}" if absent)
+};
+
+/// Reads and validates SPEC.yaml. Throws InputError (file, key, line).
+PhantomSpec readPhantomSpec(const std::string& path);
+
+}  // namespace xsect

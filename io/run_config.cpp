@@ -1,0 +1,210 @@
+// Run configuration reader (see run_config.h). The accepted keys and their types are listed once,
+// in kSchema; everything else is warned about.
+#include "io/run_config.h"
+
+#include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "io/input_error.h"
+#include "io/yaml_fields.h"
+
+namespace xsect {
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::set<std::string> kKnownKeys = {
+    "input", "input.slices", "input.csl", "input.contour", "input.plus_sequence",
+    "segmentation", "segmentation.method", "segmentation.threshold", "segmentation.sigma_px",
+    "segmentation.open_radius_px", "segmentation.close_radius_px", "segmentation.min_area_mm2",
+    "segmentation.simplify_mm", "conformity", "conformity.enforce", "reconstruction",
+    "reconstruction.method", "reconstruction.voxel_size_mm", "reconstruction.end_margin_mm",
+    "smoothing", "smoothing.method", "smoothing.exponent", "output", "output.dir", "output.mesh"};
+
+void collectUnknown(const YAML::Node& n, const std::string& prefix, const std::string& file,
+                    std::vector<std::string>& warnings) {
+  if (!n.IsMap()) return;
+  for (const auto& kv : n) {
+    const std::string key = prefix.empty() ? kv.first.Scalar() : prefix + "." + kv.first.Scalar();
+    if (!kKnownKeys.count(key)) {
+      warnings.push_back(file + ":" + std::to_string(yamlLine(kv.first)) + ": unknown key '" +
+                         key + "' ignored");
+      continue;
+    }
+    collectUnknown(kv.second, key, file, warnings);
+  }
+}
+
+void applyOverride(YAML::Node& root, const std::string& text, const std::string& file) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError("--set", text, "expected key.path=value");
+  const std::string key = text.substr(0, eq), value = text.substr(eq + 1);
+  YAML::Node parsed;
+  try {
+    parsed = YAML::Load(value);
+  } catch (const YAML::Exception& e) {
+    throw InputError("--set", key, "value is not valid YAML: " + e.msg);
+  }
+  std::vector<std::string> parts;
+  std::stringstream ss(key);
+  for (std::string p; std::getline(ss, p, '.');) {
+    if (p.empty()) throw InputError("--set", key, "empty component in key path");
+    parts.push_back(p);
+  }
+  // Walk down by reassigning copies of handles (yaml-cpp nodes are references).
+  std::vector<YAML::Node> chain{root};
+  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+    YAML::Node child = chain.back()[parts[i]];
+    if (child && !child.IsMap())
+      throw InputError("--set", key, "'" + parts[i] + "' is not a map in " + file);
+    if (!child) {
+      chain.back()[parts[i]] = YAML::Node(YAML::NodeType::Map);
+      child = chain.back()[parts[i]];
+    }
+    chain.push_back(child);
+  }
+  chain.back()[parts.back()] = parsed;
+}
+
+std::string resolvePath(const fs::path& base, const std::string& p) {
+  fs::path q(p);
+  if (q.is_relative()) q = base / q;
+  return q.lexically_normal().string();
+}
+
+}  // namespace
+
+RunConfig readRunConfig(const std::string& path, const std::vector<std::string>& overrides) {
+  RunConfig c;
+  c.path = fs::absolute(path).lexically_normal().string();
+  if (!fs::is_regular_file(path)) throw InputError(path, "", "configuration file not found");
+  YAML::Node root = loadYamlFile(path);
+  if (!root.IsMap()) throw InputError(path, "", "top level must be a map");
+  for (const auto& o : overrides) applyOverride(root, o, path);
+  collectUnknown(root, "", path, c.warnings);
+  const fs::path base = fs::path(c.path).parent_path();
+  const auto section = [&](const char* name) -> YAML::Node {
+    YAML::Node n = root[name];
+    if (n && !n.IsMap()) throw InputError(path, name, "must be a map", yamlLine(n));
+    return n;
+  };
+
+  // input: exactly one source
+  const YAML::Node input = section("input");
+  if (!input) throw InputError(path, "input", "missing (input.slices, input.csl, ...)");
+  int sources = 0;
+  for (const char* k : {"slices", "csl", "contour", "plus_sequence"}) {
+    if (!input[k]) continue;
+    ++sources;
+    c.input_kind = k;
+    c.input_path = resolvePath(base, yamlString(input[k], path, std::string("input.") + k));
+  }
+  if (sources != 1)
+    throw InputError(path, "input", "exactly one of slices, csl, contour, plus_sequence is required",
+                     yamlLine(input));
+  if (!fs::is_regular_file(c.input_path))
+    throw InputError(path, "input." + c.input_kind, "file not found: " + c.input_path,
+                     yamlLine(input[c.input_kind]));
+
+  if (const YAML::Node s = section("segmentation")) {
+    auto& p = c.segmentation;
+    if (s["method"]) {
+      p.method = yamlString(s["method"], path, "segmentation.method");
+      if (p.method != "threshold" && p.method != "otsu" && p.method != "labels")
+        throw InputError(path, "segmentation.method",
+                         "unknown method '" + p.method + "' (threshold | otsu | labels)",
+                         yamlLine(s["method"]));
+    }
+    const auto num = [&](const char* k, double lo, double* out) {
+      if (!s[k]) return;
+      const double v = yamlNumber(s[k], path, std::string("segmentation.") + k);
+      if (v < lo)
+        throw InputError(path, std::string("segmentation.") + k,
+                         "must be >= " + std::to_string(lo), yamlLine(s[k]));
+      *out = v;
+    };
+    num("threshold", -1e300, &p.threshold);
+    num("sigma_px", 0, &p.sigma_px);
+    double open = 0, close = 0;
+    num("open_radius_px", 0, &open);
+    num("close_radius_px", 0, &close);
+    p.open_radius_px = int(open);
+    p.close_radius_px = int(close);
+    num("min_area_mm2", 0, &p.min_area_mm2);
+    num("simplify_mm", 0, &p.simplify_mm);
+  }
+  if (const YAML::Node s = section("conformity"))
+    if (s["enforce"]) c.conformity_enforce = yamlBool(s["enforce"], path, "conformity.enforce");
+
+  if (const YAML::Node s = section("reconstruction")) {
+    if (s["method"]) {
+      c.reconstruction_method = yamlString(s["method"], path, "reconstruction.method");
+      if (c.reconstruction_method != "nearest_plane" &&
+          c.reconstruction_method != "section_voronoi")
+        throw InputError(path, "reconstruction.method",
+                         "unknown method '" + c.reconstruction_method +
+                             "' (nearest_plane | section_voronoi)",
+                         yamlLine(s["method"]));
+    }
+    if (s["voxel_size_mm"]) {
+      c.voxel_size_mm = yamlNumber(s["voxel_size_mm"], path, "reconstruction.voxel_size_mm");
+      if (c.voxel_size_mm <= 0)
+        throw InputError(path, "reconstruction.voxel_size_mm", "must be positive",
+                         yamlLine(s["voxel_size_mm"]));
+    }
+    if (const YAML::Node m = s["end_margin_mm"]) {
+      if (!(m.IsScalar() && m.Scalar() == "auto")) {
+        const double v = yamlNumber(m, path, "reconstruction.end_margin_mm");
+        if (v <= 0)
+          throw InputError(path, "reconstruction.end_margin_mm", "must be positive or 'auto'",
+                           yamlLine(m));
+        c.end_margin_mm = v;
+      }
+    }
+  }
+  if (const YAML::Node s = section("smoothing")) {
+    if (s["method"]) {
+      c.smoothing_method = yamlString(s["method"], path, "smoothing.method");
+      if (c.smoothing_method != "none" && c.smoothing_method != "shepard")
+        throw InputError(path, "smoothing.method",
+                         "unknown method '" + c.smoothing_method + "' (none | shepard)",
+                         yamlLine(s["method"]));
+    }
+    if (s["exponent"]) {
+      const YAML::Node e = s["exponent"];
+      if (e.IsScalar() && (e.Scalar() == "inf" || e.Scalar() == ".inf"))
+        c.smoothing_exponent = std::numeric_limits<double>::infinity();
+      else
+        c.smoothing_exponent = yamlNumber(e, path, "smoothing.exponent");
+      if (!(c.smoothing_exponent > 0))
+        throw InputError(path, "smoothing.exponent", "must be positive", yamlLine(e));
+    }
+  }
+  c.output_dir = resolvePath(base, "out");
+  if (const YAML::Node s = section("output")) {
+    if (s["dir"]) c.output_dir = resolvePath(base, yamlString(s["dir"], path, "output.dir"));
+    if (const YAML::Node m = s["mesh"]) {
+      c.mesh_formats.clear();
+      const auto add = [&](const YAML::Node& f) {
+        const std::string v = yamlString(f, path, "output.mesh");
+        if (v != "ply" && v != "stl" && v != "obj")
+          throw InputError(path, "output.mesh", "unknown mesh format '" + v + "' (ply | stl | obj)",
+                           yamlLine(f));
+        c.mesh_formats.push_back(v);
+      };
+      if (m.IsSequence())
+        for (const auto& f : m) add(f);
+      else
+        add(m);
+    }
+  }
+  YAML::Emitter em;
+  em << root;
+  c.resolved_yaml = em.c_str();
+  return c;
+}
+
+}  // namespace xsect

@@ -1,0 +1,35 @@
+// config.yaml, the run configuration (GUIDE.md): read, overridden with --set key.path=value,
+// validated, paths resolved against the file that names them. Unknown keys produce warnings.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "segmentation/segment_slice.h"
+
+namespace xsect {
+
+struct RunConfig {
+  std::string path;                 ///< the configuration file (absolute)
+  // input (exactly one)
+  std::string input_kind;           ///< slices | csl | contour | plus_sequence
+  std::string input_path;           ///< resolved against the configuration file
+  SegmentationParams segmentation;
+  bool conformity_enforce = false;
+  std::string reconstruction_method = "nearest_plane";  ///< nearest_plane | section_voronoi
+  double voxel_size_mm = 0.5;
+  std::optional<double> end_margin_mm;                  ///< empty = auto
+  std::string smoothing_method = "none";                ///< none | shepard
+  double smoothing_exponent = 2.0;
+  std::string output_dir;           ///< resolved against the configuration file
+  std::vector<std::string> mesh_formats{"ply"};
+  std::vector<std::string> warnings;  ///< unknown keys and similar
+  std::string resolved_yaml;        ///< the configuration after overrides, as YAML text
+};
+
+/// @param overrides "key.path=value" strings; the value is parsed as YAML (number, bool, list...).
+/// Throws InputError (file, key, line) on any invalid content.
+RunConfig readRunConfig(const std::string& path, const std::vector<std::string>& overrides = {});
+
+}  // namespace xsect

@@ -1,0 +1,111 @@
+// Reader and writer of slices.yaml (GUIDE.md, input contract), validated where the file enters.
+#include "io/slices_file.h"
+
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#include "io/input_error.h"
+#include "io/yaml_fields.h"
+
+namespace xsect {
+namespace fs = std::filesystem;
+
+namespace {
+
+Mat4 readPose(const YAML::Node& n, const std::string& file, const std::string& key) {
+  if (!n) throw InputError(file, key, "missing (a 4x4 row-major matrix is required)");
+  if (!n.IsSequence() || n.size() != 4)
+    throw InputError(file, key, "must be a 4x4 matrix: a list of 4 rows", yamlLine(n));
+  Mat4 m;
+  for (int r = 0; r < 4; ++r) {
+    const YAML::Node row = n[r];
+    const std::string rk = key + "[" + std::to_string(r) + "]";
+    if (!row.IsSequence() || row.size() != 4)
+      throw InputError(file, rk, "must be a row of 4 numbers", yamlLine(row));
+    for (int c = 0; c < 4; ++c)
+      m(r, c) = yamlNumber(row[c], file, rk + "[" + std::to_string(c) + "]");
+  }
+  const int line = yamlLine(n);
+  if ((m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-9)
+    throw InputError(file, key, "last row must be [0, 0, 0, 1] (an affine pose)", line);
+  const Vec3 c0 = m.block<3, 1>(0, 0), c1 = m.block<3, 1>(0, 1);
+  if (c0.norm() < 1e-12 || c1.norm() < 1e-12)
+    throw InputError(file, key, "zero pixel spacing: the first two columns must be non-zero", line);
+  if (c0.cross(c1).norm() < 1e-9 * c0.norm() * c1.norm())
+    throw InputError(file, key, "singular pose: the pixel axes (first two columns) are parallel",
+                     line);
+  if (std::abs(c0.dot(c1)) > 1e-3 * c0.norm() * c1.norm())
+    throw InputError(file, key, "pixel axes (first two columns) are not orthogonal", line);
+  return m;
+}
+
+std::string resolve(const fs::path& base, const std::string& p) {
+  fs::path q(p);
+  if (q.is_relative()) q = base / q;
+  return q.lexically_normal().string();
+}
+
+}  // namespace
+
+std::vector<SliceRecord> readSlicesFile(const std::string& path) {
+  const YAML::Node root = loadYamlFile(path);
+  if (!root.IsMap()) throw InputError(path, "", "top level must be a map with key 'slices'");
+  const YAML::Node list = root["slices"];
+  if (!list) throw InputError(path, "slices", "missing");
+  if (!list.IsSequence() || list.size() == 0)
+    throw InputError(path, "slices", "must be a non-empty list", yamlLine(list));
+  const fs::path base = fs::absolute(fs::path(path)).parent_path();
+  std::vector<SliceRecord> out;
+  out.reserve(list.size());
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const YAML::Node s = list[i];
+    const std::string key = "slices[" + std::to_string(i) + "]";
+    if (!s.IsMap()) throw InputError(path, key, "must be a map", yamlLine(s));
+    for (const auto& kv : s) {
+      const std::string k = kv.first.Scalar();
+      if (k != "image" && k != "image_to_world" && k != "fov")
+        throw InputError(path, key + "." + k, "unknown key", yamlLine(kv.first));
+    }
+    SliceRecord r;
+    if (!s["image"]) throw InputError(path, key + ".image", "missing", yamlLine(s));
+    r.image = yamlString(s["image"], path, key + ".image");
+    r.image_resolved = resolve(base, r.image);
+    if (!fs::is_regular_file(r.image_resolved))
+      throw InputError(path, key + ".image", "file not found: " + r.image_resolved,
+                       yamlLine(s["image"]));
+    r.image_to_world = readPose(s["image_to_world"], path, key + ".image_to_world");
+    if (s["fov"]) {
+      r.fov = yamlString(s["fov"], path, key + ".fov");
+      r.fov_resolved = resolve(base, *r.fov);
+      if (!fs::is_regular_file(*r.fov_resolved))
+        throw InputError(path, key + ".fov", "file not found: " + *r.fov_resolved,
+                         yamlLine(s["fov"]));
+    }
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+void writeSlicesFile(const std::string& path, const std::vector<SliceRecord>& slices) {
+  std::ostringstream os;
+  os << "slices:\n";
+  os << std::setprecision(17);
+  for (const auto& s : slices) {
+    os << "  - image: " << s.image << "\n";
+    os << "    image_to_world:\n";
+    for (int r = 0; r < 4; ++r) {
+      os << "      - [";
+      for (int c = 0; c < 4; ++c) os << (c ? ", " : "") << s.image_to_world(r, c);
+      os << "]\n";
+    }
+    if (s.fov) os << "    fov: " << *s.fov << "\n";
+  }
+  std::ofstream f(path, std::ios::binary);
+  if (!f) throw std::runtime_error("cannot write " + path);
+  f << os.str();
+  if (!f) throw std::runtime_error("write failed: " + path);
+}
+
+}  // namespace xsect

@@ -1,0 +1,53 @@
+// Typed, validated access to YAML fields: every failure is an InputError naming the file, the key
+// path (e.g. "slices[3].image_to_world[1][2]") and the line.
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <string>
+
+#include "io/input_error.h"
+
+namespace xsect {
+
+inline int yamlLine(const YAML::Node& n) { return n.Mark().line >= 0 ? n.Mark().line + 1 : -1; }
+
+inline YAML::Node loadYamlFile(const std::string& path) {
+  try {
+    return YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw InputError(path, "", "cannot open file");
+  } catch (const YAML::ParserException& e) {
+    throw InputError(path, "", "not valid YAML: " + e.msg, e.mark.line + 1);
+  }
+}
+
+inline double yamlNumber(const YAML::Node& n, const std::string& file, const std::string& key) {
+  if (!n || !n.IsScalar()) throw InputError(file, key, "expected a number", yamlLine(n));
+  double v;
+  try {
+    v = n.as<double>();
+  } catch (const YAML::Exception&) {
+    throw InputError(file, key, "expected a number, got '" + n.Scalar() + "'", yamlLine(n));
+  }
+  if (!std::isfinite(v)) throw InputError(file, key, "number is not finite", yamlLine(n));
+  return v;
+}
+
+inline std::string yamlString(const YAML::Node& n, const std::string& file,
+                              const std::string& key) {
+  if (!n || !n.IsScalar()) throw InputError(file, key, "expected a string", yamlLine(n));
+  return n.Scalar();
+}
+
+inline bool yamlBool(const YAML::Node& n, const std::string& file, const std::string& key) {
+  if (!n || !n.IsScalar()) throw InputError(file, key, "expected true or false", yamlLine(n));
+  try {
+    return n.as<bool>();
+  } catch (const YAML::Exception&) {
+    throw InputError(file, key, "expected true or false, got '" + n.Scalar() + "'", yamlLine(n));
+  }
+}
+
+}  // namespace xsect

@@ -1,0 +1,60 @@
+// Slices -> cutting planes with sections (see load_sections.h).
+#include "pipeline/load_sections.h"
+
+#include <tbb/parallel_for.h>
+
+#include "geometry/plane_of_pose.h"
+#include "io/image_io.h"
+#include "io/input_error.h"
+
+namespace xsect {
+
+std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& slices,
+                                             const std::string& listing_file,
+                                             const SegmentationParams& params,
+                                             std::vector<std::string>* warnings) {
+  const int n = int(slices.size());
+  std::vector<CuttingPlane> planes(n);
+  std::vector<char> touches(n, 0);
+  // Read all images first (errors are reported for the first bad slice, deterministically).
+  std::vector<cv::Mat> images(n), fovs(n);
+  for (int i = 0; i < n; ++i) {
+    const std::string key = "slices[" + std::to_string(i) + "]";
+    images[i] = readGreyImage(slices[i].image_resolved, listing_file, key + ".image");
+    if (slices[i].fov_resolved) {
+      cv::Mat f = readGreyImage(*slices[i].fov_resolved, listing_file, key + ".fov");
+      if (f.size() != images[i].size())
+        throw InputError(listing_file, key + ".fov", "field-of-view mask size differs from the image");
+      if (f.depth() != CV_8U) f.convertTo(f, CV_8U, 1.0 / 256.0);
+      fovs[i] = f != 0;
+    }
+  }
+  tbb::parallel_for(0, n, [&](int i) {
+    Vec2 spacing;
+    CuttingPlane& cp = planes[i];
+    cp.slice = i;
+    cp.name = slices[i].image;
+    cp.plane = planeOfPose(slices[i].image_to_world, &spacing);
+    cp.pixel_mm = std::min(spacing.x(), spacing.y());
+    cp.extent.min = Vec2::Zero();
+    cp.extent.max = Vec2((images[i].cols - 1) * spacing.x(), (images[i].rows - 1) * spacing.y());
+    SegmentedSlice seg = segmentSlice(images[i], fovs[i], spacing, params);
+    cp.sections = std::move(seg.sections);
+    touches[i] = seg.touches_fov_edge;
+  });
+  if (warnings) {
+    int count = 0;
+    std::string first;
+    for (int i = 0; i < n; ++i)
+      if (touches[i]) {
+        if (count++ < 5) first += (first.empty() ? "" : ", ") + std::to_string(i);
+      }
+    if (count)
+      warnings->push_back(std::to_string(count) +
+                          " slice(s) have a section touching the edge of the image or field of view "
+                          "(the object is not fully in view), e.g. slice " + first);
+  }
+  return planes;
+}
+
+}  // namespace xsect

@@ -1,0 +1,21 @@
+// Stages 1-2 (GUIDE.md): slice records -> cutting planes with their sections (segmentation of each
+// image in its plane's (u, v) mm frame), in parallel, deterministically.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "geometry/types.h"
+#include "io/slices_file.h"
+#include "segmentation/segment_slice.h"
+
+namespace xsect {
+
+/// @param listing_file  the slices.yaml the records came from (for error messages).
+/// @param warnings      receives "slice N touches the edge of its field of view" and the like.
+std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& slices,
+                                             const std::string& listing_file,
+                                             const SegmentationParams& params,
+                                             std::vector<std::string>* warnings);
+
+}  // namespace xsect

@@ -1,0 +1,42 @@
+// Progress of long stages on stderr ("[stage] 42%"), silenced by --quiet.
+#pragma once
+
+#include <cstdio>
+#include <string>
+
+namespace xsect {
+
+class Progress {
+ public:
+  explicit Progress(bool quiet) : quiet_(quiet) {}
+  void stage(const std::string& name) {
+    finish();
+    name_ = name;
+    last_ = -1;
+    if (!quiet_) std::fprintf(stderr, "[%s] ...", name.c_str());
+    open_ = true;
+  }
+  void update(double fraction) {
+    const int pct = int(fraction * 100.0);
+    if (quiet_ || pct == last_) return;
+    last_ = pct;
+    std::fprintf(stderr, "\r[%s] %3d%%", name_.c_str(), pct);
+  }
+  void note(const std::string& text) {
+    finish();
+    if (!quiet_) std::fprintf(stderr, "%s\n", text.c_str());
+  }
+  void finish() {
+    if (open_ && !quiet_) std::fprintf(stderr, "\r[%s] done\n", name_.c_str());
+    open_ = false;
+  }
+  ~Progress() { finish(); }
+
+ private:
+  bool quiet_;
+  bool open_ = false;
+  std::string name_;
+  int last_ = -1;
+};
+
+}  // namespace xsect

@@ -1,0 +1,60 @@
+// Test fixtures: cutting planes with analytic sections (disks and annuli of spheres and shells).
+#pragma once
+
+#include <cmath>
+#include <vector>
+
+#include "geometry/types.h"
+
+namespace xsect::test {
+
+inline Ring circle(const Vec2& c, double r, int n, bool ccw = true) {
+  Ring ring;
+  for (int k = 0; k < n; ++k) {
+    const double a = 2 * M_PI * k / n * (ccw ? 1 : -1);
+    ring.emplace_back(c.x() + r * std::cos(a), c.y() + r * std::sin(a));
+  }
+  return ring;
+}
+
+/// Axis-aligned plane through `offset` along `axis`, u/v the next two axes (right-handed).
+inline Plane axisPlane(int axis, double offset) {
+  Plane p;
+  p.normal = Vec3::Unit(axis);
+  p.u = Vec3::Unit((axis + 1) % 3);
+  p.v = Vec3::Unit((axis + 2) % 3);
+  p.origin = offset * p.normal;
+  return p;
+}
+
+/// Sections of the shell Ri < |x - centre| < Ro (Ri = 0: a ball) by one plane.
+inline std::vector<Section> shellSections(const Plane& p, const Vec3& centre, double Ro, double Ri) {
+  const double d = p.signedDistance(centre);
+  std::vector<Section> out;
+  if (std::abs(d) >= Ro) return out;
+  const Vec2 c = p.toPlane(centre);
+  const double ro = std::sqrt(Ro * Ro - d * d);
+  Section s;
+  s.outer = circle(c, ro, 256);
+  if (Ri > std::abs(d)) s.holes.push_back(circle(c, std::sqrt(Ri * Ri - d * d), 256, false));
+  out.push_back(s);
+  return out;
+}
+
+/// Three orthogonal stacks of planes at the given spacing covering [-extent, extent].
+inline std::vector<CuttingPlane> multiaxialShell(const Vec3& centre, double Ro, double Ri,
+                                                 double spacing, double extent, double phase = 0.37) {
+  std::vector<CuttingPlane> planes;
+  for (int axis = 0; axis < 3; ++axis)
+    for (double t = -extent + phase * spacing; t <= extent; t += spacing) {
+      CuttingPlane cp;
+      cp.slice = int(planes.size());
+      cp.plane = axisPlane(axis, t + centre[axis]);
+      cp.plane.origin = centre + t * Vec3::Unit(axis);
+      cp.sections = shellSections(cp.plane, centre, Ro, Ri);
+      planes.push_back(cp);
+    }
+  return planes;
+}
+
+}  // namespace xsect::test

@@ -1,0 +1,94 @@
+// Method 1 (thesis ch. 1, Def. 15-17) on analytic sections: topology and distance to the truth.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "geometry/mesh_topology.h"
+#include "geometry/sampled_reconstruction.h"
+#include "geometry/volume_mesher.h"
+#include "section_fixtures.h"
+
+using namespace xsect;
+
+namespace {
+
+struct Result {
+  SampledReconstruction rec;
+  TriangleMesh mesh;
+  MeshTopology topo;
+};
+
+Result run(const std::vector<CuttingPlane>& planes, double voxel) {
+  Result r;
+  ReconstructionParams p;
+  p.voxel_mm = voxel;
+  r.rec = reconstructNearestPlane(planes, p);
+  r.mesh = meshZeroLevel(r.rec.field);
+  r.topo = meshTopology(r.mesh);
+  return r;
+}
+
+}  // namespace
+
+TEST(Method1, BallMultiaxialHasBallTopologyAndIsClose) {
+  const double R = 10, gap = 2.5;
+  const auto planes = test::multiaxialShell(Vec3(1, 2, 3), R, 0, gap, 12);
+  const Result r = run(planes, 0.25);
+  EXPECT_TRUE(r.topo.watertight);
+  EXPECT_EQ(r.topo.betti, (Betti{1, 0, 0}));
+  EXPECT_EQ(r.rec.voxel_betti, (Betti{1, 0, 0}));
+  double worst = 0;
+  for (const auto& v : r.mesh.vertices)
+    worst = std::max(worst, std::abs((v.cast<double>() - Vec3(1, 2, 3)).norm() - R));
+  EXPECT_LT(worst, gap);  // Hausdorff (mesh -> truth) below the largest gap between planes
+  // Tighter: a point of ∂R is within about the cell height (gap/2 for cubic cells) of ∂O.
+  EXPECT_LT(worst, 0.5 * gap + 0.25);
+}
+
+TEST(Method1, HollowBallKeepsItsCavity) {
+  const auto planes = test::multiaxialShell(Vec3(0, 0, 0), 10, 5, 2.0, 12);
+  const Result r = run(planes, 0.25);
+  EXPECT_TRUE(r.topo.watertight);
+  EXPECT_EQ(r.topo.betti, (Betti{1, 0, 1}));
+}
+
+TEST(Method1, TwoBallsStayApart) {
+  // One set of planes; each plane's sections are those of both balls (3 mm apart).
+  auto a = test::multiaxialShell(Vec3::Zero(), 0, 0, 1.5, 14);
+  for (auto& cp : a)
+    for (const double x : {-6.5, 6.5}) {
+      const auto s = test::shellSections(cp.plane, Vec3(x, 0, 0), 5, 0);
+      cp.sections.insert(cp.sections.end(), s.begin(), s.end());
+    }
+  const Result r = run(a, 0.25);
+  EXPECT_EQ(r.topo.betti, (Betti{2, 0, 0}));
+}
+
+TEST(Method1, OpenStackEndsWithinTheMargin) {
+  // A z-stack that starts and ends inside the ball: no empty end slice.
+  std::vector<CuttingPlane> planes;
+  const double R = 10, margin = 3;
+  for (double z = -6; z <= 6.01; z += 2) {
+    CuttingPlane cp;
+    cp.slice = int(planes.size());
+    cp.plane = test::axisPlane(2, z);
+    cp.sections = test::shellSections(cp.plane, Vec3::Zero(), R, 0);
+    planes.push_back(cp);
+  }
+  ReconstructionParams p;
+  p.voxel_mm = 0.25;
+  p.end_margin_mm = margin;
+  const auto rec = reconstructNearestPlane(planes, p);
+  const TriangleMesh mesh = meshZeroLevel(rec.field);
+  const MeshTopology topo = meshTopology(mesh);
+  EXPECT_TRUE(topo.watertight);
+  EXPECT_EQ(topo.betti, (Betti{1, 0, 0}));
+  float zmin = 1e9f, zmax = -1e9f;
+  for (const auto& v : mesh.vertices) zmin = std::min(zmin, v.z()), zmax = std::max(zmax, v.z());
+  EXPECT_GT(zmax, 6.0f);
+  EXPECT_LE(zmax, 6.0f + margin);
+  EXPECT_LT(zmin, -6.0f);
+  EXPECT_GE(zmin, -6.0f - margin);
+  // R ends half-way to the virtual plane (thesis Def. 16 in the closed end cell).
+  EXPECT_NEAR(zmax, 6.0 + margin / 2, 0.3);
+}
