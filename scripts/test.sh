@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds (Release), runs every test through ctest.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+"$root/scripts/install-deps.sh"
+"$root/scripts/build.sh"
+build="${XSECT_BUILD_DIR:-$root/build}"
+cd "$build"
+ctest --output-on-failure --parallel "$(nproc)" --timeout 900

@@ -1,0 +1,43 @@
+// Helpers for tests that run the xsect binary: temporary folders, exit codes, captured stderr.
+#pragma once
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace xsect::test {
+
+inline std::filesystem::path freshDir(const std::string& tag) {
+  std::string tmpl = (std::filesystem::temp_directory_path() / ("xsect-" + tag + "-XXXXXX")).string();
+  if (!::mkdtemp(tmpl.data())) throw std::runtime_error("mkdtemp failed");
+  return tmpl;
+}
+
+struct CliResult {
+  int code = -1;
+  std::string err;
+};
+
+/// Runs `xsect ARGS`, stdout discarded, stderr captured.
+inline CliResult runXsect(const std::string& args) {
+  const auto errFile = freshDir("stderr") / "err.txt";
+  const std::string cmd = std::string(XSECT_BIN) + " " + args + " >/dev/null 2>" + errFile.string();
+  const int status = std::system(cmd.c_str());
+  CliResult r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream f(errFile);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  r.err = ss.str();
+  std::filesystem::remove_all(errFile.parent_path());
+  return r;
+}
+
+inline void writeFile(const std::filesystem::path& p, const std::string& text) {
+  std::filesystem::create_directories(p.parent_path());
+  std::ofstream(p) << text;
+}
+
+}  // namespace xsect::test
