@@ -10,6 +10,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cstdint>
 #include <numeric>
 
 namespace xsect {

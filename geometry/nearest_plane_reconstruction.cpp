@@ -75,57 +75,80 @@ NearestPlaneField nearestPlaneReconstruction(const std::vector<CuttingPlane>& pl
     *e = 0.5 * (b - a);
   };
 
-  const auto doSuper = [&](int s, std::vector<int>& cand, std::vector<int>& sub,
-                           std::vector<double>& lo) {
+  // Pass 1: planes that may be nearest in each 32³ super-box.
+  std::vector<std::vector<int>> superCand(supers);
+  tbb::parallel_for(0, supers, [&](int s) {
     const int bi = s % sx, bj = (s / sx) % sy, bk = s / (sx * sy);
     const int i0 = bi * kSuper, j0 = bj * kSuper, k0 = bk * kSuper;
-    const int i1 = std::min(D[0], i0 + kSuper), j1 = std::min(D[1], j0 + kSuper),
-              k1 = std::min(D[2], k0 + kSuper);
     Vec3 c, e;
-    box(i0, j0, k0, i1, j1, k1, &c, &e);
-    cull(rows, all, c, e, cand, lo);
-    for (int kb = k0; kb < k1; kb += kBlock)
-      for (int jb = j0; jb < j1; jb += kBlock)
-        for (int ib = i0; ib < i1; ib += kBlock) {
-          const int ie = std::min(i1, ib + kBlock), je = std::min(j1, jb + kBlock),
-                    ke = std::min(k1, kb + kBlock);
-          box(ib, jb, kb, ie, je, ke, &c, &e);
-          cull(rows, cand, c, e, sub, lo);
-          for (int k = kb; k < ke; ++k)
-            for (int j = jb; j < je; ++j)
-              for (int i = ib; i < ie; ++i) {
-                const Vec3 x = grid.origin + h * Vec3(i, j, k);
+    box(i0, j0, k0, std::min(D[0], i0 + kSuper), std::min(D[1], j0 + kSuper),
+        std::min(D[2], k0 + kSuper), &c, &e);
+    std::vector<double> lo;
+    cull(rows, all, c, e, superCand[s], lo);
+  });
+
+  // Pass 2: 8³ boxes cull from their super-box's list; voxels scan the survivors, with each
+  // candidate's distance updated incrementally along the box.
+  const int bx = (D[0] + kBlock - 1) / kBlock, by = (D[1] + kBlock - 1) / kBlock,
+            bz = (D[2] + kBlock - 1) / kBlock;
+  const int blocks = bx * by * bz;
+  const auto doBlock = [&](int b, std::vector<int>& sub, std::vector<double>& lo,
+                           std::vector<double>& s0) {
+    const int ib = (b % bx) * kBlock, jb = ((b / bx) % by) * kBlock, kb = (b / (bx * by)) * kBlock;
+    const int ie = std::min(D[0], ib + kBlock), je = std::min(D[1], jb + kBlock),
+              ke = std::min(D[2], kb + kBlock);
+    const int s = (ib / kSuper) + sx * ((jb / kSuper) + sy * (kb / kSuper));
+    Vec3 c, e;
+    box(ib, jb, kb, ie, je, ke, &c, &e);
+    cull(rows, superCand[s], c, e, sub, lo);
+    // 2³ boxes inside the 8³ box cull again from its list: with dense near-parallel planes
+    // (freehand sweeps) the 8³ list holds every plane within ~2 box widths; the 2³ list ~4.
+    const std::vector<int> blockCand = sub;
+    std::vector<int> tiny;
+    for (int k2 = kb; k2 < ke; k2 += 2)
+      for (int j2 = jb; j2 < je; j2 += 2)
+        for (int i2 = ib; i2 < ie; i2 += 2) {
+          const int ie2 = std::min(ie, i2 + 2), je2 = std::min(je, j2 + 2), ke2 = std::min(ke, k2 + 2);
+          box(i2, j2, k2, ie2, je2, ke2, &c, &e);
+          cull(rows, blockCand, c, e, tiny, lo);
+          const Vec3 x0 = grid.centre(i2, j2, k2);
+          s0.resize(tiny.size());
+          for (std::size_t q = 0; q < tiny.size(); ++q) s0[q] = rows[tiny[q]].s(x0);
+          for (int k = k2; k < ke2; ++k)
+            for (int j = j2; j < je2; ++j)
+              for (int i = i2; i < ie2; ++i) {
+                const double di = (i - i2) * h, dj = (j - j2) * h, dk = (k - k2) * h;
                 double best = std::numeric_limits<double>::infinity();
-                int bp = sub.front();
-                for (const int p : sub) {
-                  const double d = std::abs(rows[p].s(x));
+                int bq = 0;
+                for (std::size_t q = 0; q < tiny.size(); ++q) {
+                  const PlaneRow& r = rows[tiny[q]];
+                  const double d = std::abs(s0[q] + r.nx * di + r.ny * dj + r.nz * dk);
                   if (d < best) {
                     best = d;
-                    bp = p;
+                    bq = int(q);
                   }
                 }
+                const int bp = tiny[bq];
                 const PlaneRow& r = rows[bp];
+                const Vec3 x = x0 + Vec3(di, dj, dk);
                 const double a = r.ux * x.x() + r.uy * x.y() + r.uz * x.z() - r.uo;
-                const double b = r.vx * x.x() + r.vy * x.y() + r.vz * x.z() - r.vo;
+                const double bb = r.vx * x.x() + r.vy * x.y() + r.vz * x.z() - r.vo;
                 const std::size_t idx = std::size_t(grid.index(i, j, k));
-                out.value.values[idx] = fields[bp].sample(a, b);
+                out.value.values[idx] = fields[bp].sample(a, bb);
                 out.plane_distance[idx] = float(best);
                 out.nearest_plane[idx] = bp;
               }
         }
   };
-
-  // Chunks of super-boxes in parallel; progress between chunks, on the calling thread.
-  const int chunk = std::max(1, supers / 20);
-  for (int first = 0; first < supers; first += chunk) {
-    const int last = std::min(supers, first + chunk);
-    tbb::parallel_for(tbb::blocked_range<int>(first, last, 1), [&](const tbb::blocked_range<int>& r) {
-      std::vector<int> cand, sub;
-      std::vector<double> lo;
-      cand.reserve(planes.size());
-      for (int s = r.begin(); s != r.end(); ++s) doSuper(s, cand, sub, lo);
+  const int chunk = std::max(256, blocks / 16);
+  for (int first = 0; first < blocks; first += chunk) {
+    const int last = std::min(blocks, first + chunk);
+    tbb::parallel_for(tbb::blocked_range<int>(first, last, 16), [&](const tbb::blocked_range<int>& r) {
+      std::vector<int> sub;
+      std::vector<double> lo, s0;
+      for (int b = r.begin(); b != r.end(); ++b) doBlock(b, sub, lo, s0);
     });
-    if (progress) progress(double(last) / supers);
+    if (progress) progress(double(last) / blocks);
   }
   return out;
 }

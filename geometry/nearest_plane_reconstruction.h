@@ -10,8 +10,9 @@
 // Speed: distances to planes are linear, so over a box of voxels each plane's distance lies in an
 // exact interval; a plane whose lower bound exceeds the smallest upper bound cannot be nearest
 // anywhere in the box. Boxes of 32³ voxels cull against all planes, their 8³ sub-boxes against
-// the survivors, voxels against the few left: the per-voxel cost does not grow with the number of
-// planes, only the per-box cost (one interval per plane per 32³ voxels).
+// the survivors, 2³ boxes against those, and voxels scan the few left (about the number of planes
+// within a voxel or two): the per-voxel cost does not grow with the number of planes, only the
+// per-box cost (one interval per plane per 32³ voxels).
 #pragma once
 
 #include <functional>

@@ -17,6 +17,12 @@ double signedArea(const Ring& r) {
   return 0.5 * a;
 }
 
+double ringLength(const Ring& r) {
+  double l = 0;
+  for (std::size_t i = 0, n = r.size(); i < n; ++i) l += (r[(i + 1) % n] - r[i]).norm();
+  return l;
+}
+
 double sectionArea(const Section& s) {
   double a = std::abs(signedArea(s.outer));
   for (const auto& h : s.holes) a -= std::abs(signedArea(h));

@@ -10,6 +10,8 @@
 namespace xsect {
 
 double signedArea(const Ring& ring);
+/// Length of a closed ring, mm.
+double ringLength(const Ring& ring);
 /// Area of a section: outer minus holes, mm².
 double sectionArea(const Section& s);
 /// Point strictly inside the ring (even-odd crossing rule; boundary points undecided).

@@ -87,6 +87,8 @@ SampledReconstruction reconstructNearestPlane(const std::vector<CuttingPlane>& r
     }
   }
   out.voxels_inside = inside;
+  fields.resize(realPlanes.size());
+  out.fields = std::move(fields);
   out.voxel_betti = voxelBetti(out.inside, grid);
   return out;
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "geometry/digital_topology.h"
+#include "geometry/section_distance_field.h"
 #include "geometry/types.h"
 
 namespace xsect {
@@ -24,6 +25,7 @@ struct SampledReconstruction {
   ScalarField field;                   ///< negative inside the repaired solid, |value| <= band
   std::vector<std::uint8_t> inside;    ///< repaired voxel set of R
   std::vector<CuttingPlane> end_planes;  ///< virtual planes added
+  std::vector<SectionDistanceField> fields;  ///< f_P rasters of the real planes, in input order
   double end_margin_mm = 0;
   bool end_margin_auto = false;
   TopologyRepair repair;

@@ -10,7 +10,8 @@
 //   dice, iou, voxel_mm, grid_dims                    overlap of the two solids on a voxel grid
 //   betti, watertight, surfaces, mesh_volume_mm3      topology of the evaluated mesh's solid
 //   truth_betti                                       when known (truth, or watertight reference)
-//   conformity_iou_min, conformity[{slice, image, iou, section_area_mm2}]   with --slices
+//   conformity_iou_min, conformity[{slice, image, iou, section_area_mm2, section_perimeter_mm,
+//                                         cut_area_mm2}]   with --slices
 // Inputs are validated where they enter (InputError: exit 2).
 #include <nlohmann/json.hpp>
 #include <tbb/parallel_for.h>
@@ -73,11 +74,16 @@ json conformity(const TriangleMesh& mesh, const std::vector<CuttingPlane>& plane
   for (std::size_t i = 0; i < planes.size(); ++i) {
     const CuttingPlane& cp = planes[i];
     const double resolution = cp.pixel_mm > 0 ? 0.5 * cp.pixel_mm : 0.1;
-    const double iou = regionIoU(cutMesh(mesh, cp.plane), cp.sections, resolution, &cp.extent);
-    double area = 0.0;
-    for (const Section& s : cp.sections) area += sectionArea(s);
+    const auto cut = cutMesh(mesh, cp.plane);
+    const double iou = regionIoU(cut, cp.sections, resolution, &cp.extent);
+    double area = 0.0, perimeter = 0.0;
+    for (const Section& s : cp.sections) {
+      area += sectionArea(s);
+      perimeter += ringLength(s.outer);
+      for (const Ring& h : s.holes) perimeter += ringLength(h);
+    }
     list.push_back({{"slice", cp.slice}, {"image", cp.name}, {"iou", number(iou)},
-                    {"section_area_mm2", area}});
+                    {"section_area_mm2", area}, {"section_perimeter_mm", perimeter}, {"cut_area_mm2", cutArea(cut, resolution)}});
     if (std::isfinite(iou) && !(iou >= *iouMin)) *iouMin = iou;
     progress->update(double(i + 1) / double(planes.size()));
   }
@@ -102,7 +108,13 @@ void writeAtomically(const std::string& path, const std::string& text) {
       throw std::runtime_error("error while writing " + tmp.string());
     }
   }
-  fs::rename(tmp, target);
+  std::error_code ec;
+  fs::rename(tmp, target, ec);
+  if (ec) {
+    const std::string why = ec.message();
+    fs::remove(tmp, ec);
+    throw std::runtime_error("cannot move " + tmp.string() + " to " + target.string() + ": " + why);
+  }
 }
 
 }  // namespace

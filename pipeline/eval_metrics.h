@@ -22,7 +22,7 @@ using InsideFn = std::function<std::vector<std::uint8_t>(const std::vector<Vec3>
 /// Distances from the points of one surface to the other surface (mm).
 struct OneSidedDistance {
   double max_mm = 0.0;   ///< over all sample points and vertices
-  double mean_mm = 0.0;  ///< over the area-uniform sample points only
+  double mean_mm = 0.0;  ///< over area-uniform samples only (vertices excluded)
   std::size_t points = 0;  ///< number of points the maximum was taken over
 };
 
@@ -50,7 +50,9 @@ std::vector<Vec3> zeroSetPoints(const SignedDistanceFn& sdf, const Vec3& lo, con
 
 /// Mesh against an implicit truth. mesh -> truth: |sdf| at area-uniform mesh samples and at the
 /// mesh vertices (exact when sdf is an exact distance, a lower bound otherwise). truth -> mesh:
-/// distance to the mesh (via `meshQuery`, built on `mesh`) of zeroSetPoints in [lo, hi].
+/// distance to the mesh (via `meshQuery`, built on `mesh`) of zeroSetPoints in [lo, hi]; its
+/// mean is taken over an approximately area-uniform subset (the first point in each cube of a
+/// grid sized for about a fifth of the points, the mesh's area standing in for the truth's).
 SurfaceDistances distancesToImplicit(const TriangleMesh& mesh, const MeshDistance& meshQuery,
                                      const SignedDistanceFn& sdf, const Vec3& lo, const Vec3& hi,
                                      const SamplingParams& params);

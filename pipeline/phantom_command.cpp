@@ -39,25 +39,31 @@ double roundTwoDigits(double v) {
 }
 
 /// Deep merge of `over` into `base` (maps merge key by key; anything else replaces). Keys with
-/// dots ("reconstruction.voxel_size_mm") address nested maps.
+/// dots ("reconstruction.voxel_size_mm") address nested maps. (yaml-cpp nodes are handles:
+/// assigning one Node variable to another rebinds the data, so the walk recurses instead.)
+void mergeValue(YAML::Node base, const std::string& key, const YAML::Node& value,
+                const std::string& file, const std::string& fullKey);
+
 void mergeInto(YAML::Node base, const YAML::Node& over, const std::string& file,
                const std::string& prefix) {
   for (const auto& kv : over) {
     const std::string key = kv.first.Scalar();
-    if (key.empty()) throw InputError(file, prefix + key, "empty key");
-    YAML::Node target = base;
-    std::string last = key;
-    for (std::size_t dot; (dot = last.find('.')) != std::string::npos;) {
-      const std::string head = last.substr(0, dot);
-      if (head.empty()) throw InputError(file, prefix + key, "empty component in key path");
-      if (!target[head] || !target[head].IsMap()) target[head] = YAML::Node(YAML::NodeType::Map);
-      target = target[head];
-      last = last.substr(dot + 1);
-    }
-    if (kv.second.IsMap() && target[last] && target[last].IsMap())
-      mergeInto(target[last], kv.second, file, prefix + key + ".");
-    else
-      target[last] = YAML::Clone(kv.second);
+    mergeValue(base, key, kv.second, file, prefix + key);
+  }
+}
+
+void mergeValue(YAML::Node base, const std::string& key, const YAML::Node& value,
+                const std::string& file, const std::string& fullKey) {
+  const auto dot = key.find('.');
+  const std::string head = key.substr(0, dot);
+  if (head.empty()) throw InputError(file, fullKey, "empty component in key path");
+  if (dot != std::string::npos) {
+    if (!base[head] || !base[head].IsMap()) base[head] = YAML::Node(YAML::NodeType::Map);
+    mergeValue(base[head], key.substr(dot + 1), value, file, fullKey);
+  } else if (value.IsMap() && base[head] && base[head].IsMap()) {
+    mergeInto(base[head], value, file, fullKey + ".");
+  } else {
+    base[head] = YAML::Clone(value);
   }
 }
 
@@ -139,7 +145,7 @@ int phantomCommand(const PhantomOptions& options) {
       if (!cv::imwrite(file.string(), r.image)) throw std::runtime_error("cannot write " + file.string());
     }
     const int k = ++done;
-    if (!options.quiet && (k == n || k % std::max(1, n / 10) == 0)) {
+    if (!options.quiet && n >= 20 && k % (n / 10) == 0) {
       std::lock_guard<std::mutex> lock(progress);
       std::cerr << "phantom: rendered " << k << "/" << n << " slices\n";
     }
@@ -151,11 +157,14 @@ int phantomCommand(const PhantomOptions& options) {
     SliceRecord r;
     r.image = imageName(i);
     r.fov = fovName;
-    r.image_to_world = plan.poses[i];
+    // "+ 0.0" turns -0 into 0 so the files never show "-0".
+    r.image_to_world = plan.poses[i].array() + 0.0;
     truth.push_back(r);
     r.image_to_world = jitterPose(plan.poses[i], plan.width, plan.height,
                                   spec.degradations.pose_jitter_mm,
-                                  spec.degradations.pose_jitter_deg, spec.seed, i);
+                                  spec.degradations.pose_jitter_deg, spec.seed, i)
+                           .array() +
+                       0.0;
     recorded.push_back(r);
   }
   if (recorded.empty())

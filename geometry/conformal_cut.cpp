@@ -1,0 +1,187 @@
+// Splitting the mesh along the cutting planes and moving the cut onto the contours
+// (see conformal_cut.h).
+#include "geometry/conformal_cut.h"
+
+#include <tbb/parallel_for.h>
+
+#include <array>
+#include <cmath>
+#include <unordered_map>
+
+namespace xsect {
+
+namespace {
+
+constexpr int kMaxPlanesPerVertex = 3;
+
+struct PlaneTags {
+  std::array<int, kMaxPlanesPerVertex> id{-1, -1, -1};
+  int count = 0;
+  void add(int p) {
+    for (int k = 0; k < count; ++k)
+      if (id[k] == p) return;
+    if (count < kMaxPlanesPerVertex) id[count++] = p;
+    else count = kMaxPlanesPerVertex + 1;  // on too many planes: never moved
+  }
+};
+
+double fieldAt(const CuttingPlane& cp, const SectionDistanceField& f, const Vec3& x) {
+  const Vec2 q = cp.plane.toPlane(x);
+  return f.sample(q.x(), q.y());
+}
+
+/// Newton steps on g(t) = f_P(x + t d) for a unit direction d; returns the new point or false.
+bool newtonAlong(const CuttingPlane& cp, const SectionDistanceField& f, Vec3 x, const Vec3& d,
+                 double maxMove, Vec3* out) {
+  const double e = 0.25 * f.step;
+  double t = 0;
+  for (int it = 0; it < 6; ++it) {
+    const double v = fieldAt(cp, f, x + t * d);
+    if (std::abs(v) >= f.band) return false;
+    const double g = (fieldAt(cp, f, x + (t + e) * d) - fieldAt(cp, f, x + (t - e) * d)) / (2 * e);
+    if (std::abs(g) < 1e-3) return false;
+    t -= v / g;
+    if (std::abs(t) > maxMove) return false;
+  }
+  if (std::abs(fieldAt(cp, f, x + t * d)) > 1e-3 * f.step) return false;
+  *out = x + t * d;
+  return true;
+}
+
+/// Newton steps within the plane (2D gradient of f_P).
+bool newtonInPlane(const CuttingPlane& cp, const SectionDistanceField& f, const Vec3& x,
+                   double maxMove, Vec3* out) {
+  const Plane& P = cp.plane;
+  const Vec2 start = P.toPlane(x);
+  Vec2 q = start;
+  const double e = 0.25 * f.step;
+  for (int it = 0; it < 6; ++it) {
+    const double v = f.sample(q.x(), q.y());
+    if (std::abs(v) >= f.band) return false;
+    const Vec2 g((f.sample(q.x() + e, q.y()) - f.sample(q.x() - e, q.y())) / (2 * e),
+                 (f.sample(q.x(), q.y() + e) - f.sample(q.x(), q.y() - e)) / (2 * e));
+    const double g2 = g.squaredNorm();
+    if (g2 < 1e-6) return false;
+    q -= v * g / g2;
+  }
+  if ((q - start).norm() > maxMove || std::abs(f.sample(q.x(), q.y())) > 1e-3 * f.step) return false;
+  *out = x + (q.x() - start.x()) * P.u + (q.y() - start.y()) * P.v;
+  return true;
+}
+
+}  // namespace
+
+ConformalCutStats cutAlongSections(TriangleMesh& mesh, const std::vector<CuttingPlane>& planes,
+                                   const std::vector<SectionDistanceField>& fields, double voxel) {
+  ConformalCutStats stats;
+  std::vector<Vec3> V(mesh.vertices.size());
+  for (std::size_t i = 0; i < V.size(); ++i) V[i] = mesh.vertices[i].cast<double>();
+  std::vector<std::array<std::uint32_t, 3>> T = std::move(mesh.triangles);
+  std::vector<PlaneTags> tags(V.size());
+  const double eps = 0.02 * voxel;
+
+  std::vector<double> s;
+  std::vector<int> sign;
+  std::unordered_map<std::uint64_t, std::uint32_t> edgeVertex;
+  for (std::size_t p = 0; p < planes.size(); ++p) {
+    const CuttingPlane& cp = planes[p];
+    if (cp.sections.empty()) continue;
+    const Plane& P = cp.plane;
+    s.resize(V.size());
+    sign.resize(V.size());
+    bool crosses = false;
+    for (std::size_t i = 0; i < V.size(); ++i) {
+      s[i] = P.signedDistance(V[i]);
+      if (std::abs(s[i]) < eps) {
+        if (tags[i].count == 0) V[i] -= s[i] * P.normal;  // put it on the plane
+        tags[i].add(int(p));
+        s[i] = 0;
+        sign[i] = 0;
+      } else {
+        sign[i] = s[i] > 0 ? 1 : -1;
+      }
+    }
+    edgeVertex.clear();
+    const auto cut = [&](std::uint32_t a, std::uint32_t b) -> std::uint32_t {
+      const std::uint64_t key = (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
+      const auto it = edgeVertex.find(key);
+      if (it != edgeVertex.end()) return it->second;
+      Vec3 x = V[a] + s[a] / (s[a] - s[b]) * (V[b] - V[a]);
+      x -= P.signedDistance(x) * P.normal;
+      const std::uint32_t id = std::uint32_t(V.size());
+      V.push_back(x);
+      tags.emplace_back();
+      tags.back().add(int(p));
+      s.push_back(0);
+      sign.push_back(0);
+      edgeVertex.emplace(key, id);
+      ++stats.vertices_added;
+      return id;
+    };
+    const std::size_t nT = T.size();
+    for (std::size_t t = 0; t < nT; ++t) {
+      const auto tri = T[t];
+      const int sg[3] = {sign[tri[0]], sign[tri[1]], sign[tri[2]]};
+      const int zeros = (sg[0] == 0) + (sg[1] == 0) + (sg[2] == 0);
+      if (zeros == 0) {
+        // one vertex alone on its side: three triangles
+        int lone = -1;
+        for (int k = 0; k < 3; ++k)
+          if (sg[k] != sg[(k + 1) % 3] && sg[k] != sg[(k + 2) % 3]) lone = k;
+        if (lone < 0) continue;
+        const std::uint32_t a = tri[lone], b = tri[(lone + 1) % 3], c = tri[(lone + 2) % 3];
+        const std::uint32_t pab = cut(a, b), pac = cut(a, c);
+        T[t] = {a, pab, pac};
+        T.push_back({pab, b, c});
+        T.push_back({pab, c, pac});
+        crosses = true;
+      } else if (zeros == 1) {
+        int z = 0;
+        while (sg[z] != 0) ++z;
+        const std::uint32_t a = tri[z], b = tri[(z + 1) % 3], c = tri[(z + 2) % 3];
+        if (sign[b] == sign[c]) continue;
+        const std::uint32_t pbc = cut(b, c);
+        T[t] = {a, b, pbc};
+        T.push_back({a, pbc, c});
+        crosses = true;
+      }
+    }
+    stats.planes_cut += crosses;
+  }
+
+  // Move the vertices that lie on planes onto the contours.
+  std::vector<float> moved(V.size(), -1.0f);
+  tbb::parallel_for(std::size_t(0), V.size(), [&](std::size_t i) {
+    const PlaneTags& g = tags[i];
+    if (g.count == 0) return;
+    Vec3 y;
+    bool ok = false;
+    if (g.count == 1) {
+      ok = newtonInPlane(planes[g.id[0]], fields[g.id[0]], V[i], voxel, &y);
+    } else if (g.count == 2) {
+      const Vec3 d = planes[g.id[0]].plane.normal.cross(planes[g.id[1]].plane.normal);
+      if (d.norm() > 1e-6)
+        ok = newtonAlong(planes[g.id[0]], fields[g.id[0]], V[i], d.normalized(), voxel, &y);
+    }
+    if (ok) {
+      moved[i] = float((y - V[i]).norm());
+      V[i] = y;
+    } else {
+      moved[i] = -2.0f;
+    }
+  });
+  for (float m : moved) {
+    if (m >= 0) {
+      ++stats.vertices_snapped;
+      stats.max_move_mm = std::max(stats.max_move_mm, double(m));
+    } else if (m == -2.0f) {
+      ++stats.vertices_unsnapped;
+    }
+  }
+  mesh.triangles = std::move(T);
+  mesh.vertices.resize(V.size());
+  for (std::size_t i = 0; i < V.size(); ++i) mesh.vertices[i] = V[i].cast<float>();
+  return stats;
+}
+
+}  // namespace xsect
