@@ -15,24 +15,32 @@ namespace {
 
 struct PlaneRow {  // s(x) = n.x - d; plane coordinates a = u.x - uo, b = v.x - vo
   double nx, ny, nz, d, ux, uy, uz, uo, vx, vy, vz, vo;
+  double ax, ay, az;  // |n|: the half-width of the distance interval over a box is |n|.e
   double s(const Vec3& x) const { return nx * x.x() + ny * x.y() + nz * x.z() - d; }
 };
 
-/// Planes of `from` that may be nearest somewhere in the box [c - e, c + e].
+/// Planes of `from` that may be nearest somewhere in the box [c - e, c + e]: those whose lower
+/// distance bound does not exceed the smallest upper bound. One pass keeps every plane under the
+/// running smallest upper bound; a second pass over the (few) kept ones applies the final bound.
 void cull(const std::vector<PlaneRow>& rows, const std::vector<int>& from, const Vec3& c,
           const Vec3& e, std::vector<int>& out, std::vector<double>& lo) {
   double minHi = std::numeric_limits<double>::infinity();
-  lo.resize(from.size());
-  for (std::size_t k = 0; k < from.size(); ++k) {
-    const PlaneRow& p = rows[from[k]];
-    const double r = std::abs(p.nx) * e.x() + std::abs(p.ny) * e.y() + std::abs(p.nz) * e.z();
-    const double a = std::abs(p.s(c));
-    lo[k] = std::max(0.0, a - r);
-    minHi = std::min(minHi, a + r);
-  }
   out.clear();
-  for (std::size_t k = 0; k < from.size(); ++k)
-    if (lo[k] <= minHi) out.push_back(from[k]);
+  lo.clear();
+  for (const int k : from) {
+    const PlaneRow& p = rows[k];
+    const double r = p.ax * e.x() + p.ay * e.y() + p.az * e.z();
+    const double a = std::abs(p.s(c));
+    const double l = a - r;
+    if (l > minHi) continue;
+    minHi = std::min(minHi, a + r);
+    out.push_back(k);
+    lo.push_back(l);
+  }
+  std::size_t n = 0;
+  for (std::size_t q = 0; q < out.size(); ++q)
+    if (lo[q] <= minHi) out[n++] = out[q];
+  out.resize(n);
 }
 
 }  // namespace
@@ -50,7 +58,8 @@ NearestPlaneField nearestPlaneReconstruction(const std::vector<CuttingPlane>& pl
     const Plane& p = planes[i].plane;
     rows[i] = {p.normal.x(), p.normal.y(), p.normal.z(), p.normal.dot(p.origin),
                p.u.x(),      p.u.y(),      p.u.z(),      p.u.dot(p.origin),
-               p.v.x(),      p.v.y(),      p.v.z(),      p.v.dot(p.origin)};
+               p.v.x(),      p.v.y(),      p.v.z(),      p.v.dot(p.origin),
+               std::abs(p.normal.x()), std::abs(p.normal.y()), std::abs(p.normal.z())};
   }
   std::vector<int> all(planes.size());
   for (std::size_t i = 0; i < all.size(); ++i) all[i] = int(i);
@@ -87,66 +96,93 @@ NearestPlaneField nearestPlaneReconstruction(const std::vector<CuttingPlane>& pl
     cull(rows, all, c, e, superCand[s], lo);
   });
 
-  // Pass 2: 8³ boxes cull from their super-box's list; voxels scan the survivors, with each
-  // candidate's distance updated incrementally along the box.
+  // Pass 2: inside each 8³ box, an octree of boxes (8 -> 4 -> 2) culls the list again at every
+  // level (planes crossing a box shrink with its size: with hundreds of random planes the 8³ list
+  // holds dozens, the 2³ list a handful); voxels scan the survivors, each candidate's distance
+  // updated incrementally from the box corner.
   const int bx = (D[0] + kBlock - 1) / kBlock, by = (D[1] + kBlock - 1) / kBlock,
             bz = (D[2] + kBlock - 1) / kBlock;
   const int blocks = bx * by * bz;
-  const auto doBlock = [&](int b, std::vector<int>& sub, std::vector<double>& lo,
-                           std::vector<double>& s0) {
-    const int ib = (b % bx) * kBlock, jb = ((b / bx) % by) * kBlock, kb = (b / (bx * by)) * kBlock;
-    const int ie = std::min(D[0], ib + kBlock), je = std::min(D[1], jb + kBlock),
-              ke = std::min(D[2], kb + kBlock);
-    const int s = (ib / kSuper) + sx * ((jb / kSuper) + sy * (kb / kSuper));
-    Vec3 c, e;
-    box(ib, jb, kb, ie, je, ke, &c, &e);
-    cull(rows, superCand[s], c, e, sub, lo);
-    // 2³ boxes inside the 8³ box cull again from its list: with dense near-parallel planes
-    // (freehand sweeps) the 8³ list holds every plane within ~2 box widths; the 2³ list ~4.
-    const std::vector<int> blockCand = sub;
-    std::vector<int> tiny;
-    for (int k2 = kb; k2 < ke; k2 += 2)
-      for (int j2 = jb; j2 < je; j2 += 2)
-        for (int i2 = ib; i2 < ie; i2 += 2) {
-          const int ie2 = std::min(ie, i2 + 2), je2 = std::min(je, j2 + 2), ke2 = std::min(ke, k2 + 2);
-          box(i2, j2, k2, ie2, je2, ke2, &c, &e);
-          cull(rows, blockCand, c, e, tiny, lo);
-          const Vec3 x0 = grid.centre(i2, j2, k2);
-          s0.resize(tiny.size());
-          for (std::size_t q = 0; q < tiny.size(); ++q) s0[q] = rows[tiny[q]].s(x0);
-          for (int k = k2; k < ke2; ++k)
-            for (int j = j2; j < je2; ++j)
-              for (int i = i2; i < ie2; ++i) {
-                const double di = (i - i2) * h, dj = (j - j2) * h, dk = (k - k2) * h;
-                double best = std::numeric_limits<double>::infinity();
-                int bq = 0;
-                for (std::size_t q = 0; q < tiny.size(); ++q) {
-                  const PlaneRow& r = rows[tiny[q]];
-                  const double d = std::abs(s0[q] + r.nx * di + r.ny * dj + r.nz * dk);
-                  if (d < best) {
-                    best = d;
-                    bq = int(q);
-                  }
-                }
-                const int bp = tiny[bq];
-                const PlaneRow& r = rows[bp];
-                const Vec3 x = x0 + Vec3(di, dj, dk);
-                const double a = r.ux * x.x() + r.uy * x.y() + r.uz * x.z() - r.uo;
-                const double bb = r.vx * x.x() + r.vy * x.y() + r.vz * x.z() - r.vo;
-                const std::size_t idx = std::size_t(grid.index(i, j, k));
-                out.value.values[idx] = fields[bp].sample(a, bb);
-                out.plane_distance[idx] = float(best);
-                out.nearest_plane[idx] = bp;
-              }
+  struct Scratch {
+    std::vector<int> lists[4];  // candidates at box sizes 8, 4, 2 (index = level)
+    std::vector<double> lo, s0, nx, ny, nz;
+  };
+  const auto evalVoxels = [&](int i0, int j0, int k0, int i1, int j1, int k1,
+                              const std::vector<int>& cand, Scratch& w) {
+    const Vec3 x0 = grid.centre(i0, j0, k0);
+    const std::size_t m = cand.size();
+    w.s0.resize(m);
+    w.nx.resize(m);
+    w.ny.resize(m);
+    w.nz.resize(m);
+    for (std::size_t q = 0; q < m; ++q) {  // contiguous copies: a tight scan per voxel
+      const PlaneRow& r = rows[cand[q]];
+      w.s0[q] = r.s(x0);
+      w.nx[q] = r.nx * h;
+      w.ny[q] = r.ny * h;
+      w.nz[q] = r.nz * h;
+    }
+    const double* s0 = w.s0.data();
+    const double *nx = w.nx.data(), *ny = w.ny.data(), *nz = w.nz.data();
+    for (int k = k0; k < k1; ++k)
+      for (int j = j0; j < j1; ++j)
+        for (int i = i0; i < i1; ++i) {
+          const double di = i - i0, dj = j - j0, dk = k - k0;
+          double best = std::numeric_limits<double>::infinity();
+          int bq = 0;
+          for (std::size_t q = 0; q < m; ++q) {
+            const double d = std::abs(s0[q] + nx[q] * di + ny[q] * dj + nz[q] * dk);
+            if (d < best) {
+              best = d;
+              bq = int(q);
+            }
+          }
+          const int bp = cand[bq];
+          const PlaneRow& r = rows[bp];
+          const Vec3 x = x0 + h * Vec3(di, dj, dk);
+          const double a = r.ux * x.x() + r.uy * x.y() + r.uz * x.z() - r.uo;
+          const double b = r.vx * x.x() + r.vy * x.y() + r.vz * x.z() - r.vo;
+          const std::size_t idx = std::size_t(grid.index(i, j, k));
+          out.value.values[idx] = fields[bp].sample(a, b);
+          out.plane_distance[idx] = float(best);
+          out.nearest_plane[idx] = bp;
         }
+  };
+  // Box of `size` voxels at (i0, j0, k0), candidates `from`; level 0 = 8³.
+  const std::function<void(int, int, int, int, int, const std::vector<int>&, Scratch&)> visit =
+      [&](int i0, int j0, int k0, int size, int level, const std::vector<int>& from, Scratch& w) {
+        const int i1 = std::min(D[0], i0 + size), j1 = std::min(D[1], j0 + size),
+                  k1 = std::min(D[2], k0 + size);
+        if (i0 >= i1 || j0 >= j1 || k0 >= k1) return;
+        Vec3 c, e;
+        box(i0, j0, k0, i1, j1, k1, &c, &e);
+        if (size <= 2 && from.size() <= 12) {  // short list: a cull would cost as much as it saves
+          evalVoxels(i0, j0, k0, i1, j1, k1, from, w);
+          return;
+        }
+        std::vector<int>& list = w.lists[level];
+        cull(rows, from, c, e, list, w.lo);
+        if (size <= 2 || list.size() <= 2) {
+          evalVoxels(i0, j0, k0, i1, j1, k1, list, w);
+          return;
+        }
+        const int half = size / 2;
+        for (int dz = 0; dz < 2; ++dz)
+          for (int dy = 0; dy < 2; ++dy)
+            for (int dx = 0; dx < 2; ++dx)
+              visit(i0 + dx * half, j0 + dy * half, k0 + dz * half, half, level + 1, list, w);
+      };
+  const auto doBlock = [&](int b, Scratch& w) {
+    const int ib = (b % bx) * kBlock, jb = ((b / bx) % by) * kBlock, kb = (b / (bx * by)) * kBlock;
+    const int s = (ib / kSuper) + sx * ((jb / kSuper) + sy * (kb / kSuper));
+    visit(ib, jb, kb, kBlock, 0, superCand[s], w);
   };
   const int chunk = std::max(256, blocks / 16);
   for (int first = 0; first < blocks; first += chunk) {
     const int last = std::min(blocks, first + chunk);
     tbb::parallel_for(tbb::blocked_range<int>(first, last, 16), [&](const tbb::blocked_range<int>& r) {
-      std::vector<int> sub;
-      std::vector<double> lo, s0;
-      for (int b = r.begin(); b != r.end(); ++b) doBlock(b, sub, lo, s0);
+      Scratch w;
+      for (int b = r.begin(); b != r.end(); ++b) doBlock(b, w);
     });
     if (progress) progress(double(last) / blocks);
   }

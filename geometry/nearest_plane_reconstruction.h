@@ -9,10 +9,11 @@
 //
 // Speed: distances to planes are linear, so over a box of voxels each plane's distance lies in an
 // exact interval; a plane whose lower bound exceeds the smallest upper bound cannot be nearest
-// anywhere in the box. Boxes of 32³ voxels cull against all planes, their 8³ sub-boxes against
-// the survivors, 2³ boxes against those, and voxels scan the few left (about the number of planes
-// within a voxel or two): the per-voxel cost does not grow with the number of planes, only the
-// per-box cost (one interval per plane per 32³ voxels).
+// anywhere in the box. Boxes of 32³ voxels cull against all planes, then an octree of sub-boxes
+// (8³, 4³, 2³) culls each parent's survivors, and voxels scan the few left (about the planes
+// within a voxel or two). Planes crossing a box shrink in number with its size, so the per-voxel
+// cost hardly grows with the number of planes (bench: doubling 200 random planes to 400 at a fixed
+// grid).
 #pragma once
 
 #include <functional>

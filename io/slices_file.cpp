@@ -8,6 +8,7 @@
 
 #include "io/input_error.h"
 #include "io/yaml_fields.h"
+#include "io/yaml_number.h"
 
 namespace xsect {
 namespace fs = std::filesystem;
@@ -91,13 +92,12 @@ std::vector<SliceRecord> readSlicesFile(const std::string& path) {
 void writeSlicesFile(const std::string& path, const std::vector<SliceRecord>& slices) {
   std::ostringstream os;
   os << "slices:\n";
-  os << std::setprecision(17);
   for (const auto& s : slices) {
     os << "  - image: " << s.image << "\n";
     os << "    image_to_world:\n";
     for (int r = 0; r < 4; ++r) {
       os << "      - [";
-      for (int c = 0; c < 4; ++c) os << (c ? ", " : "") << s.image_to_world(r, c);
+      for (int c = 0; c < 4; ++c) os << (c ? ", " : "") << yamlNumberText(s.image_to_world(r, c));
       os << "]\n";
     }
     if (s.fov) os << "    fov: " << *s.fov << "\n";

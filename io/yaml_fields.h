@@ -11,7 +11,11 @@
 
 namespace xsect {
 
-inline int yamlLine(const YAML::Node& n) { return n.Mark().line >= 0 ? n.Mark().line + 1 : -1; }
+/// 1-based line of a node, -1 when unknown (a missing node has no position: Mark() would throw).
+inline int yamlLine(const YAML::Node& n) {
+  if (!n.IsDefined()) return -1;
+  return n.Mark().line >= 0 ? n.Mark().line + 1 : -1;
+}
 
 inline YAML::Node loadYamlFile(const std::string& path) {
   try {

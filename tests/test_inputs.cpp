@@ -212,3 +212,32 @@ TEST(Inputs, MalformedCslFiles) {
   expectRejected(d, "bad.csl");
   fs::remove_all(d);
 }
+
+TEST(Inputs, SlicesFileRoundTripsExactly) {
+  const fs::path d = validInput();
+  auto slices = readSlicesFile((d / "slices.yaml").string());
+  slices[0].image_to_world(0, 3) = -12.8;  // not representable: must still round-trip exactly
+  slices[1].image_to_world(1, 1) = 0.1 + 0.2;
+  writeSlicesFile((d / "copy.yaml").string(), slices);
+  const auto back = readSlicesFile((d / "copy.yaml").string());
+  ASSERT_EQ(back.size(), slices.size());
+  for (std::size_t i = 0; i < back.size(); ++i) {
+    EXPECT_EQ(back[i].image, slices[i].image);
+    EXPECT_TRUE(back[i].image_to_world == slices[i].image_to_world) << i;
+  }
+  std::ifstream f(d / "copy.yaml");
+  const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("-12.8]"), std::string::npos) << "shortest text expected:\n" << text;
+  fs::remove_all(d);
+}
+
+TEST(Inputs, MissingScalarIsAnInputErrorNotACrash) {
+  const fs::path d = validInput();
+  // a key present with no value (null) and a missing nested map value
+  test::writeFile(d / "config.yaml", "input:\n  slices: slices.yaml\nreconstruction:\n  voxel_size_mm:\n");
+  expectRejected(d, "reconstruction.voxel_size_mm");
+  test::writeFile(d / "slices.yaml", "slices:\n  - image:\n    image_to_world: [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]\n");
+  test::writeFile(d / "config.yaml", "input:\n  slices: slices.yaml\n");
+  expectRejected(d, "slices[0].image");
+  fs::remove_all(d);
+}
