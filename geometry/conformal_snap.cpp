@@ -19,6 +19,7 @@ bool snapOnto(const Plane& P, const SectionDistanceField& f, Vec3& x) {
   for (int it = 0; it < 4; ++it) {
     const double v = f.sample(q.x(), q.y());
     if (std::abs(v) >= f.band) return false;
+    if (std::abs(v) <= 1e-4 * f.step) break;  // converged
     const Vec2 g((f.sample(q.x() + e, q.y()) - f.sample(q.x() - e, q.y())) / (2 * e),
                  (f.sample(q.x(), q.y() + e) - f.sample(q.x(), q.y() - e)) / (2 * e));
     const double g2 = g.squaredNorm();
@@ -64,9 +65,14 @@ SnapStats snapToSectionContours(TriangleMesh& mesh, const std::vector<CuttingPla
         constraints.push_back(int(p));
     const auto attempt = [&](std::size_t count, Vec3& y) {
       y = x;
-      for (int round = 0; round < (count > 1 ? 12 : 1); ++round)
+      for (int round = 0; round < (count > 1 ? 12 : 1); ++round) {
         for (std::size_t c = 0; c < count; ++c)
           if (!snapOnto(planes[constraints[c]].plane, fields[constraints[c]], y)) return false;
+        bool all = true;  // alternating projections converged?
+        for (std::size_t c = 0; c < count && all; ++c)
+          all = onContour(planes[constraints[c]].plane, fields[constraints[c]], y);
+        if (all) break;
+      }
       for (std::size_t c = 0; c < count; ++c)
         if (!onContour(planes[constraints[c]].plane, fields[constraints[c]], y)) return false;
       return (y - x).norm() <= max_move;
