@@ -6,13 +6,15 @@
 #include "geometry/plane_of_pose.h"
 #include "io/image_io.h"
 #include "io/input_error.h"
+#include "segmentation/series_threshold.h"
 
 namespace xsect {
 
 std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& slices,
                                              const std::string& listing_file,
                                              const SegmentationParams& params,
-                                             std::vector<std::string>* warnings) {
+                                             std::vector<std::string>* warnings,
+                                             double* thresholdUsed) {
   const int n = int(slices.size());
   std::vector<CuttingPlane> planes(n);
   std::vector<char> touches(n, 0);
@@ -29,6 +31,15 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
       fovs[i] = f != 0;
     }
   }
+  // Otsu: one threshold for the series, from the pooled histogram (series_threshold.h).
+  SegmentationParams perSlice = params;
+  if (params.method == "otsu") {
+    perSlice.method = "threshold";
+    perSlice.threshold = otsuThresholdOfSeries(images, fovs, params.sigma_px);
+    if (thresholdUsed) *thresholdUsed = perSlice.threshold;
+  } else if (thresholdUsed) {
+    *thresholdUsed = params.method == "labels" ? 0.5 : params.threshold;
+  }
   tbb::parallel_for(0, n, [&](int i) {
     Vec2 spacing;
     CuttingPlane& cp = planes[i];
@@ -38,7 +49,7 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
     cp.pixel_mm = std::min(spacing.x(), spacing.y());
     cp.extent.min = Vec2::Zero();
     cp.extent.max = Vec2((images[i].cols - 1) * spacing.x(), (images[i].rows - 1) * spacing.y());
-    SegmentedSlice seg = segmentSlice(images[i], fovs[i], spacing, params);
+    SegmentedSlice seg = segmentSlice(images[i], fovs[i], spacing, perSlice);
     cp.sections = std::move(seg.sections);
     touches[i] = seg.touches_fov_edge;
   });

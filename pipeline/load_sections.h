@@ -13,9 +13,12 @@ namespace xsect {
 
 /// @param listing_file  the slices.yaml the records came from (for error messages).
 /// @param warnings      receives "slice N touches the edge of its field of view" and the like.
+/// @param thresholdUsed receives the grey threshold applied (method otsu: one threshold for the
+///                      whole series, Otsu's on the pooled histogram, series_threshold.h).
 std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& slices,
                                              const std::string& listing_file,
                                              const SegmentationParams& params,
-                                             std::vector<std::string>* warnings);
+                                             std::vector<std::string>* warnings,
+                                             double* thresholdUsed = nullptr);
 
 }  // namespace xsect

@@ -1,5 +1,8 @@
-// Progress of long stages on stderr ("[stage] 42%"), silenced by --quiet.
+// Progress of long stages on stderr ("[stage] 42%"), silenced by --quiet. On a terminal the
+// percentage is rewritten in place; elsewhere (logs, CI) only one line per stage is written.
 #pragma once
+
+#include <unistd.h>
 
 #include <cstdio>
 #include <string>
@@ -8,17 +11,17 @@ namespace xsect {
 
 class Progress {
  public:
-  explicit Progress(bool quiet) : quiet_(quiet) {}
+  explicit Progress(bool quiet) : quiet_(quiet), tty_(::isatty(2) != 0) {}
   void stage(const std::string& name) {
     finish();
     name_ = name;
     last_ = -1;
-    if (!quiet_) std::fprintf(stderr, "[%s] ...", name.c_str());
+    if (!quiet_ && tty_) std::fprintf(stderr, "[%s] ...", name.c_str());
     open_ = true;
   }
   void update(double fraction) {
     const int pct = int(fraction * 100.0);
-    if (quiet_ || pct == last_) return;
+    if (quiet_ || !tty_ || pct == last_) return;
     last_ = pct;
     std::fprintf(stderr, "\r[%s] %3d%%", name_.c_str(), pct);
   }
@@ -27,13 +30,13 @@ class Progress {
     if (!quiet_) std::fprintf(stderr, "%s\n", text.c_str());
   }
   void finish() {
-    if (open_ && !quiet_) std::fprintf(stderr, "\r[%s] done\n", name_.c_str());
+    if (open_ && !quiet_) std::fprintf(stderr, tty_ ? "\r[%s] done\n" : "[%s] done\n", name_.c_str());
     open_ = false;
   }
   ~Progress() { finish(); }
 
  private:
-  bool quiet_;
+  bool quiet_, tty_;
   bool open_ = false;
   std::string name_;
   int last_ = -1;

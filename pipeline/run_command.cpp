@@ -61,6 +61,7 @@ struct Inputs {
   std::vector<std::string> input_files;  // hashed into the manifest
   std::vector<std::string> warnings;
   int slices = 0;
+  double threshold = 0;  // grey threshold applied (slices input)
 };
 
 /// Stages load + segment (+ conform, which this version reports but does not enforce).
@@ -94,7 +95,7 @@ Inputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress) {
   clock.end("load");
   progress.stage("segment");
   if (c.input_kind == "slices")
-    in.planes = sectionsFromSlices(slices, c.input_path, c.segmentation, &in.warnings);
+    in.planes = sectionsFromSlices(slices, c.input_path, c.segmentation, &in.warnings, &in.threshold);
   in.slices = int(in.planes.size());
   clock.end("segment");
   progress.stage("conform");
@@ -193,6 +194,8 @@ int runCommand(const RunOptions& o) {
                       {"voxels_inside", rec.voxels_inside},
                       {"mesh_vertices", mesh.vertices.size()},
                       {"mesh_triangles", mesh.triangles.size()}};
+  if (c.input_kind == "slices")
+    report["segmentation"] = {{"method", c.segmentation.method}, {"threshold_used", in.threshold}};
   report["reconstruction"] = {{"method", c.reconstruction_method},
                               {"voxel_size_mm", c.voxel_size_mm},
                               {"grid_origin_mm", vec(rec.field.grid.origin)},

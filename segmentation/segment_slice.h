@@ -13,7 +13,7 @@
 namespace xsect {
 
 struct SegmentationParams {
-  std::string method = "threshold";  ///< threshold | otsu | labels
+  std::string method = "threshold";  ///< threshold | otsu (this image's own) | labels
   double threshold = 128.0;          ///< grey level (threshold method); inside = above
   double sigma_px = 0.0;             ///< Gaussian smoothing, pixels (0 = none)
   int open_radius_px = 0;            ///< morphological opening radius, pixels

@@ -26,6 +26,9 @@ namespace {
 struct Case {
   std::string name, shape, pattern;
   double voxel;
+  std::string degradations = "{}";
+  bool checkConformity = true;
+  double extraBound = 0;  // mm added to the Hausdorff bound (recorded-pose error)
 };
 
 struct Shape {
@@ -78,7 +81,8 @@ void runCase(const Case& c) {
   SCOPED_TRACE(c.name);
   const fs::path dir = test::freshDir("accept");
   test::writeFile(dir / "spec.yaml", "seed: 3\nshape: " + c.shape + "\npattern: " + c.pattern +
-                                         "\nimage: {pixel_mm: 0.2}\nconfig: {reconstruction: {voxel_size_mm: " +
+                                         "\nimage: {pixel_mm: 0.2}\ndegradations: " + c.degradations +
+                                         "\nconfig: {reconstruction: {voxel_size_mm: " +
                                          std::to_string(c.voxel) + "}}\n");
   auto r = test::runXsect("phantom " + (dir / "spec.yaml").string() + " --out " +
                           (dir / "ph").string() + " --quiet");
@@ -101,8 +105,14 @@ void runCase(const Case& c) {
   EXPECT_TRUE(ev["watertight"].get<bool>());
 
   const bool random = c.pattern.find("random") != std::string::npos;
-  const double bound = random ? 2 * largestHeightInSolid(truth, slices) : largestParallelGap(slices);
-  EXPECT_LT(ev["hausdorff_mm"].get<double>(), bound) << "bound " << bound;
+  // Gaps from the true poses (the recorded ones carry tracking error when jittered).
+  const auto truePoses = readSlicesFile((dir / "ph/true_poses.yaml").string());
+  const double bound = random ? 2 * largestHeightInSolid(truth, truePoses) : largestParallelGap(truePoses);
+  EXPECT_LT(ev["hausdorff_mm"].get<double>(), bound + c.extraBound) << "bound " << bound;
+  if (!c.checkConformity) {
+    fs::remove_all(dir);
+    return;
+  }
 
   // Conformity on planes whose sections span at least 10 voxels across: hydraulic diameter
   // 4 * area / perimeter >= 10 voxels (the diameter, for a disk). IoU's sensitivity to a boundary
@@ -155,4 +165,16 @@ TEST(AcceptanceMethod1, ParallelStack) {
 TEST(AcceptanceMethod1, RandomPlanes) {
   for (const auto& sh : shapes())
     runCase({sh.name + " random", sh.yaml, "{kind: random, count: " + std::to_string(sh.random) + "}", 0.3});
+}
+
+TEST(AcceptanceMethod1, DegradedImagesAndPoses) {
+  // Noise, speckle, blur (segmented with the series' Otsu threshold), tracking error and dropped
+  // frames: the topology survives; the distance bound grows by the pose error's reach over the
+  // object (0.1 mm + 0.2 deg over ~14 mm). Conformity with the recorded planes is not asked here:
+  // with jittered poses the sections disagree along plane intersections (issue: conformity).
+  const Case c{"torus degraded", shapes()[1].yaml, "{kind: multiaxial, count: 16}", 0.3,
+               "{noise_sigma: 25, speckle: 0.3, blur_sigma_px: 1.0, pose_jitter_mm: 0.1,"
+               " pose_jitter_deg: 0.2, drop_probability: 0.1}",
+               false, 0.15};
+  runCase(c);
 }

@@ -241,3 +241,23 @@ TEST(Inputs, MissingScalarIsAnInputErrorNotACrash) {
   expectRejected(d, "slices[0].image");
   fs::remove_all(d);
 }
+
+TEST(Inputs, CheckValidatesWithoutWriting) {
+  const fs::path d = validInput();
+  const fs::path out = d / "check.json";
+  const int status = std::system((std::string(XSECT_BIN) + " check " + (d / "config.yaml").string() +
+                                  " --quiet > " + out.string()).c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  const auto j = nlohmann::json::parse(std::ifstream(out));
+  EXPECT_TRUE(j["valid"].get<bool>());
+  EXPECT_EQ(j["counts"]["slices"], 2);
+  EXPECT_EQ(j["counts"]["sections"], 2);
+  EXPECT_GT(j["estimated_voxels"].get<double>(), 0);
+  EXPECT_FALSE(fs::exists(d / "out"));  // check never reconstructs or writes outputs
+  test::writeFile(d / "slices.yaml", slicesWithPose("[[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]]"));
+  const auto r = test::runXsect("check " + (d / "config.yaml").string() + " --quiet");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("slices[0].image_to_world"), std::string::npos) << r.err;
+  fs::remove_all(d);
+}

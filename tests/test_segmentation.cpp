@@ -8,6 +8,7 @@
 
 #include "geometry/polygon.h"
 #include "segmentation/segment_slice.h"
+#include "segmentation/series_threshold.h"
 
 using namespace xsect;
 
@@ -179,4 +180,27 @@ TEST(Segmentation, AnisotropicPixelsScaleToMillimetres) {
   for (const auto& q : s.sections[0].outer) maxU = std::max(maxU, q.x()), maxV = std::max(maxV, q.y());
   EXPECT_NEAR(maxU, 44 * 0.3, 0.1);
   EXPECT_NEAR(maxV, 44 * 0.7, 0.2);
+}
+
+TEST(Segmentation, SeriesOtsuKeepsEmptySlicesEmpty) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0, 20);
+  const auto noisy = [&](cv::Mat m) {
+    for (int j = 0; j < m.rows; ++j)
+      for (int i = 0; i < m.cols; ++i)
+        m.at<unsigned char>(j, i) = cv::saturate_cast<unsigned char>(m.at<unsigned char>(j, i) + 20 + noise(rng));
+    return m;
+  };
+  const cv::Mat object = noisy(disk(64, 64, 32, 32, 14)), empty = noisy(cv::Mat(64, 64, CV_8U, cv::Scalar(0)));
+  const double t = otsuThresholdOfSeries({object, empty}, {cv::Mat(), cv::Mat()}, 1.5);
+  EXPECT_GT(t, 70);
+  EXPECT_LT(t, 200);
+  SegmentationParams p;
+  p.sigma_px = 1.5;
+  p.threshold = t;
+  EXPECT_EQ(segmentSlice(object, cv::Mat(), Vec2(1, 1), p).sections.size(), 1u);
+  EXPECT_TRUE(segmentSlice(empty, cv::Mat(), Vec2(1, 1), p).sections.empty());
+  // the per-image Otsu of the empty slice splits the noise and invents sections
+  p.method = "otsu";
+  EXPECT_GT(segmentSlice(empty, cv::Mat(), Vec2(1, 1), p).sections.size(), 5u);
 }
