@@ -31,10 +31,14 @@ SampledReconstruction reconstructNearestPlane(const std::vector<CuttingPlane>& r
   std::vector<CuttingPlane> planes = realPlanes;
   planes.insert(planes.end(), out.end_planes.begin(), out.end_planes.end());
 
-  // Grid: the box closed by the end planes, plus two layers of outside voxels.
+  // Grid: R lies within half the end margin of the sections' bounds. A point of R at distance t
+  // beyond the bounds (along an axis) projects onto a section inside them, so its nearest plane is
+  // at least t away, while the end plane beyond it is m - t away (Def. 15-16): t <= m / 2.
+  // Two layers of outside voxels close the surface.
   GridSpec grid;
   grid.voxel = h;
-  const Vec3 boxLo = lo - Vec3::Constant(out.end_margin_mm), boxHi = hi + Vec3::Constant(out.end_margin_mm);
+  const double reachOut = 0.5 * out.end_margin_mm + h;
+  const Vec3 boxLo = lo - Vec3::Constant(reachOut), boxHi = hi + Vec3::Constant(reachOut);
   grid.origin = boxLo - Vec3::Constant(2 * h);
   double count = 1;
   for (int a = 0; a < 3; ++a) {
