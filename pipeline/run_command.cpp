@@ -11,7 +11,6 @@
 #include <nlohmann/json.hpp>
 
 #include "geometry/conformal_cut.h"
-#include "geometry/conformal_snap.h"
 #include "geometry/end_planes.h"
 #include "geometry/mesh_topology.h"
 #include "geometry/polygon.h"
@@ -149,9 +148,7 @@ int runCommand(const RunOptions& o) {
 
   progress.stage("mesh");
   TriangleMesh mesh = meshZeroLevel(rec.field);
-  const double h = c.voxel_size_mm;
-  const SnapStats snap = snapToSectionContours(mesh, in.planes, rec.fields, h, 0.5 * h);
-  const ConformalCutStats cutStats = cutAlongSections(mesh, in.planes, rec.fields, h);
+  const ConformalCutStats cutStats = cutAlongSections(mesh, in.planes, rec.fields, c.voxel_size_mm);
   clock.end("mesh");
 
   progress.stage("diagnose");
@@ -206,9 +203,7 @@ int runCommand(const RunOptions& o) {
   report["topology_repair"] = {{"specks_removed", rec.repair.specks_removed},
                                {"cavities_filled", rec.repair.cavities_filled},
                                {"critical_voxels_added", rec.repair.critical_voxels_added}};
-  report["conformity"] = {{"prism_snap_vertices", snap.moved},
-                          {"prism_snap_max_move_mm", snap.max_move_mm},
-                          {"planes_cut", cutStats.planes_cut},
+  report["conformity"] = {{"planes_cut", cutStats.planes_cut},
                           {"cut_vertices", cutStats.vertices_added},
                           {"cut_vertices_on_contour", cutStats.vertices_snapped},
                           {"cut_vertices_off_contour", cutStats.vertices_unsnapped},
