@@ -149,34 +149,100 @@ ConformalCutStats cutAlongSections(TriangleMesh& mesh, const std::vector<Cutting
     stats.planes_cut += crosses;
   }
 
-  // Move the vertices that lie on planes onto the contours.
-  std::vector<float> moved(V.size(), -1.0f);
+  // Adjacency: triangles around each vertex (CSR).
+  std::vector<std::uint32_t> first(V.size() + 1, 0), incident(3 * T.size());
+  for (const auto& t : T)
+    for (const auto v : t) ++first[v + 1];
+  for (std::size_t v = 0; v < V.size(); ++v) first[v + 1] += first[v];
+  {
+    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
+    for (std::uint32_t t = 0; t < T.size(); ++t)
+      for (const auto v : T[t]) incident[fill[v]++] = t;
+  }
+
+  // Displacements, computed in parallel from the unmoved mesh. A vertex on one plane moves within
+  // it onto the contour; on two planes, along their common line. A vertex off the planes but
+  // within a voxel of a plane that one of its neighbours (two rings) lies on moves within that
+  // plane by the same contour displacement scaled by (1 - t / voxel), t its distance to the plane:
+  // the neighbourhood of the cut follows it smoothly instead of folding under it.
+  std::vector<Vec3> move(V.size(), Vec3::Zero());
+  std::vector<signed char> status(V.size(), 0);  // 1 = move, -1 = on a plane, no contour in reach
   tbb::parallel_for(std::size_t(0), V.size(), [&](std::size_t i) {
     const PlaneTags& g = tags[i];
-    if (g.count == 0) return;
     Vec3 y;
-    bool ok = false;
-    if (g.count == 1) {
-      ok = newtonInPlane(planes[g.id[0]], fields[g.id[0]], V[i], voxel, &y);
-    } else if (g.count == 2) {
-      const Vec3 d = planes[g.id[0]].plane.normal.cross(planes[g.id[1]].plane.normal);
-      if (d.norm() > 1e-6)
-        ok = newtonAlong(planes[g.id[0]], fields[g.id[0]], V[i], d.normalized(), voxel, &y);
+    if (g.count == 1 || g.count == 2) {
+      bool ok = false;
+      if (g.count == 1) {
+        ok = newtonInPlane(planes[g.id[0]], fields[g.id[0]], V[i], voxel, &y);
+      } else {
+        const Vec3 d = planes[g.id[0]].plane.normal.cross(planes[g.id[1]].plane.normal);
+        if (d.norm() > 1e-6)
+          ok = newtonAlong(planes[g.id[0]], fields[g.id[0]], V[i], d.normalized(), voxel, &y);
+      }
+      status[i] = ok ? 1 : -1;
+      if (ok) move[i] = y - V[i];
+      return;
     }
-    if (ok) {
-      moved[i] = float((y - V[i]).norm());
-      V[i] = y;
-    } else {
-      moved[i] = -2.0f;
-    }
+    if (g.count != 0) return;
+    int best = -1;
+    double bestT = voxel;
+    const auto consider = [&](std::uint32_t v) {
+      if (tags[v].count != 1) return;
+      const int p = tags[v].id[0];
+      const double t = std::abs(planes[p].plane.signedDistance(V[i]));
+      if (t < bestT) bestT = t, best = p;
+    };
+    for (std::uint32_t k = first[i]; k < first[i + 1]; ++k)
+      for (const auto v1 : T[incident[k]]) {
+        consider(v1);
+        for (std::uint32_t k2 = first[v1]; k2 < first[v1 + 1]; ++k2)
+          for (const auto v2 : T[incident[k2]]) consider(v2);
+      }
+    if (best < 0) return;
+    const Plane& P = planes[best].plane;
+    const Vec3 foot = V[i] - P.signedDistance(V[i]) * P.normal;
+    if (!newtonInPlane(planes[best], fields[best], foot, voxel, &y)) return;
+    move[i] = (1.0 - bestT / voxel) * (y - foot);
+    status[i] = 1;
   });
-  for (float m : moved) {
-    if (m >= 0) {
-      ++stats.vertices_snapped;
-      stats.max_move_mm = std::max(stats.max_move_mm, double(m));
-    } else if (m == -2.0f) {
-      ++stats.vertices_unsnapped;
+
+  // Moves applied in order, off-plane vertices first, then plane vertices (deterministic); each
+  // move is shortened (halved up to 4 times, else dropped) when it would turn an incident triangle
+  // against its original orientation: the surface stays free of folds.
+  const auto normal = [&](const std::array<std::uint32_t, 3>& t) {
+    return (V[t[1]] - V[t[0]]).cross(V[t[2]] - V[t[0]]);
+  };
+  std::vector<Vec3> originalNormal(T.size());
+  for (std::size_t t = 0; t < T.size(); ++t) originalNormal[t] = normal(T[t]);
+  const auto apply = [&](std::size_t i) -> int {  // halvings used, or -1 if no move fits
+    const Vec3 from = V[i];
+    for (int halving = 0; halving <= 4; ++halving) {
+      V[i] = from + std::ldexp(1.0, -halving) * move[i];
+      bool ok = true;
+      for (std::uint32_t k = first[i]; k < first[i + 1] && ok; ++k) {
+        const std::uint32_t t = incident[k];
+        ok = normal(T[t]).dot(originalNormal[t]) > 0.1 * originalNormal[t].squaredNorm();
+      }
+      if (ok) return halving;
     }
+    V[i] = from;
+    return -1;
+  };
+  for (std::size_t i = 0; i < V.size(); ++i)
+    if (status[i] == 1 && tags[i].count == 0) apply(i);
+  for (std::size_t i = 0; i < V.size(); ++i) {
+    if (tags[i].count == 0) continue;
+    if (status[i] != 1) {
+      ++stats.vertices_unsnapped;
+      continue;
+    }
+    const int halvings = apply(i);
+    if (halvings < 0) {
+      ++stats.vertices_unsnapped;
+      continue;
+    }
+    ++(halvings == 0 ? stats.vertices_snapped : stats.vertices_shortened);
+    stats.max_move_mm = std::max(stats.max_move_mm, std::ldexp(1.0, -halvings) * move[i].norm());
   }
   mesh.triangles = std::move(T);
   mesh.vertices.resize(V.size());

@@ -3,7 +3,9 @@
 // cut into two or three, consistently oriented, so the mesh stays closed and keeps its topology),
 // and every vertex created on P is moved within P onto the section contour ∂S_P (Newton steps on
 // f_P); a vertex on two planes moves along their common line, where both contours meet it. The
-// cut of the mesh by P is then a polygon inscribed in ∂S_P: conformity up to chord error.
+// cut of the mesh by P is then a polygon inscribed in ∂S_P: conformity up to chord error. A move
+// that would fold the surface (turn an incident triangle over) is shortened or dropped: the mesh
+// stays free of folds, and the report counts the vertices left short of their contour.
 #pragma once
 
 #include <vector>
@@ -17,7 +19,8 @@ struct ConformalCutStats {
   int planes_cut = 0;           ///< planes that crossed the mesh
   int vertices_added = 0;       ///< vertices created on planes
   int vertices_snapped = 0;     ///< plane vertices moved onto their contour
-  int vertices_unsnapped = 0;   ///< plane vertices left: no contour within max_move
+  int vertices_shortened = 0;   ///< moved part of the way: the full move would fold the surface
+  int vertices_unsnapped = 0;   ///< plane vertices left: no contour within a voxel, or any move folds
   double max_move_mm = 0;
 };
 

@@ -206,6 +206,7 @@ int runCommand(const RunOptions& o) {
   report["conformity"] = {{"planes_cut", cutStats.planes_cut},
                           {"cut_vertices", cutStats.vertices_added},
                           {"cut_vertices_on_contour", cutStats.vertices_snapped},
+                          {"cut_vertices_short_of_contour", cutStats.vertices_shortened},
                           {"cut_vertices_off_contour", cutStats.vertices_unsnapped},
                           {"cut_max_move_mm", cutStats.max_move_mm}};
   report["timings_s"] = clock.timings;

@@ -2,8 +2,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 
+#include "geometry/conformal_cut.h"
 #include "geometry/mesh_topology.h"
+#include "geometry/plane_cut.h"
+#include "geometry/polygon.h"
 #include "geometry/sampled_reconstruction.h"
 #include "geometry/volume_mesher.h"
 #include "section_fixtures.h"
@@ -91,4 +95,49 @@ TEST(Method1, OpenStackEndsWithinTheMargin) {
   EXPECT_GE(zmin, -6.0f - margin);
   // R ends half-way to the virtual plane (thesis Def. 16 in the closed end cell).
   EXPECT_NEAR(zmax, 6.0 + margin / 2, 0.3);
+}
+
+TEST(Method1, ConformalCutPutsTheCutOnTheContoursWithoutFolding) {
+  const double R = 10;
+  const auto planes = test::multiaxialShell(Vec3(0.2, -0.1, 0.3), R, 0, 2.0, 12);
+  ReconstructionParams p;
+  p.voxel_mm = 0.3;
+  const auto rec = reconstructNearestPlane(planes, p);
+  TriangleMesh mesh = meshZeroLevel(rec.field);
+  const MeshTopology before = meshTopology(mesh);
+  const ConformalCutStats stats = cutAlongSections(mesh, planes, rec.fields, p.voxel_mm);
+  const MeshTopology after = meshTopology(mesh);
+  EXPECT_TRUE(after.watertight);
+  EXPECT_EQ(after.betti, before.betti);
+  EXPECT_GT(stats.vertices_added, 1000);
+  EXPECT_GT(stats.vertices_snapped, 0.9 * stats.vertices_added);
+  // Folds: adjacent triangles whose normals oppose (dot < -0.5) stay rare.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::size_t> edge;
+  int folded = 0, pairs = 0;
+  const auto normal = [&](std::size_t t) {
+    const auto& T = mesh.triangles[t];
+    const Eigen::Vector3f a = mesh.vertices[T[0]], b = mesh.vertices[T[1]], c = mesh.vertices[T[2]];
+    return Eigen::Vector3f((b - a).cross(c - a).normalized());
+  };
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (int e = 0; e < 3; ++e) {
+      const auto a = mesh.triangles[t][e], b = mesh.triangles[t][(e + 1) % 3];
+      const auto key = std::make_pair(std::min(a, b), std::max(a, b));
+      const auto it = edge.find(key);
+      if (it == edge.end()) {
+        edge.emplace(key, t);
+      } else {
+        ++pairs;
+        folded += normal(t).dot(normal(it->second)) < -0.5f;
+      }
+    }
+  EXPECT_LT(folded, 0.002 * pairs) << folded << " folded of " << pairs;
+  // The cut of the mesh by each plane: its area is the analytic disk's within 1%.
+  for (const auto& cp : planes) {
+    if (cp.sections.empty()) continue;
+    const double want = sectionArea(cp.sections[0]);
+    if (want < M_PI * 9) continue;  // sections at least 6 mm across (20 voxels)
+    const double got = cutArea(cutMesh(mesh, cp.plane), 0.02);
+    EXPECT_NEAR(got, want, 0.01 * want) << "plane " << cp.slice;
+  }
 }
