@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 
 namespace xsect {
@@ -80,17 +81,37 @@ ConformalCutStats cutAlongSections(TriangleMesh& mesh, const std::vector<Cutting
   std::vector<PlaneTags> tags(V.size());
   const double eps = 0.02 * voxel;
 
-  std::vector<double> s;
-  std::vector<int> sign;
+  // Triangles bucketed by centroid in cells of 8 voxels (a split triangle's pieces stay in its
+  // cell). For a plane P only the cells whose centre is within `reach` of P can hold a triangle
+  // that touches P: reach = half the cell diagonal + the largest centroid-to-vertex distance.
+  // This keeps the cost per plane proportional to the mesh near it, not to the whole mesh.
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const auto& v : V) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  const double cell = 8 * voxel;
+  std::array<int, 3> dims{1, 1, 1};
+  if (!V.empty())
+    for (int a = 0; a < 3; ++a) dims[a] = int((hi[a] - lo[a]) / cell) + 1;
+  std::vector<std::vector<std::uint32_t>> bucket(std::size_t(dims[0]) * dims[1] * dims[2]);
+  double lmax = 0;
+  for (std::uint32_t t = 0; t < T.size(); ++t) {
+    const Vec3 c = (V[T[t][0]] + V[T[t][1]] + V[T[t][2]]) / 3.0;
+    for (const auto v : T[t]) lmax = std::max(lmax, (V[v] - c).norm());
+    std::array<int, 3> q;
+    for (int a = 0; a < 3; ++a) q[a] = std::min(dims[a] - 1, int((c[a] - lo[a]) / cell));
+    bucket[(std::size_t(q[2]) * dims[1] + q[1]) * dims[0] + q[0]].push_back(t);
+  }
+  const double reach = 0.5 * std::sqrt(3.0) * cell + lmax + 2 * eps;
+
+  std::vector<double> s(V.size());
+  std::vector<int> sign(V.size()), stamp(V.size(), -1);
   std::unordered_map<std::uint64_t, std::uint32_t> edgeVertex;
   for (std::size_t p = 0; p < planes.size(); ++p) {
     const CuttingPlane& cp = planes[p];
     if (cp.sections.empty()) continue;
     const Plane& P = cp.plane;
-    s.resize(V.size());
-    sign.resize(V.size());
-    bool crosses = false;
-    for (std::size_t i = 0; i < V.size(); ++i) {
+    const auto prepare = [&](std::uint32_t i) {  // signed distance to P, once per plane
+      if (stamp[i] == int(p)) return;
+      stamp[i] = int(p);
       s[i] = P.signedDistance(V[i]);
       if (std::abs(s[i]) < eps) {
         if (tags[i].count == 0) V[i] -= s[i] * P.normal;  // put it on the plane
@@ -100,7 +121,7 @@ ConformalCutStats cutAlongSections(TriangleMesh& mesh, const std::vector<Cutting
       } else {
         sign[i] = s[i] > 0 ? 1 : -1;
       }
-    }
+    };
     edgeVertex.clear();
     const auto cut = [&](std::uint32_t a, std::uint32_t b) -> std::uint32_t {
       const std::uint64_t key = (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
@@ -114,38 +135,52 @@ ConformalCutStats cutAlongSections(TriangleMesh& mesh, const std::vector<Cutting
       tags.back().add(int(p));
       s.push_back(0);
       sign.push_back(0);
+      stamp.push_back(int(p));
       edgeVertex.emplace(key, id);
       ++stats.vertices_added;
       return id;
     };
-    const std::size_t nT = T.size();
-    for (std::size_t t = 0; t < nT; ++t) {
-      const auto tri = T[t];
-      const int sg[3] = {sign[tri[0]], sign[tri[1]], sign[tri[2]]};
-      const int zeros = (sg[0] == 0) + (sg[1] == 0) + (sg[2] == 0);
-      if (zeros == 0) {
-        // one vertex alone on its side: three triangles
-        int lone = -1;
-        for (int k = 0; k < 3; ++k)
-          if (sg[k] != sg[(k + 1) % 3] && sg[k] != sg[(k + 2) % 3]) lone = k;
-        if (lone < 0) continue;
-        const std::uint32_t a = tri[lone], b = tri[(lone + 1) % 3], c = tri[(lone + 2) % 3];
-        const std::uint32_t pab = cut(a, b), pac = cut(a, c);
-        T[t] = {a, pab, pac};
-        T.push_back({pab, b, c});
-        T.push_back({pab, c, pac});
-        crosses = true;
-      } else if (zeros == 1) {
-        int z = 0;
-        while (sg[z] != 0) ++z;
-        const std::uint32_t a = tri[z], b = tri[(z + 1) % 3], c = tri[(z + 2) % 3];
-        if (sign[b] == sign[c]) continue;
-        const std::uint32_t pbc = cut(b, c);
-        T[t] = {a, b, pbc};
-        T.push_back({a, pbc, c});
-        crosses = true;
-      }
-    }
+    bool crosses = false;
+    for (int cz = 0; cz < dims[2]; ++cz)
+      for (int cy = 0; cy < dims[1]; ++cy)
+        for (int cx = 0; cx < dims[0]; ++cx) {
+          const Vec3 centre = lo + cell * Vec3(cx + 0.5, cy + 0.5, cz + 0.5);
+          if (std::abs(P.signedDistance(centre)) > reach) continue;
+          auto& list = bucket[(std::size_t(cz) * dims[1] + cy) * dims[0] + cx];
+          const std::size_t n = list.size();  // pieces added below are already split by P
+          for (std::size_t k = 0; k < n; ++k) {
+            const std::uint32_t t = list[k];
+            const auto tri = T[t];
+            for (const auto v : tri) prepare(v);
+            const int sg[3] = {sign[tri[0]], sign[tri[1]], sign[tri[2]]};
+            const int zeros = (sg[0] == 0) + (sg[1] == 0) + (sg[2] == 0);
+            if (zeros == 0) {
+              // one vertex alone on its side: three triangles
+              int lone = -1;
+              for (int q = 0; q < 3; ++q)
+                if (sg[q] != sg[(q + 1) % 3] && sg[q] != sg[(q + 2) % 3]) lone = q;
+              if (lone < 0) continue;
+              const std::uint32_t a = tri[lone], b = tri[(lone + 1) % 3], c = tri[(lone + 2) % 3];
+              const std::uint32_t pab = cut(a, b), pac = cut(a, c);
+              T[t] = {a, pab, pac};
+              list.push_back(std::uint32_t(T.size()));
+              T.push_back({pab, b, c});
+              list.push_back(std::uint32_t(T.size()));
+              T.push_back({pab, c, pac});
+              crosses = true;
+            } else if (zeros == 1) {
+              int z = 0;
+              while (sg[z] != 0) ++z;
+              const std::uint32_t a = tri[z], b = tri[(z + 1) % 3], c = tri[(z + 2) % 3];
+              if (sign[b] == sign[c]) continue;
+              const std::uint32_t pbc = cut(b, c);
+              T[t] = {a, b, pbc};
+              list.push_back(std::uint32_t(T.size()));
+              T.push_back({a, pbc, c});
+              crosses = true;
+            }
+          }
+        }
     stats.planes_cut += crosses;
   }
 
