@@ -50,7 +50,7 @@ std::string resolve(const fs::path& base, const std::string& p) {
 
 }  // namespace
 
-std::vector<SliceRecord> readSlicesFile(const std::string& path) {
+std::vector<SliceRecord> readSlicesFile(const std::string& path, std::vector<std::string>* warnings) {
   const YAML::Node root = loadYamlFile(path);
   if (!root.IsMap()) throw InputError(path, "", "top level must be a map with key 'slices'");
   const YAML::Node list = root["slices"];
@@ -66,8 +66,9 @@ std::vector<SliceRecord> readSlicesFile(const std::string& path) {
     if (!s.IsMap()) throw InputError(path, key, "must be a map", yamlLine(s));
     for (const auto& kv : s) {
       const std::string k = kv.first.Scalar();
-      if (k != "image" && k != "image_to_world" && k != "fov")
-        throw InputError(path, key + "." + k, "unknown key", yamlLine(kv.first));
+      if (k != "image" && k != "image_to_world" && k != "fov" && warnings)
+        warnings->push_back(path + ":" + std::to_string(yamlLine(kv.first)) + ": unknown key '" +
+                            key + "." + k + "' ignored");
     }
     SliceRecord r;
     if (!s["image"]) throw InputError(path, key + ".image", "missing", yamlLine(s));

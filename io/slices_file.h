@@ -21,8 +21,9 @@ struct SliceRecord {
 /// Reads and validates slices.yaml. Throws InputError naming the file, the key
 /// (e.g. "slices[3].image_to_world") and line for: missing keys, wrong types, a matrix that is
 /// not 4x4, non-finite numbers, a last row other than (0 0 0 1), zero or non-orthogonal pixel
-/// axes, a missing image file.
-std::vector<SliceRecord> readSlicesFile(const std::string& path);
+/// axes, a missing image file. Unknown keys (other tools may add their own) are warned about.
+std::vector<SliceRecord> readSlicesFile(const std::string& path,
+                                        std::vector<std::string>* warnings = nullptr);
 
 /// Writes slices.yaml with paths exactly as given in SliceRecord::image / fov.
 void writeSlicesFile(const std::string& path, const std::vector<SliceRecord>& slices);

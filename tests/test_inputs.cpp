@@ -122,8 +122,6 @@ TEST(Inputs, SlicesErrorsNameTheSliceAndKey) {
       {slicesWithPose("[[1, 2, 0, 0], [0, 0, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]"), "singular"},
       {slicesWithPose("[[1, 1, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]"), "not orthogonal"},
       {slicesWithPose("[[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 1, 1]]"), "last row"},
-      {"slices:\n  - image: images/a.png\n    image_to_world: [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]\n    spacing: 2\n",
-       "slices[0].spacing"},
       {"slices:\n  - image: images/a.png\n    image_to_world: [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]\n    fov: images/nofov.png\n",
        "slices[0].fov"},
   };
@@ -259,5 +257,21 @@ TEST(Inputs, CheckValidatesWithoutWriting) {
   const auto r = test::runXsect("check " + (d / "config.yaml").string() + " --quiet");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("slices[0].image_to_world"), std::string::npos) << r.err;
+  fs::remove_all(d);
+}
+
+TEST(Inputs, UnknownSliceKeysAreWarnedAbout) {
+  const fs::path d = validInput();
+  test::writeFile(d / "slices.yaml", slicesWithPose(kPose) + "    timestamp_s: 12.5\n");
+  std::vector<std::string> warnings;
+  EXPECT_EQ(readSlicesFile((d / "slices.yaml").string(), &warnings).size(), 1u);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("slices[0].timestamp_s"), std::string::npos) << warnings[0];
+  const auto r = test::runXsect("run " + (d / "config.yaml").string() + " --quiet");
+  EXPECT_EQ(r.code, 0) << r.err;
+  const auto report = nlohmann::json::parse(std::ifstream(d / "out/report.json"));
+  bool found = false;
+  for (const auto& w : report["warnings"]) found = found || w.get<std::string>().find("timestamp_s") != std::string::npos;
+  EXPECT_TRUE(found);
   fs::remove_all(d);
 }
