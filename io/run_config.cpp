@@ -21,6 +21,7 @@ const std::set<std::string> kKnownKeys = {
     "segmentation.open_radius_px", "segmentation.close_radius_px", "segmentation.min_area_mm2",
     "segmentation.simplify_mm", "conformity", "conformity.enforce", "reconstruction",
     "reconstruction.method", "reconstruction.voxel_size_mm", "reconstruction.end_margin_mm",
+    "reconstruction.conformal_mesh",
     "smoothing", "smoothing.method", "smoothing.exponent", "output", "output.dir", "output.mesh"};
 
 void collectUnknown(const YAML::Node& n, const std::string& prefix, const std::string& file,
@@ -155,6 +156,8 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
         throw InputError(path, "reconstruction.voxel_size_mm", "must be positive",
                          yamlLine(s["voxel_size_mm"]));
     }
+    if (s["conformal_mesh"])
+      c.conformal_mesh = yamlBool(s["conformal_mesh"], path, "reconstruction.conformal_mesh");
     if (const YAML::Node m = s["end_margin_mm"]) {
       if (!(m.IsScalar() && m.Scalar() == "auto")) {
         const double v = yamlNumber(m, path, "reconstruction.end_margin_mm");

@@ -20,6 +20,7 @@ struct RunConfig {
   std::string reconstruction_method = "nearest_plane";  ///< nearest_plane | section_voronoi
   double voxel_size_mm = 0.5;
   std::optional<double> end_margin_mm;                  ///< empty = auto
+  bool conformal_mesh = true;  ///< cut the mesh along the planes onto the section contours
   std::string smoothing_method = "none";                ///< none | shepard
   double smoothing_exponent = 2.0;
   std::string output_dir;           ///< resolved against the configuration file

@@ -148,7 +148,9 @@ int runCommand(const RunOptions& o) {
 
   progress.stage("mesh");
   TriangleMesh mesh = meshZeroLevel(rec.field);
-  const ConformalCutStats cutStats = cutAlongSections(mesh, in.planes, rec.fields, c.voxel_size_mm);
+  const ConformalCutStats cutStats = c.conformal_mesh
+                                         ? cutAlongSections(mesh, in.planes, rec.fields, c.voxel_size_mm)
+                                         : ConformalCutStats{};
   clock.end("mesh");
 
   progress.stage("diagnose");
@@ -203,7 +205,8 @@ int runCommand(const RunOptions& o) {
   report["topology_repair"] = {{"specks_removed", rec.repair.specks_removed},
                                {"cavities_filled", rec.repair.cavities_filled},
                                {"critical_voxels_added", rec.repair.critical_voxels_added}};
-  report["conformity"] = {{"planes_cut", cutStats.planes_cut},
+  report["conformity"] = {{"conformal_mesh", c.conformal_mesh},
+                          {"planes_cut", cutStats.planes_cut},
                           {"cut_vertices", cutStats.vertices_added},
                           {"cut_vertices_on_contour", cutStats.vertices_snapped},
                           {"cut_vertices_short_of_contour", cutStats.vertices_shortened},

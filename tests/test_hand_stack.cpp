@@ -66,3 +66,32 @@ TEST(HandStack, RunsEndToEnd) {
   EXPECT_LT(worst, 3.0);
   fs::remove_all(dir);
 }
+
+TEST(HandStack, ConformalMeshCanBeSwitchedOff) {
+  const fs::path src = fs::path(XSECT_SOURCE_DIR) / "testdata/hand_stack";
+  const fs::path dir = test::freshDir("hand-noconf");
+  fs::copy(src / "slices.yaml", dir / "slices.yaml");
+  fs::copy(src / "config.yaml", dir / "config.yaml");
+  char name[32];
+  for (double z : {-4.5, -3.0, -1.5, 0.0, 1.5, 3.0, 4.5}) {
+    std::snprintf(name, sizeof name, "images/z%+.1f.png", z);
+    drawDisk(dir / name, std::sqrt(36 - z * z));
+  }
+  for (double x : {-3.0, 0.0, 3.0}) {
+    std::snprintf(name, sizeof name, "images/x%+.1f.png", x);
+    drawDisk(dir / name, std::sqrt(36 - x * x));
+  }
+  nlohmann::json reports[2];
+  for (int on = 0; on < 2; ++on) {
+    const auto r = test::runXsect("run " + (dir / "config.yaml").string() + " --quiet --out " +
+                                  (dir / ("out" + std::to_string(on))).string() +
+                                  " --set reconstruction.conformal_mesh=" + (on ? "true" : "false"));
+    ASSERT_EQ(r.code, 0) << r.err;
+    reports[on] = nlohmann::json::parse(std::ifstream(dir / ("out" + std::to_string(on)) / "report.json"));
+    EXPECT_EQ(reports[on]["betti"], nlohmann::json::array({1, 0, 0}));
+  }
+  EXPECT_EQ(reports[0]["conformity"]["planes_cut"], 0);
+  EXPECT_EQ(reports[1]["conformity"]["planes_cut"], 10);
+  EXPECT_LT(reports[0]["counts"]["mesh_triangles"], reports[1]["counts"]["mesh_triangles"]);
+  fs::remove_all(dir);
+}

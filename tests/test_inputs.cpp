@@ -76,6 +76,7 @@ TEST(Inputs, ConfigErrorsNameTheKey) {
       {"input:\n  slices: slices.yaml\nsegmentation:\n  method: kmeans\n", "segmentation.method"},
       {"input:\n  slices: slices.yaml\nsegmentation:\n  threshold: [1, 2]\n", "segmentation.threshold"},
       {"input:\n  slices: slices.yaml\nconformity:\n  enforce: maybe\n", "conformity.enforce"},
+      {"input:\n  slices: slices.yaml\nreconstruction:\n  conformal_mesh: 2x\n", "reconstruction.conformal_mesh"},
       {"input:\n  slices: slices.yaml\noutput:\n  mesh: [vtk]\n", "output.mesh"},
       {"input:\n  slices: slices.yaml\n  csl: x.csl\n", "input"},
       {"input:\n  slices: slices.yaml\nreconstruction: 3\n", "reconstruction"},
