@@ -14,40 +14,49 @@
 
 namespace xsect {
 
-SampledReconstruction reconstructNearestPlane(const std::vector<CuttingPlane>& realPlanes,
-                                              const ReconstructionParams& params,
-                                              const std::function<void(double)>& progress) {
+ReconstructionLayout reconstructionLayout(const std::vector<CuttingPlane>& planes,
+                                          const ReconstructionParams& params) {
   if (!(params.voxel_mm > 0)) throw std::invalid_argument("voxel size must be positive");
-  SampledReconstruction out;
-  Vec3 lo, hi;
-  if (!sectionBounds(realPlanes, &lo, &hi))
+  ReconstructionLayout L;
+  if (!sectionBounds(planes, &L.sections_min, &L.sections_max))
     throw std::invalid_argument("no section in any slice: nothing to reconstruct");
   const double h = params.voxel_mm;
-  out.end_margin_auto = !params.end_margin_mm;
-  out.end_margin_mm = params.end_margin_mm ? *params.end_margin_mm
-                                           : std::max(2.0 * h, automaticEndMargin(realPlanes, 10.0 * h));
-  out.end_planes = endPlanes(lo, hi, out.end_margin_mm);
-
-  std::vector<CuttingPlane> planes = realPlanes;
-  planes.insert(planes.end(), out.end_planes.begin(), out.end_planes.end());
-
+  L.end_margin_auto = !params.end_margin_mm;
+  L.end_margin_mm = params.end_margin_mm ? *params.end_margin_mm
+                                         : std::max(2.0 * h, automaticEndMargin(planes, 10.0 * h));
   // Grid: R lies within half the end margin of the sections' bounds. A point of R at distance t
   // beyond the bounds (along an axis) projects onto a section inside them, so its nearest plane is
   // at least t away, while the end plane beyond it is m - t away (Def. 15-16): t <= m / 2.
   // Two layers of outside voxels close the surface.
-  GridSpec grid;
-  grid.voxel = h;
-  const double reachOut = 0.5 * out.end_margin_mm + h;
-  const Vec3 boxLo = lo - Vec3::Constant(reachOut), boxHi = hi + Vec3::Constant(reachOut);
-  grid.origin = boxLo - Vec3::Constant(2 * h);
+  L.grid.voxel = h;
+  const double reachOut = 0.5 * L.end_margin_mm + h;
+  const Vec3 boxLo = L.sections_min - Vec3::Constant(reachOut),
+             boxHi = L.sections_max + Vec3::Constant(reachOut);
+  L.grid.origin = boxLo - Vec3::Constant(2 * h);
   double count = 1;
   for (int a = 0; a < 3; ++a) {
-    grid.dims[a] = int(std::ceil((boxHi[a] - boxLo[a]) / h)) + 5;
-    count *= grid.dims[a];
+    const double n = std::ceil((boxHi[a] - boxLo[a]) / h) + 5;
+    count *= n;
+    L.grid.dims[a] = n < 2147483647.0 ? int(n) : 0;
   }
   if (count > 2147483647.0)
     throw std::invalid_argument("grid of " + std::to_string(std::int64_t(count)) +
                                 " voxels is too large: increase reconstruction.voxel_size_mm");
+  return L;
+}
+
+SampledReconstruction reconstructNearestPlane(const std::vector<CuttingPlane>& realPlanes,
+                                              const ReconstructionParams& params,
+                                              const std::function<void(double)>& progress) {
+  const ReconstructionLayout layout = reconstructionLayout(realPlanes, params);
+  const double h = params.voxel_mm;
+  const GridSpec& grid = layout.grid;
+  SampledReconstruction out;
+  out.end_margin_auto = layout.end_margin_auto;
+  out.end_margin_mm = layout.end_margin_mm;
+  out.end_planes = endPlanes(layout.sections_min, layout.sections_max, out.end_margin_mm);
+  std::vector<CuttingPlane> planes = realPlanes;
+  planes.insert(planes.end(), out.end_planes.begin(), out.end_planes.end());
 
   // f_i rasters, one per plane (virtual planes hold no section).
   const double band = params.band_voxels * h;

@@ -34,6 +34,20 @@ struct SampledReconstruction {
   double evaluate_seconds = 0;         ///< time spent evaluating method 1 on the grid
 };
 
+/// The grid and end margin reconstructNearestPlane will use, without evaluating anything (for
+/// `xsect check` and for memory estimates). Throws std::invalid_argument as below.
+struct ReconstructionLayout {
+  GridSpec grid;
+  double end_margin_mm = 0;
+  bool end_margin_auto = false;
+  Vec3 sections_min = Vec3::Zero(), sections_max = Vec3::Zero();
+};
+ReconstructionLayout reconstructionLayout(const std::vector<CuttingPlane>& planes,
+                                          const ReconstructionParams& params);
+
+/// Bytes per voxel held at once during the reconstruction (field, nearest-plane data, voxel sets).
+constexpr double kReconstructionBytesPerVoxel = 24;
+
 /// @param planes  the real cutting planes with their sections (at least one section overall).
 /// Throws std::invalid_argument when there is no section at all or the grid would be too large
 /// (over 2^31 voxels).

@@ -1,6 +1,7 @@
 // `xsect run` and `xsect check`: the stages of GUIDE.md wired together, timed, reported.
 // load -> segment -> conform -> reconstruct (method 1) -> mesh -> diagnose -> write.
 #include <sys/resource.h>
+#include <unistd.h>
 #include <tbb/info.h>
 #include <tbb/task_arena.h>
 
@@ -11,7 +12,6 @@
 #include <nlohmann/json.hpp>
 
 #include "geometry/conformal_cut.h"
-#include "geometry/end_planes.h"
 #include "geometry/mesh_topology.h"
 #include "geometry/polygon.h"
 #include "geometry/sampled_reconstruction.h"
@@ -108,6 +108,33 @@ Inputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress) {
 
 json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 
+ReconstructionParams reconstructionParams(const RunConfig& c) {
+  ReconstructionParams rp;
+  rp.voxel_mm = c.voxel_size_mm;
+  rp.end_margin_mm = c.end_margin_mm;
+  return rp;
+}
+
+/// The grid the reconstruction will use; configuration problems become InputError.
+ReconstructionLayout layoutOf(const std::vector<CuttingPlane>& planes, const RunConfig& c) {
+  try {
+    return reconstructionLayout(planes, reconstructionParams(c));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(c.path, "reconstruction.voxel_size_mm", e.what());
+  }
+}
+
+/// Refuses, before allocating, a grid that would not fit in this machine's memory.
+void checkMemory(const RunConfig& c, const ReconstructionLayout& L) {
+  const double need = double(L.grid.count()) * kReconstructionBytesPerVoxel;
+  const double have = double(::sysconf(_SC_PHYS_PAGES)) * double(::sysconf(_SC_PAGE_SIZE));
+  if (have > 0 && need > 0.8 * have)
+    throw InputError(c.path, "reconstruction.voxel_size_mm",
+                     "a grid of " + std::to_string(L.grid.count()) + " voxels needs about " +
+                         std::to_string(int(need / 1e9)) + " GB, more than this machine has (" +
+                         std::to_string(int(have / 1e9)) + " GB): increase the voxel size");
+}
+
 void writeText(const fs::path& p, const std::string& text) {
   std::ofstream f(p, std::ios::binary);
   f << text;
@@ -132,9 +159,8 @@ int runCommand(const RunOptions& o) {
     throw InputError(c.input_path, "", "no section found in any slice (check segmentation settings)");
 
   progress.stage("reconstruct");
-  ReconstructionParams rp;
-  rp.voxel_mm = c.voxel_size_mm;
-  rp.end_margin_mm = c.end_margin_mm;
+  const ReconstructionParams rp = reconstructionParams(c);
+  checkMemory(c, layoutOf(in.planes, c));
   SampledReconstruction rec;
   try {
     rec = reconstructNearestPlane(in.planes, rp, [&](double f) { progress.update(f); });
@@ -257,14 +283,13 @@ int checkCommand(const RunOptions& o) {
   r["config"] = in.config.path;
   r["valid"] = true;
   r["counts"] = {{"slices", in.slices}, {"sections", sections}};
-  Vec3 lo, hi;
-  if (sectionBounds(in.planes, &lo, &hi)) {
-    const double margin = in.config.end_margin_mm ? *in.config.end_margin_mm
-                                                  : automaticEndMargin(in.planes, 10 * in.config.voxel_size_mm);
-    const Vec3 ext = hi - lo + Vec3::Constant(2 * margin);
-    r["sections_bounds_mm"] = {vec(lo), vec(hi)};
-    r["end_margin_mm"] = margin;
-    r["estimated_voxels"] = (ext / in.config.voxel_size_mm).array().ceil().prod();
+  if (sections > 0) {
+    const ReconstructionLayout L = layoutOf(in.planes, in.config);
+    r["sections_bounds_mm"] = {vec(L.sections_min), vec(L.sections_max)};
+    r["end_margin_mm"] = L.end_margin_mm;
+    r["grid_dims"] = L.grid.dims;
+    r["estimated_voxels"] = L.grid.count();
+    r["estimated_memory_mb"] = double(L.grid.count()) * kReconstructionBytesPerVoxel / 1e6;
   } else {
     in.warnings.push_back("no section found in any slice");
   }

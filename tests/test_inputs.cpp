@@ -254,6 +254,11 @@ TEST(Inputs, CheckValidatesWithoutWriting) {
   EXPECT_EQ(j["counts"]["sections"], 2);
   EXPECT_GT(j["estimated_voxels"].get<double>(), 0);
   EXPECT_FALSE(fs::exists(d / "out"));  // check never reconstructs or writes outputs
+  // the grid check announces is the grid run builds
+  ASSERT_EQ(test::runXsect("run " + (d / "config.yaml").string() + " --quiet").code, 0);
+  const auto report = nlohmann::json::parse(std::ifstream(d / "out/report.json"));
+  EXPECT_EQ(j["grid_dims"], report["reconstruction"]["grid_dims"]);
+  EXPECT_EQ(j["estimated_voxels"], report["counts"]["voxels"]);
   test::writeFile(d / "slices.yaml", slicesWithPose("[[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]]"));
   const auto r = test::runXsect("check " + (d / "config.yaml").string() + " --quiet");
   EXPECT_EQ(r.code, 2);
