@@ -9,14 +9,7 @@
 
 namespace fs = std::filesystem;
 
-namespace {
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-}  // namespace
+using xsect::test::slurp;
 
 TEST(Determinism, SameBytesWhateverTheThreadCount) {
   const fs::path dir = xsect::test::freshDir("determinism");

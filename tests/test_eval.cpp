@@ -16,6 +16,7 @@
 #include "geometry/plane_cut.h"
 #include "io/mesh_io.h"
 #include "io/truth_file.h"
+#include "cli.h"
 #include "mesh_fixtures.h"
 #include "pipeline/eval_metrics.h"
 
@@ -24,13 +25,7 @@ using namespace xsect;
 
 namespace {
 
-fs::path tempDir() {
-  const fs::path d = fs::temp_directory_path() /
-                     ("xsect_eval_" + std::to_string(::getpid()) + "_" +
-                      ::testing::UnitTest::GetInstance()->current_test_info()->name());
-  fs::create_directories(d);
-  return d;
-}
+fs::path tempDir() { return xsect::test::freshDir("eval"); }
 
 /// A polygon with n vertices on the circle of radius r (mm) around c, counter-clockwise.
 Ring circle(const Vec2& c, double r, int n) {

@@ -11,6 +11,7 @@
 
 #include "io/input_error.h"
 #include "io/mesh_io.h"
+#include "cli.h"
 #include "mesh_fixtures.h"
 
 namespace fs = std::filesystem;
@@ -18,20 +19,9 @@ using namespace xsect;
 
 namespace {
 
-fs::path tempDir() {
-  const fs::path d = fs::temp_directory_path() /
-                     ("xsect_mesh_io_" + std::to_string(::getpid()) + "_" +
-                      ::testing::UnitTest::GetInstance()->current_test_info()->name());
-  fs::create_directories(d);
-  return d;
-}
+fs::path tempDir() { return xsect::test::freshDir("mesh-io"); }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using xsect::test::slurp;
 
 void spit(const fs::path& p, const std::string& bytes) {
   std::ofstream out(p, std::ios::binary);
