@@ -14,6 +14,7 @@
 #include "cli.h"
 #include "geometry/phantom_shape.h"
 #include "geometry/plane_of_pose.h"
+#include "io/mesh_io.h"
 #include "io/slices_file.h"
 #include "io/truth_file.h"
 
@@ -203,4 +204,35 @@ TEST(AcceptanceMethod1, ThesisFigure1_11SameSectionsSameReconstruction) {
   EXPECT_EQ(reports[1]["betti"], json::array({1, 1, 0}));
   const double v0 = reports[0]["reconstruction"]["volume_mm3"], v1 = reports[1]["reconstruction"]["volume_mm3"];
   EXPECT_NEAR(v0, v1, 0.01 * v1);  // same sections: the same R, up to the images' rendering
+}
+
+TEST(AcceptanceMethod1, StackInsideASphereClosesWithinTheEndMargin) {
+  // No empty end slice: the cells beyond the outermost slices are open until the virtual end
+  // planes close them (automatic margin = the 2 mm slice gap); R ends half-way to those planes.
+  const fs::path dir = test::freshDir("openstack");
+  test::writeFile(dir / "spec.yaml",
+                  "seed: 1\nshape: {kind: sphere, params: {radius: 10}}\n"
+                  "pattern: {kind: parallel, direction: [0, 0, 1], positions_mm: [-6, -4, -2, 0, 2, 4, 6]}\n"
+                  "image: {pixel_mm: 0.2}\nconfig: {reconstruction: {voxel_size_mm: 0.25}}\n");
+  ASSERT_EQ(test::runXsect("phantom " + (dir / "spec.yaml").string() + " --out " + (dir / "ph").string() + " --quiet").code, 0);
+  const auto r = test::runXsect("run " + (dir / "ph/config.yaml").string() + " --out " + (dir / "res").string() + " --quiet");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json report = json::parse(std::ifstream(dir / "res/report.json"));
+  EXPECT_EQ(report["betti"], json::array({1, 0, 0}));
+  EXPECT_TRUE(report["watertight"].get<bool>());
+  const double margin = report["reconstruction"]["end_margin_mm"];
+  EXPECT_NEAR(margin, 2.0, 1e-6);
+  bool warned = false;
+  for (const auto& w : report["warnings"]) warned = warned || w.get<std::string>().find("virtual") != std::string::npos;
+  EXPECT_TRUE(warned);
+  const TriangleMesh mesh = readMesh((dir / "res/mesh.ply").string());
+  float zmin = 1e9f, zmax = -1e9f;
+  for (const auto& v : mesh.vertices) zmin = std::min(zmin, v.z()), zmax = std::max(zmax, v.z());
+  EXPECT_GT(zmax, 6.0f);
+  EXPECT_LE(zmax, 6.0 + margin);
+  EXPECT_LT(zmin, -6.0f);
+  EXPECT_GE(zmin, -6.0 - margin);
+  EXPECT_NEAR(zmax, 6.0 + margin / 2, 0.3);
+  EXPECT_NEAR(zmin, -6.0 - margin / 2, 0.3);
+  fs::remove_all(dir);
 }
