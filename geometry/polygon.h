@@ -20,7 +20,7 @@ bool sectionContains(const Section& s, const Vec2& p);
 /// Distance from p to the nearest edge of the ring, mm.
 double ringDistance(const Ring& ring, const Vec2& p);
 /// Exact signed distance from p to the boundary of the union of the sections; negative inside.
-/// Brute force over all edges: for tests and small inputs; rasters use section_distance_field.h.
+/// Brute force over all edges: the reference for section_distance_field.h's rasters.
 double signedDistanceToSections(const std::vector<Section>& sections, const Vec2& p);
 /// Sections from loose rings: outer rings oriented counter-clockwise, holes clockwise, each hole
 /// attached to the smallest outer ring that contains it (islands inside holes are outer rings of

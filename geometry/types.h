@@ -33,7 +33,6 @@ struct Plane {
   }
   /// Signed distance of x to the plane (positive on the normal's side).
   double signedDistance(const Vec3& x) const { return (x - origin).dot(normal); }
-  Vec3 project(const Vec3& x) const { return x - signedDistance(x) * normal; }
 };
 
 /// A closed polygonal curve in plane coordinates (mm); the last vertex connects to the first.

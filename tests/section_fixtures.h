@@ -1,6 +1,9 @@
 // Test fixtures: cutting planes with analytic sections (disks and annuli of spheres and shells).
 #pragma once
 
+#include <gtest/gtest.h>
+
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -55,6 +58,20 @@ inline std::vector<CuttingPlane> multiaxialShell(const Vec3& centre, double Ro, 
       planes.push_back(cp);
     }
   return planes;
+}
+
+/// A z-stack whose outermost sections are at zFirst and zLast, closed by virtual end planes at
+/// `margin` beyond them: R ends half-way to those planes (Def. 16 in the closed end cells).
+inline void expectEndsHalfWayToEndPlanes(const TriangleMesh& mesh, double zFirst, double zLast,
+                                        double margin) {
+  float zmin = 1e9f, zmax = -1e9f;
+  for (const auto& v : mesh.vertices) zmin = std::min(zmin, v.z()), zmax = std::max(zmax, v.z());
+  EXPECT_GT(zmax, zLast);
+  EXPECT_LE(zmax, zLast + margin);
+  EXPECT_LT(zmin, zFirst);
+  EXPECT_GE(zmin, zFirst - margin);
+  EXPECT_NEAR(zmax, zLast + margin / 2, 0.3);
+  EXPECT_NEAR(zmin, zFirst - margin / 2, 0.3);
 }
 
 }  // namespace xsect::test

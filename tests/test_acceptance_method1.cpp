@@ -17,6 +17,7 @@
 #include "io/mesh_io.h"
 #include "io/slices_file.h"
 #include "io/truth_file.h"
+#include "section_fixtures.h"
 
 namespace fs = std::filesystem;
 using namespace xsect;
@@ -78,20 +79,25 @@ double largestHeightInSolid(const PhantomShape& shape, const std::vector<SliceRe
   return worst;
 }
 
-void runCase(const Case& c) {
-  SCOPED_TRACE(c.name);
-  const fs::path dir = test::freshDir("accept");
-  test::writeFile(dir / "spec.yaml", "seed: 3\nshape: " + c.shape + "\npattern: " + c.pattern +
-                                         "\nimage: {pixel_mm: 0.2}\ndegradations: " + c.degradations +
-                                         "\nconfig: {reconstruction: {voxel_size_mm: " +
-                                         std::to_string(c.voxel) + "}}\n");
-  auto r = test::runXsect("phantom " + (dir / "spec.yaml").string() + " --out " +
-                          (dir / "ph").string() + " --quiet");
+/// `xsect phantom` on the spec text, then `xsect run` on its config: DIR/ph and DIR/res.
+void phantomAndRun(const fs::path& dir, const std::string& spec) {
+  test::writeFile(dir / "spec.yaml", spec);
+  auto r = test::runXsect("phantom " + (dir / "spec.yaml").string() + " --out " + (dir / "ph").string() +
+                          " --quiet");
   ASSERT_EQ(r.code, 0) << r.err;
   r = test::runXsect("run " + (dir / "ph/config.yaml").string() + " --out " + (dir / "res").string() +
                      " --quiet");
   ASSERT_EQ(r.code, 0) << r.err;
-  r = test::runXsect("eval --mesh " + (dir / "res/mesh.ply").string() + " --truth " +
+}
+
+void runCase(const Case& c) {
+  SCOPED_TRACE(c.name);
+  const fs::path dir = test::freshDir("accept");
+  phantomAndRun(dir, "seed: 3\nshape: " + c.shape + "\npattern: " + c.pattern +
+                         "\nimage: {pixel_mm: 0.2}\ndegradations: " + c.degradations +
+                         "\nconfig: {reconstruction: {voxel_size_mm: " + std::to_string(c.voxel) + "}}\n");
+  if (::testing::Test::HasFatalFailure()) return;
+  const auto r = test::runXsect("eval --mesh " + (dir / "res/mesh.ply").string() + " --truth " +
                      (dir / "ph/truth.yaml").string() + " --slices " + (dir / "ph/slices.yaml").string() +
                      " --json " + (dir / "eval.json").string() + " --quiet");
   ASSERT_EQ(r.code, 0) << r.err;
@@ -188,14 +194,11 @@ TEST(AcceptanceMethod1, ThesisFigure1_11SameSectionsSameReconstruction) {
   const char* kinds[2] = {"twisted_cylinder", "notched_torus"};
   for (int k = 0; k < 2; ++k) {
     const fs::path dir = test::freshDir("fig111");
-    test::writeFile(dir / "spec.yaml",
-                    std::string("seed: 10\nshape: {kind: ") + kinds[k] +
-                        ", params: {inner_radius: 6, outer_radius: 10, gap_deg: 60, height: 20, extension: 3}}\n"
-                        "pattern: {kind: parallel, direction: [0, 0, 1], positions_mm: [0, 20]}\n"
-                        "image: {pixel_mm: 0.1}\nconfig: {reconstruction: {voxel_size_mm: 0.4}}\n");
-    ASSERT_EQ(test::runXsect("phantom " + (dir / "spec.yaml").string() + " --out " + (dir / "ph").string() + " --quiet").code, 0);
-    const auto r = test::runXsect("run " + (dir / "ph/config.yaml").string() + " --out " + (dir / "res").string() + " --quiet");
-    ASSERT_EQ(r.code, 0) << r.err;
+    ASSERT_NO_FATAL_FAILURE(phantomAndRun(
+        dir, std::string("seed: 10\nshape: {kind: ") + kinds[k] +
+                 ", params: {inner_radius: 6, outer_radius: 10, gap_deg: 60, height: 20, extension: 3}}\n"
+                 "pattern: {kind: parallel, direction: [0, 0, 1], positions_mm: [0, 20]}\n"
+                 "image: {pixel_mm: 0.1}\nconfig: {reconstruction: {voxel_size_mm: 0.4}}\n"));
     reports[k] = json::parse(std::ifstream(dir / "res/report.json"));
     EXPECT_EQ(bettiNumbers(readTruthFile((dir / "ph/truth.yaml").string())), (k == 0 ? Betti{1, 0, 0} : Betti{1, 1, 0}));
     fs::remove_all(dir);
@@ -210,13 +213,10 @@ TEST(AcceptanceMethod1, StackInsideASphereClosesWithinTheEndMargin) {
   // No empty end slice: the cells beyond the outermost slices are open until the virtual end
   // planes close them (automatic margin = the 2 mm slice gap); R ends half-way to those planes.
   const fs::path dir = test::freshDir("openstack");
-  test::writeFile(dir / "spec.yaml",
-                  "seed: 1\nshape: {kind: sphere, params: {radius: 10}}\n"
-                  "pattern: {kind: parallel, direction: [0, 0, 1], positions_mm: [-6, -4, -2, 0, 2, 4, 6]}\n"
-                  "image: {pixel_mm: 0.2}\nconfig: {reconstruction: {voxel_size_mm: 0.25}}\n");
-  ASSERT_EQ(test::runXsect("phantom " + (dir / "spec.yaml").string() + " --out " + (dir / "ph").string() + " --quiet").code, 0);
-  const auto r = test::runXsect("run " + (dir / "ph/config.yaml").string() + " --out " + (dir / "res").string() + " --quiet");
-  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_NO_FATAL_FAILURE(phantomAndRun(
+      dir, "seed: 1\nshape: {kind: sphere, params: {radius: 10}}\n"
+           "pattern: {kind: parallel, direction: [0, 0, 1], positions_mm: [-6, -4, -2, 0, 2, 4, 6]}\n"
+           "image: {pixel_mm: 0.2}\nconfig: {reconstruction: {voxel_size_mm: 0.25}}\n"));
   const json report = json::parse(std::ifstream(dir / "res/report.json"));
   EXPECT_EQ(report["betti"], json::array({1, 0, 0}));
   EXPECT_TRUE(report["watertight"].get<bool>());
@@ -225,14 +225,6 @@ TEST(AcceptanceMethod1, StackInsideASphereClosesWithinTheEndMargin) {
   bool warned = false;
   for (const auto& w : report["warnings"]) warned = warned || w.get<std::string>().find("virtual") != std::string::npos;
   EXPECT_TRUE(warned);
-  const TriangleMesh mesh = readMesh((dir / "res/mesh.ply").string());
-  float zmin = 1e9f, zmax = -1e9f;
-  for (const auto& v : mesh.vertices) zmin = std::min(zmin, v.z()), zmax = std::max(zmax, v.z());
-  EXPECT_GT(zmax, 6.0f);
-  EXPECT_LE(zmax, 6.0 + margin);
-  EXPECT_LT(zmin, -6.0f);
-  EXPECT_GE(zmin, -6.0 - margin);
-  EXPECT_NEAR(zmax, 6.0 + margin / 2, 0.3);
-  EXPECT_NEAR(zmin, -6.0 - margin / 2, 0.3);
+  test::expectEndsHalfWayToEndPlanes(readMesh((dir / "res/mesh.ply").string()), -6.0, 6.0, margin);
   fs::remove_all(dir);
 }

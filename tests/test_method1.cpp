@@ -87,14 +87,7 @@ TEST(Method1, OpenStackEndsWithinTheMargin) {
   const MeshTopology topo = meshTopology(mesh);
   EXPECT_TRUE(topo.watertight);
   EXPECT_EQ(topo.betti, (Betti{1, 0, 0}));
-  float zmin = 1e9f, zmax = -1e9f;
-  for (const auto& v : mesh.vertices) zmin = std::min(zmin, v.z()), zmax = std::max(zmax, v.z());
-  EXPECT_GT(zmax, 6.0f);
-  EXPECT_LE(zmax, 6.0f + margin);
-  EXPECT_LT(zmin, -6.0f);
-  EXPECT_GE(zmin, -6.0f - margin);
-  // R ends half-way to the virtual plane (thesis Def. 16 in the closed end cell).
-  EXPECT_NEAR(zmax, 6.0 + margin / 2, 0.3);
+  test::expectEndsHalfWayToEndPlanes(mesh, -6.0, 6.0, margin);
 }
 
 TEST(Method1, ConformalCutPutsTheCutOnTheContoursWithoutFolding) {

@@ -1,0 +1,59 @@
+// The f_P raster (thesis ch. 1 §1.1: signed Euclidean distance to the section-contours, negative
+// inside) against the exact distance to the polygons: exact at nodes within the band, bilinear
+// between them, sign kept and magnitude clamped beyond the band.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "geometry/polygon.h"
+#include "geometry/section_distance_field.h"
+#include "section_fixtures.h"
+
+using namespace xsect;
+
+TEST(SectionDistanceField, EqualsTheExactDistanceToThePolygons) {
+  // an annulus (hole) plus an island inside its hole plus a separate square
+  std::vector<Section> sections(3);
+  sections[0].outer = test::circle(Vec2(5, 5), 8, 200);
+  sections[0].holes.push_back(test::circle(Vec2(5, 5), 4, 120, false));
+  sections[1].outer = test::circle(Vec2(5, 5), 1.5, 60);
+  sections[2].outer = {Vec2(16, -3), Vec2(20, -3), Vec2(20, 1), Vec2(16, 1)};
+  const double step = 0.1, band = 0.6;
+  const SectionDistanceField f = sectionDistanceField(sections, step, band);
+  ASSERT_GT(f.nu, 0);
+  int checkedNodes = 0, checkedFar = 0;
+  for (int j = 0; j < f.nv; j += 3)
+    for (int i = 0; i < f.nu; i += 3) {
+      const Vec2 p = f.origin + step * Vec2(i, j);
+      const double exact = signedDistanceToSections(sections, p);
+      const float got = f.values[std::size_t(j) * f.nu + i];
+      if (std::abs(exact) < band) {
+        EXPECT_NEAR(got, exact, 1e-5) << p.transpose();
+        ++checkedNodes;
+      } else {
+        EXPECT_EQ(got, exact < 0 ? -f.band : f.band) << p.transpose();
+        ++checkedFar;
+      }
+    }
+  EXPECT_GT(checkedNodes, 500);
+  EXPECT_GT(checkedFar, 500);
+  // Between nodes: bilinear interpolation of a distance function, within step² of the exact value
+  // wherever the segment to the nearest contour point is well inside the band.
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> ux(-4, 21), uy(-4, 14);
+  int between = 0;
+  for (int k = 0; k < 4000; ++k) {
+    const Vec2 p(ux(rng), uy(rng));
+    const double exact = signedDistanceToSections(sections, p);
+    if (std::abs(exact) > 0.5 * band) continue;
+    EXPECT_NEAR(f.sample(p.x(), p.y()), exact, step * step) << p.transpose();
+    ++between;
+  }
+  EXPECT_GT(between, 200);
+  // Far from every section (outside the raster), the plane holds nothing: +band.
+  EXPECT_EQ(f.sample(100, 100), f.band);
+  // An empty plane: no raster, +band everywhere.
+  const SectionDistanceField empty = sectionDistanceField({}, step, band);
+  EXPECT_EQ(empty.nu, 0);
+  EXPECT_EQ(empty.sample(0, 0), empty.band);
+}
