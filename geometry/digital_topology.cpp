@@ -131,6 +131,14 @@ TopologyRepair repairSampledTopology(std::vector<std::uint8_t>& inside,
   return r;
 }
 
+std::vector<int> solidComponents(const std::vector<std::uint8_t>& inside, const GridSpec& grid,
+                                 int* count) {
+  const std::vector<std::uint8_t> none(inside.size(), 0);
+  Components fg = components(inside, 1, none, grid, true);
+  *count = int(fg.anchored.size());
+  return std::move(fg.label);
+}
+
 Betti voxelBetti(const std::vector<std::uint8_t>& in, const GridSpec& g) {
   const std::vector<std::uint8_t> none(in.size(), 0);
   const Components fg = components(in, 1, none, g, true);

@@ -32,6 +32,10 @@ TopologyRepair repairSampledTopology(std::vector<std::uint8_t>& inside,
                                      const std::vector<std::uint8_t>& outside_anchor,
                                      const GridSpec& grid);
 
+/// 26-connected components of the voxel set: label per voxel (-1 outside), count in *count.
+std::vector<int> solidComponents(const std::vector<std::uint8_t>& inside, const GridSpec& grid,
+                                 int* count);
+
 /// Betti numbers of the union of the closed voxel cubes of `inside` (26-connected components,
 /// 6-connected bounded complement components, b1 from the Euler characteristic).
 Betti voxelBetti(const std::vector<std::uint8_t>& inside, const GridSpec& grid);

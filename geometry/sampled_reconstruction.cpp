@@ -10,6 +10,7 @@
 
 #include "geometry/end_planes.h"
 #include "geometry/nearest_plane_reconstruction.h"
+#include "geometry/section_voronoi_reconstruction.h"
 #include "geometry/section_distance_field.h"
 
 namespace xsect {
@@ -27,9 +28,11 @@ ReconstructionLayout reconstructionLayout(const std::vector<CuttingPlane>& plane
   // Grid: R lies within half the end margin of the sections' bounds. A point of R at distance t
   // beyond the bounds (along an axis) projects onto a section inside them, so its nearest plane is
   // at least t away, while the end plane beyond it is m - t away (Def. 15-16): t <= m / 2.
+  // R' may reach the end planes themselves (a lift ends on ∂C): t <= m.
   // Two layers of outside voxels close the surface.
   L.grid.voxel = h;
-  const double reachOut = 0.5 * L.end_margin_mm + h;
+  const double reachOut =
+      (params.method == ReconstructionMethod::section_voronoi ? 1.0 : 0.5) * L.end_margin_mm + h;
   const Vec3 boxLo = L.sections_min - Vec3::Constant(reachOut),
              boxHi = L.sections_max + Vec3::Constant(reachOut);
   L.grid.origin = boxLo - Vec3::Constant(2 * h);
@@ -45,7 +48,7 @@ ReconstructionLayout reconstructionLayout(const std::vector<CuttingPlane>& plane
   return L;
 }
 
-SampledReconstruction reconstructNearestPlane(const std::vector<CuttingPlane>& realPlanes,
+SampledReconstruction reconstructOnGrid(const std::vector<CuttingPlane>& realPlanes,
                                               const ReconstructionParams& params,
                                               const std::function<void(double)>& progress) {
   const ReconstructionLayout layout = reconstructionLayout(realPlanes, params);
@@ -67,30 +70,63 @@ SampledReconstruction reconstructNearestPlane(const std::vector<CuttingPlane>& r
   });
 
   const auto t0 = std::chrono::steady_clock::now();
-  NearestPlaneField npf = nearestPlaneReconstruction(planes, fields, grid, progress);
+  const std::size_t n = std::size_t(grid.count());
+  ScalarField value;
+  std::vector<float> planeDistance;
+  std::vector<int> nearestPlane;
+  out.section_plane.assign(n, -1);
+  if (params.method == ReconstructionMethod::nearest_plane) {
+    NearestPlaneField npf = nearestPlaneReconstruction(planes, fields, grid, progress);
+    value = std::move(npf.value);
+    planeDistance = std::move(npf.plane_distance);
+    nearestPlane = std::move(npf.nearest_plane);
+    for (std::size_t q = 0; q < n; ++q)
+      if (value.values[q] < 0) {
+        out.section_plane[q] = nearestPlane[q];
+        out.max_lift_mm = std::max(out.max_lift_mm, double(planeDistance[q]));
+      }
+  } else {
+    SectionVoronoiParams vp;
+    vp.slab_mm = params.slab_voxels * h;
+    SectionVoronoiField svf = sectionVoronoiReconstruction(planes, fields, grid, vp, progress);
+    value = std::move(svf.value);
+    planeDistance = std::move(svf.plane_distance);
+    nearestPlane = std::move(svf.nearest_plane);
+    out.section_plane = std::move(svf.section_plane);
+    for (std::size_t q = 0; q < n; ++q)
+      if (value.values[q] < 0) out.max_lift_mm = std::max(out.max_lift_mm, double(svf.lift_height[q]));
+    out.exact_face_tests = svf.exact_face_tests;
+    out.search_restarts = svf.search_restarts;
+  }
   out.evaluate_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   // Evidence for the repair: voxels next to a plane (within half a voxel diagonal), clearly inside
-  // or clearly outside its sections (by half a voxel).
-  const std::size_t n = npf.value.values.size();
+  // or clearly outside its sections (by half a voxel). Method 2 marks voxels that no plane's
+  // sections can reach by projection (nearest_plane -1) as outside evidence too.
   const float near = float(0.5 * std::sqrt(3.0) * h), margin = float(0.5 * h);
   std::vector<std::uint8_t> inAnchor(n), outAnchor(n);
   out.inside.resize(n);
   tbb::parallel_for(std::size_t(0), n, [&](std::size_t q) {
-    const float v = npf.value.values[q];
-    const bool next = npf.plane_distance[q] <= near;
+    const float v = value.values[q];
     out.inside[q] = v < 0;
-    inAnchor[q] = next && v <= -margin && !planes[npf.nearest_plane[q]].is_virtual;
+    if (nearestPlane[q] < 0) {
+      outAnchor[q] = 1;
+      return;
+    }
+    const bool next = planeDistance[q] <= near;
+    inAnchor[q] = next && v <= -margin && !planes[std::size_t(nearestPlane[q])].is_virtual;
     outAnchor[q] = next && v >= margin;
   });
+  out.raw_inside = out.inside;
   out.repair = repairSampledTopology(out.inside, inAnchor, outAnchor, grid);
 
   // The field for meshing: the evaluated values, with their sign forced to the repaired set.
-  out.field = std::move(npf.value);
+  out.field = std::move(value);
   const float nudge = float(0.05 * h);
   std::int64_t inside = 0;
   for (std::size_t q = 0; q < n; ++q) {
+    if (out.section_plane[q] >= int(realPlanes.size())) out.section_plane[q] = -1;
     float& v = out.field.values[q];
     if (out.inside[q]) {
       ++inside;

@@ -9,12 +9,16 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <algorithm>
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "geometry/conformal_cut.h"
 #include "geometry/mesh_topology.h"
 #include "geometry/polygon.h"
+#include "geometry/connectivity_graph.h"
 #include "geometry/sampled_reconstruction.h"
+#include "geometry/section_arrangement.h"
 #include "geometry/volume_mesher.h"
 #include "io/csl_file.h"
 #include "io/file_hash.h"
@@ -70,9 +74,6 @@ Inputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress) {
   in.config = readRunConfig(o.config, o.overrides);
   in.warnings = in.config.warnings;
   const RunConfig& c = in.config;
-  if (c.reconstruction_method != "nearest_plane")
-    throw InputError(c.path, "reconstruction.method",
-                     "'" + c.reconstruction_method + "' is not available in this version (nearest_plane)");
   if (c.smoothing_method != "none")
     throw InputError(c.path, "smoothing.method",
                      "'" + c.smoothing_method + "' is not available in this version (none)");
@@ -111,6 +112,8 @@ json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 ReconstructionParams reconstructionParams(const RunConfig& c) {
   ReconstructionParams rp;
   rp.voxel_mm = c.voxel_size_mm;
+  rp.method = c.reconstruction_method == "section_voronoi" ? ReconstructionMethod::section_voronoi
+                                                           : ReconstructionMethod::nearest_plane;
   rp.end_margin_mm = c.end_margin_mm;
   return rp;
 }
@@ -163,7 +166,7 @@ int runCommand(const RunOptions& o) {
   checkMemory(c, layoutOf(in.planes, c));
   SampledReconstruction rec;
   try {
-    rec = reconstructNearestPlane(in.planes, rp, [&](double f) { progress.update(f); });
+    rec = reconstructOnGrid(in.planes, rp, [&](double f) { progress.update(f); });
   } catch (const std::invalid_argument& e) {
     throw InputError(c.path, "reconstruction", e.what());
   }
@@ -171,6 +174,36 @@ int runCommand(const RunOptions& o) {
   in.warnings.push_back("open ends closed by 6 virtual empty planes at " +
                         std::to_string(rec.end_margin_mm) + " mm beyond the sections' bounds" +
                         (rec.end_margin_auto ? " (automatic margin)" : ""));
+
+  // Stage 4 (arrange) and the connectivity graphs: they need the rasters and the end planes the
+  // reconstruction made, so they run after it.
+  progress.stage("arrange");
+  std::vector<CuttingPlane> allPlanes = in.planes;
+  allPlanes.insert(allPlanes.end(), rec.end_planes.begin(), rec.end_planes.end());
+  std::vector<SectionDistanceField> allFields = rec.fields;
+  allFields.resize(allPlanes.size());
+  double sectionArea = 0;
+  for (const auto& p : in.planes)
+    for (const auto& s : p.sections) sectionArea += xsect::sectionArea(s);
+  // Lattice of section points: the voxel size, coarser when it would exceed 250 000 points.
+  const double spacing = std::max(c.voxel_size_mm, std::sqrt(sectionArea / 250000.0));
+  const SectionArrangement arrangement = arrangeSections(allPlanes, spacing);
+  SectionVoronoiParams vp;
+  vp.slab_mm = rp.slab_voxels * rp.voxel_mm;
+  const bool method2 = rp.method == ReconstructionMethod::section_voronoi;
+  const ConnectivityGraphs graphs = connectivityGraphs(allPlanes, allFields, arrangement, vp, method2);
+  const std::vector<GraphEdge>& methodEdges = method2 ? graphs.g_prime : graphs.g;
+  const GraphVoxelCheck graphCheck =
+      compareWithVoxels(methodEdges, in.planes, arrangement, rec.fields, rec.inside, rec.field.grid);
+  bool gInGPrime = true;
+  for (const GraphEdge& e : graphs.g)
+    gInGPrime = gInGPrime && std::binary_search(graphs.g_prime.begin(), graphs.g_prime.end(), e);
+  if (!graphCheck.same_partition)
+    in.warnings.push_back("the connectivity graph and the voxel solid group the sections differently (" +
+                          std::to_string(graphCheck.pairs_joined_by_graph_only) + " pairs joined by the graph only, " +
+                          std::to_string(graphCheck.pairs_joined_by_voxels_only) + " by the voxels only, " +
+                          std::to_string(graphCheck.sections_unlocated) + " sections not located)");
+  clock.end("arrange");
 
   progress.stage("mesh");
   TriangleMesh mesh = meshZeroLevel(rec.field);
@@ -190,18 +223,46 @@ int runCommand(const RunOptions& o) {
   StagedOutput out(outDir);
   for (const auto& fmt : c.mesh_formats) writeMesh(out.file("mesh." + fmt).string(), mesh);
 
-  // graph.json: the sections (nodes); connectivity edges come with the arrangement stage.
+  // graph.json and graph.dot: the sections (nodes) and the edges of G (method 1) and, for
+  // method 2, G' (thesis Def. 30), each with the cell of the arrangement where the lifts meet.
   json nodes = json::array();
+  std::vector<int> firstId(in.planes.size() + 1, 0);
   int id = 0;
-  for (const auto& p : in.planes)
+  for (std::size_t pi = 0; pi < in.planes.size(); ++pi) {
+    const auto& p = in.planes[pi];
+    firstId[pi] = id;
     for (std::size_t s = 0; s < p.sections.size(); ++s) {
       const Section& sec = p.sections[s];
-      nodes.push_back({{"id", id++}, {"slice", p.slice}, {"section", s},
-                       {"area_mm2", sectionArea(sec)},
+      nodes.push_back({{"id", id++}, {"slice", p.slice}, {"section", s}, {"label", sec.label},
+                       {"area_mm2", xsect::sectionArea(sec)},
                        {"centroid_mm", vec(p.plane.toWorld(sectionCentroid(sec)))}});
     }
-  json graph = {{"method", c.reconstruction_method}, {"nodes", nodes}, {"edges", json::array()}};
+  }
+  json edges = json::array();
+  std::string dot = "graph sections {\n  node [shape=ellipse];\n";
+  for (std::size_t pi = 0; pi < in.planes.size(); ++pi)
+    for (std::size_t s = 0; s < in.planes[pi].sections.size(); ++s)
+      dot += "  n" + std::to_string(firstId[pi] + int(s)) + " [label=\"" +
+             std::to_string(in.planes[pi].slice) + ":" + std::to_string(s) + "\"];\n";
+  const auto addEdges = [&](const std::vector<GraphEdge>& es, const char* method, const char* style) {
+    for (const GraphEdge& e : es) {
+      const int a = firstId[std::size_t(e.plane_a)] + e.section_a,
+                b = firstId[std::size_t(e.plane_b)] + e.section_b;
+      edges.push_back({{"a", a}, {"b", b}, {"cell", e.cell}, {"method", method}});
+      dot += "  n" + std::to_string(a) + " -- n" + std::to_string(b) + " [" + style +
+             ", tooltip=\"cell " + std::to_string(e.cell) + "\"];\n";
+    }
+  };
+  addEdges(graphs.g, "nearest_plane", "style=dashed");
+  if (method2) addEdges(graphs.g_prime, "section_voronoi", "style=solid");
+  dot += "}\n";
+  json graph = {{"method", c.reconstruction_method},
+                {"cells", arrangement.cells},
+                {"sample_spacing_mm", arrangement.sample_spacing_mm},
+                {"nodes", nodes},
+                {"edges", edges}};
   writeText(out.file("graph.json"), graph.dump(2) + "\n");
+  writeText(out.file("graph.dot"), dot);
 
   const double total = [&] {
     double t = 0;
@@ -215,7 +276,8 @@ int runCommand(const RunOptions& o) {
   report["watertight"] = topo.watertight;
   report["counts"] = {{"slices", in.slices}, {"planes_with_sections", planesWithSections},
                       {"sections", sections}, {"end_planes", rec.end_planes.size()},
-                      {"cells", nullptr}, {"voxels", rec.field.grid.count()},
+                      {"cells", arrangement.cells}, {"sub_sections", arrangement.sub_sections.size()},
+                      {"voxels", rec.field.grid.count()},
                       {"voxels_inside", rec.voxels_inside},
                       {"mesh_vertices", mesh.vertices.size()},
                       {"mesh_triangles", mesh.triangles.size()}};
@@ -227,7 +289,23 @@ int runCommand(const RunOptions& o) {
                               {"grid_dims", rec.field.grid.dims},
                               {"end_margin_mm", rec.end_margin_mm},
                               {"end_margin_auto", rec.end_margin_auto},
+                              {"max_lift_mm", rec.max_lift_mm},
+                              {"exact_face_tests", rec.exact_face_tests},
+                              {"search_restarts", rec.search_restarts},
                               {"volume_mm3", topo.volume_mm3}};
+  report["arrangement"] = {{"cells", arrangement.cells},
+                           {"sub_sections", arrangement.sub_sections.size()},
+                           {"trace_points_added", arrangement.trace_points},
+                           {"sample_spacing_mm", arrangement.sample_spacing_mm}};
+  report["graph"] = {{"edges_g", graphs.g.size()},
+                     {"edges_g_prime", method2 ? json(graphs.g_prime.size()) : json(nullptr)},
+                     {"g_subset_of_g_prime", method2 ? json(gInGPrime) : json(nullptr)},
+                     {"components", graphCheck.graph_components},
+                     {"voxel_components_with_sections", graphCheck.voxel_components},
+                     {"same_partition_as_voxels", graphCheck.same_partition},
+                     {"pairs_joined_by_graph_only", graphCheck.pairs_joined_by_graph_only},
+                     {"pairs_joined_by_voxels_only", graphCheck.pairs_joined_by_voxels_only},
+                     {"sections_not_located", graphCheck.sections_unlocated}};
   report["topology_repair"] = {{"specks_removed", rec.repair.specks_removed},
                                {"cavities_filled", rec.repair.cavities_filled},
                                {"critical_voxels_added", rec.repair.critical_voxels_added}};
@@ -243,7 +321,11 @@ int runCommand(const RunOptions& o) {
   report["peak_memory_mb"] = clock.memory;
   report["throughput"] = {{"reconstruct_voxels_per_s",
                            rec.evaluate_seconds > 0 ? double(rec.field.grid.count()) / rec.evaluate_seconds : 0.0},
-                          {"method1_evaluate_s", rec.evaluate_seconds}};
+                          {"evaluate_s", rec.evaluate_seconds},
+                          {"method1_evaluate_s", rp.method == ReconstructionMethod::nearest_plane
+                                                     ? json(rec.evaluate_seconds) : json(nullptr)},
+                          {"method2_evaluate_s", rp.method == ReconstructionMethod::section_voronoi
+                                                     ? json(rec.evaluate_seconds) : json(nullptr)}};
   report["warnings"] = in.warnings;
   writeText(out.file("report.json"), report.dump(2) + "\n");
 

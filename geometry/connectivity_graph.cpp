@@ -1,0 +1,188 @@
+// Connectivity graphs G and G' along the lifts of section points (see connectivity_graph.h).
+#include "geometry/connectivity_graph.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <numeric>
+#include <tuple>
+
+#include "geometry/digital_topology.h"
+#include "geometry/polygon.h"
+
+namespace xsect {
+
+bool GraphEdge::operator<(const GraphEdge& o) const {
+  return std::tie(cell, plane_a, section_a, plane_b, section_b) <
+         std::tie(o.cell, o.plane_a, o.section_a, o.plane_b, o.section_b);
+}
+bool GraphEdge::operator==(const GraphEdge& o) const {
+  return std::tie(cell, plane_a, section_a, plane_b, section_b) ==
+         std::tie(o.cell, o.plane_a, o.section_a, o.plane_b, o.section_b);
+}
+
+namespace {
+
+int sectionAt(const CuttingPlane& cp, const Vec3& x) {
+  const Vec2 p = cp.plane.toPlane(x);
+  for (std::size_t s = 0; s < cp.sections.size(); ++s)
+    if (sectionContains(cp.sections[s], p)) return int(s);
+  return -1;
+}
+
+GraphEdge edge(int pa, int sa, int pb, int sb, int cell) {
+  if (std::tie(pb, sb) < std::tie(pa, sa)) {
+    std::swap(pa, pb);
+    std::swap(sa, sb);
+  }
+  return {pa, sa, pb, sb, cell};
+}
+
+}  // namespace
+
+ConnectivityGraphs connectivityGraphs(const std::vector<CuttingPlane>& planes,
+                                      const std::vector<SectionDistanceField>& fields,
+                                      const SectionArrangement& arr,
+                                      const SectionVoronoiParams& method2, bool withGPrime) {
+  std::unique_ptr<SectionVoronoiPoints> query;
+  if (withGPrime) query = std::make_unique<SectionVoronoiPoints>(planes, fields, method2);
+  const double step = arr.sample_spacing_mm;
+  tbb::enumerable_thread_specific<ConnectivityGraphs> local;
+  tbb::parallel_for(std::size_t(0), arr.points.size(), [&](std::size_t q) {
+    const SectionPoint& sp = arr.points[q];
+    if (sp.kind == SectionPoint::trace) return;
+    ConnectivityGraphs& out = local.local();
+    const CuttingPlane& P = planes[std::size_t(sp.plane)];
+    const Vec3 a = P.plane.toWorld(sp.p);
+    for (int side = 0; side < 2; ++side) {
+      const Vec3 n = (side == 0 ? -1.0 : 1.0) * P.plane.normal;
+      const int cell = sp.cell[std::size_t(side)];
+      // Method 1: first t > 0 with d(a + t n, Q) = t for some other plane Q; the ray leaves the
+      // cell (crosses Q) only after that.
+      double best = std::numeric_limits<double>::infinity(), exit = best;
+      int bq = -1;
+      for (std::size_t j = 0; j < planes.size(); ++j) {
+        if (int(j) == sp.plane) continue;
+        const double hq = planes[j].plane.signedDistance(a), c = planes[j].plane.normal.dot(n);
+        for (const double t : {c != 1 ? hq / (1 - c) : -1.0, c != -1 ? -hq / (1 + c) : -1.0})
+          if (t > 1e-9 && t < best) {
+            best = t;
+            bq = int(j);
+          }
+        if (c != 0 && -hq / c > 0) exit = std::min(exit, -hq / c);
+      }
+      if (bq >= 0) {
+        const int b = sectionAt(planes[std::size_t(bq)], a + best * n);
+        if (b >= 0) out.g.push_back(edge(sp.plane, sp.section, bq, b, cell));
+      }
+      if (!query) continue;
+      // Method 2: follow the ray while it stays in A's lift, at evenly spaced points (at least
+      // one before the ray leaves the cell) and just beyond method 1's lift point, where
+      // lift'(a) = lift(a) whenever lift(a) projects into a section (the proof of Theorem 18).
+      std::vector<double> ts;
+      const int m = std::max(1, std::min(4096, int(std::ceil(exit / step))));
+      for (int q2 = 0; q2 < m; ++q2) ts.push_back(std::min(exit, 1e6) * (q2 + 0.5) / m);
+      if (best < exit) ts.push_back(best * (1 + 1e-9) + 1e-9);
+      std::sort(ts.begin(), ts.end());
+      for (const double t : ts) {
+        const Vec3 x = a + t * n;
+        const SectionVoronoiPoints::Answer ans = query->at(x);
+        // Before lift(a) the ray lies in R (hence in R', Theorem 18); a point reported outside
+        // there has its projection on the contour itself (vertices), within the rasters' tolerance.
+        if (!ans.inside && t < best) continue;
+        if (!ans.inside) break;
+        if (ans.section_plane == sp.plane) continue;
+        const int b = sectionAt(planes[std::size_t(ans.section_plane)], x);
+        if (b >= 0) out.g_prime.push_back(edge(sp.plane, sp.section, ans.section_plane, b, cell));
+        break;
+      }
+    }
+  });
+  ConnectivityGraphs all;
+  for (auto& l : local) {
+    all.g.insert(all.g.end(), l.g.begin(), l.g.end());
+    all.g_prime.insert(all.g_prime.end(), l.g_prime.begin(), l.g_prime.end());
+  }
+  for (auto* v : {&all.g, &all.g_prime}) {
+    std::sort(v->begin(), v->end());
+    v->erase(std::unique(v->begin(), v->end()), v->end());
+  }
+  return all;
+}
+
+GraphVoxelCheck compareWithVoxels(const std::vector<GraphEdge>& edges,
+                                  const std::vector<CuttingPlane>& planes,
+                                  const SectionArrangement& arr,
+                                  const std::vector<SectionDistanceField>& fields,
+                                  const std::vector<std::uint8_t>& inside, const GridSpec& grid) {
+  std::vector<int> offset(planes.size() + 1, 0);
+  for (std::size_t i = 0; i < planes.size(); ++i)
+    offset[i + 1] = offset[i] + int(planes[i].sections.size());
+  const int n = offset.back();
+  std::vector<int> parent(static_cast<std::size_t>(n));
+  std::iota(parent.begin(), parent.end(), 0);
+  const std::function<int(int)> find = [&](int v) {
+    while (parent[std::size_t(v)] != v) v = parent[std::size_t(v)] = parent[std::size_t(parent[std::size_t(v)])];
+    return v;
+  };
+  for (const GraphEdge& e : edges) {
+    const int u = find(offset[std::size_t(e.plane_a)] + e.section_a);
+    const int v = find(offset[std::size_t(e.plane_b)] + e.section_b);
+    parent[std::size_t(std::max(u, v))] = std::min(u, v);
+  }
+  // The deepest lattice point of each section, and the voxel holding it.
+  std::vector<float> depth(std::size_t(n), 0.f);
+  std::vector<Vec3> where(std::size_t(n), Vec3::Zero());
+  for (const SectionPoint& sp : arr.points) {
+    if (sp.kind != SectionPoint::sample || std::size_t(sp.plane) >= fields.size()) continue;
+    const int id = offset[std::size_t(sp.plane)] + sp.section;
+    const float f = fields[std::size_t(sp.plane)].sample(sp.p.x(), sp.p.y());
+    if (f < depth[std::size_t(id)]) {
+      depth[std::size_t(id)] = f;
+      where[std::size_t(id)] = planes[std::size_t(sp.plane)].plane.toWorld(sp.p);
+    }
+  }
+  int count = 0;
+  const std::vector<int> label = solidComponents(inside, grid, &count);
+  std::vector<int> voxel(std::size_t(n), -1);
+  GraphVoxelCheck r;
+  for (int s = 0; s < n; ++s) {
+    if (depth[std::size_t(s)] >= 0) {
+      ++r.sections_unlocated;
+      continue;
+    }
+    const Vec3 g = (where[std::size_t(s)] - grid.origin) / grid.voxel;
+    const int i = int(std::lround(g.x())), j = int(std::lround(g.y())), k = int(std::lround(g.z()));
+    if (i < 0 || j < 0 || k < 0 || i >= grid.dims[0] || j >= grid.dims[1] || k >= grid.dims[2] ||
+        label[std::size_t(grid.index(i, j, k))] < 0) {
+      ++r.sections_unlocated;
+      continue;
+    }
+    voxel[std::size_t(s)] = label[std::size_t(grid.index(i, j, k))];
+  }
+  std::vector<int> roots, labels;
+  for (int s = 0; s < n; ++s) {
+    roots.push_back(find(s));
+    if (voxel[std::size_t(s)] >= 0) labels.push_back(voxel[std::size_t(s)]);
+  }
+  std::sort(roots.begin(), roots.end());
+  std::sort(labels.begin(), labels.end());
+  r.graph_components = int(std::unique(roots.begin(), roots.end()) - roots.begin());
+  r.voxel_components = int(std::unique(labels.begin(), labels.end()) - labels.begin());
+  for (int s = 0; s < n; ++s)
+    for (int t = s + 1; t < n; ++t) {
+      if (voxel[std::size_t(s)] < 0 || voxel[std::size_t(t)] < 0) continue;
+      const bool g = find(s) == find(t), v = voxel[std::size_t(s)] == voxel[std::size_t(t)];
+      r.pairs_joined_by_graph_only += g && !v;
+      r.pairs_joined_by_voxels_only += v && !g;
+    }
+  r.same_partition = r.pairs_joined_by_graph_only == 0 && r.pairs_joined_by_voxels_only == 0;
+  return r;
+}
+
+}  // namespace xsect

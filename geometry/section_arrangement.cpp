@@ -1,0 +1,162 @@
+// Sign vectors of section points and the cells they bound (see section_arrangement.h).
+// Cells are keyed by a 128-bit Zobrist hash of the sign vector (two independent 64-bit tables):
+// storing the vectors themselves would take points × planes bytes; a collision between two of the
+// few million vectors met has probability below 1e-25.
+#include "geometry/section_arrangement.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <limits>
+#include <map>
+#include <random>
+#include <stdexcept>
+#include <utility>
+
+#include "geometry/polygon.h"
+
+namespace xsect {
+
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Key = std::pair<std::uint64_t, std::uint64_t>;
+
+struct Zobrist {
+  std::vector<std::array<std::uint64_t, 3>> a, b;  // per plane, per sign (-1, 0, +1)
+  explicit Zobrist(std::size_t n) : a(n), b(n) {
+    std::mt19937_64 rng(0x5ec7);
+    for (std::size_t i = 0; i < n; ++i)
+      for (int s = 0; s < 3; ++s) {
+        a[i][s] = rng();
+        b[i][s] = rng();
+      }
+  }
+};
+
+/// Exact sign of a.x + b.y + c.z + d for the double coefficients and coordinates: a static
+/// floating-point filter (the evaluation's rounding error is below 8 ulp of the magnitudes summed)
+/// and CGAL's exact predicate when the value is within that bound of zero.
+int sign(const K::Plane_3& P, const Vec3& x) {
+  const double a = P.a(), b = P.b(), c = P.c(), d = P.d();
+  const double v = a * x.x() + b * x.y() + c * x.z() + d;
+  const double mag = std::abs(a * x.x()) + std::abs(b * x.y()) + std::abs(c * x.z()) + std::abs(d);
+  const double bound = 8.0 * std::numeric_limits<double>::epsilon() * mag;
+  if (v > bound) return 1;
+  if (v < -bound) return -1;
+  const CGAL::Oriented_side s = P.oriented_side(K::Point_3(x.x(), x.y(), x.z()));
+  return s == CGAL::ON_POSITIVE_SIDE ? 1 : (s == CGAL::ON_NEGATIVE_SIDE ? -1 : 0);
+}
+
+struct PointKeys {
+  Key minus, plus;  // cell keys on the two sides of the own plane
+};
+
+}  // namespace
+
+SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, double spacing) {
+  if (!(spacing > 0)) throw std::invalid_argument("arrangement: sample spacing must be positive");
+  const std::size_t k = planes.size();
+  std::vector<K::Plane_3> eq(k);
+  for (std::size_t i = 0; i < k; ++i) {
+    const Vec3 n = planes[i].plane.normal;
+    eq[i] = K::Plane_3(n.x(), n.y(), n.z(), -n.dot(planes[i].plane.origin));
+  }
+  const Zobrist z(k);
+
+  // Points of each plane's sections, and their keys, computed per plane in parallel.
+  std::vector<std::vector<SectionPoint>> pts(k);
+  std::vector<std::vector<PointKeys>> keys(k);
+  tbb::parallel_for(std::size_t(0), k, [&](std::size_t i) {
+    const CuttingPlane& cp = planes[i];
+    auto& P = pts[i];
+    for (std::size_t s = 0; s < cp.sections.size(); ++s) {
+      const Section& sec = cp.sections[s];
+      // Planes that may cross the section: those nearer to its bounding disk's centre than its
+      // radius (with a margin far above rounding).
+      Vec2 blo = sec.outer[0], bhi = blo;
+      for (const Vec2& v : sec.outer) {
+        blo = blo.cwiseMin(v);
+        bhi = bhi.cwiseMax(v);
+      }
+      const Vec3 centre = cp.plane.toWorld(0.5 * (blo + bhi));
+      const double radius = 0.5 * (bhi - blo).norm() * (1 + 1e-9) + 1e-9;
+      std::vector<std::size_t> crossing;
+      for (std::size_t j = 0; j < k; ++j)
+        if (j != i && std::abs(planes[j].plane.signedDistance(centre)) <= radius) crossing.push_back(j);
+      const auto addRing = [&](const Ring& r) {
+        for (std::size_t v = 0; v < r.size(); ++v) {
+          P.push_back({int(i), int(s), r[v], SectionPoint::vertex, {-1, -1}});
+          // Contour points on the traces of other planes crossed by edge (v, v+1).
+          const Vec3 a = cp.plane.toWorld(r[v]), b = cp.plane.toWorld(r[(v + 1) % r.size()]);
+          for (const std::size_t j : crossing) {
+            const int sa = sign(eq[j], a), sb = sign(eq[j], b);
+            if (sa * sb >= 0) continue;
+            const double da = planes[j].plane.signedDistance(a), db = planes[j].plane.signedDistance(b);
+            const double t = da / (da - db);
+            P.push_back({int(i), int(s), r[v] + t * (r[(v + 1) % r.size()] - r[v]),
+                         SectionPoint::trace, {-1, -1}});
+          }
+        }
+      };
+      addRing(sec.outer);
+      for (const Ring& h : sec.holes) addRing(h);
+      Vec2 lo = sec.outer[0], hi = lo;
+      for (const Vec2& v : sec.outer) {
+        lo = lo.cwiseMin(v);
+        hi = hi.cwiseMax(v);
+      }
+      for (double y = std::floor(lo.y() / spacing) * spacing + 0.5 * spacing; y < hi.y(); y += spacing)
+        for (double x = std::floor(lo.x() / spacing) * spacing + 0.5 * spacing; x < hi.x(); x += spacing)
+          if (sectionContains(sec, Vec2(x, y)))
+            P.push_back({int(i), int(s), Vec2(x, y), SectionPoint::sample, {-1, -1}});
+    }
+    auto& KK = keys[i];
+    KK.resize(P.size());
+    for (std::size_t q = 0; q < P.size(); ++q) {
+      const Vec3 w = cp.plane.toWorld(P[q].p);
+      std::uint64_t ha = 0, hb = 0;
+      for (std::size_t j = 0; j < k; ++j) {
+        if (j == i) continue;
+        // On another plane (trace points, or vertices lying exactly on it): the point bounds the
+        // cells on both sides; the positive one is recorded (the other is met by its neighbours).
+        int sj = sign(eq[j], w);
+        if (P[q].kind == SectionPoint::trace && sj == 0) sj = 1;
+        if (sj == 0) sj = 1;
+        ha ^= z.a[j][std::size_t(sj + 1)];
+        hb ^= z.b[j][std::size_t(sj + 1)];
+      }
+      KK[q].minus = {ha ^ z.a[i][0], hb ^ z.b[i][0]};
+      KK[q].plus = {ha ^ z.a[i][2], hb ^ z.b[i][2]};
+    }
+  });
+
+  SectionArrangement out;
+  out.sample_spacing_mm = spacing;
+  std::map<Key, int> cellOf;
+  std::map<std::array<int, 4>, int> subOf;  // (plane, section, side, cell) -> sub-section
+  for (std::size_t i = 0; i < k; ++i)
+    for (std::size_t q = 0; q < pts[i].size(); ++q) {
+      SectionPoint sp = pts[i][q];
+      out.trace_points += sp.kind == SectionPoint::trace;
+      for (int side = 0; side < 2; ++side) {
+        const Key key = side == 0 ? keys[i][q].minus : keys[i][q].plus;
+        const auto it = cellOf.emplace(key, int(cellOf.size())).first;
+        sp.cell[std::size_t(side)] = it->second;
+        const std::array<int, 4> sk{sp.plane, sp.section, side == 0 ? -1 : 1, it->second};
+        const auto sit = subOf.find(sk);
+        if (sit == subOf.end()) {
+          subOf.emplace(sk, int(out.sub_sections.size()));
+          out.sub_sections.push_back({sp.plane, sp.section, sk[2], it->second, 1});
+        } else {
+          ++out.sub_sections[std::size_t(sit->second)].points;
+        }
+      }
+      out.points.push_back(sp);
+    }
+  out.cells = int(cellOf.size());
+  return out;
+}
+
+}  // namespace xsect

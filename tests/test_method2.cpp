@@ -1,0 +1,308 @@
+// Method 2 (thesis ch. 2, Def. 27-28) on a grid: equal to a brute-force evaluation of the
+// definition, containing method 1 voxel by voxel (Theorem 18), unchanged by planes that pass beside
+// the object where method 1 changes (Fig. 2.1-2.2), and conformal with the sections (thickening).
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "geometry/nearest_plane_reconstruction.h"
+#include "geometry/polygon.h"
+#include "geometry/section_voronoi_reconstruction.h"
+#include "section_fixtures.h"
+
+using namespace xsect;
+
+namespace {
+
+const Vec3 kCentre(0.3, -0.2, 0.1);
+
+std::vector<CuttingPlane> randomPlanes(int count, std::mt19937_64& rng, double spread, double Ri,
+                                       int vertices) {
+  std::normal_distribution<double> g(0, 1);
+  std::uniform_real_distribution<double> u(-spread, spread);
+  std::vector<CuttingPlane> planes;
+  for (int i = 0; i < count; ++i) {
+    CuttingPlane cp;
+    cp.slice = i;
+    Vec3 n(g(rng), g(rng), g(rng));
+    n.normalize();
+    cp.plane.normal = n;
+    cp.plane.u = n.unitOrthogonal();
+    cp.plane.v = n.cross(cp.plane.u);
+    cp.plane.origin = u(rng) * n + kCentre;
+    const double d = cp.plane.signedDistance(kCentre);
+    if (std::abs(d) < 6.0) {
+      Section s;
+      s.outer = test::circle(cp.plane.toPlane(kCentre), std::sqrt(36.0 - d * d), vertices);
+      if (Ri > std::abs(d))
+        s.holes.push_back(test::circle(cp.plane.toPlane(kCentre), std::sqrt(Ri * Ri - d * d), vertices, false));
+      cp.sections.push_back(s);
+    }
+    planes.push_back(cp);
+  }
+  return planes;
+}
+
+std::vector<SectionDistanceField> rasters(const std::vector<CuttingPlane>& planes, double step) {
+  std::vector<SectionDistanceField> f;
+  for (const auto& p : planes) f.push_back(sectionDistanceField(p.sections, step, 6 * step));
+  return f;
+}
+
+GridSpec testGrid(double voxel, int n) {
+  GridSpec g;
+  g.voxel = voxel;
+  g.origin = kCentre - Vec3::Constant(0.5 * voxel * (n - 1)) + Vec3(0.013, -0.007, 0.011);
+  g.dims = {n, n + 1, n - 1};
+  return g;
+}
+
+/// Convex polygon clipped by the half-plane a.p + c >= 0.
+std::vector<Vec2> clip(const std::vector<Vec2>& poly, const Vec2& a, double c) {
+  std::vector<Vec2> out;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Vec2& A = poly[i];
+    const Vec2& B = poly[(i + 1) % poly.size()];
+    const double fa = a.dot(A) + c, fb = a.dot(B) + c;
+    if (fa >= 0) out.push_back(A);
+    if ((fa >= 0) != (fb >= 0)) out.push_back(A + fa / (fa - fb) * (B - A));
+  }
+  return out;
+}
+
+/// Distance from p to a convex counter-clockwise polygon (0 inside).
+double convexDistance(const std::vector<Vec2>& poly, const Vec2& p) {
+  bool inside = true;
+  double best = 1e300;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Vec2& A = poly[i];
+    const Vec2& B = poly[(i + 1) % poly.size()];
+    const Vec2 e = B - A;
+    if (e.x() * (p - A).y() - e.y() * (p - A).x() < 0) inside = false;
+    const double t = std::clamp((p - A).dot(e) / std::max(e.squaredNorm(), 1e-300), 0.0, 1.0);
+    best = std::min(best, (A + t * e - p).norm());
+  }
+  return inside ? 0.0 : best;
+}
+
+struct Brute {
+  bool inside = false;
+  double Hin = 0, D = 0;
+  double margin = 0;  // distance of x's data to a decision threshold (ties, contours, traces)
+};
+
+/// Def. 27-28 by brute force, for convex sections: for every plane P, the part of its section
+/// that x sees (the section clipped by the half-spaces of all other planes that contain x), its
+/// distance to x; x is in R' when the nearest of them is reached by an orthogonal projection.
+Brute bruteForce(const Vec3& x, const std::vector<CuttingPlane>& planes) {
+  struct PerPlane {
+    double dist, height, near;  // distance to the visible part; |h| if in-section; tie margin
+  };
+  std::vector<PerPlane> per;
+  double D = 1e300, Hin = 1e300;
+  for (std::size_t i = 0; i < planes.size(); ++i) {
+    const Plane& P = planes[i].plane;
+    if (planes[i].sections.empty()) continue;
+    const double h = P.signedDistance(x);
+    const Vec2 p = P.toPlane(x);
+    std::vector<Vec2> poly = planes[i].sections[0].outer;
+    double near = ringDistance(planes[i].sections[0].outer, p);  // contour through p
+    for (std::size_t j = 0; j < planes.size() && !poly.empty(); ++j) {
+      if (j == i) continue;
+      const Plane& Q = planes[j].plane;
+      const double sg = Q.signedDistance(x) > 0 ? 1 : -1;
+      const Vec2 a(sg * Q.normal.dot(P.u), sg * Q.normal.dot(P.v));
+      const double c = sg * Q.signedDistance(P.origin);
+      if (a.norm() < 1e-12) {
+        if (c < 0) poly.clear();
+        continue;
+      }
+      poly = clip(poly, a, c);
+      if (std::abs(Q.signedDistance(x)) < std::abs(h) + 0.01)  // a trace that may hide p
+        near = std::min(near, std::abs(a.dot(p) + c) / a.norm());
+    }
+    if (poly.size() < 3) continue;
+    const double d = convexDistance(poly, p);
+    per.push_back({std::hypot(h, d), d == 0 ? std::abs(h) : 1e300, near});
+    D = std::min(D, std::hypot(h, d));
+    if (d == 0) Hin = std::min(Hin, std::abs(h));
+  }
+  Brute b;
+  b.inside = Hin < 1e299 && Hin <= D;
+  b.Hin = Hin;
+  b.D = D;
+  // Gap between the winner and the nearest competitor of the other kind, and ties within the
+  // planes that compete (contours and traces through their projections).
+  b.margin = b.inside || D > 1e299 ? 1e300 : std::abs(Hin - D);
+  for (const PerPlane& q : per) {
+    if (b.inside && q.height != Hin) b.margin = std::min(b.margin, q.dist - Hin);
+    if (q.dist <= std::min(D, Hin) + 0.05) b.margin = std::min(b.margin, q.near);
+  }
+  return b;
+}
+
+}  // namespace
+
+TEST(Method2, EqualsTheBruteForceDefinition) {
+  std::mt19937_64 rng(11);
+  for (const int count : {3, 8, 14}) {
+    SCOPED_TRACE(count);
+    const auto planes = randomPlanes(count, rng, 6.5, 0.0, 64);
+    const auto fields = rasters(planes, 0.02);
+    const GridSpec grid = testGrid(0.4, 36);
+    const SectionVoronoiField f = sectionVoronoiReconstruction(planes, fields, grid, {});
+    std::int64_t inside = 0, checked = 0, skipped = 0;
+    for (int k = 0; k < grid.dims[2]; ++k)
+      for (int j = 0; j < grid.dims[1]; ++j)
+        for (int i = 0; i < grid.dims[0]; ++i) {
+          const Vec3 x = grid.centre(i, j, k);
+          const Brute b = bruteForce(x, planes);
+          const bool fast = f.value.at(i, j, k) < 0;
+          if (b.margin < 1e-3) {  // within the rasters' tolerance of a decision threshold
+            ++skipped;
+            continue;
+          }
+          ++checked;
+          inside += b.inside;
+          ASSERT_EQ(fast, b.inside) << "voxel " << i << " " << j << " " << k << " margin " << b.margin << " Hin " << b.Hin << " D " << b.D
+                                  << " value " << f.value.at(i, j, k) << " plane "
+                                  << f.section_plane[std::size_t(grid.index(i, j, k))];
+        }
+    EXPECT_GT(inside, 1000);
+    EXPECT_LT(skipped, checked / 20);
+  }
+}
+
+TEST(Method2, ContainsMethod1VoxelByVoxel) {  // Theorem 18: R ⊆ R'
+  std::mt19937_64 rng(5);
+  for (const int count : {2, 9, 40, 120}) {
+    for (const double slab : {0.0, 0.35}) {
+      SCOPED_TRACE(std::to_string(count) + " planes, slab " + std::to_string(slab));
+      const auto planes = randomPlanes(count, rng, 7.0, 3.0, 96);  // shells: non-convex sections
+      const auto fields = rasters(planes, 0.1);
+      const GridSpec grid = testGrid(0.4, 40);
+      const NearestPlaneField r = nearestPlaneReconstruction(planes, fields, grid);
+      SectionVoronoiParams vp;
+      vp.slab_mm = slab;
+      const SectionVoronoiField r2 = sectionVoronoiReconstruction(planes, fields, grid, vp);
+      std::int64_t inR = 0, inR2 = 0;
+      for (std::size_t q = 0; q < r.value.values.size(); ++q) {
+        const bool a = r.value.values[q] < 0, b = r2.value.values[q] < 0;
+        inR += a;
+        inR2 += b;
+        ASSERT_TRUE(!a || b) << "voxel " << q << " in R but not in R'";
+        if (b) {
+          ASSERT_GE(r2.section_plane[q], 0);
+          ASSERT_GE(r2.lift_height[q], 0.f);
+        }
+      }
+      EXPECT_GT(inR, 0);
+      EXPECT_GE(inR2, inR);
+    }
+  }
+}
+
+namespace {
+
+/// Thesis Fig. 2.1-2.2 in 3D: a slanted thin tube cut by two parallel planes (disks whose
+/// projections overlap), optionally with two more planes that pass beside it.
+std::vector<CuttingPlane> tubeScene(bool extraPlanes) {
+  std::vector<CuttingPlane> planes;
+  const auto add = [&](const Plane& p, std::vector<Section> s) {
+    CuttingPlane cp;
+    cp.slice = int(planes.size());
+    cp.plane = p;
+    cp.sections = std::move(s);
+    planes.push_back(cp);
+  };
+  Section a, b;
+  a.outer = test::circle(Vec2(0, 0), 1.0, 128);
+  b.outer = test::circle(Vec2(1.5, 0), 1.0, 128);
+  add(test::axisPlane(2, 0.0), {a});
+  add(test::axisPlane(2, 6.0), {b});
+  // Virtual-like empty planes closing the scene around the tube.
+  for (int axis = 0; axis < 2; ++axis) {
+    add(test::axisPlane(axis, -8.0), {});
+    add(test::axisPlane(axis, 9.0), {});
+  }
+  add(test::axisPlane(2, -3.0), {});
+  add(test::axisPlane(2, 9.0), {});
+  if (extraPlanes) {  // beside the tube (which spans x in [-1, 2.5]), not touching it
+    Plane p = test::axisPlane(0, -1.6);
+    add(p, {});
+    p = test::axisPlane(0, 3.1);
+    add(p, {});
+  }
+  return planes;
+}
+
+}  // namespace
+
+TEST(Method2, PlanesBesideTheObjectChangeMethod1NotMethod2) {  // thesis Fig. 2.1-2.2
+  GridSpec grid;
+  grid.voxel = 0.1;
+  grid.origin = Vec3(-2.95, -1.95, -0.95);
+  grid.dims = {80, 40, 80};
+  std::vector<std::uint8_t> r[2], r2[2];
+  for (int extra = 0; extra < 2; ++extra) {
+    const auto planes = tubeScene(extra);
+    const auto fields = rasters(planes, 0.02);
+    const auto m1 = nearestPlaneReconstruction(planes, fields, grid);
+    SectionVoronoiParams vp;
+    vp.slab_mm = 0.09;
+    const auto m2 = sectionVoronoiReconstruction(planes, fields, grid, vp);
+    for (std::size_t q = 0; q < m1.value.values.size(); ++q) {
+      r[extra].push_back(m1.value.values[q] < 0);
+      r2[extra].push_back(m2.value.values[q] < 0);
+    }
+  }
+  std::int64_t changed1 = 0, changed2 = 0, in2 = 0;
+  for (std::size_t q = 0; q < r[0].size(); ++q) {
+    changed1 += r[0][q] != r[1][q];
+    changed2 += r2[0][q] != r2[1][q];
+    in2 += r2[0][q];
+  }
+  EXPECT_GT(changed1, 500) << "method 1 should depend on the planes beside the tube";
+  EXPECT_EQ(changed2, 0) << "method 2 should not";
+  EXPECT_GT(in2, 10000);
+}
+
+TEST(Method2, ThickenedPlanesKeepTheSolidOnThePlanesEqualToTheSections) {
+  // Near a plane (within the slab) R' is decided by that plane's sections alone: a lift reaching
+  // a face of its cell outside the sections (Fig. 2.6) stops short of it.
+  const auto planes = tubeScene(false);
+  const auto fields = rasters(planes, 0.02);
+  GridSpec grid;
+  grid.voxel = 0.1;
+  grid.origin = Vec3(-2.95, -1.95, -0.95);
+  grid.dims = {80, 40, 100};
+  SectionVoronoiParams vp;
+  vp.slab_mm = 0.0866;
+  const auto m2 = sectionVoronoiReconstruction(planes, fields, grid, vp);
+  std::int64_t nearPlane = 0;
+  for (int k = 0; k < grid.dims[2]; ++k)
+    for (int j = 0; j < grid.dims[1]; ++j)
+      for (int i = 0; i < grid.dims[0]; ++i) {
+        const Vec3 x = grid.centre(i, j, k);
+        for (const auto& cp : planes) {
+          if (std::abs(cp.plane.signedDistance(x)) >= vp.slab_mm) continue;
+          ++nearPlane;
+          const bool inSection = !cp.sections.empty() && sectionContains(cp.sections[0], cp.plane.toPlane(x));
+          const double margin = cp.sections.empty() ? 1.0 : ringDistance(cp.sections[0].outer, cp.plane.toPlane(x));
+          if (margin > 0.01) ASSERT_EQ(m2.value.at(i, j, k) < 0, inSection) << i << " " << j << " " << k;
+        }
+      }
+  EXPECT_GT(nearPlane, 1000);
+  // Above the top disk its cell is closed by the empty plane z = 9: the disk's lift reaches that
+  // face outside any section (Fig. 2.6) without thickening, and stops short of it with it.
+  vp.slab_mm = 0;
+  const auto bare = sectionVoronoiReconstruction(planes, fields, grid, vp);
+  int top = 0, bareTop = 0;
+  for (int j = 0; j < grid.dims[1]; ++j)
+    for (int i = 0; i < grid.dims[0]; ++i) {
+      top += m2.value.at(i, j, grid.dims[2] - 1) < 0;
+      bareTop += bare.value.at(i, j, grid.dims[2] - 1) < 0;
+    }
+  EXPECT_EQ(top, 0);
+  EXPECT_GT(bareTop, 100);
+}
