@@ -31,6 +31,7 @@ struct Case {
   std::string degradations = "{}";
   bool checkConformity = true;
   double extraBound = 0;  // mm added to the Hausdorff bound (recorded-pose error)
+  std::string method = "nearest_plane";
 };
 
 struct Shape {
@@ -95,7 +96,8 @@ void runCase(const Case& c) {
   const fs::path dir = test::freshDir("accept");
   phantomAndRun(dir, "seed: 3\nshape: " + c.shape + "\npattern: " + c.pattern +
                          "\nimage: {pixel_mm: 0.2}\ndegradations: " + c.degradations +
-                         "\nconfig: {reconstruction: {voxel_size_mm: " + std::to_string(c.voxel) + "}}\n");
+                         "\nconfig: {reconstruction: {voxel_size_mm: " + std::to_string(c.voxel) +
+                         ", method: " + c.method + "}}\n");
   if (::testing::Test::HasFatalFailure()) return;
   const auto r = test::runXsect("eval --mesh " + (dir / "res/mesh.ply").string() + " --truth " +
                      (dir / "ph/truth.yaml").string() + " --slices " + (dir / "ph/slices.yaml").string() +
@@ -114,7 +116,11 @@ void runCase(const Case& c) {
   const bool random = c.pattern.find("random") != std::string::npos;
   // Gaps from the true poses (the recorded ones carry tracking error when jittered).
   const auto truePoses = readSlicesFile((dir / "ph/true_poses.yaml").string());
-  const double bound = random ? 2 * largestHeightInSolid(truth, truePoses) : largestParallelGap(truePoses);
+  // Method 2: Theorem 20, d_H(O, R') <= the longest lift segment [a, lift'(a)] (<= max h'_C),
+  // plus a voxel for the sampling.
+  const double bound = c.method == "section_voronoi"
+                           ? report["reconstruction"]["max_lift_mm"].get<double>() + c.voxel
+                           : random ? 2 * largestHeightInSolid(truth, truePoses) : largestParallelGap(truePoses);
   EXPECT_LT(ev["hausdorff_mm"].get<double>(), bound + c.extraBound) << "bound " << bound;
   if (!c.checkConformity) {
     fs::remove_all(dir);
@@ -172,6 +178,21 @@ TEST(AcceptanceMethod1, ParallelStack) {
 TEST(AcceptanceMethod1, RandomPlanes) {
   for (const auto& sh : shapes())
     runCase({sh.name + " random", sh.yaml, "{kind: random, count: " + std::to_string(sh.random) + "}", 0.3});
+}
+
+TEST(AcceptanceMethod2, Multiaxial) {
+  for (const auto& sh : shapes()) {
+    Case c{sh.name + " multiaxial, method 2", sh.yaml,
+           "{kind: multiaxial, count: " + std::to_string(sh.multiaxial) + "}", 0.3};
+    c.method = "section_voronoi";
+    runCase(c);
+  }
+}
+
+TEST(AcceptanceMethod2, RandomPlanes) {
+  Case c{"torus random, method 2", shapes()[1].yaml, "{kind: random, count: 140}", 0.3};
+  c.method = "section_voronoi";
+  runCase(c);
 }
 
 TEST(AcceptanceMethod1, DegradedImagesAndPoses) {
