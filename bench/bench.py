@@ -14,8 +14,13 @@ SCENARIOS = {
     "multiaxial-3x40": ("torus-multiaxial-3x40.yaml", []),
     "random-200": ("genus2-random-200.yaml", ["reconstruction.end_margin_mm=1.0"]),
     "random-400": ("genus2-random-400.yaml", ["reconstruction.end_margin_mm=1.0"]),
+    # method 2 (Voronoi diagram of the sections) on the same inputs
+    "freehand-400-m2": ("vessel-tree-freehand.yaml", ["reconstruction.method=section_voronoi"]),
+    "multiaxial-3x40-m2": ("torus-multiaxial-3x40.yaml", ["reconstruction.method=section_voronoi"]),
+    "random-200-m2": ("genus2-random-200.yaml", ["reconstruction.end_margin_mm=1.0",
+                                                 "reconstruction.method=section_voronoi"]),
 }
-QUICK = ["freehand-400", "multiaxial-3x40", "random-200"]
+QUICK = ["freehand-400", "multiaxial-3x40", "random-200", "freehand-400-m2"]
 
 
 def run(cmd):
@@ -93,8 +98,10 @@ def main():
             "stages": stages,
             "voxels": rep["counts"]["voxels"],
             "planes": rep["counts"]["slices"],
-            "method1_voxels_per_s": vps,
-            "method1_evaluate_s": median([r["throughput"]["method1_evaluate_s"] for r in reports]),
+            "method": rep["reconstruction"]["method"],
+            "voxels_per_s": vps,
+            "evaluate_s": median([r["throughput"]["evaluate_s"] for r in reports]),
+            "cells": rep["counts"]["cells"],
             "betti": rep["betti"], "truth_betti": ev.get("truth_betti"),
             "hausdorff_mm": ev.get("hausdorff_mm"), "mean_distance_mm": ev.get("mean_distance_mm"),
             "dice": ev.get("dice"), "conformity_iou_min": ev.get("conformity_iou_min"),
@@ -107,8 +114,11 @@ def main():
         for stage, s in r["stages"].items():
             extra = ""
             if stage == "reconstruct":
-                extra = (f"  method 1: {r['method1_voxels_per_s'] / 1e6:.1f} Mvoxel/s "
+                label = "method 1" if r["method"] == "nearest_plane" else "method 2"
+                extra = (f"  {label}: {r['voxels_per_s'] / 1e6:.1f} Mvoxel/s "
                          f"({r['voxels'] / 1e6:.2f} Mvoxel, {r['planes']} planes)")
+            if stage == "arrange":
+                extra = f"  {r['cells']} cells with sections, graphs G" + ("" if r["method"] == "nearest_plane" else " and G'")
             print(f"{'':<16} {stage:<12} {s['wall_s']:8.3f} {s['peak_memory_mb'] or 0:8.0f}{extra}")
         print(f"{'':<16} {'run (total)':<12} {r['run']['wall_s']:8.3f} {r['run']['peak_memory_mb']:8.0f}"
               f"  betti {r['betti']} truth {r['truth_betti']}")
@@ -119,11 +129,16 @@ def main():
               f"dice {r['dice']:.4f}, conformity IoU min {fmt(cim)} (sections >= 10 voxels wide: {fmt(ciw)})")
     if "random-200" in results and "random-400" in results:
         a2, a4 = results["random-200"], results["random-400"]
-        ratio = (a4["method1_evaluate_s"] / a4["voxels"]) / (a2["method1_evaluate_s"] / a2["voxels"])
+        ratio = (a4["evaluate_s"] / a4["voxels"]) / (a2["evaluate_s"] / a2["voxels"])
         stage = (a4["stages"]["reconstruct"]["wall_s"] / a4["voxels"]) / (a2["stages"]["reconstruct"]["wall_s"] / a2["voxels"])
         print(f"doubling planes (random-200 -> random-400), time per voxel: reconstruct stage x{stage:.2f}, "
               f"method-1 evaluation alone x{ratio:.2f}")
         results["doubling_planes_time_ratio"] = {"reconstruct_stage": stage, "method1_evaluation": ratio}
+    for base in ["freehand-400", "multiaxial-3x40", "random-200"]:
+        if base in results and base + "-m2" in results:
+            m1, m2 = results[base]["stages"]["reconstruct"]["wall_s"], results[base + "-m2"]["stages"]["reconstruct"]["wall_s"]
+            print(f"method 2 / method 1 reconstruct stage on {base}: x{m2 / m1:.2f} ({m2:.3f} s / {m1:.3f} s)")
+            results.setdefault("method2_over_method1_reconstruct", {})[base] = m2 / m1
     with open(os.path.join(a.root, "bench", "results.json"), "w") as f:
         json.dump(results, f, indent=2)
     print(f"written {os.path.join(a.root, 'bench', 'results.json')}")
