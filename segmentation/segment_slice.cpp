@@ -2,11 +2,15 @@
 // (threshold, field of view, morphology, small components); the section-contours are the iso-line
 // of the smoothed image at the threshold, with the field nudged just across zero wherever cleaning
 // changed a pixel, so the sub-pixel contours and the cleaned mask have the same topology.
+// Label images: the same per label, on the label's bounding box plus a margin wide enough that
+// the result inside it equals the whole-image result; the labels' contours are then traced
+// together (labelIsoContours) so that they tile the plane.
 #include "segmentation/segment_slice.h"
 
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 
 #include "geometry/polygon.h"
@@ -18,12 +22,28 @@ namespace {
 
 cv::Mat disk(int r) { return cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * r + 1, 2 * r + 1}); }
 
-/// Removes 8-connected components of `mask` (0/255) smaller than minPixels.
-void removeSmall(cv::Mat& mask, double minPixels) {
+/// Which sides of a (cropped) mask are sides of the whole image: left, top, right, bottom.
+struct ImageSides {
+  bool left = true, top = true, right = true, bottom = true;
+};
+
+/// Removes 8-connected components of `mask` (0/255) smaller than minPixels. With keepOpen,
+/// components touching a side of the crop that is not a side of the image are kept: they go on
+/// outside the crop, so their size there says nothing.
+void removeSmall(cv::Mat& mask, double minPixels, const ImageSides& sides, bool keepOpen) {
   cv::Mat labels, stats, centroids;
   const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
   std::vector<unsigned char> keep(n, 1);
-  for (int l = 1; l < n; ++l) keep[l] = stats.at<int>(l, cv::CC_STAT_AREA) >= minPixels;
+  for (int l = 1; l < n; ++l) {
+    keep[l] = stats.at<int>(l, cv::CC_STAT_AREA) >= minPixels;
+    if (keepOpen) {
+      const int x = stats.at<int>(l, cv::CC_STAT_LEFT), y = stats.at<int>(l, cv::CC_STAT_TOP);
+      const int w = stats.at<int>(l, cv::CC_STAT_WIDTH), h = stats.at<int>(l, cv::CC_STAT_HEIGHT);
+      if ((x == 0 && !sides.left) || (y == 0 && !sides.top) ||
+          (x + w == mask.cols && !sides.right) || (y + h == mask.rows && !sides.bottom))
+        keep[l] = 1;
+    }
+  }
   for (int j = 0; j < mask.rows; ++j)
     for (int i = 0; i < mask.cols; ++i) {
       const int l = labels.at<int>(j, i);
@@ -31,36 +51,12 @@ void removeSmall(cv::Mat& mask, double minPixels) {
     }
 }
 
-}  // namespace
-
-SegmentedSlice segmentSlice(const cv::Mat& image, const cv::Mat& fov, const Vec2& spacing,
-                            const SegmentationParams& p) {
-  CV_Assert(image.channels() == 1 && !image.empty());
-  CV_Assert(fov.empty() || (fov.size() == image.size() && fov.type() == CV_8U));
-  SegmentedSlice out;
-
-  // 1. Field whose zero level is the boundary: smoothed image minus threshold (labels: 0/1 - 0.5).
-  cv::Mat f;
-  if (p.method == "labels") {
-    cv::Mat nz = image != 0;
-    nz.convertTo(f, CV_32F, 1.0 / 255.0);
-  } else {
-    image.convertTo(f, CV_32F);
-  }
-  if (p.sigma_px > 0) cv::GaussianBlur(f, f, cv::Size(0, 0), p.sigma_px, p.sigma_px,
-                                       cv::BORDER_REPLICATE);
-  double t = p.threshold;
-  if (p.method == "labels") {
-    t = 0.5;
-  } else if (p.method == "otsu") {
-    const double scale = image.depth() == CV_16U ? 1.0 / 256.0 : 1.0;
-    cv::Mat f8;
-    f.convertTo(f8, CV_8U, scale);
-    t = cv::threshold(f8, f8, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU) / scale;
-  }
-  out.threshold_used = t;
-  f -= t;
-
+/// Steps 2-4 on a field f (zero level = boundary; whole image or a crop of it with the crop's
+/// `sides` on the image border): cleaned mask (field of view, morphology, small components and
+/// holes), f nudged to agree with it. Returns whether the mask reaches the edge of what was
+/// observed (image border or field of view).
+bool cleanField(cv::Mat& f, const cv::Mat& fov, const Vec2& spacing, const SegmentationParams& p,
+                float nudge, const ImageSides& sides) {
   // 2. Cleaned mask: threshold, field of view, morphology, small components (and small holes).
   cv::Mat mask = f > 0;
   if (!fov.empty()) mask &= (fov != 0);
@@ -70,14 +66,13 @@ SegmentedSlice segmentSlice(const cv::Mat& image, const cv::Mat& fov, const Vec2
   if (!fov.empty()) mask &= (fov != 0);
   if (p.min_area_mm2 > 0) {
     const double minPixels = p.min_area_mm2 / (spacing.x() * spacing.y());
-    removeSmall(mask, minPixels);
+    removeSmall(mask, minPixels, sides, false);
     cv::Mat holes = ~mask;
-    removeSmall(holes, minPixels);
+    removeSmall(holes, minPixels, sides, true);
     mask = ~holes;
   }
 
   // 3. Make the field agree with the mask: flip by a small margin where cleaning changed a pixel.
-  const float nudge = 1e-3f * float(std::max(1.0, std::abs(t)));
   for (int j = 0; j < f.rows; ++j) {
     float* row = f.ptr<float>(j);
     const unsigned char* m = mask.ptr<unsigned char>(j);
@@ -89,19 +84,21 @@ SegmentedSlice segmentSlice(const cv::Mat& image, const cv::Mat& fov, const Vec2
 
   // 4. Does a section reach the edge of what was observed?
   cv::Mat edge = cv::Mat::zeros(mask.size(), CV_8U);
-  edge.row(0).setTo(255);
-  edge.row(edge.rows - 1).setTo(255);
-  edge.col(0).setTo(255);
-  edge.col(edge.cols - 1).setTo(255);
+  if (sides.top) edge.row(0).setTo(255);
+  if (sides.bottom) edge.row(edge.rows - 1).setTo(255);
+  if (sides.left) edge.col(0).setTo(255);
+  if (sides.right) edge.col(edge.cols - 1).setTo(255);
   if (!fov.empty()) {
     cv::Mat outside = fov == 0, grown;
     cv::dilate(outside, grown, disk(1));
     edge |= grown;
   }
-  out.touches_fov_edge = cv::countNonZero(edge & mask) > 0;
+  return cv::countNonZero(edge & mask) > 0;
+}
 
-  // 5. Sub-pixel contours -> rings in mm; simplification; holes attached to their outer ring.
-  std::vector<Ring> rings = isoContours(f);
+/// Step 5: rings in pixel coordinates -> simplified rings in mm -> sections (holes attached).
+std::vector<Section> sectionsOfRings(std::vector<Ring> rings, const Vec2& spacing,
+                                     const SegmentationParams& p) {
   std::vector<Ring> outers, holes;
   for (auto& r : rings) {
     if (p.simplify_mm > 0) {
@@ -117,7 +114,110 @@ SegmentedSlice segmentSlice(const cv::Mat& image, const cv::Mat& fov, const Vec2
     if (std::abs(a) < 1e-12) continue;
     (a > 0 ? outers : holes).push_back(std::move(r));
   }
-  out.sections = sectionsFromRings(std::move(outers), std::move(holes));
+  return sectionsFromRings(std::move(outers), std::move(holes));
+}
+
+/// Method `labels`: one field per distinct non-zero value, on its bounding box plus a margin.
+SegmentedSlice segmentLabels(const cv::Mat& image, const cv::Mat& fov, const Vec2& spacing,
+                             const SegmentationParams& p) {
+  CV_Assert(image.depth() == CV_8U || image.depth() == CV_16U);
+  cv::Mat lab;
+  if (image.depth() == CV_16U) lab = image;
+  else image.convertTo(lab, CV_16U);
+  SegmentedSlice out;
+  out.threshold_used = 0.5;
+
+  // Bounding box of every label, one pass.
+  double maxValue = 0;
+  cv::minMaxLoc(lab, nullptr, &maxValue);
+  const int maxLabel = int(maxValue);
+  std::vector<int> x0(maxLabel + 1, INT_MAX), y0(maxLabel + 1, INT_MAX), x1(maxLabel + 1, -1),
+      y1(maxLabel + 1, -1);
+  for (int j = 0; j < lab.rows; ++j) {
+    const std::uint16_t* row = lab.ptr<std::uint16_t>(j);
+    for (int i = 0; i < lab.cols; ++i) {
+      const int l = row[i];
+      if (!l) continue;
+      x0[l] = std::min(x0[l], i), x1[l] = std::max(x1[l], i);
+      y0[l] = std::min(y0[l], j), y1[l] = std::max(y1[l], j);
+    }
+  }
+
+  // Margin: the smoothing kernel's radius (OpenCV: 4 sigma for float images), twice the
+  // morphology radius (a closing dilates, then erodes as far again), and 2 pixels so the crop's
+  // edge is background; inside the crop the field and the cleaned mask are then exactly those of
+  // the whole indicator image, so the crops cost what the labels' areas cost, not the image's.
+  const int margin = (p.sigma_px > 0 ? int(std::ceil(4.0 * p.sigma_px)) + 1 : 0) +
+                     2 * std::max(p.open_radius_px, p.close_radius_px) + 2;
+  const cv::Rect whole(0, 0, lab.cols, lab.rows);
+  const float nudge = 1e-3f;  // as the threshold path's, for t = 0.5
+  std::vector<LabelField> fields;
+  for (int l = 1; l <= maxLabel; ++l) {
+    if (x1[l] < 0) continue;
+    const cv::Rect box = cv::Rect(cv::Point(x0[l] - margin, y0[l] - margin),
+                                  cv::Point(x1[l] + margin + 1, y1[l] + margin + 1)) & whole;
+    ImageSides sides;
+    sides.left = box.x == 0;
+    sides.top = box.y == 0;
+    sides.right = box.x + box.width == lab.cols;
+    sides.bottom = box.y + box.height == lab.rows;
+    cv::Mat f;
+    cv::Mat(lab(box) == l).convertTo(f, CV_32F, 1.0 / 255.0);
+    if (p.sigma_px > 0)
+      cv::GaussianBlur(f, f, cv::Size(0, 0), p.sigma_px, p.sigma_px, cv::BORDER_REPLICATE);
+    f -= 0.5;
+    const cv::Mat fovBox = fov.empty() ? cv::Mat() : fov(box);
+    out.touches_fov_edge |= cleanField(f, fovBox, spacing, p, nudge, sides);
+    fields.push_back({l, box, std::move(f)});
+  }
+
+  // Contours of all labels at once: sorted by label, they tile the plane.
+  std::vector<LabelRing> rings = labelIsoContours(lab.size(), fields, -0.5f);
+  for (std::size_t g0 = 0; g0 < rings.size();) {
+    std::size_t g1 = g0;
+    std::vector<Ring> group;
+    for (; g1 < rings.size() && rings[g1].label == rings[g0].label; ++g1)
+      group.push_back(std::move(rings[g1].ring));
+    for (auto& s : sectionsOfRings(std::move(group), spacing, p)) {
+      s.label = rings[g0].label;
+      out.sections.push_back(std::move(s));
+    }
+    g0 = g1;
+  }
+  return out;
+}
+
+}  // namespace
+
+SegmentedSlice segmentSlice(const cv::Mat& image, const cv::Mat& fov, const Vec2& spacing,
+                            const SegmentationParams& p) {
+  CV_Assert(image.channels() == 1 && !image.empty());
+  CV_Assert(fov.empty() || (fov.size() == image.size() && fov.type() == CV_8U));
+  if (p.method == "labels") return segmentLabels(image, fov, spacing, p);
+  SegmentedSlice out;
+
+  // 1. Field whose zero level is the boundary: smoothed image minus threshold.
+  cv::Mat f;
+  image.convertTo(f, CV_32F);
+  if (p.sigma_px > 0) cv::GaussianBlur(f, f, cv::Size(0, 0), p.sigma_px, p.sigma_px,
+                                       cv::BORDER_REPLICATE);
+  double t = p.threshold;
+  if (p.method == "otsu") {
+    const double scale = image.depth() == CV_16U ? 1.0 / 256.0 : 1.0;
+    cv::Mat f8;
+    f.convertTo(f8, CV_8U, scale);
+    t = cv::threshold(f8, f8, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU) / scale;
+  }
+  out.threshold_used = t;
+  f -= t;
+
+  // 2-4. Cleaning, nudging, edge test.
+  const float nudge = 1e-3f * float(std::max(1.0, std::abs(t)));
+  out.touches_fov_edge = cleanField(f, fov, spacing, p, nudge, ImageSides());
+
+  // 5. Sub-pixel contours -> rings in mm; simplification; holes attached to their outer ring.
+  //    Every section keeps Section::label = 1 (one material).
+  out.sections = sectionsOfRings(isoContours(f), spacing, p);
   return out;
 }
 
