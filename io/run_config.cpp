@@ -19,7 +19,7 @@ const std::set<std::string> kKnownKeys = {
     "input", "input.slices", "input.csl", "input.contour", "input.plus_sequence",
     "segmentation", "segmentation.method", "segmentation.threshold", "segmentation.sigma_px",
     "segmentation.open_radius_px", "segmentation.close_radius_px", "segmentation.min_area_mm2",
-    "segmentation.simplify_mm", "conformity", "conformity.enforce", "reconstruction",
+    "segmentation.simplify_mm", "segmentation.merge_labels", "conformity", "conformity.enforce", "reconstruction",
     "reconstruction.method", "reconstruction.voxel_size_mm", "reconstruction.end_margin_mm",
     "reconstruction.conformal_mesh",
     "smoothing", "smoothing.method", "smoothing.exponent", "output", "output.dir", "output.mesh"};
@@ -127,6 +127,7 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
                          "must be >= " + std::to_string(lo), yamlLine(s[k]));
       *out = v;
     };
+    if (s["merge_labels"]) p.merge_labels = yamlBool(s["merge_labels"], path, "segmentation.merge_labels");
     num("threshold", -1e300, &p.threshold);
     num("sigma_px", 0, &p.sigma_px);
     double open = 0, close = 0;

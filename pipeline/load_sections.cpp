@@ -14,7 +14,8 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
                                              const std::string& listing_file,
                                              const SegmentationParams& params,
                                              std::vector<std::string>* warnings,
-                                             double* thresholdUsed) {
+                                             double* thresholdUsed,
+                                             std::vector<std::vector<Section>>* labelled) {
   const int n = int(slices.size());
   std::vector<CuttingPlane> planes(n);
   std::vector<char> touches(n, 0);
@@ -40,6 +41,7 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
   } else if (thresholdUsed) {
     *thresholdUsed = params.method == "labels" ? 0.5 : params.threshold;
   }
+  if (labelled) labelled->assign(std::size_t(n), {});
   tbb::parallel_for(0, n, [&](int i) {
     Vec2 spacing;
     CuttingPlane& cp = planes[i];
@@ -49,7 +51,16 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
     cp.pixel_mm = std::min(spacing.x(), spacing.y());
     cp.extent.min = Vec2::Zero();
     cp.extent.max = Vec2((images[i].cols - 1) * spacing.x(), (images[i].rows - 1) * spacing.y());
-    SegmentedSlice seg = segmentSlice(images[i], fovs[i], spacing, perSlice);
+    const bool perLabel = perSlice.method == "labels" && labelled;
+    if (perLabel && !perSlice.merge_labels)
+      (*labelled)[std::size_t(i)] = segmentSlice(images[i], fovs[i], spacing, perSlice).sections;
+    cv::Mat input = images[i];
+    if (perSlice.method == "labels") {  // the union of the labels: the geometry reconstructed
+      input = cv::Mat(images[i].size(), CV_8U);
+      input.setTo(0);
+      input.setTo(1, images[i] != 0);
+    }
+    SegmentedSlice seg = segmentSlice(input, fovs[i], spacing, perSlice);
     cp.sections = std::move(seg.sections);
     touches[i] = seg.touches_fov_edge;
   });

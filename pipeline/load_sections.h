@@ -15,10 +15,15 @@ namespace xsect {
 /// @param warnings      receives "slice N touches the edge of its field of view" and the like.
 /// @param thresholdUsed receives the grey threshold applied (method otsu: one threshold for the
 ///                      whole series, Otsu's on the pooled histogram, series_threshold.h).
+/// @param labelled      method labels (several materials, thesis remark after Def. 17): receives,
+///                      per plane, the sections of each label value; the planes returned then hold
+///                      the union of all labels (one section per connected region, label 1), the
+///                      geometry the reconstruction runs on. Left empty with merge_labels.
 std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& slices,
                                              const std::string& listing_file,
                                              const SegmentationParams& params,
                                              std::vector<std::string>* warnings,
-                                             double* thresholdUsed = nullptr);
+                                             double* thresholdUsed = nullptr,
+                                             std::vector<std::vector<Section>>* labelled = nullptr);
 
 }  // namespace xsect

@@ -19,10 +19,13 @@
 #include "geometry/connectivity_graph.h"
 #include "geometry/sampled_reconstruction.h"
 #include "geometry/section_arrangement.h"
+#include "geometry/digital_topology.h"
+#include "geometry/voxel_labels.h"
 #include "geometry/volume_mesher.h"
 #include "io/csl_file.h"
 #include "io/file_hash.h"
 #include "io/input_error.h"
+#include "io/label_volume_file.h"
 #include "io/mesh_io.h"
 #include "io/run_config.h"
 #include "io/slices_file.h"
@@ -65,6 +68,7 @@ struct Inputs {
   std::vector<std::string> warnings;
   int slices = 0;
   double threshold = 0;  // grey threshold applied (slices input)
+  std::vector<std::vector<Section>> labelled;  // segmentation labels: per plane, per label
 };
 
 /// Stages load + segment (+ conform, which this version reports but does not enforce).
@@ -95,7 +99,8 @@ Inputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress) {
   clock.end("load");
   progress.stage("segment");
   if (c.input_kind == "slices")
-    in.planes = sectionsFromSlices(slices, c.input_path, c.segmentation, &in.warnings, &in.threshold);
+    in.planes = sectionsFromSlices(slices, c.input_path, c.segmentation, &in.warnings, &in.threshold,
+                                   &in.labelled);
   in.slices = int(in.planes.size());
   clock.end("segment");
   progress.stage("conform");
@@ -212,6 +217,43 @@ int runCommand(const RunOptions& o) {
                                          : ConformalCutStats{};
   clock.end("mesh");
 
+  // Several materials: each voxel takes the label of the section its lift comes from; one mesh
+  // per label (written when there are at least two) beside the union's.
+  std::vector<std::vector<Section>> labelled = in.labelled;
+  bool anyLabelled = false;
+  for (const auto& l : labelled) anyLabelled = anyLabelled || !l.empty();
+  if (!anyLabelled) {
+    labelled.clear();
+    for (const auto& p : in.planes) labelled.push_back(p.sections);
+  }
+  const std::vector<std::uint16_t> voxelLabel =
+      voxelLabels(rec.inside, rec.section_plane, in.planes, labelled, rec.field.grid);
+  std::vector<std::uint16_t> labelValues;
+  for (const auto& l : labelled)
+    for (const auto& s : l) labelValues.push_back(std::uint16_t(s.label));
+  std::sort(labelValues.begin(), labelValues.end());
+  labelValues.erase(std::unique(labelValues.begin(), labelValues.end()), labelValues.end());
+  struct Material {
+    std::uint16_t label;
+    TriangleMesh mesh;
+    std::int64_t voxels = 0;
+    Betti voxel_betti{0, 0, 0};
+  };
+  std::vector<Material> materials;
+  if (labelValues.size() >= 2)
+    for (const std::uint16_t L : labelValues) {
+      Material m;
+      m.label = L;
+      std::vector<std::uint8_t> in_L(voxelLabel.size());
+      for (std::size_t q = 0; q < in_L.size(); ++q) {
+        in_L[q] = voxelLabel[q] == L;
+        m.voxels += in_L[q];
+      }
+      m.voxel_betti = voxelBetti(in_L, rec.field.grid);
+      m.mesh = meshZeroLevel(labelField(rec.field, voxelLabel, L, float(0.05 * c.voxel_size_mm)));
+      materials.push_back(std::move(m));
+    }
+
   progress.stage("diagnose");
   const MeshTopology topo = meshTopology(mesh);
   if (topo.betti != rec.voxel_betti)
@@ -222,6 +264,10 @@ int runCommand(const RunOptions& o) {
   progress.stage("write");
   StagedOutput out(outDir);
   for (const auto& fmt : c.mesh_formats) writeMesh(out.file("mesh." + fmt).string(), mesh);
+  for (const Material& m : materials)
+    for (const auto& fmt : c.mesh_formats)
+      writeMesh(out.file("mesh_label_" + std::to_string(m.label) + "." + fmt).string(), m.mesh);
+  writeLabelVolumeNrrd(out.file("labels.nrrd").string(), rec.field.grid, voxelLabel);
 
   // graph.json and graph.dot: the sections (nodes) and the edges of G (method 1) and, for
   // method 2, G' (thesis Def. 30), each with the cell of the arrangement where the lifts meet.
@@ -293,6 +339,14 @@ int runCommand(const RunOptions& o) {
                               {"exact_face_tests", rec.exact_face_tests},
                               {"search_restarts", rec.search_restarts},
                               {"volume_mm3", topo.volume_mm3}};
+  json mats = json::array();
+  for (const Material& m : materials) {
+    const MeshTopology t = meshTopology(m.mesh);
+    mats.push_back({{"label", m.label}, {"betti", t.betti}, {"voxel_betti", m.voxel_betti},
+                    {"watertight", t.watertight}, {"voxels", m.voxels}, {"volume_mm3", t.volume_mm3},
+                    {"mesh_triangles", m.mesh.triangles.size()}});
+  }
+  report["materials"] = mats;
   report["arrangement"] = {{"cells", arrangement.cells},
                            {"sub_sections", arrangement.sub_sections.size()},
                            {"trace_points_added", arrangement.trace_points},

@@ -2,6 +2,10 @@
 // Otsu threshold (or given label masks), field-of-view masking, morphological open/close,
 // removal of small components, then sub-pixel section-contours (the iso-line of the smoothed image
 // at the threshold) turned into polygons with holes in the plane's (u, v) mm frame.
+// Label images (method `labels`, thesis remark after Def. 17: several materials): every distinct
+// non-zero value L gets its own sections, Section::label = L, bounded by the 0.5 iso-line of L's
+// indicator image (smoothed and cleaned per label); the labels' sections tile the plane, so where
+// two labels touch their contours share their vertices (see labelIsoContours).
 #pragma once
 
 #include <opencv2/core.hpp>
@@ -20,18 +24,37 @@ struct SegmentationParams {
   int close_radius_px = 0;           ///< morphological closing radius, pixels
   double min_area_mm2 = 0.0;         ///< components smaller than this are removed
   double simplify_mm = 0.0;          ///< Douglas-Peucker tolerance on contours, mm (0 = none)
+  /// labels: reconstruct the union of all labels as one material (no per-label solids).
+  bool merge_labels = false;
 };
 
 struct SegmentedSlice {
-  std::vector<Section> sections;   ///< one per connected region, holes and islands resolved
+  /// One per connected region, holes and islands resolved. threshold / otsu: label 1 each.
+  /// labels: label = the pixel value, sorted by label, then in the order the contours are met
+  /// scanning the image.
+  std::vector<Section> sections;
   double threshold_used = 0.0;     ///< the threshold applied (Otsu's when method = otsu)
   bool touches_fov_edge = false;   ///< a section reaches the edge of the image / field of view
 };
 
-/// @param image    8- or 16-bit single-channel image (row j, column i).
+/// @param image    8- or 16-bit single-channel image (row j, column i); for `labels`, the label
+///                 of each pixel (0 = background, 1..65535 materials).
 /// @param fov      empty, or an 8-bit mask of the same size: non-zero where the image holds data.
 /// @param spacing  mm per pixel along i (u) and j (v).
 /// Pixel (i, j) has plane coordinates (i * spacing.x, j * spacing.y).
+/// With `labels`, smoothing (sigma_px) and cleaning (field of view, opening, closing, min_area_mm2)
+/// act on each label's indicator image separately. A pixel claimed by several cleaned labels goes
+/// to the label whose smoothed indicator is largest there (pixels that cleaning added count as
+/// barely inside, so a closing never takes a pixel another label holds; ties: the smaller label).
+/// Contours: label | background at the 0.5 iso-line of the label's indicator, label | label at
+/// the iso-line where the two indicators are equal (the same line as either's 0.5 iso-line when
+/// no third material is near). In the pixel cells where three materials meet, or two labels
+/// form a checkerboard, the cell is split among them so that the labels' sections never overlap
+/// and leave no gap: their union is the region where some label's indicator exceeds 0.5, and with
+/// sigma_px = 0 and no cleaning their areas sum exactly to the area of "image != 0".
+/// simplify_mm simplifies each ring on its own: shared boundaries then no longer coincide.
+/// Cost: one pass over the image plus each label's bounding box with a margin of
+/// 4 sigma_px + 2 max(open, close radius) + 3 pixels, never one whole-image pass per label.
 SegmentedSlice segmentSlice(const cv::Mat& image, const cv::Mat& fov, const Vec2& spacing,
                             const SegmentationParams& params);
 
