@@ -52,6 +52,28 @@ ConnectivityGraphs connectivityGraphs(const std::vector<CuttingPlane>& planes,
   std::unique_ptr<SectionVoronoiPoints> query;
   if (withGPrime) query = std::make_unique<SectionVoronoiPoints>(planes, fields, method2);
   const double step = arr.sample_spacing_mm;
+  // Per section: the other planes by distance to its bounding disk. A plane at distance >= 2t
+  // from a section point cannot end the lift of length t (|h + t c| = t needs |h| <= 2t), nor
+  // bound the ray's exit below |h|: the scan stops at the first plane too far for both.
+  std::vector<int> first(planes.size() + 1, 0);
+  for (std::size_t i = 0; i < planes.size(); ++i) first[i + 1] = first[i] + int(planes[i].sections.size());
+  std::vector<std::vector<std::pair<double, int>>> nearPlanes(std::size_t(first.back()));
+  tbb::parallel_for(std::size_t(0), planes.size(), [&](std::size_t i) {
+    for (std::size_t s = 0; s < planes[i].sections.size(); ++s) {
+      const Ring& r = planes[i].sections[s].outer;
+      Vec2 lo = r[0], hi = r[0];
+      for (const Vec2& v : r) {
+        lo = lo.cwiseMin(v);
+        hi = hi.cwiseMax(v);
+      }
+      const Vec3 c = planes[i].plane.toWorld(0.5 * (lo + hi));
+      const double rad = 0.5 * (hi - lo).norm() + 1e-9;
+      auto& L = nearPlanes[std::size_t(first[i] + int(s))];
+      for (std::size_t j = 0; j < planes.size(); ++j)
+        if (j != i) L.push_back({std::abs(planes[j].plane.signedDistance(c)) - rad, int(j)});
+      std::sort(L.begin(), L.end());
+    }
+  });
   tbb::enumerable_thread_specific<ConnectivityGraphs> local;
   tbb::parallel_for(std::size_t(0), arr.points.size(), [&](std::size_t q) {
     const SectionPoint& sp = arr.points[q];
@@ -66,8 +88,9 @@ ConnectivityGraphs connectivityGraphs(const std::vector<CuttingPlane>& planes,
       // cell (crosses Q) only after that.
       double best = std::numeric_limits<double>::infinity(), exit = best;
       int bq = -1;
-      for (std::size_t j = 0; j < planes.size(); ++j) {
-        if (int(j) == sp.plane) continue;
+      for (const auto& [lb, jj] : nearPlanes[std::size_t(first[std::size_t(sp.plane)] + sp.section)]) {
+        if (lb >= std::max(2 * best, exit)) break;
+        const std::size_t j = std::size_t(jj);
         const double hq = planes[j].plane.signedDistance(a), c = planes[j].plane.normal.dot(n);
         for (const double t : {c != 1 ? hq / (1 - c) : -1.0, c != -1 ? -hq / (1 + c) : -1.0})
           if (t > 1e-9 && t < best) {
@@ -81,20 +104,19 @@ ConnectivityGraphs connectivityGraphs(const std::vector<CuttingPlane>& planes,
         if (b >= 0) out.g.push_back(edge(sp.plane, sp.section, bq, b, cell));
       }
       if (!query) continue;
-      // Method 2: follow the ray while it stays in A's lift, at evenly spaced points (at least
-      // one before the ray leaves the cell) and just beyond method 1's lift point, where
-      // lift'(a) = lift(a) whenever lift(a) projects into a section (the proof of Theorem 18).
+      // Method 2: the ray from a lies in A's lift up to method 1's lift point (proof of Theorem
+      // 18), where lift'(a) = lift(a) whenever that point projects into a section. From there on
+      // it is followed at evenly spaced points (at least one before it leaves the cell), starting
+      // just beyond lift(a), while it stays in A's lift.
+      const double from = std::min(best, exit);
       std::vector<double> ts;
-      const int m = std::max(1, std::min(4096, int(std::ceil(exit / step))));
-      for (int q2 = 0; q2 < m; ++q2) ts.push_back(std::min(exit, 1e6) * (q2 + 0.5) / m);
       if (best < exit) ts.push_back(best * (1 + 1e-9) + 1e-9);
-      std::sort(ts.begin(), ts.end());
+      const int m = std::max(1, std::min(4096, int(std::ceil((exit - from) / step))));
+      if (std::isfinite(exit))
+        for (int q2 = 0; q2 < m; ++q2) ts.push_back(from + (exit - from) * (q2 + 0.5) / m);
       for (const double t : ts) {
         const Vec3 x = a + t * n;
         const SectionVoronoiPoints::Answer ans = query->at(x);
-        // Before lift(a) the ray lies in R (hence in R', Theorem 18); a point reported outside
-        // there has its projection on the contour itself (vertices), within the rasters' tolerance.
-        if (!ans.inside && t < best) continue;
         if (!ans.inside) break;
         if (ans.section_plane == sp.plane) continue;
         const int b = sectionAt(planes[std::size_t(ans.section_plane)], x);

@@ -86,8 +86,13 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
       for (std::size_t j = 0; j < k; ++j)
         if (j != i && std::abs(planes[j].plane.signedDistance(centre)) <= radius) crossing.push_back(j);
       const auto addRing = [&](const Ring& r) {
+        double run = spacing;  // contour vertices kept about one spacing apart
         for (std::size_t v = 0; v < r.size(); ++v) {
-          P.push_back({int(i), int(s), r[v], SectionPoint::vertex, {-1, -1}});
+          if (run >= spacing) {
+            P.push_back({int(i), int(s), r[v], SectionPoint::vertex, {-1, -1}});
+            run = 0;
+          }
+          run += (r[(v + 1) % r.size()] - r[v]).norm();
           // Contour points on the traces of other planes crossed by edge (v, v+1).
           const Vec3 a = cp.plane.toWorld(r[v]), b = cp.plane.toWorld(r[(v + 1) % r.size()]);
           for (const std::size_t j : crossing) {

@@ -270,6 +270,7 @@ struct Decision {
   float lift = 0;
   float plane_distance = 0;
   int nearest_plane = -1;
+  double suggest_radius = 0;  ///< undecided: a visible section point lies this far (0: unknown)
 };
 
 struct Candidate {
@@ -289,6 +290,8 @@ struct Scratch {
   std::vector<Pending> pend;
   std::vector<HalfPlane> hp;
   std::vector<int> cand, inList;
+  std::vector<double> inBound;
+  std::vector<std::pair<double, int>> inOrder;
   std::vector<int> todo, next;
   std::int64_t exact = 0;
 };
@@ -300,11 +303,15 @@ class Evaluator {
   /// Decides x using the planes `cand` (which hold every plane within R of x). `isMax`: cand
   /// holds every plane.
   Decision decide(const Vec3& x, const std::vector<int>& cand, const std::vector<int>& inList,
-                  double R, bool isMax, Scratch& w) const {
+                  const std::vector<double>& inBound, double R, bool isMax, Scratch& w) const {
     Decision out;
     // Only planes whose projection of x falls in a section's bounding box can give x to R'.
+    // inList comes sorted by decreasing upper bound `inBound` of the distance (over the block):
+    // once that bound falls below the best found, no later plane can raise it.
     double hopeful = -1;  // largest distance to such a plane
-    for (const int q : inList) {
+    for (std::size_t qi = 0; qi < inList.size(); ++qi) {
+      if (!inBound.empty() && inBound[qi] <= hopeful) break;
+      const int q = inList[qi];
       const PlaneInfo& I = P_[q];
       const double a = std::abs(I.row.s(x));
       if (a <= hopeful) continue;
@@ -369,11 +376,18 @@ class Evaluator {
       if (tries >= 3) return;
       ++tries;
       const double H = order[t].a;
-      double maxR = std::sqrt(std::max(0.0, U * U - H * H));
-      if (!isMax) maxR = std::min(maxR, std::sqrt(std::max(0.0, R * R - H * H)));
-      const double d = exactNearestVisible(order, w.pool, t, p, maxR);
-      if (d < kInf) {
-        U = std::hypot(H, d);
+      const double maxR = std::sqrt(std::max(0.0, U * U - H * H));
+      const PlaneInfo& P = P_[order[t].plane];
+      Vec2 q;
+      const double d = P.segments.nearest(p, maxR, &q);
+      if (!(d < kInf)) return;
+      const double dist = std::hypot(H, d);
+      const Vec3 qw = P.row.o + q.x() * P.row.u + q.y() * P.row.v;
+      // Within R the candidates hold every possible occluder; beyond it, all planes are checked.
+      const bool vis = (isMax || dist <= R) ? pointVisible(order, w.pool, t, qw, dist)
+                                            : visibleAmongAll(x, order[t].plane, qw, dist);
+      if (vis) {
+        U = dist;
         uValue = float(d);
       }
     };
@@ -409,8 +423,9 @@ class Evaluator {
       pend.push_back({int(t), f, lb, vis, p});
     }
     if (inIdx < 0) {
-      if (U < kInf || isMax || exhausted)
+      if ((U < kInf && (U <= R || isMax)) || isMax || exhausted)
         return outsideWith(out, U < kInf ? double(uValue) : std::max(double(f0), 0.0));
+      out.suggest_radius = U < kInf ? U : 0.0;
       return out;  // undecided: the search radius must grow
     }
     const double T = order[std::size_t(inIdx)].a;
@@ -428,6 +443,18 @@ class Evaluator {
     d.verdict = Verdict::outside;
     d.value = float(std::isfinite(v) ? std::max(v, 1e-6) : 1e30);
     return d;
+  }
+
+  /// The point sw of plane `own`, at distance dist from x, is hidden by no plane at all.
+  bool visibleAmongAll(const Vec3& x, int own, const Vec3& sw, double dist) const {
+    for (std::size_t q = 0; q < P_.size(); ++q) {
+      if (int(q) == own) continue;
+      const double sx = P_[q].row.s(x);
+      if (sx == 0 || std::abs(sx) >= dist) continue;
+      const double ss = P_[q].row.s(sw);
+      if (sx > 0 ? ss < 0 : ss > 0) return false;
+    }
+    return true;
   }
 
   /// The projection of x on order[t]'s plane is hidden by none of order[0..end) (except t).
@@ -627,6 +654,20 @@ SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>
           break;
         }
     }
+    {  // by decreasing upper bound of the distance over the block
+      w.inOrder.clear();
+      for (const int q : w.inList)
+        w.inOrder.push_back({std::abs(info[std::size_t(q)].row.s(c)) + info[std::size_t(q)].row.an.dot(e), q});
+      std::sort(w.inOrder.begin(), w.inOrder.end(), [](const auto& l, const auto& r) {
+        return l.first > r.first || (l.first == r.first && l.second < r.second);
+      });
+      w.inList.clear();
+      w.inBound.clear();
+      for (const auto& [b, q] : w.inOrder) {
+        w.inList.push_back(q);
+        w.inBound.push_back(b);
+      }
+    }
     if (w.inList.empty()) {
       for (int k = k0; k < k1; ++k)
         for (int j = j0; j < j1; ++j)
@@ -649,11 +690,13 @@ SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>
         if (isMax || lb <= R) w.cand.push_back(int(q));
       }
       w.next.clear();
+      double suggest = 0;
       for (const int idx : w.todo) {
         const std::int64_t id = idx;
         const int i = int(id % D[0]), j = int((id / D[0]) % D[1]), k = int(id / (std::int64_t(D[0]) * D[1]));
-        const Decision dcs = ev.decide(grid.centre(i, j, k), w.cand, w.inList, R, isMax, w);
+        const Decision dcs = ev.decide(grid.centre(i, j, k), w.cand, w.inList, w.inBound, R, isMax, w);
         if (dcs.verdict == Verdict::undecided) {
+          suggest = std::max(suggest, dcs.suggest_radius);
           w.next.push_back(idx);
           continue;
         }
@@ -665,7 +708,9 @@ SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>
       }
       restarts += std::int64_t(w.next.size());
       w.todo.swap(w.next);
-      R *= 2;
+      // Grow to the farthest visible section point found by an undecided voxel (every plane that
+      // could still matter to it lies nearer), at least doubling.
+      R = std::max(2 * R, suggest * (1 + 1e-9) + 2 * h);
     }
   };
   const int chunk = std::max(64, blocks / 32);
@@ -707,7 +752,7 @@ SectionVoronoiPoints::~SectionVoronoiPoints() { delete impl_; }
 
 SectionVoronoiPoints::Answer SectionVoronoiPoints::at(const Vec3& x) const {
   thread_local Scratch w;
-  const Decision d = impl_->ev.decide(x, impl_->all, impl_->withSections, kInf, true, w);
+  const Decision d = impl_->ev.decide(x, impl_->all, impl_->withSections, {}, kInf, true, w);
   Answer a;
   a.inside = d.verdict == Verdict::inside;
   a.section_plane = d.section_plane;
