@@ -1,5 +1,5 @@
-// Output is deterministic: the same inputs and configuration give byte-identical meshes and graphs
-// whatever the thread count (report.json differs only in timings; manifest.json records threads).
+// Output is deterministic: the same inputs and configuration give byte-identical meshes, graphs
+// and label volumes whatever the thread count, with either method (report.json differs only in timings; manifest.json records threads).
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -20,16 +20,20 @@ TEST(Determinism, SameBytesWhateverTheThreadCount) {
                          " output: {mesh: [ply, stl, obj]}}\n");
   auto r = xsect::test::runXsect("phantom " + (dir / "spec.yaml").string() + " --out " + (dir / "ph").string() + " --quiet");
   ASSERT_EQ(r.code, 0) << r.err;
-  for (const char* t : {"1", "2", "3"}) {
-    r = xsect::test::runXsect("run " + (dir / "ph/config.yaml").string() + " --out " +
-                              (dir / (std::string("t") + t)).string() + " --quiet --threads " + t);
-    ASSERT_EQ(r.code, 0) << r.err;
-  }
-  for (const char* f : {"mesh.ply", "mesh.stl", "mesh.obj", "graph.json"}) {
-    const std::string a = slurp(dir / "t1" / f);
-    EXPECT_GT(a.size(), 100u) << f;
-    EXPECT_EQ(a, slurp(dir / "t2" / f)) << f;
-    EXPECT_EQ(a, slurp(dir / "t3" / f)) << f;
+  for (const std::string method : {"nearest_plane", "section_voronoi"}) {
+    SCOPED_TRACE(method);
+    for (const char* t : {"1", "2", "3"}) {
+      r = xsect::test::runXsect("run " + (dir / "ph/config.yaml").string() + " --out " +
+                                (dir / (method + t)).string() + " --quiet --threads " + t +
+                                " --set reconstruction.method=" + method);
+      ASSERT_EQ(r.code, 0) << r.err;
+    }
+    for (const char* f : {"mesh.ply", "mesh.stl", "mesh.obj", "graph.json", "graph.dot", "labels.nrrd"}) {
+      const std::string a = slurp(dir / (method + "1") / f);
+      EXPECT_GT(a.size(), 100u) << f;
+      EXPECT_EQ(a, slurp(dir / (method + "2") / f)) << f;
+      EXPECT_EQ(a, slurp(dir / (method + "3") / f)) << f;
+    }
   }
   fs::remove_all(dir);
 }
