@@ -62,6 +62,36 @@ config: {reconstruction: {voxel_size_mm: 0.15, end_margin_mm: 0.8}}
   fs::remove_all(dir);
 }
 
+TEST(AcceptanceMethod2, SmoothVesselTreeMeetingWeakDensityKeepsTopologyWithinTheLiftBound) {
+  // Branches at 35 degrees with 6 mm fillets (reach_e ~2.5 mm, reach_i ~0.46 mm), planes 1.2 mm
+  // apart (2 trunk radii): every lift is shorter than reach_e (Weak Density, checked below), and
+  // the branches cross the planes steeply enough that the boundary's projection within a Voronoi
+  // cell moves by about 0.6 tan 35° = 0.42 mm < reach_i (Weak Transversality, by construction).
+  // Theorems 19-20: the right topology, and d_H(O, R') <= the longest lift.
+  const fs::path dir = test::freshDir("vessel-wd");
+  std::string positions;
+  for (int i = 0; i < 22; ++i) positions += (i ? ", " : "") + std::to_string(0.5 + 1.2 * i);
+  test::writeFile(dir / "spec.yaml", "seed: 11\nshape:\n  kind: vessel_tree\n  params: {length: 14, radius: 0.6,"
+                  " levels: 1, branch_angle_deg: 35, blend_mm: 6, seed: 1}\npattern:\n  kind: parallel\n"
+                  "  direction: [0, 0, 1]\n  positions_mm: [" + positions + "]\nimage: {pixel_mm: 0.06}\n"
+                  "config: {reconstruction: {voxel_size_mm: 0.12, end_margin_mm: 0.6,"
+                  " method: section_voronoi}}\n");
+  auto r = test::runXsect("phantom " + (dir / "spec.yaml").string() + " --out " + (dir / "ph").string() + " --quiet");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json rep = runReport(dir / "ph/config.yaml", dir / "m2", "");
+  r = test::runXsect("eval --mesh " + (dir / "m2/mesh.ply").string() + " --truth " + (dir / "ph/truth.yaml").string() +
+                     " --voxel 0.04 --json " + (dir / "eval.json").string() + " --quiet");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json ev = json::parse(std::ifstream(dir / "eval.json"));
+  const YAML::Node truth = YAML::LoadFile((dir / "ph/truth.yaml").string());
+  const double lift = rep["reconstruction"]["max_lift_mm"];
+  ASSERT_LT(lift, truth["reach_exterior_mm"].as<double>()) << "Weak Density does not hold";
+  EXPECT_EQ(rep["betti"], json::array({1, 0, 0}));
+  EXPECT_EQ(ev["betti"], json::array({1, 0, 0}));
+  EXPECT_LE(ev["hausdorff_mm"].get<double>(), lift + 0.12);
+  fs::remove_all(dir);
+}
+
 TEST(AcceptanceMaterials, TwoTouchingSolids) {
   // A torus split through its axis into two C-shaped halves, labels 1 and 2.
   const fs::path dir = test::freshDir("labels");
