@@ -31,7 +31,7 @@ struct SegmentGrid {
   Vec2 lo = Vec2::Zero();
   double cell = 1;
   int nx = 0, ny = 0;
-  std::vector<int> start, items;
+  std::vector<int> start, items, empty;
 
   void build(const std::vector<Section>& sections) {
     const auto addRing = [&](const Ring& r) {
@@ -78,6 +78,30 @@ struct SegmentGrid {
       for (int j = j0; j <= j1; ++j)
         for (int i = i0; i <= i1; ++i) items[std::size_t(count[std::size_t(j) * nx + i]++)] = int(q);
     }
+    // Chebyshev distance (in buckets) from each bucket to the nearest non-empty one: the rings of
+    // a nearest-point query start there (two chamfer passes, exact for that metric).
+    empty.assign(std::size_t(nx) * ny, std::numeric_limits<int>::max() / 2);
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const std::size_t c = std::size_t(j) * nx + i;
+        if (start[c + 1] > start[c]) empty[c] = 0;
+      }
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        int& e = empty[std::size_t(j) * nx + i];
+        for (const auto& [di, dj] : {std::pair{-1, 0}, {-1, -1}, {0, -1}, {1, -1}}) {
+          const int a = i + di, b = j + dj;
+          if (a >= 0 && b >= 0 && a < nx) e = std::min(e, empty[std::size_t(b) * nx + a] + 1);
+        }
+      }
+    for (int j = ny - 1; j >= 0; --j)
+      for (int i = nx - 1; i >= 0; --i) {
+        int& e = empty[std::size_t(j) * nx + i];
+        for (const auto& [di, dj] : {std::pair{1, 0}, {1, 1}, {0, 1}, {-1, 1}}) {
+          const int a = i + di, b = j + dj;
+          if (a >= 0 && a < nx && b < ny) e = std::min(e, empty[std::size_t(b) * nx + a] + 1);
+        }
+      }
   }
 
   /// Distance from p to the nearest contour point within maxR (that point in *q); +inf if none.
@@ -86,7 +110,7 @@ struct SegmentGrid {
     const int ci = std::clamp(int(std::floor((p.x() - lo.x()) / cell)), 0, nx - 1);
     const int cj = std::clamp(int(std::floor((p.y() - lo.y()) / cell)), 0, ny - 1);
     double best = kInf;
-    for (int r = 0; r <= nx + ny; ++r) {
+    for (int r = empty[std::size_t(cj) * nx + ci]; r <= nx + ny; ++r) {
       if ((r - 1) * cell > std::min(best, maxR)) break;
       for (int j = cj - r; j <= cj + r; ++j) {
         if (j < 0 || j >= ny) continue;
@@ -372,11 +396,16 @@ class Evaluator {
     int tries = 0;
     // A visible contour point (the exact nearest one to the projection) bounds U. Tried on the
     // first few planes whose sections may lie nearer than the current U.
-    const auto tryBound = [&](std::size_t t, const Vec2& p) {
-      if (tries >= 3) return;
-      ++tries;
+    int farTries = 0;
+    // near: the projection lies within the raster's band of a contour (a short query); far: any
+    // other case (one query per voxel: in small cells such points are mostly hidden).
+    const auto tryBound = [&](std::size_t t, const Vec2& p, bool near) {
+      if (near ? tries >= 3 : farTries >= 1) return;
+      ++(near ? tries : farTries);
       const double H = order[t].a;
-      const double maxR = std::sqrt(std::max(0.0, U * U - H * H));
+      // A bound beyond `hopeful` is useless: the walk concludes there anyway.
+      const double cap = std::min(U, hopeful);
+      const double maxR = std::sqrt(std::max(0.0, cap * cap - H * H));
       const PlaneInfo& P = P_[order[t].plane];
       Vec2 q;
       const double d = P.segments.nearest(p, maxR, &q);
@@ -407,7 +436,7 @@ class Evaluator {
       for (const auto& b : P.boxes)
         boxd = std::min(boxd, (p - p.cwiseMax(b[0]).cwiseMin(b[1])).norm());
       if (boxd > 0) {  // not an in-section projection; a lower bound is enough for now
-        if (std::hypot(H, boxd) < U) tryBound(t, p);
+        if (std::hypot(H, boxd) < U) tryBound(t, p, false);
         pend.push_back({int(t), std::nan(""), std::sqrt(H * H + boxd * boxd), false, p});
         continue;
       }
@@ -419,13 +448,16 @@ class Evaluator {
         break;
       }
       const double lb = std::sqrt(H * H + std::max(f, 0.0) * std::max(f, 0.0));
-      if (f > 0 && lb < U) tryBound(t, p);
+      if (f > 0 && lb < U) tryBound(t, p, f < P.field->band);
       pend.push_back({int(t), f, lb, vis, p});
     }
     if (inIdx < 0) {
+      exhausted = exhausted || hopeful <= R;  // every plane within R was walked
       if ((U < kInf && (U <= R || isMax)) || isMax || exhausted)
         return outsideWith(out, U < kInf ? double(uValue) : std::max(double(f0), 0.0));
-      out.suggest_radius = U < kInf ? U : 0.0;
+      // Every plane that could still matter lies within min(U, hopeful) (`hopeful` counts every
+      // plane, not only those within R): the next search radius needs no more.
+      out.suggest_radius = std::min(U, hopeful);
       return out;  // undecided: the search radius must grow
     }
     const double T = order[std::size_t(inIdx)].a;
