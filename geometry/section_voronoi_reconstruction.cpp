@@ -324,16 +324,72 @@ class Evaluator {
  public:
   Evaluator(const std::vector<PlaneInfo>& planes, double slab) : P_(planes), slab_(slab) {}
 
+  /// Within the thickened nearest plane, x is decided by it alone (R' = R there): fills *out and
+  /// returns true. `cand` must hold the nearest plane.
+  bool decideInSlab(const Vec3& x, const std::vector<int>& cand, Decision* out) const {
+    int best = -1;
+    double ba = kInf;
+    for (const int q : cand) {
+      const double a = std::abs(P_[q].row.s(x));
+      if (a < ba || (a == ba && q < best)) {
+        ba = a;
+        best = q;
+      }
+    }
+    if (best < 0 || !(ba < slab_)) return false;
+    const PlaneInfo& P = P_[std::size_t(best)];
+    const Vec3 d = x - P.row.o;
+    const float f = P.field->sample(d.dot(P.row.u), d.dot(P.row.v));
+    out->verdict = f < 0 ? Verdict::inside : Verdict::outside;
+    out->value = f;
+    out->nearest_plane = best;
+    out->plane_distance = float(ba);
+    out->section_plane = f < 0 ? best : -1;
+    out->lift = f < 0 ? float(ba) : 0.f;
+    return true;
+  }
+
   /// Decides x using the planes `cand` (which hold every plane within R of x). `isMax`: cand
   /// holds every plane.
   Decision decide(const Vec3& x, const std::vector<int>& cand, const std::vector<int>& inList,
                   const std::vector<double>& inBound, double R, bool isMax, Scratch& w) const {
     Decision out;
+    // Distances to the candidate planes; the nearest one first (ties: lower index).
+    auto& order = w.order;
+    auto& pool = w.pool;
+    order.clear();
+    pool.clear();
+    std::size_t nearest = 0;
+    for (const int q : cand) {
+      const double s = P_[q].row.s(x), a = std::abs(s);
+      if (!(a <= R || isMax)) continue;
+      pool.push_back({q, s, a});
+      const Candidate& n = pool[nearest];
+      if (a < n.a || (a == n.a && q < n.plane)) nearest = pool.size() - 1;
+    }
+    if (pool.empty()) return out;
+    const Candidate c0 = pool[nearest];
+    const PlaneInfo& P0 = P_[c0.plane];
+    out.nearest_plane = c0.plane;
+    out.plane_distance = float(c0.a);
+    const Vec3 d0 = x - P0.row.o;
+    const float f0 = P0.field->sample(d0.dot(P0.row.u), d0.dot(P0.row.v));
+    if (c0.a < slab_) {  // thickened plane: R' = R here
+      out.verdict = f0 < 0 ? Verdict::inside : Verdict::outside;
+      out.value = f0;
+      if (f0 < 0) {
+        out.section_plane = c0.plane;
+        out.lift = float(c0.a);
+      }
+      return out;
+    }
     // Only planes whose projection of x falls in a section's bounding box can give x to R'.
     // inList comes sorted by decreasing upper bound `inBound` of the distance (over the block):
     // once that bound falls below the best found, no later plane can raise it.
-    double hopeful = -1;  // largest distance to such a plane
-    for (std::size_t qi = 0; qi < inList.size(); ++qi) {
+    // Point queries pass every plane and no bounds: `hopeful` is then left unknown (+inf), which
+    // only delays the conclusion "outside" to the end of the walk.
+    double hopeful = inBound.empty() && !inList.empty() ? kInf : -1;
+    for (std::size_t qi = 0; qi < inList.size() && hopeful < kInf; ++qi) {
       if (!inBound.empty() && inBound[qi] <= hopeful) break;
       const int q = inList[qi];
       const PlaneInfo& I = P_[q];
@@ -348,15 +404,8 @@ class Evaluator {
           break;
         }
     }
+    if (hopeful < 0) return outsideWith(out, std::max(double(f0), 0.0));
     // Planes in order of distance, popped lazily from a heap: most voxels stop after a few.
-    auto& order = w.order;
-    auto& pool = w.pool;
-    order.clear();
-    pool.clear();
-    for (const int q : cand) {
-      const double s = P_[q].row.s(x), a = std::abs(s);
-      if (a <= R || isMax) pool.push_back({q, s, a});
-    }
     const auto farther = [](const Candidate& l, const Candidate& r) {
       return l.a > r.a || (l.a == r.a && l.plane > r.plane);
     };
@@ -368,22 +417,7 @@ class Evaluator {
       pool.pop_back();
       return true;
     };
-    if (!popNext()) return out;
-    const PlaneInfo& P0 = P_[order[0].plane];
-    out.nearest_plane = order[0].plane;
-    out.plane_distance = float(order[0].a);
-    const Vec3 d0 = x - P0.row.o;
-    const float f0 = P0.field->sample(d0.dot(P0.row.u), d0.dot(P0.row.v));
-    if (hopeful < 0) return outsideWith(out, std::max(double(f0), 0.0));
-    if (order[0].a < slab_) {  // thickened plane: R' = R here
-      out.verdict = f0 < 0 ? Verdict::inside : Verdict::outside;
-      out.value = f0;
-      if (f0 < 0) {
-        out.section_plane = order[0].plane;
-        out.lift = float(order[0].a);
-      }
-      return out;
-    }
+    popNext();  // the nearest plane, c0
     // Walk the planes by distance: the first visible in-section projection gives H_in. A visible
     // section point found on the way (the raster's nearest contour point, checked for visibility)
     // bounds d(x, S_C) from above by U: no plane farther than U can give x to R'.
@@ -663,14 +697,40 @@ SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>
               k1 = std::min(D[2], k0 + kBlock);
     const Vec3 lo = grid.centre(i0, j0, k0), hi = grid.centre(i1 - 1, j1 - 1, k1 - 1);
     const Vec3 c = 0.5 * (lo + hi), e = 0.5 * (hi - lo);
+    double minHi = kInf;
+    for (const PlaneInfo& I : info) minHi = std::min(minHi, std::abs(I.row.s(c)) + I.row.an.dot(e));
+    const auto candidates = [&](double R, bool isMax) {
+      w.cand.clear();
+      for (std::size_t q = 0; q < info.size(); ++q) {
+        const double lb = std::abs(info[q].row.s(c)) - info[q].row.an.dot(e);
+        if (isMax || lb <= R) w.cand.push_back(int(q));
+      }
+    };
+    const auto store = [&](std::size_t idx, const Decision& dcs) {
+      out.value.values[idx] = dcs.value;
+      out.plane_distance[idx] = dcs.plane_distance;
+      out.nearest_plane[idx] = dcs.nearest_plane;
+      out.section_plane[idx] = dcs.section_plane;
+      out.lift_height[idx] = dcs.lift;
+    };
+    // Voxels within the thickened nearest plane first (all of them in dense sweeps).
+    double R = 2.0 * minHi + 2 * h;
+    candidates(R, R >= rMax);
+    w.todo.clear();
+    for (int k = k0; k < k1; ++k)
+      for (int j = j0; j < j1; ++j)
+        for (int i = i0; i < i1; ++i) {
+          Decision dcs;
+          const std::size_t idx = std::size_t(grid.index(i, j, k));
+          if (ev.decideInSlab(grid.centre(i, j, k), w.cand, &dcs)) store(idx, dcs);
+          else w.todo.push_back(int(idx));
+        }
+    if (w.todo.empty()) return;
     // Planes whose sections the block's projection can reach: without any, no voxel of the
     // block has an in-section projection and the whole block lies outside R' (and R).
-    double minHi = kInf;
     w.inList.clear();
     for (std::size_t q = 0; q < info.size(); ++q) {
       const PlaneInfo& I = info[q];
-      const double sc = I.row.s(c), r = I.row.an.dot(e);
-      minHi = std::min(minHi, std::abs(sc) + r);
       if (!I.has_sections) continue;
       const Vec3 dc = c - I.row.o;
       const Vec2 pa(dc.dot(I.row.u), dc.dot(I.row.v));
@@ -680,8 +740,8 @@ SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>
                (pa - pr).y() <= bhi.y();
       };
       if (!meets(I.lo, I.hi)) continue;
-      for (const auto& b : I.boxes)
-        if (meets(b[0], b[1])) {
+      for (const auto& bb : I.boxes)
+        if (meets(bb[0], bb[1])) {
           w.inList.push_back(int(q));
           break;
         }
@@ -695,32 +755,20 @@ SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>
       });
       w.inList.clear();
       w.inBound.clear();
-      for (const auto& [b, q] : w.inOrder) {
+      for (const auto& [bnd, q] : w.inOrder) {
         w.inList.push_back(q);
-        w.inBound.push_back(b);
+        w.inBound.push_back(bnd);
       }
     }
     if (w.inList.empty()) {
-      for (int k = k0; k < k1; ++k)
-        for (int j = j0; j < j1; ++j)
-          for (int i = i0; i < i1; ++i) {
-            const std::size_t idx = std::size_t(grid.index(i, j, k));
-            out.value.values[idx] = 1e30f;
-          }
+      for (const int idx : w.todo) out.value.values[std::size_t(idx)] = 1e30f;
       return;
     }
-    w.todo.clear();
-    for (int k = k0; k < k1; ++k)
-      for (int j = j0; j < j1; ++j)
-        for (int i = i0; i < i1; ++i) w.todo.push_back(int(grid.index(i, j, k)));
-    double R = 2.0 * minHi + 2 * h;
+    bool first = true;
     while (!w.todo.empty()) {
       const bool isMax = R >= rMax;
-      w.cand.clear();
-      for (std::size_t q = 0; q < info.size(); ++q) {
-        const double lb = std::abs(info[q].row.s(c)) - info[q].row.an.dot(e);
-        if (isMax || lb <= R) w.cand.push_back(int(q));
-      }
+      if (!first) candidates(R, isMax);
+      first = false;
       w.next.clear();
       double suggest = 0;
       for (const int idx : w.todo) {
@@ -732,11 +780,7 @@ SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>
           w.next.push_back(idx);
           continue;
         }
-        out.value.values[std::size_t(idx)] = dcs.value;
-        out.plane_distance[std::size_t(idx)] = dcs.plane_distance;
-        out.nearest_plane[std::size_t(idx)] = dcs.nearest_plane;
-        out.section_plane[std::size_t(idx)] = dcs.section_plane;
-        out.lift_height[std::size_t(idx)] = dcs.lift;
+        store(std::size_t(idx), dcs);
       }
       restarts += std::int64_t(w.next.size());
       w.todo.swap(w.next);
@@ -784,7 +828,18 @@ SectionVoronoiPoints::~SectionVoronoiPoints() { delete impl_; }
 
 SectionVoronoiPoints::Answer SectionVoronoiPoints::at(const Vec3& x) const {
   thread_local Scratch w;
-  const Decision d = impl_->ev.decide(x, impl_->all, impl_->withSections, {}, kInf, true, w);
+  thread_local std::vector<int> cand;
+  // First within a few times the nearest plane's distance (most points are decided there), then
+  // with every plane.
+  double d0 = kInf;
+  for (const PlaneInfo& I : impl_->info) d0 = std::min(d0, std::abs(I.row.s(x)));
+  const double R = 4 * d0 + 1e-6;
+  cand.clear();
+  for (std::size_t q = 0; q < impl_->info.size(); ++q)
+    if (std::abs(impl_->info[q].row.s(x)) <= R) cand.push_back(int(q));
+  Decision d = impl_->ev.decide(x, cand, impl_->withSections, {}, R, false, w);
+  if (d.verdict == Verdict::undecided)
+    d = impl_->ev.decide(x, impl_->all, impl_->withSections, {}, kInf, true, w);
   Answer a;
   a.inside = d.verdict == Verdict::inside;
   a.section_plane = d.section_plane;
