@@ -1,16 +1,27 @@
-// Analytic phantom shapes (see phantom_shape.h): signed distances, Betti numbers, reach, bounds.
+// Analytic phantom shapes (see phantom_shape.h): signed distances, nearest boundary points, Betti
+// numbers, reach (interior / exterior), bounds, material labels.
 // Parameters per kind (all lengths in mm, angles in degrees):
 //   sphere            radius
 //   ellipsoid         a, b, c (semi-axes along shape x, y, z)
-//   torus             major_radius R, minor_radius r (axis = shape z); reach min(r, R - r)
+// Reach is given as (reach_i, reach_e): distances of the boundary to the inner / outer medial axis.
+//   sphere            (radius, inf): convex, no outer medial axis
+//   ellipsoid         (c^2 / a, inf) with a the longest, c the shortest semi-axis (smallest radius
+//                     of curvature, at the end of the longest axis)
+//   torus             major_radius R, minor_radius r (axis = shape z); (r, R - r): core circle,
+//                     and the axis of the hole
 //   genus2            disk_radius, hole_radius, hole_offset, offset_radius r: the r-offset of the
 //                     flat disk in z = 0 with two holes centred at (+-hole_offset, 0); exact SDF
-//                     d(x, D) - r; reach min(r, hole_radius - r); Betti (1, 2, 0)
-//   hollow_sphere     outer_radius, inner_radius: Betti (1, 0, 1); reach min((Ro - Ri) / 2, Ri)
-//   two_spheres       radius, separation (centres at +-separation/2 on x); reach
-//                     min(radius, (separation - 2 radius) / 2)
-//   vessel_tree       length, radius, levels, branch_angle_deg, length_ratio, radius_ratio, seed
-//                     (vessel_tree.h); reach 0 (creases at junctions), nominal_reach = thinnest tube
+//                     d(x, D) - r; (r, hole_radius - r): the disk, and the holes' axes;
+//                     Betti (1, 2, 0)
+//   hollow_sphere     outer_radius, inner_radius: Betti (1, 0, 1); ((Ro - Ri) / 2, Ri): the middle
+//                     sphere, and the cavity's centre
+//   two_spheres       radius, separation (centres at +-separation/2 on x); (radius, half the gap
+//                     (separation - 2 radius) / 2)
+//   vessel_tree       length, radius, levels, branch_angle_deg, length_ratio, radius_ratio, seed,
+//                     blend_mm (vessel_tree.h): capsules smoothly joined at the junctions (blend_mm
+//                     = 0: their plain union, concave creases, reach_e = 0); reach bounds from
+//                     vesselTreeReach (tube radii, gaps, sampled fillet curvature);
+//                     nominal_reach = thinnest tube
 //   twisted_cylinder  inner_radius, outer_radius, gap_deg, height H, extension e: the C-shaped
 //                     annular sector (gap centred on angle 0 at z = 0) swept from z = -e to H + e
 //                     with a twist of 180 degrees over H (thesis ch. 1, Fig. 1.11, the original)
@@ -18,7 +29,8 @@
 //                     from -e to H + e with the gap cut from the bottom end up to z = notch and
 //                     (rotated 180 degrees) from z = H - notch to the top end (Fig. 1.11, the
 //                     reconstruction): a solid torus, Betti (1, 1, 0). Both share the sections on
-//                     z = 0 and z = H.
+//                     z = 0 and z = H. Both: (0, 0) (convex edges where the gap's walls meet the
+//                     annulus; the notched torus also has concave ones).
 #include "geometry/phantom_shape.h"
 
 #include <Eigen/Geometry>
@@ -27,6 +39,9 @@
 #include <limits>
 #include <sstream>
 
+#include <tbb/parallel_for.h>
+
+#include "geometry/digital_topology.h"
 #include "geometry/ellipsoid_distance.h"
 #include "geometry/vessel_tree.h"
 
@@ -60,13 +75,6 @@ double extrude(double d2, double z, double z0, double z1) {
 
 double annulusSdf(double rho, double ri, double ro) { return std::max(rho - ro, ri - rho); }
 
-double capsuleSdf(const PhantomShape::Tube& t, const Vec3& q) {
-  const Vec3 d = t.b - t.a;
-  const double l2 = d.squaredNorm();
-  const double s = l2 > 0 ? std::clamp((q - t.a).dot(d) / l2, 0.0, 1.0) : 0.0;
-  return (t.a + s * d - q).norm() - t.radius;
-}
-
 double shapeFrameSdf(const PhantomShape& s, const Vec3& q) {
   const std::string& k = s.kind;
   if (k == "sphere") return q.norm() - P(s, "radius");
@@ -97,11 +105,7 @@ double shapeFrameSdf(const PhantomShape& s, const Vec3& q) {
     const double h = 0.5 * P(s, "separation");
     return std::min((q - Vec3(-h, 0, 0)).norm(), (q - Vec3(h, 0, 0)).norm()) - P(s, "radius");
   }
-  if (k == "vessel_tree") {
-    double d = std::numeric_limits<double>::infinity();
-    for (const auto& t : s.tubes) d = std::min(d, capsuleSdf(t, q));
-    return d;
-  }
+  if (k == "vessel_tree") return vesselTreeSdf(s, q);
   if (k == "twisted_cylinder" || k == "notched_torus") {
     const double ri = P(s, "inner_radius"), ro = P(s, "outer_radius");
     const double H = P(s, "height"), e = P(s, "extension");
@@ -180,7 +184,7 @@ std::map<std::string, std::optional<double>> phantomShapeParams(const std::strin
   if (k == "vessel_tree")
     return M{{"length", req},         {"radius", req},         {"levels", 3.0},
              {"branch_angle_deg", 30.0}, {"length_ratio", 0.8}, {"radius_ratio", 0.85},
-             {"seed", 1.0}};
+             {"seed", 1.0},         {"blend_mm", 0.5}};
   if (k == "twisted_cylinder")
     return M{{"inner_radius", req}, {"outer_radius", req}, {"gap_deg", 60.0},
              {"height", req},       {"extension", 3.0}};
@@ -264,6 +268,10 @@ std::optional<ShapeProblem> checkPhantomShape(const PhantomShape& s) {
       return ShapeProblem{"seed", "must be a non-negative integer"};
     if (value("radius") >= 0.5 * value("length"))
       return ShapeProblem{"radius", "must be smaller than length / 2"};
+    if (value("blend_mm") < 0)
+      return ShapeProblem{"blend_mm", "must be >= 0 (0 = the plain union of the tubes)"};
+    if (value("blend_mm") > value("length"))
+      return ShapeProblem{"blend_mm", "must not exceed length"};
     return std::nullopt;
   }
   if (k == "twisted_cylinder" || k == "notched_torus") {
@@ -285,18 +293,27 @@ PhantomShape completePhantomShape(PhantomShape s) {
   for (const auto& [key, def] : phantomShapeParams(s.kind))
     if (def && !s.params.count(key)) s.params[key] = *def;
   if (s.kind == "vessel_tree") {
-    VesselTreeParams v;
-    v.length = P(s, "length");
-    v.radius = P(s, "radius");
-    v.levels = int(P(s, "levels"));
-    v.branch_angle_deg = P(s, "branch_angle_deg");
-    v.length_ratio = P(s, "length_ratio");
-    v.radius_ratio = P(s, "radius_ratio");
-    v.seed = std::uint64_t(P(s, "seed"));
-    s.tubes = growVesselTree(v);
-    double thinnest = v.radius;
+    if (s.tubes.empty()) {
+      VesselTreeParams v;
+      v.length = P(s, "length");
+      v.radius = P(s, "radius");
+      v.levels = int(P(s, "levels"));
+      v.branch_angle_deg = P(s, "branch_angle_deg");
+      v.length_ratio = P(s, "length_ratio");
+      v.radius_ratio = P(s, "radius_ratio");
+      v.seed = std::uint64_t(P(s, "seed"));
+      v.blend_mm = P(s, "blend_mm");
+      s.tubes = growVesselTree(v);
+    }
+    s.junctions = linkVesselJunctions(s.tubes);
+    double thinnest = std::numeric_limits<double>::infinity();
     for (const auto& t : s.tubes) thinnest = std::min(thinnest, t.radius);
     s.params["nominal_reach"] = thinnest;
+    if (!s.reach_interior_mm || !s.reach_exterior_mm) {
+      const VesselReach r = vesselTreeReach(s);
+      if (!s.reach_interior_mm) s.reach_interior_mm = r.interior;
+      if (!s.reach_exterior_mm) s.reach_exterior_mm = r.exterior;
+    }
   }
   return s;
 }
@@ -318,7 +335,8 @@ Betti bettiNumbers(const PhantomShape& s) {
   return {1, 0, 0};
 }
 
-double reach(const PhantomShape& s) {
+double reachInterior(const PhantomShape& s) {
+  if (s.reach_interior_mm) return *s.reach_interior_mm;
   const std::string& k = s.kind;
   if (k == "sphere") return P(s, "radius");
   if (k == "ellipsoid") {
@@ -327,24 +345,39 @@ double reach(const PhantomShape& s) {
     const double hi = std::max({P(s, "a"), P(s, "b"), P(s, "c")});
     return lo * lo / hi;
   }
-  if (k == "torus") return std::min(P(s, "minor_radius"), P(s, "major_radius") - P(s, "minor_radius"));
-  if (k == "genus2") return std::min(P(s, "offset_radius"), P(s, "hole_radius") - P(s, "offset_radius"));
-  if (k == "hollow_sphere")
-    return std::min(0.5 * (P(s, "outer_radius") - P(s, "inner_radius")), P(s, "inner_radius"));
-  if (k == "two_spheres")
-    return std::min(P(s, "radius"), 0.5 * (P(s, "separation") - 2 * P(s, "radius")));
-  return 0.0;  // vessel_tree, twisted_cylinder, notched_torus: creases
+  if (k == "torus") return P(s, "minor_radius");
+  if (k == "genus2") return P(s, "offset_radius");
+  if (k == "hollow_sphere") return 0.5 * (P(s, "outer_radius") - P(s, "inner_radius"));
+  if (k == "two_spheres") return P(s, "radius");
+  if (k == "vessel_tree") return vesselTreeReach(s).interior;
+  return 0.0;  // twisted_cylinder, notched_torus: convex edges
 }
+
+double reachExterior(const PhantomShape& s) {
+  if (s.reach_exterior_mm) return *s.reach_exterior_mm;
+  const std::string& k = s.kind;
+  if (k == "sphere" || k == "ellipsoid") return std::numeric_limits<double>::infinity();
+  if (k == "torus") return P(s, "major_radius") - P(s, "minor_radius");
+  if (k == "genus2") return P(s, "hole_radius") - P(s, "offset_radius");
+  if (k == "hollow_sphere") return P(s, "inner_radius");
+  if (k == "two_spheres") return 0.5 * (P(s, "separation") - 2 * P(s, "radius"));
+  if (k == "vessel_tree") return vesselTreeReach(s).exterior;
+  return 0.0;  // twisted_cylinder, notched_torus: not derived (the notched torus has creases)
+}
+
+double reach(const PhantomShape& s) { return std::min(reachInterior(s), reachExterior(s)); }
 
 void bounds(const PhantomShape& s, Vec3* min, Vec3* max) {
   if (s.kind == "vessel_tree") {
+    // The blended surface lies within vesselBlendOffset of the capsules.
+    const double grow = vesselBlendOffset(s);
     min->setConstant(std::numeric_limits<double>::infinity());
     max->setConstant(-std::numeric_limits<double>::infinity());
     for (const auto& t : s.tubes)
       for (const Vec3& p : {t.a, t.b}) {
         const Vec3 w = s.centre + s.rotation * p;
-        *min = min->cwiseMin(w - Vec3::Constant(t.radius));
-        *max = max->cwiseMax(w + Vec3::Constant(t.radius));
+        *min = min->cwiseMin(w - Vec3::Constant(t.radius + grow));
+        *max = max->cwiseMax(w + Vec3::Constant(t.radius + grow));
       }
     if (s.tubes.empty()) *min = *max = s.centre;
     return;
@@ -362,6 +395,155 @@ void bounds(const PhantomShape& s, Vec3* min, Vec3* max) {
   const Vec3 r = s.rotation.cwiseAbs() * half;
   *min = c - r;
   *max = c + r;
+}
+
+namespace {
+
+Vec3 numericGradient(const PhantomShape& s, const Vec3& q) {
+  const double h = 1e-6 * std::max(1.0, q.cwiseAbs().maxCoeff());
+  Vec3 g;
+  for (int c = 0; c < 3; ++c) {
+    const Vec3 e = h * Vec3::Unit(c);
+    g[c] = (shapeFrameSdf(s, q + e) - shapeFrameSdf(s, q - e)) / (2 * h);
+  }
+  return g;
+}
+
+/// Newton steps onto the zero set (shape frame); false when it does not converge.
+bool projectOnto(const PhantomShape& s, Vec3 q, Vec3* out) {
+  for (int it = 0; it < 60; ++it) {
+    const double f = shapeFrameSdf(s, q);
+    if (!std::isfinite(f)) return false;
+    if (std::abs(f) < 1e-10) {
+      *out = q;
+      return true;
+    }
+    const Vec3 g = numericGradient(s, q);
+    const double g2 = g.squaredNorm();
+    if (!(g2 > 1e-20)) return false;
+    q -= (f / g2) * g;
+  }
+  *out = q;
+  return std::abs(shapeFrameSdf(s, q)) < 1e-8;
+}
+
+/// A local minimum of |q - p| over the zero set from p on it (tangent steps, halved until the
+/// distance decreases, projected back).
+Vec3 descendOnto(const PhantomShape& s, const Vec3& q, Vec3 p) {
+  double dist = (q - p).norm(), lambda = 1.0;
+  for (int it = 0; it < 200; ++it) {
+    const Vec3 g = numericGradient(s, p);
+    if (!(g.norm() > 1e-12)) break;
+    const Vec3 n = g.normalized(), w = q - p, t = w - w.dot(n) * n;
+    if (t.norm() < 1e-12 * std::max(1.0, dist)) break;
+    Vec3 c;
+    bool moved = false;
+    for (; lambda > 1e-9; lambda *= 0.5)
+      if (projectOnto(s, p + lambda * t, &c) && (q - c).norm() < dist) {
+        moved = true;
+        break;
+      }
+    if (!moved) break;
+    const double gain = dist - (q - c).norm();
+    p = c;
+    dist = (q - c).norm();
+    lambda = std::min(1.0, 2.0 * lambda);
+    if (gain < 1e-12) break;
+  }
+  return p;
+}
+
+}  // namespace
+
+Vec3 closestBoundaryPoint(const PhantomShape& s, const Vec3& x) {
+  const Vec3 q = s.rotation.transpose() * (x - s.centre);
+  Vec3 p = q;
+  if (s.kind == "vessel_tree") {
+    p = vesselTreeClosestPoint(s, q);
+  } else if (s.kind == "ellipsoid") {
+    ellipsoidSignedDistance(Vec3(P(s, "a"), P(s, "b"), P(s, "c")), q, &p);
+  } else if (hasExactDistance(s)) {
+    // An exact distance: the foot is q - f grad f (off the medial axis), polished by Newton.
+    const double f = shapeFrameSdf(s, q);
+    const Vec3 g = numericGradient(s, q);
+    const Vec3 foot = g.norm() > 1e-12 ? Vec3(q - f * g.normalized()) : q;
+    if (!projectOnto(s, foot, &p)) p = foot;
+  } else {
+    // Piecewise-smooth surfaces (edges): the best of descents started from the projections of
+    // q and of the 6 points at distance |f(q)| along the axes around it (the nearest point lies
+    // no nearer), skipping starts that project where an earlier one did.
+    const double f = std::abs(shapeFrameSdf(s, q));
+    double best = std::numeric_limits<double>::infinity();
+    std::vector<Vec3> tried;
+    for (int d = 0; d < 7; ++d) {
+      const Vec3 from = d == 0 ? q : Vec3(q + (d % 2 ? f : -f) * Vec3::Unit((d - 1) / 2));
+      Vec3 start;
+      if (!projectOnto(s, from, &start)) continue;
+      bool seen = false;
+      for (const Vec3& t : tried) seen = seen || (t - start).norm() < 1e-3 * (1.0 + f);
+      if (seen) continue;
+      tried.push_back(start);
+      const Vec3 c = descendOnto(s, q, start);
+      if ((c - q).norm() < best) {
+        best = (c - q).norm();
+        p = c;
+      }
+    }
+  }
+  return s.centre + s.rotation * p;
+}
+
+int materialLabel(const PhantomShape& s, const Vec3& x) {
+  if (!(signedDistance(s, x) < 0)) return 0;
+  if (!s.label_split) return 1;
+  const Vec3 q = s.rotation.transpose() * (x - s.centre);
+  return s.label_split->normal.dot(q - s.label_split->point) < 0 ? 1 : 2;
+}
+
+namespace {
+
+/// Betti numbers of the union, label 1 and label 2 on a grid of voxel v over the shape's bounds.
+std::array<Betti, 3> gridBetti(const PhantomShape& s, double v) {
+  Vec3 lo, hi;
+  bounds(s, &lo, &hi);
+  GridSpec g;
+  g.voxel = v;
+  g.origin = lo - Vec3::Constant(1.5 * v);
+  for (int c = 0; c < 3; ++c) g.dims[c] = int(std::ceil((hi[c] - lo[c]) / v)) + 4;
+  std::vector<std::uint8_t> label(std::size_t(g.count()));
+  tbb::parallel_for(0, g.dims[2], [&](int k) {
+    for (int j = 0; j < g.dims[1]; ++j)
+      for (int i = 0; i < g.dims[0]; ++i)
+        label[std::size_t(g.index(i, j, k))] = std::uint8_t(materialLabel(s, g.centre(i, j, k)));
+  });
+  std::array<Betti, 3> out;
+  for (int l = 0; l < 3; ++l) {
+    std::vector<std::uint8_t> in(label.size());
+    for (std::size_t i = 0; i < in.size(); ++i) in[i] = l == 0 ? label[i] != 0 : label[i] == l;
+    out[l] = voxelBetti(in, g);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::map<int, Betti> labelBettiNumbers(const PhantomShape& s) {
+  if (!s.label_split) return {};
+  if (s.label_betti) return *s.label_betti;
+  Vec3 lo, hi;
+  bounds(s, &lo, &hi);
+  const double size = (hi - lo).maxCoeff();
+  const double r = reach(s);
+  double v = (r > 0 ? std::min(r, size / 30.0) : size / 30.0) / 2.5;
+  const double cells = (hi - lo).prod() / (v * v * v);
+  if (cells > 1e7) v *= std::cbrt(cells / 1e7);
+  // Two resolutions must agree with each other, and the union with the analytic Betti numbers.
+  const std::array<Betti, 3> a = gridBetti(s, v), b = gridBetti(s, 0.8 * v);
+  if (a != b || a[0] != bettiNumbers(s))
+    throw std::runtime_error(
+        "label_split: the Betti numbers of the two materials could not be established on a voxel "
+        "grid (the split plane may graze the surface); move the plane");
+  return {{1, a[1]}, {2, a[2]}};
 }
 
 Eigen::Matrix3d rotationFromEulerXyzDeg(const Vec3& deg) {

@@ -97,7 +97,7 @@ struct Reader {
 
 PhantomShape readShape(const Reader& r, const YAML::Node& root) {
   const YAML::Node sh = r.map(root, "shape", "shape", true);
-  r.keys(sh, "shape.", {"kind", "params", "centre", "rotation_deg"});
+  r.keys(sh, "shape.", {"kind", "params", "centre", "rotation_deg", "label_split"});
   PhantomShape s;
   if (!sh["kind"]) throw InputError(r.file, "shape.kind", "missing", lineOf(sh));
   s.kind = yamlString(sh["kind"], r.file, "shape.kind");
@@ -123,6 +123,15 @@ PhantomShape readShape(const Reader& r, const YAML::Node& root) {
   }
   s.centre = r.vec3(sh, "centre", "shape.centre", Vec3::Zero());
   s.rotation = rotationFromEulerXyzDeg(r.vec3(sh, "rotation_deg", "shape.rotation_deg", Vec3::Zero()));
+  if (sh["label_split"]) {
+    const YAML::Node ls = r.map(sh, "label_split", "shape.label_split", true);
+    r.keys(ls, "shape.label_split.", {"point", "normal"});
+    if (!ls["normal"]) throw InputError(r.file, "shape.label_split.normal", "missing", lineOf(ls));
+    PhantomShape::LabelSplit split;
+    split.point = r.vec3(ls, "point", "shape.label_split.point", Vec3::Zero());
+    split.normal = r.vec3(ls, "normal", "shape.label_split.normal", Vec3::UnitX(), true);
+    s.label_split = split;
+  }
   try {
     return completePhantomShape(std::move(s));
   } catch (const std::runtime_error& e) {
@@ -137,8 +146,8 @@ SlicingPattern readPattern(const Reader& r, const YAML::Node& root) {
   p.kind = yamlString(pn["kind"], r.file, "pattern.kind");
   const int maxCount = 10000;
   if (p.kind == "parallel") {
-    r.keys(pn, "pattern.", {"kind", "count", "direction", "spacing_mm", "span_mm", "positions_mm",
-                            "tilt_deg"});
+    r.keys(pn, "pattern.", {"kind", "extra_planes", "count", "direction", "spacing_mm", "span_mm",
+                            "positions_mm", "tilt_deg"});
     p.direction = r.vec3(pn, "direction", "pattern.direction", Vec3::UnitZ(), true);
     if (const YAML::Node pos = pn["positions_mm"]) {
       if (!pos.IsSequence() || pos.size() == 0)
@@ -162,7 +171,7 @@ SlicingPattern readPattern(const Reader& r, const YAML::Node& root) {
     }
     p.tilt_deg = r.number(pn, "tilt_deg", "pattern.tilt_deg", 0.0, 0, false, 89);
   } else if (p.kind == "multiaxial") {
-    r.keys(pn, "pattern.", {"kind", "count", "counts"});
+    r.keys(pn, "pattern.", {"kind", "extra_planes", "count", "counts"});
     if (const YAML::Node cs = pn["counts"]) {
       if (pn["count"])
         throw InputError(r.file, "pattern.counts", "give count or counts, not both", lineOf(cs));
@@ -182,16 +191,16 @@ SlicingPattern readPattern(const Reader& r, const YAML::Node& root) {
       p.counts = {p.count, p.count, p.count};
     }
   } else if (p.kind == "random") {
-    r.keys(pn, "pattern.", {"kind", "count"});
+    r.keys(pn, "pattern.", {"kind", "extra_planes", "count"});
     p.count = r.integer(pn, "count", "pattern.count", std::nullopt, 1, maxCount);
   } else if (p.kind == "fan") {
-    r.keys(pn, "pattern.", {"kind", "count", "axis", "span_deg"});
+    r.keys(pn, "pattern.", {"kind", "extra_planes", "count", "axis", "span_deg"});
     p.count = r.integer(pn, "count", "pattern.count", std::nullopt, 1, maxCount);
     p.axis = r.vec3(pn, "axis", "pattern.axis", Vec3::UnitZ(), true);
     p.span_deg = r.number(pn, "span_deg", "pattern.span_deg", 180.0, 0, true, 180);
   } else if (p.kind == "freehand") {
-    r.keys(pn, "pattern.", {"kind", "count", "direction", "span_mm", "tilt_deg", "drift_mm",
-                            "sector", "sector_angle_deg", "apex_px"});
+    r.keys(pn, "pattern.", {"kind", "extra_planes", "count", "direction", "span_mm", "tilt_deg",
+                            "drift_mm", "sector", "sector_angle_deg", "apex_px"});
     p.count = r.integer(pn, "count", "pattern.count", std::nullopt, 1, maxCount);
     p.direction = r.vec3(pn, "direction", "pattern.direction", Vec3::UnitZ(), true);
     if (pn["span_mm"]) p.span_mm = r.number(pn, "span_mm", "pattern.span_mm", std::nullopt, 0, true);
@@ -208,6 +217,31 @@ SlicingPattern readPattern(const Reader& r, const YAML::Node& root) {
                      lineOf(pn["kind"]));
   }
   return p;
+}
+
+std::vector<PhantomPlane> readExtraPlanes(const Reader& r, const YAML::Node& root) {
+  std::vector<PhantomPlane> out;
+  const YAML::Node list = root["pattern"]["extra_planes"];
+  if (!list) return out;
+  if (!list.IsSequence() || list.size() == 0 || list.size() > 1000)
+    throw InputError(r.file, "pattern.extra_planes",
+                     "must be a list of 1 to 1000 planes {point: [x, y, z], normal: [x, y, z]}",
+                     lineOf(list));
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string key = "pattern.extra_planes[" + std::to_string(i) + "]";
+    const YAML::Node pl = list[i];
+    if (!pl.IsMap())
+      throw InputError(r.file, key, "must be a map {point: [x, y, z], normal: [x, y, z]}",
+                       lineOf(pl));
+    r.keys(pl, key + ".", {"point", "normal"});
+    for (const char* k : {"point", "normal"})
+      if (!pl[k]) throw InputError(r.file, key + "." + k, "missing", lineOf(pl));
+    PhantomPlane p;
+    p.point = r.vec3(pl, "point", key + ".point", Vec3::Zero());
+    p.normal = r.vec3(pl, "normal", key + ".normal", Vec3::UnitZ(), true);
+    out.push_back(p);
+  }
+  return out;
 }
 
 }  // namespace
@@ -227,6 +261,7 @@ PhantomSpec readPhantomSpec(const std::string& path) {
   }
   s.shape = readShape(r, root);
   s.pattern = readPattern(r, root);
+  s.extra_planes = readExtraPlanes(r, root);
 
   const YAML::Node im = r.map(root, "image", "image", false);
   r.keys(im, "image.", {"pixel_mm", "width", "height", "margin_px"});
@@ -259,6 +294,13 @@ PhantomSpec readPhantomSpec(const std::string& path) {
       r.number(dg, "pose_jitter_deg", "degradations.pose_jitter_deg", 0.0, 0, false, 45);
   d.drop_probability =
       r.number(dg, "drop_probability", "degradations.drop_probability", 0.0, 0, false, 0.99);
+  if (s.shape.label_split)
+    for (const char* key : {"noise_sigma", "speckle", "blur_sigma_px"})
+      if (dg[key] && r.number(dg, key, std::string("degradations.") + key, 0.0) > 0)
+        throw InputError(path, std::string("degradations.") + key,
+                         "must be 0 for a two-label phantom (shape.label_split): its pixel values "
+                         "are material labels",
+                         lineOf(dg[key]));
 
   const YAML::Node cfg = r.map(root, "config", "config", false);
   YAML::Emitter out;

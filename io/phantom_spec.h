@@ -9,6 +9,10 @@
 //     params: {major_radius: 12, minor_radius: 4}   # per kind, see geometry/phantom_shape.cpp
 //     [centre: [0, 0, 0]]           # world position of the shape's origin, mm
 //     [rotation_deg: [0, 0, 0]]     # xyz Euler angles: R = Rz * Ry * Rx
+//     [label_split: {[point: [0, 0, 0]], normal: [1, 0, 0]}]   # two-label phantom (shape frame):
+//                                   # label 1 where normal . (x - point) < 0, label 2 elsewhere;
+//                                   # images hold the labels (0 background), no intensity
+//                                   # degradations; config.yaml uses segmentation.method: labels
 //   pattern:
 //     kind: multiaxial              # parallel | multiaxial | random | fan | freehand
 //     parallel:   count, [direction: [0,0,1]], [spacing_mm | span_mm], [positions_mm: [...]],
@@ -18,6 +22,9 @@
 //     fan:        count, [axis: [0,0,1]], [span_deg: 180]
 //     freehand:   count, [direction: [0,0,1]], [span_mm], [tilt_deg: 3], [drift_mm: 1],
 //                 [sector: false], [sector_angle_deg: auto], [apex_px: height / 4]
+//     any kind:   [extra_planes: [{point: [x, y, z], normal: [nx, ny, nz]}, ...]]  # world frame:
+//                 planes added after the pattern's, each imaged around the projection of the
+//                 bounds' centre
 //   [image:]
 //     [pixel_mm: auto]              # auto = bounding-sphere diameter / 160
 //     [width: auto]                 # pixels, or auto = cover the bounding sphere's projection
@@ -36,6 +43,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "geometry/phantom_shape.h"
 #include "geometry/slicing_pattern.h"
@@ -51,11 +59,18 @@ struct PhantomDegradations {
   double drop_probability = 0.0;  ///< [0, 1)
 };
 
+/// A plane through `point` with unit `normal` (world, mm).
+struct PhantomPlane {
+  Vec3 point = Vec3::Zero();
+  Vec3 normal = Vec3::UnitZ();
+};
+
 struct PhantomSpec {
   std::string path;                 ///< the spec file
   std::uint64_t seed = 1;
   PhantomShape shape;               ///< validated and completed (defaults, vessel tubes)
   SlicingPattern pattern;
+  std::vector<PhantomPlane> extra_planes;  ///< pattern.extra_planes, after the pattern's planes
   ImageSpec image;                  ///< pixel_mm resolved (never auto)
   PhantomDegradations degradations;
   std::string config_yaml;          ///< the spec's `config:` map as YAML text ("{}" if absent)

@@ -106,12 +106,14 @@ std::vector<Vec3> zeroSetPoints(const SignedDistanceFn& sdf, const Vec3& lo, con
 
 SurfaceDistances distancesToImplicit(const TriangleMesh& mesh, const MeshDistance& meshQuery,
                                      const SignedDistanceFn& sdf, const Vec3& lo, const Vec3& hi,
-                                     const SamplingParams& params) {
+                                     const SamplingParams& params,
+                                     const SignedDistanceFn& distance) {
   SurfaceDistances out;
   std::size_t sampled = 0;
   const std::vector<Vec3> pts = samplesAndVertices(mesh, params.surface_samples, params.seed, &sampled);
   std::vector<double> d(pts.size());
-  forEachIndex(pts.size(), [&](std::size_t i) { d[i] = std::abs(sdf(pts[i])); });
+  const SignedDistanceFn& toTruth = distance ? distance : sdf;
+  forEachIndex(pts.size(), [&](std::size_t i) { d[i] = std::abs(toTruth(pts[i])); });
   out.mesh_to_truth = summarise(d, sampled);
 
   const std::vector<Vec3> truth =

@@ -53,9 +53,12 @@ std::vector<Vec3> zeroSetPoints(const SignedDistanceFn& sdf, const Vec3& lo, con
 /// distance to the mesh (via `meshQuery`, built on `mesh`) of zeroSetPoints in [lo, hi]; its
 /// mean is taken over an approximately area-uniform subset (the first point in each cube of a
 /// grid sized for about a fifth of the points, the mesh's area standing in for the truth's).
+/// `distance`, when given, is an exact unsigned distance to the zero set used for mesh -> truth
+/// (for truths whose sdf is only a lower bound).
 SurfaceDistances distancesToImplicit(const TriangleMesh& mesh, const MeshDistance& meshQuery,
                                      const SignedDistanceFn& sdf, const Vec3& lo, const Vec3& hi,
-                                     const SamplingParams& params);
+                                     const SamplingParams& params,
+                                     const SignedDistanceFn& distance = nullptr);
 
 /// Mesh against a reference mesh: samples and vertices of each measured against the other.
 SurfaceDistances distancesToMesh(const TriangleMesh& mesh, const MeshDistance& meshQuery,

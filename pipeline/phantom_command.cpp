@@ -1,10 +1,11 @@
 // `xsect phantom SPEC.yaml --out DIR` (GUIDE.md, command-line contract): renders a synthetic
 // phantom into DIR, written through StagedOutput so that DIR appears complete or not at all:
-//   images/NNN.png     8-bit slice images (NNN = frame index; dropped frames are not written)
+//   images/NNN.png     8-bit slice images (NNN = frame index; dropped frames are not written);
+//                      two-label phantoms (shape.label_split): label images, pixel = 0, 1 or 2
 //   images/fov.png     the shared sector field of view (freehand with sector: true)
 //   slices.yaml        the slices with their RECORDED poses (true pose + tracking jitter)
 //   true_poses.yaml    the same slices with their true poses (what the images were rendered from)
-//   truth.yaml         the analytic shape, its Betti numbers and reach
+//   truth.yaml         the analytic shape, its Betti numbers (and each material's) and reach
 //   config.yaml        a run configuration for `xsect run`, merged with the spec's `config:` map
 #include <yaml-cpp/yaml.h>
 
@@ -71,7 +72,9 @@ std::string configYaml(const PhantomSpec& spec, const Vec3& bmin, const Vec3& bm
   YAML::Node c(YAML::NodeType::Map);
   c["input"]["slices"] = "slices.yaml";
   const auto& d = spec.degradations;
-  if (d.noise_sigma > 0 || d.speckle > 0) {
+  if (spec.shape.label_split) {
+    c["segmentation"]["method"] = "labels";
+  } else if (d.noise_sigma > 0 || d.speckle > 0) {
     c["segmentation"]["method"] = "otsu";
     c["segmentation"]["sigma_px"] = "1.5";
   } else {
@@ -107,7 +110,23 @@ int phantomCommand(const PhantomOptions& options) {
   const PhantomSpec spec = readPhantomSpec(options.spec);
   Vec3 bmin, bmax;
   bounds(spec.shape, &bmin, &bmax);
-  const SlicePlan plan = planSlices(spec.pattern, spec.image, bmin, bmax, spec.seed);
+  SlicePlan plan = planSlices(spec.pattern, spec.image, bmin, bmax, spec.seed);
+  // Extra planes, imaged around the projection of the bounds' centre, as the patterns do.
+  for (const PhantomPlane& p : spec.extra_planes) {
+    Vec3 u, v;
+    planeFrame(p.normal, &u, &v);
+    const Vec3 n = u.cross(v), c = 0.5 * (bmin + bmax);
+    plan.poses.push_back(
+        centredPose(c - (c - p.point).dot(n) * n, u, v, plan.pixel_mm, plan.width, plan.height));
+  }
+  PhantomShape shape = spec.shape;
+  if (shape.label_split) {
+    try {
+      shape.label_betti = labelBettiNumbers(shape);
+    } catch (const std::runtime_error& e) {
+      throw InputError(spec.path, "shape.label_split", e.what());
+    }
+  }
   const int n = int(plan.poses.size());
   if (!options.quiet)
     std::cerr << "phantom: " << spec.shape.kind << ", " << spec.pattern.kind << " pattern, " << n
@@ -138,8 +157,11 @@ int phantomCommand(const PhantomOptions& options) {
   std::mutex progress;
   tbb::parallel_for(0, n, [&](int i) {
     if (!dropped[i]) {
-      const RenderedSlice r = renderSlice(spec.shape, plan.poses[i], plan.width, plan.height, fov,
-                                          spec.degradations, spec.seed, i);
+      const RenderedSlice r =
+          shape.label_split
+              ? renderLabelSlice(shape, plan.poses[i], plan.width, plan.height, fov)
+              : renderSlice(shape, plan.poses[i], plan.width, plan.height, fov, spec.degradations,
+                            spec.seed, i);
       clipped[i] = r.clipped;
       const fs::path file = out.file(imageName(i));
       if (!cv::imwrite(file.string(), r.image)) throw std::runtime_error("cannot write " + file.string());
@@ -171,7 +193,7 @@ int phantomCommand(const PhantomOptions& options) {
     throw InputError(spec.path, "degradations.drop_probability", "every frame was dropped");
   writeSlicesFile(out.file("slices.yaml").string(), recorded);
   writeSlicesFile(out.file("true_poses.yaml").string(), truth);
-  writeTruthFile(out.file("truth.yaml").string(), spec.shape);
+  writeTruthFile(out.file("truth.yaml").string(), shape);
   writeText(out.file("config.yaml"), configYaml(spec, bmin, bmax));
   out.commit();
 

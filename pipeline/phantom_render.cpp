@@ -8,6 +8,7 @@
 
 #include "geometry/plane_of_pose.h"
 #include "geometry/random_streams.h"
+#include "geometry/vessel_tree.h"
 
 namespace xsect {
 namespace {
@@ -16,18 +17,33 @@ constexpr std::uint64_t kNoiseStream = 0x6e6f697365ULL;   // "noise"
 constexpr std::uint64_t kJitterStream = 0x6a6974ULL;      // "jit"
 constexpr std::uint64_t kDropStream = 0x64726f70ULL;      // "drop"
 
-/// For a vessel tree, only the tubes that come within one pixel of the plane can change a
-/// clamped intensity (farther tubes give sdf >= pixel_mm, i.e. 0): dropping the others makes
-/// rendering ~N times faster and leaves every pixel value identical.
+/// For a vessel tree, the sdf is the minimum over junctions of a value that is at least the
+/// distance to the junction's nearest capsule minus its blend offset (vessel_tree.h). A junction
+/// whose capsules all stay farther than radius + offset + 2 pixels from the plane is >= 2 pixels
+/// everywhere on it, so it never decides a pixel below 1 pixel (the only ones not clamped to 0):
+/// dropping it makes rendering ~N times faster and leaves every pixel value identical. (Shapes
+/// without junctions, the plain union of capsules, drop tubes by the same rule.)
 PhantomShape cullTubes(const PhantomShape& shape, const Plane& plane, double pixel_mm) {
   if (shape.tubes.empty()) return shape;
-  PhantomShape out = shape;
-  out.tubes.clear();
-  for (const auto& t : shape.tubes) {
+  auto farFrom = [&](const PhantomShape::Tube& t, double margin) {
     const double da = plane.signedDistance(shape.centre + shape.rotation * t.a);
     const double db = plane.signedDistance(shape.centre + shape.rotation * t.b);
     const double d = (da > 0) != (db > 0) ? 0.0 : std::min(std::abs(da), std::abs(db));
-    if (d <= t.radius + 2.0 * pixel_mm) out.tubes.push_back(t);
+    return d > t.radius + margin;
+  };
+  PhantomShape out = shape;
+  if (shape.junctions.empty()) {
+    out.tubes.clear();
+    for (const auto& t : shape.tubes)
+      if (!farFrom(t, 2.0 * pixel_mm)) out.tubes.push_back(t);
+    return out;
+  }
+  const double margin = vesselBlendOffset(shape) + 2.0 * pixel_mm;
+  out.junctions.clear();
+  for (const auto& J : shape.junctions) {
+    bool near = !farFrom(shape.tubes[J.parent], margin);
+    for (const int c : J.children) near = near || !farFrom(shape.tubes[c], margin);
+    if (near) out.junctions.push_back(J);
   }
   return out;
 }
@@ -39,7 +55,9 @@ RenderedSlice renderSlice(const PhantomShape& shape, const Mat4& pose, int width
                           int index) {
   const double px = pose.block<3, 1>(0, 0).norm();
   const PhantomShape local = cullTubes(shape, planeOfPose(pose), px);
-  const bool noTubes = local.kind == "vessel_tree" && local.tubes.empty();
+  const bool noTubes =
+      local.kind == "vessel_tree" &&
+      (local.tubes.empty() || (!shape.junctions.empty() && local.junctions.empty()));
   cv::Mat img(height, width, CV_32F, cv::Scalar(0));
   std::vector<char> rowClipped(height, 0);
   const Vec3 o = pose.block<3, 1>(0, 3), du = pose.block<3, 1>(0, 0), dv = pose.block<3, 1>(0, 1);
@@ -81,6 +99,35 @@ RenderedSlice renderSlice(const PhantomShape& shape, const Mat4& pose, int width
   }
   img.convertTo(out.image, CV_8U);  // rounds and saturates to [0, 255]
   if (!fov.empty()) out.image.setTo(0, fov == 0);
+  return out;
+}
+
+RenderedSlice renderLabelSlice(const PhantomShape& shape, const Mat4& pose, int width, int height,
+                               const cv::Mat& fov) {
+  const double px = pose.block<3, 1>(0, 0).norm();
+  const PhantomShape local = cullTubes(shape, planeOfPose(pose), px);
+  const bool noTubes =
+      local.kind == "vessel_tree" &&
+      (local.tubes.empty() || (!shape.junctions.empty() && local.junctions.empty()));
+  RenderedSlice out;
+  out.image = cv::Mat(height, width, CV_8U, cv::Scalar(0));
+  if (noTubes) return out;
+  std::vector<char> rowClipped(height, 0);
+  const Vec3 o = pose.block<3, 1>(0, 3), du = pose.block<3, 1>(0, 0), dv = pose.block<3, 1>(0, 1);
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
+    for (int j = rows.begin(); j != rows.end(); ++j) {
+      std::uint8_t* row = out.image.ptr<std::uint8_t>(j);
+      const std::uint8_t* mask = fov.empty() ? nullptr : fov.ptr<std::uint8_t>(j);
+      for (int i = 0; i < width; ++i) {
+        const int label = materialLabel(local, o + double(i) * du + double(j) * dv);
+        if (label == 0) continue;
+        if (i == 0 || j == 0 || i == width - 1 || j == height - 1 || (mask && mask[i] == 0))
+          rowClipped[j] = 1;
+        if (!mask || mask[i] != 0) row[i] = std::uint8_t(label);
+      }
+    }
+  });
+  out.clipped = std::find(rowClipped.begin(), rowClipped.end(), 1) != rowClipped.end();
   return out;
 }
 

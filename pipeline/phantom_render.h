@@ -2,6 +2,7 @@
 // a plane through an analytic shape, then the degradations of real data. A pixel (i, j) at world
 // point p gets I = clamp(127.5 * (1 - sdf(p) / pixel_mm), 0, 255): an anti-aliased edge whose
 // 127.5 iso-line is the section boundary sdf = 0 (exactly, before degradations and rounding).
+// Two-label phantoms are rendered as label images instead: pixel = material label at p (0, 1, 2).
 #pragma once
 
 #include <cstdint>
@@ -31,6 +32,12 @@ struct RenderedSlice {
 RenderedSlice renderSlice(const PhantomShape& shape, const Mat4& pose, int width, int height,
                           const cv::Mat& fov, const PhantomDegradations& degr, std::uint64_t seed,
                           int index);
+
+/// The label image of a slice: CV_8UC1, pixel (i, j) = materialLabel(shape, p) at its centre p
+/// (0 background, 1 and 2 the materials of a label_split), 0 where `fov` is 0. No anti-aliasing
+/// and no degradations. Deterministic.
+RenderedSlice renderLabelSlice(const PhantomShape& shape, const Mat4& pose, int width, int height,
+                               const cv::Mat& fov);
 
 /// CV_8UC1 mask (255 inside the sector) of a fan-shaped field of view.
 cv::Mat sectorMask(const SectorFov& sector, int width, int height);

@@ -1,5 +1,7 @@
 // Phantom rendering and the `xsect phantom` command: the rendered section matches the analytic
-// one, renders and whole output folders are deterministic, degradations act as specified, and
+// one, renders and whole output folders are deterministic, degradations act as specified, extra
+// planes and two-label phantoms (label images, per-label Betti numbers) are written as specified,
+// truth files round-trip (reach interior / exterior, labels; older files still read), and
 // malformed specs give an InputError naming the key with no output folder left behind.
 #include <gtest/gtest.h>
 
@@ -7,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
@@ -18,6 +21,7 @@
 #include "io/phantom_spec.h"
 #include "io/slices_file.h"
 #include "io/truth_file.h"
+#include "geometry/vessel_tree.h"
 #include "pipeline/phantom_render.h"
 
 using namespace xsect;
@@ -133,6 +137,34 @@ TEST(PhantomRender, PoseJitterAndDrops) {
   EXPECT_NEAR(dropped, 300, 60);
 }
 
+TEST(PhantomRender, BlendedVesselTreeCullingKeepsEveryPixel) {
+  // The renderer skips junctions far from the plane: every pixel must equal the one computed
+  // from the whole tree.
+  PhantomShape s;
+  s.kind = "vessel_tree";
+  s.params = {{"length", 10}, {"radius", 1}, {"levels", 3}, {"blend_mm", 0.5}};
+  s.rotation = rotationFromEulerXyzDeg(Vec3(10, 20, 0));
+  s = completePhantomShape(s);
+  Vec3 u, v;
+  const Vec3 n = Vec3(0.3, -0.2, 1).normalized();
+  planeFrame(n, &u, &v);
+  for (const double z : {9.7, 10.4, 17.5, 23.0}) {
+    const double px = 0.1;
+    const Mat4 pose = centredPose(s.rotation * Vec3(0, 0, z), u, v, px, 240, 240);
+    const cv::Mat im = renderSlice(s, pose, 240, 240, cv::Mat(), {}, 1, 0).image;
+    int differ = 0, inside = 0;
+    for (int j = 0; j < 240; ++j)
+      for (int i = 0; i < 240; ++i) {
+        const Vec3 p = (pose * Eigen::Vector4d(i, j, 0, 1)).head<3>();
+        const float f = float(std::clamp(127.5 * (1.0 - signedDistance(s, p) / px), 0.0, 255.0));
+        differ += im.at<std::uint8_t>(j, i) != cv::saturate_cast<std::uint8_t>(f);
+        inside += f > 128;
+      }
+    EXPECT_EQ(differ, 0) << z;
+    EXPECT_GT(inside, 100) << z;
+  }
+}
+
 TEST(PhantomCommand, WritesACompleteRunnableFolder) {
   TempDir tmp;
   const fs::path spec = tmp.write("spec.yaml", kSphereSpec);
@@ -166,6 +198,9 @@ TEST(PhantomCommand, WritesACompleteRunnableFolder) {
   const YAML::Node truth = YAML::LoadFile((out / "truth.yaml").string());
   EXPECT_EQ(truth["betti"][2].as<int>(), 0);
   EXPECT_EQ(truth["reach_mm"].as<double>(), 6);
+  EXPECT_EQ(truth["reach_interior_mm"].as<double>(), 6);
+  EXPECT_EQ(truth["reach_exterior_mm"].as<std::string>(), ".inf");  // convex
+  EXPECT_FALSE(truth["labels"]);
   EXPECT_TRUE(truth["exact_distance"].as<bool>());
   const YAML::Node cfg = YAML::LoadFile((out / "config.yaml").string());
   EXPECT_EQ(cfg["input"]["slices"].as<std::string>(), "slices.yaml");
@@ -220,6 +255,14 @@ degradations: {noise_sigma: 8, speckle: 0.2, blur_sigma_px: 0.8, pose_jitter_mm:
   EXPECT_EQ(tree.tubes.size(), 7u);
   EXPECT_GT(tree.params.at("nominal_reach"), 0.0);
   EXPECT_FALSE(truth["exact_distance"].as<bool>());
+  // The smooth (default) tree: reach bounds recorded, read back as written.
+  EXPECT_EQ(truth["shape"]["params"]["blend_mm"].as<double>(), 0.5);
+  EXPECT_GT(truth["reach_exterior_mm"].as<double>(), 0.0);
+  EXPECT_EQ(*tree.reach_interior_mm, truth["reach_interior_mm"].as<double>());
+  EXPECT_EQ(*tree.reach_exterior_mm, truth["reach_exterior_mm"].as<double>());
+  EXPECT_EQ(truth["reach_mm"].as<double>(),
+            std::min(*tree.reach_interior_mm, *tree.reach_exterior_mm));
+  EXPECT_EQ(tree.junctions.size(), 3u);
 }
 
 TEST(PhantomCommand, MalformedSpecsNameTheKeyAndLeaveNoFolder) {
@@ -248,6 +291,40 @@ TEST(PhantomCommand, MalformedSpecsNameTheKeyAndLeaveNoFolder) {
        "pattern.kind"},
       {"shape: {kind: sphere, params: {radius: 3}}\npattern: {kind: random, count: 3}\n"
        "image: {pixel_mm: -1}\n", "image.pixel_mm"},
+      {"shape: {kind: vessel_tree, params: {length: 10, radius: 1, blend_mm: -1}}\n"
+       "pattern: {kind: random, count: 3}\n", "shape.params.blend_mm"},
+      {"shape: {kind: sphere, params: {radius: 3}, label_split: {point: [0, 0, 0]}}\n"
+       "pattern: {kind: random, count: 3}\n", "shape.label_split.normal"},
+      {"shape: {kind: sphere, params: {radius: 3}, label_split: {normal: [0, 0, 0]}}\n"
+       "pattern: {kind: random, count: 3}\n", "shape.label_split.normal"},
+      {"shape: {kind: sphere, params: {radius: 3}, label_split: {normal: [1, 0, 0], side: 2}}\n"
+       "pattern: {kind: random, count: 3}\n", "shape.label_split.side"},
+      {"shape: {kind: sphere, params: {radius: 3}, label_split: [1, 0, 0]}\n"
+       "pattern: {kind: random, count: 3}\n", "shape.label_split"},
+      {"shape: {kind: sphere, params: {radius: 3}, label_split: {normal: [1, 0, 0]}}\n"
+       "pattern: {kind: random, count: 3}\ndegradations: {noise_sigma: 5}\n",
+       "degradations.noise_sigma"},
+      {"shape: {kind: sphere, params: {radius: 3}, label_split: {normal: [1, 0, 0]}}\n"
+       "pattern: {kind: random, count: 3}\ndegradations: {blur_sigma_px: 1}\n",
+       "degradations.blur_sigma_px"},
+      {"shape: {kind: sphere, params: {radius: 3}}\n"
+       "pattern: {kind: random, count: 3, extra_planes: {point: [0, 0, 0]}}\n",
+       "pattern.extra_planes"},
+      {"shape: {kind: sphere, params: {radius: 3}}\n"
+       "pattern: {kind: random, count: 3, extra_planes: []}\n", "pattern.extra_planes"},
+      {"shape: {kind: sphere, params: {radius: 3}}\n"
+       "pattern: {kind: random, count: 3, extra_planes: [{point: [0, 0, 0]}]}\n",
+       "pattern.extra_planes[0].normal"},
+      {"shape: {kind: sphere, params: {radius: 3}}\n"
+       "pattern: {kind: fan, count: 3, extra_planes: [{point: [0, 0, 0], normal: [0, 0, 1]}, "
+       "{point: [0, 0], normal: [0, 0, 1]}]}\n", "pattern.extra_planes[1].point"},
+      {"shape: {kind: sphere, params: {radius: 3}}\n"
+       "pattern: {kind: parallel, count: 3, extra_planes: [{point: [0, 0, 0], "
+       "normal: [0, 0, 0]}]}\n",
+       "pattern.extra_planes[0].normal"},
+      {"shape: {kind: sphere, params: {radius: 3}}\n"
+       "pattern: {kind: random, count: 3, extra_planes: [{point: [0, 0, 0], normal: [0, 0, 1], "
+       "tilt: 2}]}\n", "pattern.extra_planes[0].tilt"},
   };
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const fs::path spec = tmp.write("bad" + std::to_string(i) + ".yaml", cases[i].spec);
@@ -304,6 +381,219 @@ TEST(PhantomCommand, TruthFileRoundTripsAndRejectsBadInput) {
   expectError(replaced("betti: [1, 2, 0]", "betti: [1, 2]"), "betti");
   expectError(replaced("exact_distance: true", "exact_distance: maybe"), "exact_distance");
   expectError(replaced("reach_mm: 2.5\n", ""), "reach_mm");
+  expectError(replaced("reach_interior_mm: 2.5", "reach_interior_mm: -1"), "reach_interior_mm");
+  expectError(replaced("reach_exterior_mm: 2.5", "reach_exterior_mm: far"), "reach_exterior_mm");
+  expectError(replaced("reach_mm: 2.5\n", "reach_mm: 2.5\nlabels: {1: {betti: [1, 0, 0]}}\n"),
+              "labels");  // labels without a label_split
+  // reach_interior_mm and reach_exterior_mm are read back; files without them still read.
+  EXPECT_EQ(*back.reach_interior_mm, 2.5);
+  EXPECT_EQ(*back.reach_exterior_mm, 2.5);
+  const fs::path old = tmp.write(
+      "old.yaml", replaced("reach_interior_mm: 2.5\nreach_exterior_mm: 2.5\n", ""));
+  const PhantomShape fromOld = readTruthFile(old.string());
+  EXPECT_FALSE(fromOld.reach_interior_mm.has_value());
+  EXPECT_EQ(reachInterior(fromOld), 2.5);
+}
+
+TEST(PhantomCommand, TruthFileOfATwoLabelPhantomRoundTrips) {
+  TempDir tmp;
+  PhantomShape s;
+  s.kind = "torus";
+  s.params = {{"major_radius", 8}, {"minor_radius", 2}};
+  s.rotation = rotationFromEulerXyzDeg(Vec3(0, 30, 0));
+  s.label_split = PhantomShape::LabelSplit{Vec3(0, 0, 0.5), Vec3(0, 1, 0)};
+  writeTruthFile((tmp.path / "t.yaml").string(), s);
+  const YAML::Node y = YAML::LoadFile((tmp.path / "t.yaml").string());
+  EXPECT_EQ(y["labels"][1]["betti"][0].as<int>(), 1);
+  EXPECT_EQ(y["labels"][2]["betti"][1].as<int>(), 0);
+  EXPECT_EQ(y["betti"][1].as<int>(), 1);  // the union: a torus
+  EXPECT_EQ(y["reach_exterior_mm"].as<double>(), 6);
+  const PhantomShape back = readTruthFile((tmp.path / "t.yaml").string());
+  ASSERT_TRUE(back.label_split.has_value());
+  EXPECT_EQ(back.label_split->point, Vec3(0, 0, 0.5));
+  EXPECT_EQ(back.label_split->normal, Vec3(0, 1, 0));
+  ASSERT_TRUE(back.label_betti.has_value());
+  EXPECT_EQ(back.label_betti->at(1), (Betti{1, 0, 0}));
+  EXPECT_EQ(back.label_betti->at(2), (Betti{1, 0, 0}));
+  const std::string good = readAll(tmp.path / "t.yaml");
+  auto expectError = [&](const std::string& from, const std::string& to, const std::string& key) {
+    std::string t = good;
+    const auto at = t.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    const fs::path p = tmp.write("bad.yaml", t.replace(at, from.size(), to));
+    try {
+      readTruthFile(p.string());
+      ADD_FAILURE() << "accepted: " << to;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), key) << e.what();
+    }
+  };
+  expectError("normal: [0, 1, 0]", "normal: [0, 0, 0]", "shape.label_split.normal");
+  expectError("normal: [0, 1, 0]", "normal: [0, 1]", "shape.label_split.normal");
+  expectError("point: [0, 0, 0.5]", "point: [0, 0, 0.5], side: 1", "shape.label_split.side");
+  expectError("1: {betti: [1, 0, 0]}", "3: {betti: [1, 0, 0]}", "labels.3");
+  expectError("1: {betti: [1, 0, 0]}", "1: {betti: [1, -1, 0]}", "labels.1.betti[1]");
+  expectError("1: {betti: [1, 0, 0]}", "1: [1, 0, 0]", "labels.1");
+}
+
+TEST(PhantomCommand, OldVesselTreeTruthFilesAreUnionsOfCapsules) {
+  // Files written before blending (no blend_mm, no reach_interior_mm / reach_exterior_mm)
+  // describe the union of their capsules.
+  TempDir tmp;
+  PhantomShape s;
+  s.kind = "vessel_tree";
+  s.params = {{"length", 10}, {"radius", 1}, {"levels", 2}};
+  s = completePhantomShape(s);
+  ASSERT_GT(s.params.at("blend_mm"), 0.0);
+  writeTruthFile((tmp.path / "t.yaml").string(), s);
+  std::istringstream lines(readAll(tmp.path / "t.yaml"));
+  std::string text, line;
+  int dropped = 0;
+  while (std::getline(lines, line)) {
+    const bool drop = line.find("blend_mm:") != std::string::npos ||
+                      line.find("reach_interior_mm:") != std::string::npos ||
+                      line.find("reach_exterior_mm:") != std::string::npos;
+    dropped += drop;
+    if (!drop) text += line + "\n";
+  }
+  ASSERT_EQ(dropped, 3);
+  const PhantomShape old = readTruthFile(tmp.write("old.yaml", text).string());
+  EXPECT_EQ(old.params.at("blend_mm"), 0.0);
+  EXPECT_EQ(reachExterior(old), 0.0);  // creases
+  for (double z = -1; z < 20; z += 0.37) {
+    const Vec3 x(0.3 * z - 2, 0.7, z);
+    double capsules = INFINITY;
+    for (const auto& t : old.tubes) {
+      const Vec3 d = t.b - t.a;
+      const double u = std::clamp((x - t.a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+      capsules = std::min(capsules, (t.a + u * d - x).norm() - t.radius);
+    }
+    EXPECT_EQ(signedDistance(old, x), capsules);
+  }
+  // The written file itself reads back as the blended tree.
+  const PhantomShape now = readTruthFile((tmp.path / "t.yaml").string());
+  EXPECT_EQ(now.params.at("blend_mm"), 0.5);
+  EXPECT_EQ(now.tubes.size(), s.tubes.size());
+  EXPECT_EQ(signedDistance(now, s.tubes[0].b), signedDistance(s, s.tubes[0].b));
+}
+
+TEST(PhantomCommand, TwoLabelPhantomWritesLabelImages) {
+  TempDir tmp;
+  const fs::path spec = tmp.write("spec.yaml", R"(seed: 2
+shape:
+  kind: torus
+  params: {major_radius: 6, minor_radius: 2}
+  rotation_deg: [20, 10, 0]
+  label_split: {normal: [1, 0, 0]}
+pattern: {kind: multiaxial, count: 3}
+image: {pixel_mm: 0.25}
+degradations: {pose_jitter_mm: 0.1}
+)");
+  const fs::path out = tmp.path / "out";
+  const RunResult r = runXsect("phantom " + spec.string() + " --out " + out.string() + " -q",
+                               tmp.path / "err.txt");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto slices = readSlicesFile((out / "slices.yaml").string());
+  ASSERT_EQ(slices.size(), 9u);
+  std::set<int> seen;
+  int touching = 0;
+  for (const auto& sl : slices) {
+    const cv::Mat im = cv::imread(sl.image_resolved, cv::IMREAD_UNCHANGED);
+    ASSERT_EQ(im.type(), CV_8UC1);
+    for (int j = 0; j < im.rows; ++j)
+      for (int i = 0; i < im.cols; ++i) {
+        const int v = im.at<std::uint8_t>(j, i);
+        ASSERT_LE(v, 2) << sl.image;
+        seen.insert(v);
+        // Label 1 and label 2 pixels meet along the split line.
+        if (i + 1 < im.cols && v * im.at<std::uint8_t>(j, i + 1) == 2) ++touching;
+        if (j + 1 < im.rows && v * im.at<std::uint8_t>(j + 1, i) == 2) ++touching;
+      }
+  }
+  EXPECT_EQ(seen, (std::set<int>{0, 1, 2}));
+  EXPECT_GT(touching, 20);
+  const YAML::Node cfg = YAML::LoadFile((out / "config.yaml").string());
+  EXPECT_EQ(cfg["segmentation"]["method"].as<std::string>(), "labels");
+  EXPECT_FALSE(cfg["segmentation"]["threshold"]);
+  const YAML::Node truth = YAML::LoadFile((out / "truth.yaml").string());
+  EXPECT_EQ(truth["betti"][1].as<int>(), 1);
+  for (const int l : {1, 2}) {
+    EXPECT_EQ(truth["labels"][l]["betti"][0].as<int>(), 1) << l;  // two C-shaped halves
+    EXPECT_EQ(truth["labels"][l]["betti"][1].as<int>(), 0) << l;
+  }
+  const PhantomShape t = readTruthFile((out / "truth.yaml").string());
+  ASSERT_TRUE(t.label_split.has_value());
+  EXPECT_EQ(t.label_split->normal, Vec3(1, 0, 0));
+  // The render itself: label 1 on the negative side of the split.
+  const Mat4 pose = centredPose(Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY(), 0.25, 81, 81);
+  PhantomShape flat = t;
+  flat.rotation.setIdentity();
+  const RenderedSlice lab = renderLabelSlice(flat, pose, 81, 81, cv::Mat());
+  EXPECT_EQ(lab.image.at<std::uint8_t>(40, 40 - 24), 1);  // x = -6 mm, on the core circle
+  EXPECT_EQ(lab.image.at<std::uint8_t>(40, 40 + 24), 2);
+  EXPECT_EQ(lab.image.at<std::uint8_t>(40, 40), 0);  // the hole
+  EXPECT_FALSE(lab.clipped);
+}
+
+TEST(PhantomCommand, ExtraPlanesAreAddedAfterThePattern) {
+  TempDir tmp;
+  const fs::path spec = tmp.write("spec.yaml", R"(shape: {kind: sphere, params: {radius: 4}}
+pattern:
+  kind: multiaxial
+  counts: [0, 0, 3]
+  extra_planes:
+    - {point: [0, 0, 5], normal: [0, 0, 2]}
+    - {point: [1, 2, 3], normal: [1, 1, 0]}
+image: {pixel_mm: 0.2}
+)");
+  const PhantomSpec ps = readPhantomSpec(spec.string());
+  ASSERT_EQ(ps.extra_planes.size(), 2u);
+  EXPECT_EQ(ps.extra_planes[0].normal, Vec3(0, 0, 1));  // normalised
+  const fs::path out = tmp.path / "out";
+  const RunResult r = runXsect("phantom " + spec.string() + " --out " + out.string() + " -q",
+                               tmp.path / "err.txt");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto slices = readSlicesFile((out / "slices.yaml").string());
+  ASSERT_EQ(slices.size(), 5u);
+  const Plane a = planeOfPose(slices[3].image_to_world), b = planeOfPose(slices[4].image_to_world);
+  EXPECT_NEAR(a.normal.dot(Vec3(0, 0, 1)), 1.0, 1e-12);
+  EXPECT_NEAR(a.signedDistance(Vec3(0, 0, 5)), 0.0, 1e-9);
+  EXPECT_NEAR(b.normal.dot(Vec3(1, 1, 0).normalized()), 1.0, 1e-12);
+  EXPECT_NEAR(b.signedDistance(Vec3(1, 2, 3)), 0.0, 1e-9);
+  // The plane z = 5 misses the sphere: an empty image.
+  EXPECT_EQ(cv::countNonZero(cv::imread(slices[3].image_resolved, cv::IMREAD_UNCHANGED)), 0);
+  EXPECT_GT(cv::countNonZero(cv::imread(slices[4].image_resolved, cv::IMREAD_UNCHANGED)), 100);
+}
+
+TEST(PhantomCommand, SparseVesselTreeSpecHasEmptyPlanesBesideTheTree) {
+  const PhantomSpec ps = readPhantomSpec(
+      (fs::path(XSECT_SOURCE_DIR) / "configs/phantoms/vessel-tree-sparse.yaml").string());
+  const PhantomShape& s = ps.shape;
+  EXPECT_GT(reachInterior(s), 0.9);
+  EXPECT_GT(reachExterior(s), 1.0);
+  ASSERT_EQ(ps.extra_planes.size(), 3u);
+  Vec3 lo, hi;
+  bounds(s, &lo, &hi);
+  const Vec3 c = 0.5 * (lo + hi);
+  const double half = 0.5 * (hi - lo).norm();
+  for (const auto& pl : ps.extra_planes) {
+    Vec3 u, v;
+    planeFrame(pl.normal, &u, &v);
+    const Vec3 o = c - (c - pl.point).dot(pl.normal) * pl.normal;
+    double nearest = INFINITY, lowest = INFINITY;
+    for (double a = -half; a <= half; a += 0.2)
+      for (double b = -half; b <= half; b += 0.2) {
+        const Vec3 x = o + a * u + b * v;
+        const double f = signedDistance(s, x);
+        lowest = std::min(lowest, f);
+        if (f < 2.5) nearest = std::min(nearest, (x - closestBoundaryPoint(s, x)).norm());
+      }
+    EXPECT_GT(lowest, 0.0) << pl.point.transpose();  // the plane misses the tree
+    EXPECT_GE(nearest, 1.0) << pl.point.transpose();
+    EXPECT_LE(nearest, 2.0) << pl.point.transpose();
+  }
+  // The pattern's planes are 5 mm apart and all cut the tree.
+  EXPECT_EQ(ps.pattern.positions_mm.size(), 9u);
 }
 
 TEST(PhantomCommand, ExampleSpecsAreValid) {
@@ -314,5 +604,5 @@ TEST(PhantomCommand, ExampleSpecsAreValid) {
     const PhantomSpec s = readPhantomSpec(e.path().string());
     EXPECT_FALSE(checkPhantomShape(s.shape).has_value()) << e.path();
   }
-  EXPECT_GE(n, 11);
+  EXPECT_GE(n, 13);
 }

@@ -1,12 +1,15 @@
 // Phantom shapes and slicing patterns (geometry/phantom_shape.h, geometry/slicing_pattern.h):
-// exactness of the signed distances, known values, bounds, validation, the vessel tree's
-// clearance, the Fig. 1.11 pair's shared sections, and the geometry of every slicing pattern.
+// exactness of the signed distances, known values (reach interior / exterior), nearest boundary
+// points, bounds, validation, the vessel tree's clearance, its blended junctions (no creases,
+// reach bounds that hold, Betti numbers, blend 0 = the union of capsules), two-label shapes, the
+// Fig. 1.11 pair's shared sections, and the geometry of every slicing pattern.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
 #include <cmath>
 #include <random>
 
+#include "geometry/digital_topology.h"
 #include "geometry/ellipsoid_distance.h"
 #include "geometry/phantom_shape.h"
 #include "geometry/plane_of_pose.h"
@@ -122,6 +125,34 @@ TEST(PhantomShapes, KnownValues) {
   EXPECT_DOUBLE_EQ(reach(s[3]), 2.5);
   EXPECT_DOUBLE_EQ(reach(s[4]), 2);
   EXPECT_DOUBLE_EQ(reach(s[5]), 2);
+  // Interior / exterior: inner and outer medial axes.
+  EXPECT_DOUBLE_EQ(reachInterior(s[0]), 7);
+  EXPECT_TRUE(std::isinf(reachExterior(s[0])));  // convex: no outer medial axis
+  EXPECT_DOUBLE_EQ(reachInterior(s[1]), 16.0 / 9.0);
+  EXPECT_TRUE(std::isinf(reachExterior(s[1])));
+  EXPECT_DOUBLE_EQ(reachInterior(s[2]), 3);        // the core circle
+  EXPECT_DOUBLE_EQ(reachExterior(s[2]), 7);        // the axis of the hole
+  EXPECT_DOUBLE_EQ(reachInterior(s[3]), 2.5);
+  EXPECT_DOUBLE_EQ(reachExterior(s[3]), 2.5);
+  EXPECT_DOUBLE_EQ(reachInterior(s[4]), 2);        // the middle sphere
+  EXPECT_DOUBLE_EQ(reachExterior(s[4]), 6);        // the cavity's centre
+  EXPECT_DOUBLE_EQ(reachInterior(s[5]), 5);
+  EXPECT_DOUBLE_EQ(reachExterior(s[5]), 2);        // half the gap
+}
+
+TEST(PhantomShapes, ClosestBoundaryPointOfExactShapesMatchesTheDistance) {
+  std::mt19937_64 rng(21);
+  for (const auto& s : exactShapes()) {
+    Vec3 lo, hi;
+    bounds(s, &lo, &hi);
+    for (int k = 0; k < 200; ++k) {
+      const Vec3 x = randomIn(rng, lo - Vec3::Constant(3), hi + Vec3::Constant(3));
+      const Vec3 p = closestBoundaryPoint(s, x);
+      EXPECT_NEAR(signedDistance(s, p), 0.0, 1e-8) << s.kind;
+      EXPECT_NEAR((x - p).norm(), std::abs(signedDistance(s, x)), 1e-6)
+          << s.kind << " " << x.transpose();
+    }
+  }
 }
 
 TEST(PhantomShapes, EllipsoidMatchesBruteForceClosestPoint) {
@@ -234,10 +265,243 @@ TEST(PhantomShapes, VesselTreeBranchesOnlyTouchAtJunctions) {
   }
   const auto again = growVesselTree(p);
   for (std::size_t i = 0; i < tubes.size(); ++i) EXPECT_EQ(tubes[i].b, again[i].b);
-  const auto shape = make("vessel_tree", {{"length", 10}, {"radius", 1}, {"levels", 2}});
-  EXPECT_EQ(reach(shape), 0.0);
+  const auto shape =
+      make("vessel_tree", {{"length", 10}, {"radius", 1}, {"levels", 2}, {"blend_mm", 0}});
+  EXPECT_EQ(reach(shape), 0.0);  // creases at the junctions
+  EXPECT_EQ(reachExterior(shape), 0.0);
+  EXPECT_DOUBLE_EQ(reachInterior(shape), 1.0 * 0.85 * 0.85);
   EXPECT_DOUBLE_EQ(shape.params.at("nominal_reach"), 1.0 * 0.85 * 0.85);
   EXPECT_EQ(bettiNumbers(shape), (Betti{1, 0, 0}));
+  const auto smooth = make("vessel_tree", {{"length", 10}, {"radius", 1}, {"levels", 2}});
+  EXPECT_EQ(smooth.params.at("blend_mm"), 0.5);  // smooth by default
+  EXPECT_GT(reach(smooth), 0.0);
+}
+
+// ---- the blended vessel tree -------------------------------------------------------------------
+
+namespace {
+
+/// Two blended trees: the default fillet (0.5 mm) on thin 30-degree branches, and a wide fillet
+/// (2 mm) on 45-degree branches (the vessel-tree-sparse phantom), both placed off the origin.
+std::vector<PhantomShape> blendedTrees() {
+  const Vec3 c(1, 2, 3), e(10, -20, 30);
+  return {make("vessel_tree", {{"length", 10}, {"radius", 1}, {"levels", 3}}, c, e),
+          make("vessel_tree", {{"length", 20}, {"radius", 1.5}, {"levels", 2},
+                               {"branch_angle_deg", 45}, {"blend_mm", 2}}, c, e)};
+}
+
+/// Boundary points near the junctions (where the blends act): nearest boundary points of random
+/// points within 1.5 mm of a junction point.
+std::vector<Vec3> junctionBoundaryPoints(const PhantomShape& s, int n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  std::vector<Vec3> out;
+  while (int(out.size()) < n) {
+    const auto& J = s.junctions[rng() % s.junctions.size()];
+    if (J.children.empty()) continue;
+    const Vec3 x = s.centre + s.rotation * (s.tubes[J.parent].b + Vec3(u(rng), u(rng), u(rng)));
+    out.push_back(closestBoundaryPoint(s, x));
+  }
+  return out;
+}
+
+/// Nearest boundary point (brute force) among dense boundary samples: Newton projections of a
+/// grid of spacing h over the box [lo, hi].
+std::vector<Vec3> denseBoundary(const PhantomShape& s, const Vec3& lo, const Vec3& hi, double h) {
+  std::vector<Vec3> out;
+  for (double x = lo.x(); x <= hi.x(); x += h)
+    for (double y = lo.y(); y <= hi.y(); y += h)
+      for (double z = lo.z(); z <= hi.z(); z += h) {
+        Vec3 p(x, y, z);
+        if (std::abs(signedDistance(s, p)) > 1.5 * h) continue;
+        for (int it = 0; it < 30; ++it) {
+          const double f = signedDistance(s, p);
+          if (std::abs(f) < 1e-12) break;
+          const Vec3 g = gradient(s, p);
+          p -= f / g.squaredNorm() * g;
+        }
+        if (std::abs(signedDistance(s, p)) < 1e-9) out.push_back(p);
+      }
+  return out;
+}
+
+}  // namespace
+
+TEST(PhantomShapes, BlendZeroIsTheUnionOfCapsules) {
+  VesselTreeParams p;
+  p.length = 10;
+  p.radius = 1;
+  p.levels = 3;
+  const auto grown = growVesselTree(p);
+  const auto s =
+      make("vessel_tree", {{"length", 10}, {"radius", 1}, {"levels", 3}, {"blend_mm", 0}},
+           Vec3(1, 2, 3), Vec3(10, -20, 30));
+  ASSERT_EQ(s.tubes.size(), grown.size());
+  for (std::size_t i = 0; i < grown.size(); ++i) {
+    EXPECT_EQ(s.tubes[i].a, grown[i].a);
+    EXPECT_EQ(s.tubes[i].b, grown[i].b);
+  }
+  std::mt19937_64 rng(4);
+  Vec3 lo, hi;
+  bounds(s, &lo, &hi);
+  for (int k = 0; k < 5000; ++k) {
+    const Vec3 x = randomIn(rng, lo - Vec3::Constant(2), hi + Vec3::Constant(2));
+    const Vec3 q = s.rotation.transpose() * (x - s.centre);
+    double capsules = INFINITY;
+    for (const auto& t : s.tubes) {
+      const Vec3 d = t.b - t.a;
+      const double u = std::clamp((q - t.a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+      capsules = std::min(capsules, (t.a + u * d - q).norm() - t.radius);
+    }
+    EXPECT_EQ(signedDistance(s, x), capsules) << x.transpose();
+  }
+  EXPECT_FALSE(hasExactDistance(s));
+}
+
+TEST(PhantomShapes, BlendedVesselTreeHasNoCrease) {
+  // On a C^{1,1} surface the normal turns by at most |p - p'| / reach between nearby boundary
+  // points; across a crease it turns by a finite angle however close they are.
+  auto maxTurnRate = [](const PhantomShape& s, const std::vector<Vec3>& pts, double eps) {
+    double rate = 0;
+    for (const Vec3& p : pts) {
+      const Vec3 n = gradient(s, p).normalized();
+      const Vec3 t1 = n.unitOrthogonal(), t2 = n.cross(t1);
+      for (int a = 0; a < 8; ++a) {
+        const Vec3 dir = std::cos(a * M_PI / 4) * t1 + std::sin(a * M_PI / 4) * t2;
+        const Vec3 q = closestBoundaryPoint(s, p + eps * dir);
+        const double d = (q - p).norm();
+        if (d < 0.1 * eps) continue;
+        rate = std::max(rate, (gradient(s, q).normalized() - n).norm() / d);
+      }
+    }
+    return rate;
+  };
+  for (const auto& s : blendedTrees()) {
+    const double r = reach(s);
+    ASSERT_GT(r, 0.0);
+    const auto pts = junctionBoundaryPoints(s, 300, 5);
+    for (const double eps : {1e-2, 1e-3}) {
+      const double rate = maxTurnRate(s, pts, eps);
+      EXPECT_LT(rate, 1.05 / r) << "blend " << s.params.at("blend_mm") << " eps " << eps;
+    }
+  }
+  // The same probe finds the creases of the plain union of capsules.
+  const auto creased = make("vessel_tree", {{"length", 10}, {"radius", 1}, {"levels", 3},
+                                            {"blend_mm", 0}}, Vec3(1, 2, 3), Vec3(10, -20, 30));
+  EXPECT_GT(maxTurnRate(creased, junctionBoundaryPoints(creased, 300, 5), 1e-3), 50.0);
+}
+
+TEST(PhantomShapes, BlendedVesselTreeReachBoundsHold) {
+  // From a boundary point p with outer normal n, the points p - t n (0 < t < reach_i) and
+  // p + t n (0 < t < reach_e) have p as their nearest boundary point.
+  for (const auto& s : blendedTrees()) {
+    const double ri = reachInterior(s), re = reachExterior(s);
+    ASSERT_GT(ri, 0.0);
+    ASSERT_GT(re, 0.0);
+    EXPECT_LE(ri, s.params.at("nominal_reach"));  // never above the thinnest tube's radius
+    std::vector<Vec3> pts = junctionBoundaryPoints(s, 1500, 7);
+    std::mt19937_64 rng(9);
+    Vec3 lo, hi;
+    bounds(s, &lo, &hi);
+    while (pts.size() < 2500) {  // and anywhere on the tree
+      const Vec3 x = randomIn(rng, lo, hi);
+      if (std::abs(signedDistance(s, x)) < 1.0) pts.push_back(closestBoundaryPoint(s, x));
+    }
+    int tooFar = 0;
+    for (const Vec3& p : pts) {
+      const Vec3 n = gradient(s, p).normalized();
+      EXPECT_LT((closestBoundaryPoint(s, p - 0.9 * ri * n) - p).norm(), 1e-3)
+          << "inside, from " << p.transpose();
+      EXPECT_LT((closestBoundaryPoint(s, p + 0.9 * re * n) - p).norm(), 1e-3)
+          << "outside, from " << p.transpose();
+      tooFar += (closestBoundaryPoint(s, p + 2.0 * re * n) - p).norm() > 1e-2;
+    }
+    EXPECT_GT(tooFar, 0) << "reach_e is not within a factor 2 of tight";
+  }
+}
+
+TEST(PhantomShapes, BlendedVesselTreeClosestPointMatchesBruteForce) {
+  const auto s = blendedTrees()[1];
+  const auto& J = s.junctions[0];  // the root's junction, the trunk's end
+  const Vec3 c = s.centre + s.rotation * s.tubes[J.parent].b;
+  const std::vector<Vec3> dense =
+      denseBoundary(s, c - Vec3::Constant(3.5), c + Vec3::Constant(3.5), 0.05);
+  ASSERT_GT(dense.size(), 10000u);
+  std::mt19937_64 rng(13);
+  for (int k = 0; k < 150; ++k) {
+    const Vec3 x = randomIn(rng, c - Vec3::Constant(2), c + Vec3::Constant(2));
+    const double d = (x - closestBoundaryPoint(s, x)).norm();
+    double brute = INFINITY;
+    for (const Vec3& p : dense) brute = std::min(brute, (p - x).norm());
+    EXPECT_LE(d, brute + 1e-9) << x.transpose();
+    // The dense samples are within ~h = 0.05 mm of every boundary point, sideways.
+    EXPECT_LE(brute * brute, d * d + 0.05 * 0.05) << x.transpose();
+    EXPECT_GE(d + 1e-12, std::abs(signedDistance(s, x))) << x.transpose();  // sdf is conservative
+  }
+}
+
+TEST(PhantomShapes, BlendedVesselTreeIsContractible) {
+  // Voxel Betti numbers of the solid sampled at 0.1 mm (a quarter of its reach, ~0.4 mm).
+  const auto s = make("vessel_tree", {{"length", 6}, {"radius", 0.6}, {"levels", 2},
+                                      {"blend_mm", 1}, {"branch_angle_deg", 45}});
+  ASSERT_GT(reach(s), 0.35);
+  Vec3 lo, hi;
+  bounds(s, &lo, &hi);
+  GridSpec g;
+  g.voxel = 0.1;
+  g.origin = lo - Vec3::Constant(0.1);
+  for (int c = 0; c < 3; ++c) g.dims[c] = int(std::ceil((hi[c] - lo[c]) / g.voxel)) + 5;
+  std::vector<std::uint8_t> in(std::size_t(g.count()));
+  for (int k = 0; k < g.dims[2]; ++k)
+    for (int j = 0; j < g.dims[1]; ++j)
+      for (int i = 0; i < g.dims[0]; ++i)
+        in[std::size_t(g.index(i, j, k))] = signedDistance(s, g.centre(i, j, k)) < 0;
+  EXPECT_EQ(voxelBetti(in, g), (Betti{1, 0, 0}));
+  EXPECT_EQ(bettiNumbers(s), (Betti{1, 0, 0}));
+}
+
+TEST(PhantomShapes, VesselTreeBlendKeepsJunctionsApart) {
+  // Tubes that share no junction keep 3 blend widths between their capsules.
+  const auto s = blendedTrees()[0];
+  const double k = s.params.at("blend_mm");
+  for (std::size_t i = 0; i < s.tubes.size(); ++i)
+    for (std::size_t j = i + 1; j < s.tubes.size(); ++j) {
+      bool adjacent = false;
+      for (const auto& J : s.junctions) {
+        std::vector<int> m{J.parent};
+        m.insert(m.end(), J.children.begin(), J.children.end());
+        adjacent = adjacent || (std::count(m.begin(), m.end(), int(i)) &&
+                                std::count(m.begin(), m.end(), int(j)));
+      }
+      if (adjacent) continue;
+      EXPECT_GT(segmentDistance(s.tubes[i].a, s.tubes[i].b, s.tubes[j].a, s.tubes[j].b) -
+                    s.tubes[i].radius - s.tubes[j].radius,
+                3 * k)
+          << i << " " << j;
+    }
+  EXPECT_EQ(s.junctions.size(), 7u);  // one per tube with children
+}
+
+TEST(PhantomShapes, LabelSplitTorusHalves) {
+  auto torus = make("torus", {{"major_radius", 10}, {"minor_radius", 3}}, Vec3(1, 2, 3),
+                    Vec3(20, 10, 0));
+  torus.label_split = PhantomShape::LabelSplit{Vec3::Zero(), Vec3::UnitX()};  // through the axis
+  const Eigen::Matrix3d R = torus.rotation;
+  EXPECT_EQ(materialLabel(torus, torus.centre + R * Vec3(-10, 0, 0)), 1);
+  EXPECT_EQ(materialLabel(torus, torus.centre + R * Vec3(10, 0, 0)), 2);
+  EXPECT_EQ(materialLabel(torus, torus.centre), 0);  // the hole
+  EXPECT_EQ(materialLabel(torus, torus.centre + R * Vec3(0, 20, 0)), 0);
+  const auto halves = labelBettiNumbers(torus);
+  ASSERT_EQ(halves.size(), 2u);
+  EXPECT_EQ(halves.at(1), (Betti{1, 0, 0}));  // two C-shaped halves
+  EXPECT_EQ(halves.at(2), (Betti{1, 0, 0}));
+  torus.label_split = PhantomShape::LabelSplit{Vec3::Zero(), Vec3::UnitZ()};  // the equator
+  const auto rings = labelBettiNumbers(torus);
+  EXPECT_EQ(rings.at(1), (Betti{1, 1, 0}));  // two half tori, each a solid torus
+  EXPECT_EQ(rings.at(2), (Betti{1, 1, 0}));
+  torus.label_split.reset();
+  EXPECT_TRUE(labelBettiNumbers(torus).empty());
+  EXPECT_EQ(materialLabel(torus, torus.centre + R * Vec3(10, 0, 0)), 1);
 }
 
 TEST(PhantomShapes, ValidationNamesTheParameter) {
@@ -259,6 +523,7 @@ TEST(PhantomShapes, ValidationNamesTheParameter) {
   EXPECT_EQ(problem("two_spheres", {{"radius", 5}, {"separation", 9}}), "separation");
   EXPECT_EQ(problem("hollow_sphere", {{"outer_radius", 5}, {"inner_radius", 5}}), "inner_radius");
   EXPECT_EQ(problem("vessel_tree", {{"length", 10}, {"radius", 1}, {"levels", 2.5}}), "levels");
+  EXPECT_EQ(problem("vessel_tree", {{"length", 10}, {"radius", 1}, {"blend_mm", -1}}), "blend_mm");
   EXPECT_EQ(problem("twisted_cylinder", {{"inner_radius", 6}, {"outer_radius", 10},
                                          {"height", 20}, {"gap_deg", 200}}), "gap_deg");
   EXPECT_EQ(problem("sphere", {{"radius", 2}}), "<none>");
