@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <array>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -28,10 +29,30 @@ bool GraphEdge::operator==(const GraphEdge& o) const {
 
 namespace {
 
-int sectionAt(const CuttingPlane& cp, const Vec3& x) {
+/// Bounding boxes of the sections' outer rings, per plane (a cheap test before the polygon's).
+using Boxes = std::vector<std::vector<std::array<Vec2, 2>>>;
+
+Boxes sectionBoxes(const std::vector<CuttingPlane>& planes) {
+  Boxes out(planes.size());
+  for (std::size_t i = 0; i < planes.size(); ++i)
+    for (const Section& s : planes[i].sections) {
+      std::array<Vec2, 2> b = {s.outer[0], s.outer[0]};
+      for (const Vec2& v : s.outer) {
+        b[0] = b[0].cwiseMin(v);
+        b[1] = b[1].cwiseMax(v);
+      }
+      out[i].push_back(b);
+    }
+  return out;
+}
+
+int sectionAt(const CuttingPlane& cp, const std::vector<std::array<Vec2, 2>>& boxes, const Vec3& x) {
   const Vec2 p = cp.plane.toPlane(x);
-  for (std::size_t s = 0; s < cp.sections.size(); ++s)
+  for (std::size_t s = 0; s < cp.sections.size(); ++s) {
+    const auto& b = boxes[s];
+    if (p.x() < b[0].x() || p.y() < b[0].y() || p.x() > b[1].x() || p.y() > b[1].y()) continue;
     if (sectionContains(cp.sections[s], p)) return int(s);
+  }
   return -1;
 }
 
@@ -52,6 +73,7 @@ ConnectivityGraphs connectivityGraphs(const std::vector<CuttingPlane>& planes,
   std::unique_ptr<SectionVoronoiPoints> query;
   if (withGPrime) query = std::make_unique<SectionVoronoiPoints>(planes, fields, method2);
   const double step = arr.sample_spacing_mm;
+  const Boxes boxes = sectionBoxes(planes);
   // Per section: the other planes by distance to its bounding disk. A plane at distance >= 2t
   // from a section point cannot end the lift of length t (|h + t c| = t needs |h| <= 2t), nor
   // bound the ray's exit below |h|: the scan stops at the first plane too far for both.
@@ -100,7 +122,7 @@ ConnectivityGraphs connectivityGraphs(const std::vector<CuttingPlane>& planes,
         if (c != 0 && -hq / c > 0) exit = std::min(exit, -hq / c);
       }
       if (bq >= 0) {
-        const int b = sectionAt(planes[std::size_t(bq)], a + best * n);
+        const int b = sectionAt(planes[std::size_t(bq)], boxes[std::size_t(bq)], a + best * n);
         if (b >= 0) out.g.push_back(edge(sp.plane, sp.section, bq, b, cell));
       }
       if (!query) continue;
@@ -119,7 +141,7 @@ ConnectivityGraphs connectivityGraphs(const std::vector<CuttingPlane>& planes,
         const SectionVoronoiPoints::Answer ans = query->at(x);
         if (!ans.inside) break;
         if (ans.section_plane == sp.plane) continue;
-        const int b = sectionAt(planes[std::size_t(ans.section_plane)], x);
+        const int b = sectionAt(planes[std::size_t(ans.section_plane)], boxes[std::size_t(ans.section_plane)], x);
         if (b >= 0) out.g_prime.push_back(edge(sp.plane, sp.section, ans.section_plane, b, cell));
         break;
       }

@@ -7,6 +7,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -112,10 +113,28 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
         lo = lo.cwiseMin(v);
         hi = hi.cwiseMax(v);
       }
-      for (double y = std::floor(lo.y() / spacing) * spacing + 0.5 * spacing; y < hi.y(); y += spacing)
-        for (double x = std::floor(lo.x() / spacing) * spacing + 0.5 * spacing; x < hi.x(); x += spacing)
-          if (sectionContains(sec, Vec2(x, y)))
-            P.push_back({int(i), int(s), Vec2(x, y), SectionPoint::sample, {-1, -1}});
+      // Lattice points inside the section, row by row: between pairs of sorted crossings of the
+      // row with the rings (even-odd rule, half-open in y as in ringContains).
+      std::vector<double> xs;
+      for (double y = std::floor(lo.y() / spacing) * spacing + 0.5 * spacing; y < hi.y(); y += spacing) {
+        xs.clear();
+        const auto cross = [&](const Ring& r) {
+          for (std::size_t v = 0; v < r.size(); ++v) {
+            const Vec2& a = r[v];
+            const Vec2& b = r[(v + 1) % r.size()];
+            if ((a.y() > y) != (b.y() > y)) xs.push_back(a.x() + (y - a.y()) / (b.y() - a.y()) * (b.x() - a.x()));
+          }
+        };
+        cross(sec.outer);
+        for (const Ring& h : sec.holes) cross(h);
+        std::sort(xs.begin(), xs.end());
+        const double x0 = std::floor(lo.x() / spacing) * spacing + 0.5 * spacing;
+        for (std::size_t q = 0; q + 1 < xs.size(); q += 2) {
+          const double first = x0 + std::ceil((xs[q] - x0) / spacing) * spacing;
+          for (double x = first; x < xs[q + 1]; x += spacing)
+            if (x > xs[q]) P.push_back({int(i), int(s), Vec2(x, y), SectionPoint::sample, {-1, -1}});
+        }
+      }
     }
     auto& KK = keys[i];
     KK.resize(P.size());
