@@ -419,18 +419,16 @@ class Evaluator {
     };
     popNext();  // the nearest plane, c0
     // Walk the planes by distance: the first visible in-section projection gives H_in. A visible
-    // section point found on the way (the raster's nearest contour point, checked for visibility)
-    // bounds d(x, S_C) from above by U: no plane farther than U can give x to R'.
+    // section point found on the way (the exact nearest contour point to a projection, checked
+    // for visibility) bounds d(x, S_C) from above by U: no plane farther than U can give x to R'.
     auto& pend = w.pend;
     pend.clear();
     int inIdx = -1;
     float inValue = 0;
     double U = kInf;
     float uValue = 0;
-    int tries = 0;
-    // A visible contour point (the exact nearest one to the projection) bounds U. Tried on the
-    // first few planes whose sections may lie nearer than the current U.
-    int farTries = 0;
+    // Tried on the first few planes whose sections may lie nearer than the current U.
+    int tries = 0, farTries = 0;
     // near: the projection lies within the raster's band of a contour (a short query); far: any
     // other case (one query per voxel: in small cells such points are mostly hidden).
     const auto tryBound = [&](std::size_t t, const Vec2& p, bool near) {

@@ -17,6 +17,12 @@
 // C outside its sections therefore stop just short of it, R' meets the planes only in the sections
 // (conformity), and pieces of neighbouring cells are glued along sections only. R ⊆ R' holds point
 // by point (Theorem 18): a point of R has an in-section projection on its nearest plane.
+//
+// Exactness: visibility is decided with the planes' equations, distances to contours from the
+// polygons; whether a projection lies in a section is read from the f_i rasters (as in method 1),
+// so a decision may differ from the definition only where a projection lies within the rasters'
+// interpolation error of a contour. tests/test_method2.cpp compares with a brute-force
+// evaluation of Def. 27-28 away from such ties (1e-3 mm).
 #pragma once
 
 #include <cstdint>
