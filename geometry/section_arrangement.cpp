@@ -52,6 +52,7 @@ int sign(const K::Plane_3& P, const Vec3& x) {
 
 struct PointKeys {
   Key minus, plus;  // cell keys on the two sides of the own plane
+  Key minusAlt, plusAlt;  // trace points: the same, on the negative side of their trace's plane
 };
 
 }  // namespace
@@ -102,7 +103,7 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
             const double da = planes[j].plane.signedDistance(a), db = planes[j].plane.signedDistance(b);
             const double t = da / (da - db);
             P.push_back({int(i), int(s), r[v] + t * (r[(v + 1) % r.size()] - r[v]),
-                         SectionPoint::trace, {-1, -1}});
+                         SectionPoint::trace, {-1, -1}, int(j)});
           }
         }
       };
@@ -143,16 +144,22 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
       std::uint64_t ha = 0, hb = 0;
       for (std::size_t j = 0; j < k; ++j) {
         if (j == i) continue;
-        // On another plane (trace points, or vertices lying exactly on it): the point bounds the
-        // cells on both sides; the positive one is recorded (the other is met by its neighbours).
-        int sj = sign(eq[j], w);
-        if (P[q].kind == SectionPoint::trace && sj == 0) sj = 1;
+        // On another plane (trace points by construction, or vertices lying exactly on it): the
+        // point bounds the cells on both sides; keys are made for the positive side (and, for a
+        // trace point, below for the negative one too).
+        int sj = int(j) == P[q].trace_plane ? 1 : sign(eq[j], w);
         if (sj == 0) sj = 1;
         ha ^= z.a[j][std::size_t(sj + 1)];
         hb ^= z.b[j][std::size_t(sj + 1)];
       }
       KK[q].minus = {ha ^ z.a[i][0], hb ^ z.b[i][0]};
       KK[q].plus = {ha ^ z.a[i][2], hb ^ z.b[i][2]};
+      if (P[q].trace_plane >= 0) {  // swap the trace plane's sign from + to -
+        const std::size_t t = std::size_t(P[q].trace_plane);
+        const std::uint64_t da = z.a[t][2] ^ z.a[t][0], db = z.b[t][2] ^ z.b[t][0];
+        KK[q].minusAlt = {KK[q].minus.first ^ da, KK[q].minus.second ^ db};
+        KK[q].plusAlt = {KK[q].plus.first ^ da, KK[q].plus.second ^ db};
+      }
     }
   });
 
@@ -164,10 +171,12 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
     for (std::size_t q = 0; q < pts[i].size(); ++q) {
       SectionPoint sp = pts[i][q];
       out.trace_points += sp.kind == SectionPoint::trace;
-      for (int side = 0; side < 2; ++side) {
-        const Key key = side == 0 ? keys[i][q].minus : keys[i][q].plus;
+      for (int variant = 0; variant < (sp.trace_plane >= 0 ? 4 : 2); ++variant) {
+        const int side = variant % 2;
+        const PointKeys& pk = keys[i][q];
+        const Key key = variant == 0 ? pk.minus : variant == 1 ? pk.plus : variant == 2 ? pk.minusAlt : pk.plusAlt;
         const auto it = cellOf.emplace(key, int(cellOf.size())).first;
-        sp.cell[std::size_t(side)] = it->second;
+        if (variant < 2) sp.cell[std::size_t(side)] = it->second;
         const std::array<int, 4> sk{sp.plane, sp.section, side == 0 ? -1 : 1, it->second};
         const auto sit = subOf.find(sk);
         if (sit == subOf.end()) {

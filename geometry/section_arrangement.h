@@ -24,8 +24,10 @@ struct SectionPoint {
   Vec2 p = Vec2::Zero();  ///< plane coordinates, mm
   enum Kind : std::uint8_t { vertex, trace, sample } kind = sample;
   /// Cells on the negative and positive side of the point's own plane (ids into the cells found).
-  /// A point lying on other planes (trace points) bounds more cells; one is recorded per side.
+  /// A trace point also bounds the cells on the other side of the plane it lies on (the
+  /// thesis' duplication of such vertices); those are counted, the positive one is recorded here.
   std::array<int, 2> cell{-1, -1};
+  int trace_plane = -1;  ///< trace points: the plane whose trace they lie on
 };
 
 struct SubSection {
