@@ -5,23 +5,23 @@
 #include <tbb/info.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <algorithm>
-#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "geometry/conformal_cut.h"
+#include "geometry/connectivity_graph.h"
+#include "geometry/digital_topology.h"
 #include "geometry/mesh_topology.h"
 #include "geometry/polygon.h"
-#include "geometry/connectivity_graph.h"
 #include "geometry/sampled_reconstruction.h"
 #include "geometry/section_arrangement.h"
-#include "geometry/digital_topology.h"
-#include "geometry/voxel_labels.h"
 #include "geometry/volume_mesher.h"
+#include "geometry/voxel_labels.h"
 #include "io/csl_file.h"
 #include "io/file_hash.h"
 #include "io/input_error.h"
@@ -215,7 +215,6 @@ int runCommand(const RunOptions& o) {
   const ConformalCutStats cutStats = c.conformal_mesh
                                          ? cutAlongSections(mesh, in.planes, rec.fields, c.voxel_size_mm)
                                          : ConformalCutStats{};
-  clock.end("mesh");
 
   // Several materials: each voxel takes the label of the section its lift comes from; one mesh
   // per label (written when there are at least two) beside the union's.
@@ -253,6 +252,11 @@ int runCommand(const RunOptions& o) {
       m.mesh = meshZeroLevel(labelField(rec.field, voxelLabel, L, float(0.05 * c.voxel_size_mm)));
       materials.push_back(std::move(m));
     }
+  if (labelValues.size() > 64)
+    in.warnings.push_back(std::to_string(labelValues.size()) +
+                          " materials (segmentation.method: labels takes every pixel value as a "
+                          "label; is the image a grey image?)");
+  clock.end("mesh");
 
   progress.stage("diagnose");
   const MeshTopology topo = meshTopology(mesh);
