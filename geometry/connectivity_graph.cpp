@@ -36,12 +36,8 @@ Boxes sectionBoxes(const std::vector<CuttingPlane>& planes) {
   Boxes out(planes.size());
   for (std::size_t i = 0; i < planes.size(); ++i)
     for (const Section& s : planes[i].sections) {
-      std::array<Vec2, 2> b = {s.outer[0], s.outer[0]};
-      for (const Vec2& v : s.outer) {
-        b[0] = b[0].cwiseMin(v);
-        b[1] = b[1].cwiseMax(v);
-      }
-      out[i].push_back(b);
+      const Eigen::AlignedBox2d b = ringBounds(s.outer);
+      out[i].push_back({b.min(), b.max()});
     }
   return out;
 }
@@ -82,12 +78,7 @@ ConnectivityGraphs connectivityGraphs(const std::vector<CuttingPlane>& planes,
   std::vector<std::vector<std::pair<double, int>>> nearPlanes(std::size_t(first.back()));
   tbb::parallel_for(std::size_t(0), planes.size(), [&](std::size_t i) {
     for (std::size_t s = 0; s < planes[i].sections.size(); ++s) {
-      const Ring& r = planes[i].sections[s].outer;
-      Vec2 lo = r[0], hi = r[0];
-      for (const Vec2& v : r) {
-        lo = lo.cwiseMin(v);
-        hi = hi.cwiseMax(v);
-      }
+      const auto& [lo, hi] = boxes[i][s];
       const Vec3 c = planes[i].plane.toWorld(0.5 * (lo + hi));
       const double rad = 0.5 * (hi - lo).norm() + 1e-9;
       auto& L = nearPlanes[std::size_t(first[i] + int(s))];

@@ -17,6 +17,12 @@ double signedArea(const Ring& r) {
   return 0.5 * a;
 }
 
+Eigen::AlignedBox2d ringBounds(const Ring& ring) {
+  Eigen::AlignedBox2d box;  // empty
+  for (const Vec2& v : ring) box.extend(v);
+  return box;
+}
+
 double ringLength(const Ring& r) {
   double l = 0;
   for (std::size_t i = 0, n = r.size(); i < n; ++i) l += (r[(i + 1) % n] - r[i]).norm();

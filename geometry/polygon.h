@@ -12,6 +12,8 @@ namespace xsect {
 double signedArea(const Ring& ring);
 /// Length of a closed ring, mm.
 double ringLength(const Ring& ring);
+/// Axis-aligned bounds of a ring's vertices (of a section: of its outer ring).
+Eigen::AlignedBox2d ringBounds(const Ring& ring);
 /// Area of a section: outer minus holes, mm².
 double sectionArea(const Section& s);
 /// Point strictly inside the ring (even-odd crossing rule; boundary points undecided).

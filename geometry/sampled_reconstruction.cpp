@@ -136,7 +136,6 @@ SampledReconstruction reconstructOnGrid(const std::vector<CuttingPlane>& realPla
     }
   }
   out.voxels_inside = inside;
-  fields.resize(realPlanes.size());
   out.fields = std::move(fields);
   out.voxel_betti = voxelBetti(out.inside, grid);
   return out;

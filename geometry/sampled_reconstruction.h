@@ -35,7 +35,8 @@ struct SampledReconstruction {
   ScalarField field;                   ///< negative inside the repaired solid, |value| <= band
   std::vector<std::uint8_t> inside;    ///< repaired voxel set of R
   std::vector<CuttingPlane> end_planes;  ///< virtual planes added
-  std::vector<SectionDistanceField> fields;  ///< f_P rasters of the real planes, in input order
+  /// f_P rasters, one per plane: the real planes in input order, then the end planes (empty).
+  std::vector<SectionDistanceField> fields;
   double end_margin_mm = 0;
   bool end_margin_auto = false;
   TopologyRepair repair;

@@ -77,13 +77,10 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
       const Section& sec = cp.sections[s];
       // Planes that may cross the section: those nearer to its bounding disk's centre than its
       // radius (with a margin far above rounding).
-      Vec2 blo = sec.outer[0], bhi = blo;
-      for (const Vec2& v : sec.outer) {
-        blo = blo.cwiseMin(v);
-        bhi = bhi.cwiseMax(v);
-      }
-      const Vec3 centre = cp.plane.toWorld(0.5 * (blo + bhi));
-      const double radius = 0.5 * (bhi - blo).norm() * (1 + 1e-9) + 1e-9;
+      const Eigen::AlignedBox2d box = ringBounds(sec.outer);
+      const Vec2 lo = box.min(), hi = box.max();
+      const Vec3 centre = cp.plane.toWorld(box.center());
+      const double radius = 0.5 * box.diagonal().norm() * (1 + 1e-9) + 1e-9;
       std::vector<std::size_t> crossing;
       for (std::size_t j = 0; j < k; ++j)
         if (j != i && std::abs(planes[j].plane.signedDistance(centre)) <= radius) crossing.push_back(j);
@@ -109,11 +106,6 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
       };
       addRing(sec.outer);
       for (const Ring& h : sec.holes) addRing(h);
-      Vec2 lo = sec.outer[0], hi = lo;
-      for (const Vec2& v : sec.outer) {
-        lo = lo.cwiseMin(v);
-        hi = hi.cwiseMax(v);
-      }
       // Lattice points inside the section, row by row: between pairs of sorted crossings of the
       // row with the rings (even-odd rule, half-open in y as in ringContains).
       std::vector<double> xs;

@@ -640,14 +640,10 @@ std::vector<PlaneInfo> planeInfo(const std::vector<CuttingPlane>& planes,
       I.segments.build(planes[i].sections);
       I.lo = I.hi = planes[i].sections[0].outer[0];
       for (const Section& s : planes[i].sections) {
-        std::array<Vec2, 2> b = {s.outer[0], s.outer[0]};
-        for (const Vec2& v : s.outer) {
-          b[0] = b[0].cwiseMin(v);
-          b[1] = b[1].cwiseMax(v);
-        }
-        I.boxes.push_back(b);
-        I.lo = I.lo.cwiseMin(b[0]);
-        I.hi = I.hi.cwiseMax(b[1]);
+        const Eigen::AlignedBox2d b = ringBounds(s.outer);
+        I.boxes.push_back({b.min(), b.max()});
+        I.lo = I.lo.cwiseMin(b.min());
+        I.hi = I.hi.cwiseMax(b.max());
       }
     }
   });

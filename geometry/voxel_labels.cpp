@@ -22,11 +22,11 @@ std::vector<std::uint16_t> voxelLabels(const std::vector<std::uint8_t>& inside,
   const int nx = grid.dims[0], ny = grid.dims[1];
   tbb::parallel_for(std::size_t(0), n, [&](std::size_t q) {
     const int p = section_plane[q];
-    if (!inside[q] || p < 0 || std::size_t(p) >= labelled.size()) return;
+    if (!inside[q] || p < 0 || std::size_t(p) >= planes.size()) return;
     const std::int64_t id = std::int64_t(q);
     const Vec3 x = grid.centre(int(id % nx), int((id / nx) % ny), int(id / (std::int64_t(nx) * ny)));
     const Vec2 a = planes[std::size_t(p)].plane.toPlane(x);
-    for (const Section& s : labelled[std::size_t(p)])
+    for (const Section& s : labelled.empty() ? planes[std::size_t(p)].sections : labelled[std::size_t(p)])
       if (sectionContains(s, a)) {
         label[q] = std::uint16_t(s.label);
         return;

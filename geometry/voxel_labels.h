@@ -15,7 +15,8 @@ namespace xsect {
 /// @param inside         the (repaired) solid, one byte per voxel.
 /// @param section_plane  per voxel, the plane that decided it (-1: none, e.g. added by the repair).
 /// @param planes         the planes (their frames), in the indices section_plane refers to.
-/// @param labelled       per plane, its sections with their labels.
+/// @param labelled       per plane, its sections with their labels; empty: the planes' own
+///                       sections (and their labels).
 /// @returns per voxel the label (0 outside). Voxels without a deciding plane, or whose projection
 ///          falls on no labelled section (within rounding of a contour), take the label of the
 ///          nearest labelled voxel of the solid (breadth-first, 26-neighbours; ties by scan order).

@@ -185,8 +185,7 @@ int runCommand(const RunOptions& o) {
   progress.stage("arrange");
   std::vector<CuttingPlane> allPlanes = in.planes;
   allPlanes.insert(allPlanes.end(), rec.end_planes.begin(), rec.end_planes.end());
-  std::vector<SectionDistanceField> allFields = rec.fields;
-  allFields.resize(allPlanes.size());
+  const std::vector<SectionDistanceField>& allFields = rec.fields;  // real planes', then end planes'
   double sectionArea = 0;
   for (const auto& p : in.planes)
     for (const auto& s : p.sections) sectionArea += xsect::sectionArea(s);
@@ -218,18 +217,16 @@ int runCommand(const RunOptions& o) {
 
   // Several materials: each voxel takes the label of the section its lift comes from; one mesh
   // per label (written when there are at least two) beside the union's.
-  std::vector<std::vector<Section>> labelled = in.labelled;
-  bool anyLabelled = false;
-  for (const auto& l : labelled) anyLabelled = anyLabelled || !l.empty();
-  if (!anyLabelled) {
-    labelled.clear();
-    for (const auto& p : in.planes) labelled.push_back(p.sections);
-  }
+  bool anyLabelled = false;  // segmentation labels gave per-label sections
+  for (const auto& l : in.labelled) anyLabelled = anyLabelled || !l.empty();
+  const std::vector<std::vector<Section>> ownSections;  // empty: the planes' own sections
+  const auto& labelled = anyLabelled ? in.labelled : ownSections;
   const std::vector<std::uint16_t> voxelLabel =
       voxelLabels(rec.inside, rec.section_plane, in.planes, labelled, rec.field.grid);
   std::vector<std::uint16_t> labelValues;
-  for (const auto& l : labelled)
-    for (const auto& s : l) labelValues.push_back(std::uint16_t(s.label));
+  for (std::size_t p = 0; p < in.planes.size(); ++p)
+    for (const auto& s : anyLabelled ? in.labelled[p] : in.planes[p].sections)
+      labelValues.push_back(std::uint16_t(s.label));
   std::sort(labelValues.begin(), labelValues.end());
   labelValues.erase(std::unique(labelValues.begin(), labelValues.end()), labelValues.end());
   struct Material {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "geometry/types.h"
@@ -31,17 +32,41 @@ inline Plane axisPlane(int axis, double offset) {
 }
 
 /// Sections of the shell Ri < |x - centre| < Ro (Ri = 0: a ball) by one plane.
-inline std::vector<Section> shellSections(const Plane& p, const Vec3& centre, double Ro, double Ri) {
+inline std::vector<Section> shellSections(const Plane& p, const Vec3& centre, double Ro, double Ri,
+                                          int vertices = 256) {
   const double d = p.signedDistance(centre);
   std::vector<Section> out;
   if (std::abs(d) >= Ro) return out;
   const Vec2 c = p.toPlane(centre);
   const double ro = std::sqrt(Ro * Ro - d * d);
   Section s;
-  s.outer = circle(c, ro, 256);
-  if (Ri > std::abs(d)) s.holes.push_back(circle(c, std::sqrt(Ri * Ri - d * d), 256, false));
+  s.outer = circle(c, ro, vertices);
+  if (Ri > std::abs(d)) s.holes.push_back(circle(c, std::sqrt(Ri * Ri - d * d), vertices, false));
   out.push_back(s);
   return out;
+}
+
+/// `count` planes of uniformly random orientation, each at a uniform offset in [-spread, spread]
+/// from `centre` along its normal, cut through the shell Ri < |x - centre| < Ro.
+inline std::vector<CuttingPlane> randomShellPlanes(int count, std::mt19937_64& rng, const Vec3& centre,
+                                                   double spread, double Ro, double Ri,
+                                                   int vertices = 256) {
+  std::normal_distribution<double> g(0, 1);
+  std::uniform_real_distribution<double> u(-spread, spread);
+  std::vector<CuttingPlane> planes;
+  for (int i = 0; i < count; ++i) {
+    CuttingPlane cp;
+    cp.slice = i;
+    Vec3 n(g(rng), g(rng), g(rng));
+    n.normalize();
+    cp.plane.normal = n;
+    cp.plane.u = n.unitOrthogonal();
+    cp.plane.v = n.cross(cp.plane.u);
+    cp.plane.origin = u(rng) * n + centre;
+    cp.sections = shellSections(cp.plane, centre, Ro, Ri, vertices);
+    planes.push_back(cp);
+  }
+  return planes;
 }
 
 /// Three orthogonal stacks of planes at the given spacing covering [-extent, extent].

@@ -56,24 +56,12 @@ TEST(SectionArrangement, CellsOfAStackAndOfAStackCutAcross) {
 
 TEST(ConnectivityGraph, GIsASubgraphOfGPrimeAndMatchesTheVoxels) {  // Proposition 5
   std::mt19937_64 rng(3);
-  std::normal_distribution<double> g(0, 1);
-  std::uniform_real_distribution<double> u(-5.5, 5.5);
   const Vec3 centre(0.2, 0.1, -0.1);
   int edgesG = 0, extra = 0;
   for (const int count : {4, 10, 24}) {
     SCOPED_TRACE(count);
-    std::vector<CuttingPlane> planes;
-    for (int i = 0; i < count; ++i) {
-      CuttingPlane cp;
-      Vec3 n(g(rng), g(rng), g(rng));
-      n.normalize();
-      cp.plane.normal = n;
-      cp.plane.u = n.unitOrthogonal();
-      cp.plane.v = n.cross(cp.plane.u);
-      cp.plane.origin = centre + u(rng) * n;
-      cp.sections = test::shellSections(cp.plane, centre, 6.0, 3.0);  // annuli: non-convex
-      planes.push_back(cp);
-    }
+    // Shells: annuli, non-convex sections.
+    std::vector<CuttingPlane> planes = test::randomShellPlanes(count, rng, centre, 5.5, 6.0, 3.0);
     for (auto& p : boxAround(7.5)) planes.push_back(p);
     std::vector<SectionDistanceField> fields;
     for (const auto& p : planes) fields.push_back(sectionDistanceField(p.sections, 0.05, 0.6));

@@ -16,33 +16,6 @@ namespace {
 
 const Vec3 kCentre(0.3, -0.2, 0.1);
 
-std::vector<CuttingPlane> randomPlanes(int count, std::mt19937_64& rng, double spread, double Ri,
-                                       int vertices) {
-  std::normal_distribution<double> g(0, 1);
-  std::uniform_real_distribution<double> u(-spread, spread);
-  std::vector<CuttingPlane> planes;
-  for (int i = 0; i < count; ++i) {
-    CuttingPlane cp;
-    cp.slice = i;
-    Vec3 n(g(rng), g(rng), g(rng));
-    n.normalize();
-    cp.plane.normal = n;
-    cp.plane.u = n.unitOrthogonal();
-    cp.plane.v = n.cross(cp.plane.u);
-    cp.plane.origin = u(rng) * n + kCentre;
-    const double d = cp.plane.signedDistance(kCentre);
-    if (std::abs(d) < 6.0) {
-      Section s;
-      s.outer = test::circle(cp.plane.toPlane(kCentre), std::sqrt(36.0 - d * d), vertices);
-      if (Ri > std::abs(d))
-        s.holes.push_back(test::circle(cp.plane.toPlane(kCentre), std::sqrt(Ri * Ri - d * d), vertices, false));
-      cp.sections.push_back(s);
-    }
-    planes.push_back(cp);
-  }
-  return planes;
-}
-
 std::vector<SectionDistanceField> rasters(const std::vector<CuttingPlane>& planes, double step) {
   std::vector<SectionDistanceField> f;
   for (const auto& p : planes) f.push_back(sectionDistanceField(p.sections, step, 6 * step));
@@ -147,7 +120,7 @@ TEST(Method2, EqualsTheBruteForceDefinition) {
   std::mt19937_64 rng(11);
   for (const int count : {3, 8, 14}) {
     SCOPED_TRACE(count);
-    const auto planes = randomPlanes(count, rng, 6.5, 0.0, 64);
+    const auto planes = test::randomShellPlanes(count, rng, kCentre, 6.5, 6.0, 0.0, 64);
     const auto fields = rasters(planes, 0.02);
     const GridSpec grid = testGrid(0.4, 36);
     const SectionVoronoiField f = sectionVoronoiReconstruction(planes, fields, grid, {});
@@ -178,7 +151,7 @@ TEST(Method2, ContainsMethod1VoxelByVoxel) {  // Theorem 18: R ⊆ R'
   for (const int count : {2, 9, 40, 120}) {
     for (const double slab : {0.0, 0.35}) {
       SCOPED_TRACE(std::to_string(count) + " planes, slab " + std::to_string(slab));
-      const auto planes = randomPlanes(count, rng, 7.0, 3.0, 96);  // shells: non-convex sections
+      const auto planes = test::randomShellPlanes(count, rng, kCentre, 7.0, 6.0, 3.0, 96);  // shells: non-convex sections
       const auto fields = rasters(planes, 0.1);
       const GridSpec grid = testGrid(0.4, 40);
       const NearestPlaneField r = nearestPlaneReconstruction(planes, fields, grid);

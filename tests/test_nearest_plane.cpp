@@ -9,33 +9,10 @@
 
 using namespace xsect;
 
-namespace {
-
-std::vector<CuttingPlane> randomPlanes(int count, std::mt19937_64& rng, double spread) {
-  std::normal_distribution<double> g(0, 1);
-  std::uniform_real_distribution<double> u(-spread, spread);
-  std::vector<CuttingPlane> planes;
-  for (int i = 0; i < count; ++i) {
-    CuttingPlane cp;
-    cp.slice = i;
-    Vec3 n(g(rng), g(rng), g(rng));
-    n.normalize();
-    cp.plane.normal = n;
-    cp.plane.u = n.unitOrthogonal();
-    cp.plane.v = n.cross(cp.plane.u);
-    cp.plane.origin = u(rng) * n + Vec3(0.3, -0.2, 0.1);
-    cp.sections = test::shellSections(cp.plane, Vec3(0.3, -0.2, 0.1), 6.0, 2.0);
-    planes.push_back(cp);
-  }
-  return planes;
-}
-
-}  // namespace
-
 TEST(NearestPlane, BlockCullingEqualsBruteForce) {
   std::mt19937_64 rng(7);
   for (const int count : {1, 7, 60, 300}) {
-    const auto planes = randomPlanes(count, rng, 7.0);
+    const auto planes = test::randomShellPlanes(count, rng, Vec3(0.3, -0.2, 0.1), 7.0, 6.0, 2.0);
     std::vector<SectionDistanceField> fields;
     for (const auto& p : planes) fields.push_back(sectionDistanceField(p.sections, 0.1, 0.6));
     GridSpec grid;
