@@ -5,6 +5,13 @@ Each scenario renders a phantom (`xsect phantom`), reconstructs it (`xsect run`,
 holds per-stage wall times and the peak memory after each stage), and evaluates the result
 against the analytic truth (`xsect eval`). Every command's wall time and peak RSS is measured from
 outside (os.wait4). Reconstruction timings are the median over repetitions.
+
+Baseline: CGAL's Poisson surface reconstruction (bench/poisson_baseline.cpp, target
+xsect_poisson_baseline) on the contour points of the same sections, normals in the plane and
+perpendicular to the contour, evaluated the same way: one "poisson" row per scenario. Its result
+depends only on the phantom and the overrides that change the sections or the sampling step
+(segmentation, voxel size), so it runs once per distinct (phantom, such overrides) in one
+invocation and is shared by the scenarios that have them in common. --no-poisson skips it.
 """
 import argparse, json, os, shutil, subprocess, sys, time
 
@@ -19,20 +26,80 @@ SCENARIOS = {
     "multiaxial-3x40-m2": ("torus-multiaxial-3x40.yaml", ["reconstruction.method=section_voronoi"]),
     "random-200-m2": ("genus2-random-200.yaml", ["reconstruction.end_margin_mm=1.0",
                                                  "reconstruction.method=section_voronoi"]),
+    # method 1 smoothed by the Shepard interpolant (thesis ch. 1 §1.1) on the same inputs
+    "freehand-400-shepard": ("vessel-tree-freehand.yaml", ["smoothing.method=shepard",
+                                                           "smoothing.exponent=2"]),
+    "multiaxial-3x40-shepard": ("torus-multiaxial-3x40.yaml", ["smoothing.method=shepard",
+                                                               "smoothing.exponent=2"]),
+    "random-200-shepard": ("genus2-random-200.yaml", ["reconstruction.end_margin_mm=1.0",
+                                                      "smoothing.method=shepard",
+                                                      "smoothing.exponent=2"]),
 }
-QUICK = ["freehand-400", "multiaxial-3x40", "random-200", "freehand-400-m2"]
+QUICK = ["freehand-400", "multiaxial-3x40", "random-200", "freehand-400-m2", "freehand-400-shepard"]
+BASES = ["freehand-400", "multiaxial-3x40", "random-200"]
+# Overrides that change what the Poisson baseline sees (the sections, the sampling step).
+POISSON_KEYS = ("input.", "segmentation.", "reconstruction.voxel_size_mm")
 
 
-def run(cmd):
+def run(cmd, fatal=True):
+    """Wall time (s) and peak RSS (MB) of cmd; exits on failure, or with fatal=False returns
+    (None, None, message)."""
     t0 = time.monotonic()
     p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    err = p.stderr.read().decode()  # before waiting: a full pipe would block the child
     _, status, usage = os.wait4(p.pid, 0)
-    err = p.stderr.read().decode()
     p.stderr.close()
     wall = time.monotonic() - t0
     if os.waitstatus_to_exitcode(status) != 0:
-        sys.exit(f"failed: {' '.join(cmd)}\n{err}")
-    return wall, usage.ru_maxrss / 1024.0
+        if fatal:
+            sys.exit(f"failed: {' '.join(cmd)}\n{err}")
+        return None, None, f"exit {os.waitstatus_to_exitcode(status)}: {err.strip()}"
+    if fatal:
+        return wall, usage.ru_maxrss / 1024.0
+    return wall, usage.ru_maxrss / 1024.0, None
+
+
+def poisson_baseline(a, d, sets, reps):
+    """Runs the Poisson baseline on the phantom in d (with the given overrides) reps times (times:
+    the median) and evaluates the last mesh (they differ by a few triangles at most: see
+    poisson_baseline.cpp).
+    Returns the results entry; on failure {"error": message}."""
+    out = os.path.join(d, "poisson")
+    os.makedirs(out, exist_ok=True)
+    mesh, stats_json, ev_json = (os.path.join(out, f) for f in ("poisson.ply", "poisson.json", "eval.json"))
+    cmd = [a.poisson, os.path.join(d, "phantom", "config.yaml"), "--out", mesh, "--json", stats_json]
+    for s in sets:
+        cmd += ["--set", s]
+    walls, mems, stages = [], [], []
+    for _ in range(reps):
+        wall, mem, err = run(cmd, fatal=False)
+        if err:
+            return {"error": err, "sets": sets}
+        st = json.load(open(stats_json))
+        walls.append(wall)
+        mems.append(mem)
+        stages.append(st.get("poisson_s"))
+    wall, mem = median(walls), max(mems)
+    st["poisson_s"] = None if None in stages else median(stages)
+    ev_wall, ev_mem, err = run([a.xsect, "eval", "--mesh", mesh,
+                                "--truth", os.path.join(d, "phantom", "truth.yaml"),
+                                "--slices", os.path.join(d, "phantom", "slices.yaml"),
+                                "--json", ev_json, "--quiet"], fatal=False)
+    ev = {} if err else json.load(open(ev_json))
+    return {
+        "wall_s": wall, "peak_memory_mb": mem,
+        "poisson_s": st.get("poisson_s"), "sampling_s": st.get("sampling_s"),
+        "points": st.get("points"), "spacing_mm": st.get("spacing_mm"),
+        "sample_step_mm": st.get("sample_step_mm"),
+        "vertices": st.get("vertices"), "triangles": st.get("triangles"),
+        "closed": st.get("closed"), "orientation_flipped": st.get("orientation_flipped"),
+        "eval": {"wall_s": ev_wall, "peak_memory_mb": ev_mem, "error": err},
+        "betti": ev.get("betti"), "truth_betti": ev.get("truth_betti"),
+        "watertight": ev.get("watertight"),
+        "hausdorff_mm": ev.get("hausdorff_mm"), "mean_distance_mm": ev.get("mean_distance_mm"),
+        "dice": ev.get("dice"), "conformity_iou_min": ev.get("conformity_iou_min"),
+        "sets": sets, "repetitions": reps,
+    }
 
 
 def wide_min(ev, voxel):
@@ -49,34 +116,92 @@ def median(xs):
     return xs[len(xs) // 2]
 
 
+def print_poisson(name, r):
+    """The "poisson" row(s) of a scenario, if it has the baseline."""
+    p = r.get("poisson")
+    if p is None:
+        return
+    shared = "" if p["computed_in"] == name else f" (same as {p['computed_in']})"
+    if "error" in p:
+        print(f"{'':<16} {'poisson':<12} {'n/a':>8} {'n/a':>8}  failed{shared}: {p['error']}")
+    else:
+        f3 = lambda v: "n/a" if v is None else f"{v:.3f}"
+        f4 = lambda v: "n/a" if v is None else f"{v:.4f}"
+        print(f"{'':<16} {'poisson':<12} {p['wall_s']:8.3f} {p['peak_memory_mb']:8.0f}"
+              f"  CGAL Poisson stage {p['poisson_s']:.3f} s on {p['points']} contour points"
+              f" (step {p['sample_step_mm']} mm, spacing {p['spacing_mm']:.3f} mm){shared}")
+        closed = "closed" if p["closed"] else "OPEN"
+        print(f"{'':<16} {'':<12} {'':>8} {'':>8}  hausdorff {f3(p['hausdorff_mm'])} mm, "
+              f"mean {f3(p['mean_distance_mm'])} mm, dice {f4(p['dice'])}, "
+              f"betti {p['betti']} truth {p['truth_betti']}, {p['triangles']} triangles, {closed}"
+              + (f", eval failed: {p['eval']['error']}" if p["eval"]["error"] else ""))
+
+
+def add_poisson(a, name, spec, sets, d, results, cache, reps):
+    """results[name]["poisson"]: the baseline for this phantom, computed once per
+    (phantom spec, overrides that change the sections or the sampling step)."""
+    if a.no_poisson:
+        return
+    psets = [s for s in sets if s.startswith(POISSON_KEYS)]
+    key = (spec, tuple(sorted(psets)))
+    if key not in cache:
+        cache[key] = dict(poisson_baseline(a, d, psets, reps), computed_in=name)
+    results[name]["poisson"] = cache[key]
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--xsect", required=True)
     ap.add_argument("--root", required=True)
-    ap.add_argument("--quick", action="store_true", help="three scenarios, one repetition")
+    ap.add_argument("--quick", action="store_true", help="the QUICK scenarios, one repetition")
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--poisson", help="xsect_poisson_baseline (default: beside --xsect, if built)")
+    ap.add_argument("--no-poisson", action="store_true", help="skip the CGAL Poisson baseline")
+    ap.add_argument("--results", help="results file (default ROOT/bench/results.json)")
+    ap.add_argument("--work", help="scratch folder, emptied first (default ROOT/bench/work)")
     ap.add_argument("scenarios", nargs="*")
     a = ap.parse_args()
     names = a.scenarios or (QUICK if a.quick else list(SCENARIOS))
+    unknown = [n for n in names if n not in SCENARIOS]
+    if unknown:
+        sys.exit(f"unknown scenario(s): {', '.join(unknown)} (known: {', '.join(SCENARIOS)})")
     reps = 1 if a.quick else a.repeat
-    work = os.path.join(a.root, "bench", "work")
+    if not a.no_poisson and not a.poisson:
+        guess = os.path.join(os.path.dirname(os.path.abspath(a.xsect)), "xsect_poisson_baseline")
+        if os.access(guess, os.X_OK):
+            a.poisson = guess
+        else:
+            print(f"no Poisson baseline at {guess} (build target xsect_poisson_baseline, or pass "
+                  f"--poisson PATH); skipping it", file=sys.stderr)
+            a.no_poisson = True
+    results_path = a.results or os.path.join(a.root, "bench", "results.json")
+    work = a.work or os.path.join(a.root, "bench", "work")
     shutil.rmtree(work, ignore_errors=True)
     results = {}
+    poisson_cache = {}  # (phantom spec, overrides that matter) -> results entry
     for name in names:
         spec, sets = SCENARIOS[name]
         d = os.path.join(work, name)
         ph_wall, ph_mem = run([a.xsect, "phantom", os.path.join(a.root, "configs", "phantoms", spec),
                                "--out", os.path.join(d, "phantom"), "--quiet"])
-        reports, walls, mems = [], [], []
+        reports, walls, mems, failed = [], [], [], None
         for r in range(reps):
             out = os.path.join(d, "result")
             cmd = [a.xsect, "run", os.path.join(d, "phantom", "config.yaml"), "--out", out, "--quiet"]
             for s in sets:
                 cmd += ["--set", s]
-            w, m = run(cmd)
+            w, m, failed = run(cmd, fatal=False)
+            if failed:
+                break
             walls.append(w)
             mems.append(m)
             reports.append(json.load(open(os.path.join(out, "report.json"))))
+        if failed:
+            # Reported, not fatal: the other scenarios (and this phantom's Poisson row) still count.
+            results[name] = {"error": f"xsect run {' '.join(sets)}: {failed}",
+                             "phantom": {"wall_s": ph_wall, "peak_memory_mb": ph_mem}}
+            add_poisson(a, name, spec, sets, d, results, poisson_cache, reps)
+            continue
         ev_json = os.path.join(d, "eval.json")
         ev_wall, ev_mem = run([a.xsect, "eval", "--mesh", os.path.join(d, "result", "mesh.ply"),
                                "--truth", os.path.join(d, "phantom", "truth.yaml"),
@@ -91,6 +216,8 @@ def main():
             stages[stage] = {"wall_s": median([r["timings_s"][stage] for r in reports]),
                              "peak_memory_mb": rep["peak_memory_mb"].get(stage)}
         vps = median([r["throughput"]["reconstruct_voxels_per_s"] for r in reports])
+        smooth_eval = [r.get("smoothing", {}).get("evaluate_s") if isinstance(r.get("smoothing"), dict)
+                       else None for r in reports]
         results[name] = {
             "phantom": {"wall_s": ph_wall, "peak_memory_mb": ph_mem},
             "run": {"wall_s": median(walls), "peak_memory_mb": max(mems)},
@@ -108,9 +235,16 @@ def main():
             "conformity_iou_min_wide": wide_min(ev, rep["reconstruction"]["voxel_size_mm"]),
             "repetitions": reps,
         }
+        if rep.get("smoothing") is not None or any(s.startswith("smoothing.") for s in sets):
+            results[name]["smoothing_evaluate_s"] = (None if None in smooth_eval else median(smooth_eval))
+        add_poisson(a, name, spec, sets, d, results, poisson_cache, reps)
     print(f"{'scenario':<16} {'stage':<12} {'wall s':>8} {'peak MB':>8}  throughput / accuracy")
     for name, r in results.items():
         print(f"{name:<16} {'phantom':<12} {r['phantom']['wall_s']:8.3f} {r['phantom']['peak_memory_mb']:8.0f}")
+        if "error" in r:
+            print(f"{'':<16} {'run':<12} {'n/a':>8} {'n/a':>8}  FAILED: {r['error']}")
+            print_poisson(name, r)
+            continue
         for stage, s in r["stages"].items():
             extra = ""
             if stage == "reconstruct":
@@ -119,6 +253,9 @@ def main():
                          f"({r['voxels'] / 1e6:.2f} Mvoxel, {r['planes']} planes)")
             if stage == "arrange":
                 extra = f"  {r['cells']} cells with sections, graphs G" + ("" if r["method"] == "nearest_plane" else " and G'")
+            if stage == "smooth":
+                ev = r.get("smoothing_evaluate_s")
+                extra = "  Shepard interpolant evaluation " + ("n/a" if ev is None else f"{ev:.3f} s")
             print(f"{'':<16} {stage:<12} {s['wall_s']:8.3f} {s['peak_memory_mb'] or 0:8.0f}{extra}")
         print(f"{'':<16} {'run (total)':<12} {r['run']['wall_s']:8.3f} {r['run']['peak_memory_mb']:8.0f}"
               f"  betti {r['betti']} truth {r['truth_betti']}")
@@ -127,21 +264,63 @@ def main():
         print(f"{'':<16} {'eval':<12} {r['eval']['wall_s']:8.3f} {r['eval']['peak_memory_mb']:8.0f}"
               f"  hausdorff {r['hausdorff_mm']:.3f} mm, mean {r['mean_distance_mm']:.3f} mm, "
               f"dice {r['dice']:.4f}, conformity IoU min {fmt(cim)} (sections >= 10 voxels wide: {fmt(ciw)})")
-    if "random-200" in results and "random-400" in results:
+        print_poisson(name, r)
+    ok = lambda n: n in results and "error" not in results[n]
+    if ok("random-200") and ok("random-400"):
         a2, a4 = results["random-200"], results["random-400"]
         ratio = (a4["evaluate_s"] / a4["voxels"]) / (a2["evaluate_s"] / a2["voxels"])
         stage = (a4["stages"]["reconstruct"]["wall_s"] / a4["voxels"]) / (a2["stages"]["reconstruct"]["wall_s"] / a2["voxels"])
         print(f"doubling planes (random-200 -> random-400), time per voxel: reconstruct stage x{stage:.2f}, "
               f"method-1 evaluation alone x{ratio:.2f}")
         results["doubling_planes_time_ratio"] = {"reconstruct_stage": stage, "method1_evaluation": ratio}
-    for base in ["freehand-400", "multiaxial-3x40", "random-200"]:
-        if base in results and base + "-m2" in results:
+    ok = lambda n: n in results and "error" not in results[n]
+    for base in BASES:
+        if ok(base) and ok(base + "-m2"):
             m1, m2 = results[base]["stages"]["reconstruct"]["wall_s"], results[base + "-m2"]["stages"]["reconstruct"]["wall_s"]
             print(f"method 2 / method 1 reconstruct stage on {base}: x{m2 / m1:.2f} ({m2:.3f} s / {m1:.3f} s)")
             results.setdefault("method2_over_method1_reconstruct", {})[base] = m2 / m1
-    with open(os.path.join(a.root, "bench", "results.json"), "w") as f:
+    for base in BASES:
+        sh = results.get(base + "-shepard")
+        if sh is None:
+            continue
+        if "error" in sh:
+            print(f"shepard on {base}: n/a (run failed)")
+            continue
+        smooth = sh["stages"].get("smooth", {}).get("wall_s")
+        m1 = (results[base] if ok(base) else sh)["stages"]["reconstruct"]["wall_s"]
+        ev = sh.get("smoothing_evaluate_s")
+        evs = "n/a" if ev is None else f"{ev:.3f} s"
+        if smooth is None:
+            print(f"shepard / method 1 reconstruct on {base}: n/a (no smooth stage in report.json)")
+        else:
+            print(f"shepard / method 1 reconstruct on {base}: x{smooth / m1:.2f} "
+                  f"(smooth stage {smooth:.3f} s, interpolant evaluation {evs} / {m1:.3f} s)")
+            results.setdefault("shepard_over_method1_reconstruct", {})[base] = smooth / m1
+        p = sh.get("poisson")
+        if p is None or "error" in p:
+            if p is not None:
+                print(f"shepard vs poisson on {base}: n/a (Poisson failed)")
+            continue
+        sd, pd = sh.get("mean_distance_mm"), p.get("mean_distance_mm")
+        ratio = sh["run"]["wall_s"] / p["wall_s"]
+        stage = None if smooth is None or not p["poisson_s"] else smooth / p["poisson_s"]
+        f3 = lambda v: "n/a" if v is None else f"{v:.3f}"
+        print(f"shepard vs poisson on {base}: time x{ratio:.2f} (xsect run {sh['run']['wall_s']:.3f} s "
+              f"vs Poisson process {p['wall_s']:.3f} s; smooth stage / Poisson stage "
+              f"{'n/a' if stage is None else f'x{stage:.2f}'}), mean distance shepard {f3(sd)} mm "
+              f"vs poisson {f3(pd)} mm, hausdorff {f3(sh.get('hausdorff_mm'))} vs {f3(p.get('hausdorff_mm'))} mm")
+        results.setdefault("shepard_vs_poisson", {})[base] = {
+            "run_over_poisson_wall": ratio, "smooth_over_poisson_stage": stage,
+            "shepard_mean_distance_mm": sd, "poisson_mean_distance_mm": pd,
+            "shepard_faster": ratio < 1,
+            "shepard_closer": None if sd is None or pd is None else sd < pd}
+    os.makedirs(os.path.dirname(os.path.abspath(results_path)), exist_ok=True)
+    with open(results_path, "w") as f:
         json.dump(results, f, indent=2)
-    print(f"written {os.path.join(a.root, 'bench', 'results.json')}")
+    print(f"written {results_path}")
+    failures = [n for n, r in results.items() if isinstance(r, dict) and "error" in r]
+    if failures:
+        sys.exit(f"failed scenarios: {', '.join(failures)}")
 
 
 if __name__ == "__main__":

@@ -5,6 +5,7 @@
 // value is +band: the plane holds no section there.
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 #include "geometry/types.h"
@@ -29,6 +30,25 @@ struct SectionDistanceField {
     const float* r0 = &values[std::size_t(j) * nu + i];
     const float* r1 = r0 + nu;
     return (1 - fy) * ((1 - fx) * r0[0] + fx * r0[1]) + fy * ((1 - fx) * r1[0] + fx * r1[1]);
+  }
+
+  /// Bilinear value at (a, b) when the four nodes around it all hold exact distances (within the
+  /// band): returns false, leaving *v alone, where a node is clamped or (a, b) is off the raster.
+  bool sampleWithinBand(double a, double b, float* v) const {
+    const double x = (a - origin.x()) / step, y = (b - origin.y()) / step;
+    if (!(x >= 0.0 && y >= 0.0 && x <= nu - 1.0 && y <= nv - 1.0)) return false;
+    int i = int(x), j = int(y);
+    if (i >= nu - 1) i = nu - 2;
+    if (j >= nv - 1) j = nv - 2;
+    const float* r0 = &values[std::size_t(j) * nu + i];
+    const float* r1 = r0 + nu;
+    const float lim = band;
+    if (!(std::abs(r0[0]) < lim && std::abs(r0[1]) < lim && std::abs(r1[0]) < lim &&
+          std::abs(r1[1]) < lim))
+      return false;
+    const float fx = float(x - i), fy = float(y - j);
+    *v = (1 - fy) * ((1 - fx) * r0[0] + fx * r0[1]) + fy * ((1 - fx) * r1[0] + fx * r1[1]);
+    return true;
   }
 };
 

@@ -87,6 +87,18 @@ struct ScalarField {
   float at(int i, int j, int k) const { return values[grid.index(i, j, k)]; }
 };
 
+/// A narrow-band level set on the voxel lattice of a GridSpec (OpenVDB's sparse layout, without its
+/// types, so that stages and file formats share it): signed distances in mm, negative inside, at the
+/// active voxels; every other voxel holds ±background (the band's half-width, mm), negative when it
+/// is enclosed by the surface. Voxel (i, j, k) is centred at grid.origin + grid.voxel * (i, j, k);
+/// coordinates may lie outside grid.dims (the band can reach past the sampled box).
+struct NarrowBandLevelSet {
+  GridSpec grid;
+  float background = 0.0f;                 ///< half-width of the band, mm (> 0)
+  std::vector<std::array<int, 3>> coords;  ///< active voxels, sorted by (k, j, i)
+  std::vector<float> values;               ///< signed distance at each active voxel, mm
+};
+
 /// Triangle mesh, consistently oriented with outward normals when closed.
 struct TriangleMesh {
   std::vector<Eigen::Vector3f> vertices;

@@ -3,33 +3,21 @@
 
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Dense.h>
+#include <openvdb/tools/LevelSetRebuild.h>
 #include <openvdb/tools/VolumeToMesh.h>
 
 #include <algorithm>
+#include <tuple>
 
 namespace xsect {
 
-TriangleMesh meshZeroLevel(const ScalarField& field, double adaptivity) {
-  openvdb::initialize();  // idempotent
-  const auto& g = field.grid;
-  float background = 0.0f;
-  for (float v : field.values) background = std::max(background, v);
-  background = std::max(background, 1e-3f);
-  openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(background);
-  {
-    const openvdb::CoordBBox bbox(openvdb::Coord(0, 0, 0),
-                                  openvdb::Coord(g.dims[0] - 1, g.dims[1] - 1, g.dims[2] - 1));
-    openvdb::tools::Dense<const float, openvdb::tools::LayoutXYZ> dense(bbox, field.values.data());
-    openvdb::tools::copyFromDense(dense, *grid, 0.0f);
-  }
-  grid->setTransform(openvdb::math::Transform::createLinearTransform(g.voxel));
-  grid->transform().postTranslate(openvdb::Vec3d(g.origin.x(), g.origin.y(), g.origin.z()));
+namespace {
 
-  std::vector<openvdb::Vec3s> points;
-  std::vector<openvdb::Vec3I> tris;
-  std::vector<openvdb::Vec4I> quads;
-  openvdb::tools::volumeToMesh(*grid, points, tris, quads, 0.0, adaptivity);
-
+/// OpenVDB's polygons as triangles: quads split along their shorter diagonal, faces oriented so
+/// that the enclosed volume is positive (outward normals).
+TriangleMesh toTriangles(const std::vector<openvdb::Vec3s>& points,
+                         const std::vector<openvdb::Vec3I>& tris,
+                         const std::vector<openvdb::Vec4I>& quads) {
   TriangleMesh mesh;
   mesh.vertices.reserve(points.size());
   for (const auto& p : points) mesh.vertices.emplace_back(p.x(), p.y(), p.z());
@@ -55,6 +43,87 @@ TriangleMesh meshZeroLevel(const ScalarField& field, double adaptivity) {
   if (volume < 0)
     for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
   return mesh;
+}
+
+openvdb::FloatGrid::Ptr gridOfField(const ScalarField& field) {
+  openvdb::initialize();  // idempotent
+  const auto& g = field.grid;
+  float background = 0.0f;
+  for (float v : field.values) background = std::max(background, std::abs(v));
+  background = std::max(background, 1e-3f);
+  openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(background);
+  {
+    const openvdb::CoordBBox bbox(openvdb::Coord(0, 0, 0),
+                                  openvdb::Coord(g.dims[0] - 1, g.dims[1] - 1, g.dims[2] - 1));
+    openvdb::tools::Dense<const float, openvdb::tools::LayoutXYZ> dense(bbox, field.values.data());
+    openvdb::tools::copyFromDense(dense, *grid, 0.0f);
+  }
+  grid->setTransform(openvdb::math::Transform::createLinearTransform(g.voxel));
+  grid->transform().postTranslate(openvdb::Vec3d(g.origin.x(), g.origin.y(), g.origin.z()));
+  return grid;
+}
+
+}  // namespace
+
+LevelSetSurface levelSetSurface(const ScalarField& field, double half_width_voxels,
+                                double adaptivity) {
+  const openvdb::FloatGrid::Ptr dense = gridOfField(field);
+  const float hw = float(std::max(1.0, half_width_voxels));
+  openvdb::FloatGrid::Ptr ls = openvdb::tools::levelSetRebuild(*dense, 0.0f, hw, hw);
+  LevelSetSurface out;
+  out.level_set.grid = field.grid;
+  out.level_set.background = ls->background();
+  for (auto it = ls->cbeginValueOn(); it; ++it) {
+    const openvdb::Coord c = it.getCoord();
+    out.level_set.coords.push_back({c.x(), c.y(), c.z()});
+    out.level_set.values.push_back(*it);
+  }
+  std::vector<std::size_t> order(out.level_set.coords.size());
+  for (std::size_t q = 0; q < order.size(); ++q) order[q] = q;
+  const auto& C = out.level_set.coords;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return std::make_tuple(C[a][2], C[a][1], C[a][0]) < std::make_tuple(C[b][2], C[b][1], C[b][0]);
+  });
+  NarrowBandLevelSet sorted;
+  sorted.grid = out.level_set.grid;
+  sorted.background = out.level_set.background;
+  sorted.coords.reserve(order.size());
+  sorted.values.reserve(order.size());
+  for (const std::size_t q : order) {
+    sorted.coords.push_back(C[q]);
+    sorted.values.push_back(out.level_set.values[q]);
+  }
+  out.level_set = std::move(sorted);
+  std::vector<openvdb::Vec3s> points;
+  std::vector<openvdb::Vec3I> tris;
+  std::vector<openvdb::Vec4I> quads;
+  openvdb::tools::volumeToMesh(*ls, points, tris, quads, 0.0, std::clamp(adaptivity, 0.0, 1.0));
+  out.mesh = toTriangles(points, tris, quads);
+  return out;
+}
+
+TriangleMesh meshZeroLevel(const ScalarField& field, double adaptivity) {
+  openvdb::initialize();  // idempotent
+  const auto& g = field.grid;
+  float background = 0.0f;
+  for (float v : field.values) background = std::max(background, v);
+  background = std::max(background, 1e-3f);
+  openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(background);
+  {
+    const openvdb::CoordBBox bbox(openvdb::Coord(0, 0, 0),
+                                  openvdb::Coord(g.dims[0] - 1, g.dims[1] - 1, g.dims[2] - 1));
+    openvdb::tools::Dense<const float, openvdb::tools::LayoutXYZ> dense(bbox, field.values.data());
+    openvdb::tools::copyFromDense(dense, *grid, 0.0f);
+  }
+  grid->setTransform(openvdb::math::Transform::createLinearTransform(g.voxel));
+  grid->transform().postTranslate(openvdb::Vec3d(g.origin.x(), g.origin.y(), g.origin.z()));
+
+  std::vector<openvdb::Vec3s> points;
+  std::vector<openvdb::Vec3I> tris;
+  std::vector<openvdb::Vec4I> quads;
+  openvdb::tools::volumeToMesh(*grid, points, tris, quads, 0.0, adaptivity);
+
+  return toTriangles(points, tris, quads);
 }
 
 }  // namespace xsect

@@ -2,7 +2,9 @@
 // in kSchema; everything else is warned about.
 #include "io/run_config.h"
 
+#include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -22,7 +24,8 @@ const std::set<std::string> kKnownKeys = {
     "segmentation.simplify_mm", "segmentation.merge_labels", "conformity", "conformity.enforce", "reconstruction",
     "reconstruction.method", "reconstruction.voxel_size_mm", "reconstruction.end_margin_mm",
     "reconstruction.conformal_mesh",
-    "smoothing", "smoothing.method", "smoothing.exponent", "output", "output.dir", "output.mesh"};
+    "smoothing", "smoothing.method", "smoothing.exponent", "smoothing.cap_mm",
+    "smoothing.adaptivity", "smoothing.keep_connectivity", "smoothing.iterations", "output", "output.dir", "output.mesh"};
 
 void collectUnknown(const YAML::Node& n, const std::string& prefix, const std::string& file,
                     std::vector<std::string>& warnings) {
@@ -172,9 +175,10 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
   if (const YAML::Node s = section("smoothing")) {
     if (s["method"]) {
       c.smoothing_method = yamlString(s["method"], path, "smoothing.method");
-      if (c.smoothing_method != "none" && c.smoothing_method != "shepard")
+      if (c.smoothing_method != "none" && c.smoothing_method != "shepard" &&
+          c.smoothing_method != "level_set")
         throw InputError(path, "smoothing.method",
-                         "unknown method '" + c.smoothing_method + "' (none | shepard)",
+                         "unknown method '" + c.smoothing_method + "' (none | shepard | level_set)",
                          yamlLine(s["method"]));
     }
     if (s["exponent"]) {
@@ -185,6 +189,28 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
         c.smoothing_exponent = yamlNumber(e, path, "smoothing.exponent");
       if (!(c.smoothing_exponent > 0))
         throw InputError(path, "smoothing.exponent", "must be positive", yamlLine(e));
+    }
+    if (const YAML::Node m = s["cap_mm"]) {
+      if (!(m.IsScalar() && m.Scalar() == "auto")) {
+        const double v = yamlNumber(m, path, "smoothing.cap_mm");
+        if (!(v > 0) || !std::isfinite(v))
+          throw InputError(path, "smoothing.cap_mm", "must be positive or 'auto'", yamlLine(m));
+        c.smoothing_cap_mm = v;
+      }
+    }
+    if (const YAML::Node a = s["adaptivity"]) {
+      c.smoothing_adaptivity = yamlNumber(a, path, "smoothing.adaptivity");
+      if (!(c.smoothing_adaptivity >= 0 && c.smoothing_adaptivity <= 1))
+        throw InputError(path, "smoothing.adaptivity", "must lie in [0, 1]", yamlLine(a));
+    }
+    if (s["keep_connectivity"])
+      c.smoothing_keep_connectivity =
+          yamlBool(s["keep_connectivity"], path, "smoothing.keep_connectivity");
+    if (const YAML::Node n = s["iterations"]) {
+      const double v = yamlNumber(n, path, "smoothing.iterations");
+      if (!(v >= 0 && v <= 1000 && v == std::floor(v)))
+        throw InputError(path, "smoothing.iterations", "must be an integer in [0, 1000]", yamlLine(n));
+      c.smoothing_iterations = int(v);
     }
   }
   c.output_dir = resolvePath(base, "out");

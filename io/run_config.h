@@ -21,8 +21,14 @@ struct RunConfig {
   double voxel_size_mm = 0.5;
   std::optional<double> end_margin_mm;                  ///< empty = auto
   bool conformal_mesh = true;  ///< cut the mesh along the planes onto the section contours
-  std::string smoothing_method = "none";                ///< none | shepard
-  double smoothing_exponent = 2.0;
+  std::string smoothing_method = "none";                ///< none | shepard | level_set
+  double smoothing_exponent = 2.0;                      ///< Shepard: g(t) = t^p; +inf allowed
+  std::optional<double> smoothing_cap_mm;               ///< Shepard: clamp of f_i; empty = auto
+  double smoothing_adaptivity = 0.0;                    ///< OpenVDB mesh adaptivity in [0, 1]
+  /// Shepard: when its solid joins the sections differently from the method's graph, output the
+  /// level-set smoothing of the method's solid instead (which keeps that connectivity).
+  bool smoothing_keep_connectivity = true;
+  int smoothing_iterations = 8;                         ///< level_set: curvature-flow steps
   std::string output_dir;           ///< resolved against the configuration file
   std::vector<std::string> mesh_formats{"ply"};
   std::vector<std::string> warnings;  ///< unknown keys and similar

@@ -14,6 +14,8 @@
 #include <nlohmann/json.hpp>
 
 #include "geometry/conformal_cut.h"
+#include "pipeline/smooth_stage.h"
+#include "io/level_set_file.h"
 #include "geometry/connectivity_graph.h"
 #include "geometry/digital_topology.h"
 #include "geometry/mesh_topology.h"
@@ -78,9 +80,6 @@ Inputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress) {
   in.config = readRunConfig(o.config, o.overrides);
   in.warnings = in.config.warnings;
   const RunConfig& c = in.config;
-  if (c.smoothing_method != "none")
-    throw InputError(c.path, "smoothing.method",
-                     "'" + c.smoothing_method + "' is not available in this version (none)");
   in.input_files.push_back(c.path);
   in.input_files.push_back(c.input_path);
   std::vector<SliceRecord> slices;
@@ -209,11 +208,35 @@ int runCommand(const RunOptions& o) {
                           std::to_string(graphCheck.sections_unlocated) + " sections not located)");
   clock.end("arrange");
 
+  // Stage 6: the smooth surface (optional).
+  const bool smoothing = c.smoothing_method != "none";
+  SmoothStage smooth;
+  if (smoothing) {
+    progress.stage("smooth");
+    smooth = smoothStage(c, in.planes, rec, arrangement, methodEdges,
+                         [&](double f) { progress.update(f); });
+    if (c.smoothing_method == "shepard" && !smooth.shepard_keeps_connectivity)
+      in.warnings.push_back("Shepard's surface joins the sections differently from the method's graph (" +
+                            std::to_string(smooth.shepard_check.pairs_joined_by_graph_only) +
+                            " pairs joined by the graph only, " +
+                            std::to_string(smooth.shepard_check.pairs_joined_by_voxels_only) +
+                            " by the surface only)" +
+                            (smooth.fell_back ? ": the surface written is the level-set smoothing of the "
+                                                "method's solid, which keeps the method's connectivity"
+                                              : ""));
+    clock.end("smooth");
+  }
+
   progress.stage("mesh");
-  TriangleMesh mesh = meshZeroLevel(rec.field);
-  const ConformalCutStats cutStats = c.conformal_mesh
-                                         ? cutAlongSections(mesh, in.planes, rec.fields, c.voxel_size_mm)
-                                         : ConformalCutStats{};
+  TriangleMesh methodMesh = meshZeroLevel(rec.field);
+  const ConformalCutStats methodCut = c.conformal_mesh
+                                          ? cutAlongSections(methodMesh, in.planes, rec.fields, c.voxel_size_mm)
+                                          : ConformalCutStats{};
+  TriangleMesh mesh = smoothing ? smooth.surface.mesh : methodMesh;
+  const ConformalCutStats cutStats =
+      !smoothing ? methodCut
+                 : c.conformal_mesh ? cutAlongSections(mesh, in.planes, rec.fields, c.voxel_size_mm)
+                                    : ConformalCutStats{};
 
   // Several materials: each voxel takes the label of the section its lift comes from; one mesh
   // per label (written when there are at least two) beside the union's.
@@ -257,7 +280,13 @@ int runCommand(const RunOptions& o) {
 
   progress.stage("diagnose");
   const MeshTopology topo = meshTopology(mesh);
-  if (topo.betti != rec.voxel_betti)
+  Betti smoothVoxelBetti{0, 0, 0};
+  if (smoothing) {
+    std::vector<std::uint8_t> s(smooth.field.values.size());
+    for (std::size_t q = 0; q < s.size(); ++q) s[q] = smooth.field.values[q] < 0;
+    smoothVoxelBetti = voxelBetti(s, smooth.field.grid);
+  }
+  if (topo.betti != (smoothing ? smoothVoxelBetti : rec.voxel_betti))
     in.warnings.push_back("Betti numbers of the mesh and of the voxel solid differ");
   if (!topo.watertight) in.warnings.push_back("the mesh is not watertight");
   clock.end("diagnose");
@@ -265,6 +294,11 @@ int runCommand(const RunOptions& o) {
   progress.stage("write");
   StagedOutput out(outDir);
   for (const auto& fmt : c.mesh_formats) writeMesh(out.file("mesh." + fmt).string(), mesh);
+  if (smoothing) {
+    for (const auto& fmt : c.mesh_formats)
+      writeMesh(out.file("mesh_unsmoothed." + fmt).string(), methodMesh);
+    writeLevelSetVdb(out.file("level_set.vdb").string(), smooth.surface.level_set);
+  }
   for (const Material& m : materials)
     for (const auto& fmt : c.mesh_formats)
       writeMesh(out.file("mesh_label_" + std::to_string(m.label) + "." + fmt).string(), m.mesh);
@@ -361,6 +395,41 @@ int runCommand(const RunOptions& o) {
                      {"pairs_joined_by_graph_only", graphCheck.pairs_joined_by_graph_only},
                      {"pairs_joined_by_voxels_only", graphCheck.pairs_joined_by_voxels_only},
                      {"sections_not_located", graphCheck.sections_unlocated}};
+  if (smoothing) {
+    const MeshTopology mt = meshTopology(methodMesh);
+    const bool shepard = c.smoothing_method == "shepard";
+    const auto check = [](const GraphVoxelCheck& g) {
+      return json{{"same_partition_as_graph", g.same_partition},
+                  {"components", g.voxel_components},
+                  {"pairs_joined_by_graph_only", g.pairs_joined_by_graph_only},
+                  {"pairs_joined_by_surface_only", g.pairs_joined_by_voxels_only},
+                  {"sections_not_located", g.sections_unlocated}};
+    };
+    report["smoothing"] = {{"method", c.smoothing_method},
+                           {"surface_from", smooth.method},
+                           {"exponent", std::isinf(smooth.exponent) ? json("inf") : json(smooth.exponent)},
+                           {"cap_mm", smooth.cap_mm},
+                           {"cap_auto", smooth.cap_auto},
+                           {"empty_plane_value_mm", smooth.empty_value_mm},
+                           {"adaptivity", c.smoothing_adaptivity},
+                           {"grid_dims", smooth.field.grid.dims},
+                           {"grid_origin_mm", vec(smooth.field.grid.origin)},
+                           {"evaluate_s", smooth.evaluate_s},
+                           {"voxels_per_s", smooth.evaluate_s > 0 ? double(smooth.field.grid.count()) / smooth.evaluate_s : 0.0},
+                           {"mean_visible_planes", smooth.mean_visible_planes},
+                           {"max_visible_planes", smooth.max_visible_planes},
+                           {"voxel_betti", smoothVoxelBetti},
+                           {"level_set_active_voxels", smooth.surface.level_set.coords.size()},
+                           {"level_set_half_width_mm", smooth.surface.level_set.background},
+                           {"shepard_connectivity", shepard ? check(smooth.shepard_check) : json(nullptr)},
+                           {"shepard_keeps_connectivity", shepard ? json(smooth.shepard_keeps_connectivity) : json(nullptr)},
+                           {"fell_back_to_level_set", smooth.fell_back},
+                           {"level_set_iterations", smooth.iterations_applied},
+                           {"connectivity", check(smooth.final_check)},
+                           {"unsmoothed", {{"betti", mt.betti}, {"watertight", mt.watertight},
+                                           {"volume_mm3", mt.volume_mm3},
+                                           {"mesh_triangles", methodMesh.triangles.size()}}}};
+  }
   report["topology_repair"] = {{"specks_removed", rec.repair.specks_removed},
                                {"cavities_filled", rec.repair.cavities_filled},
                                {"critical_voxels_added", rec.repair.critical_voxels_added}};

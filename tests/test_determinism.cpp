@@ -1,5 +1,5 @@
 // Output is deterministic: the same inputs and configuration give byte-identical meshes, graphs
-// and label volumes whatever the thread count, with either method (report.json differs only in timings; manifest.json records threads).
+// label volumes and (smoothing) level sets whatever the thread count, with either method (report.json differs only in timings; manifest.json records threads).
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -20,15 +20,18 @@ TEST(Determinism, SameBytesWhateverTheThreadCount) {
                          " output: {mesh: [ply, stl, obj]}}\n");
   auto r = xsect::test::runXsect("phantom " + (dir / "spec.yaml").string() + " --out " + (dir / "ph").string() + " --quiet");
   ASSERT_EQ(r.code, 0) << r.err;
-  for (const std::string method : {"nearest_plane", "section_voronoi"}) {
+  for (const std::string method : {"nearest_plane", "section_voronoi", "shepard"}) {
     SCOPED_TRACE(method);
+    const std::string set = method == "shepard" ? " --set smoothing.method=shepard"
+                                                : " --set reconstruction.method=" + method;
     for (const char* t : {"1", "2", "3"}) {
       r = xsect::test::runXsect("run " + (dir / "ph/config.yaml").string() + " --out " +
-                                (dir / (method + t)).string() + " --quiet --threads " + t +
-                                " --set reconstruction.method=" + method);
+                                (dir / (method + t)).string() + " --quiet --threads " + t + set);
       ASSERT_EQ(r.code, 0) << r.err;
     }
-    for (const char* f : {"mesh.ply", "mesh.stl", "mesh.obj", "graph.json", "graph.dot", "labels.nrrd"}) {
+    std::vector<std::string> files{"mesh.ply", "mesh.stl", "mesh.obj", "graph.json", "graph.dot", "labels.nrrd"};
+    if (method == "shepard") files.insert(files.end(), {"level_set.vdb", "mesh_unsmoothed.ply"});
+    for (const std::string& f : files) {
       const std::string a = slurp(dir / (method + "1") / f);
       EXPECT_GT(a.size(), 100u) << f;
       EXPECT_EQ(a, slurp(dir / (method + "2") / f)) << f;

@@ -1,0 +1,99 @@
+// Stage 6: Shepard's interpolant or the level-set smoothing, into a level set and a mesh
+// (see smooth_stage.h).
+#include "pipeline/smooth_stage.h"
+
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "geometry/plane_distance_function.h"
+#include "geometry/level_set_smoothing.h"
+#include "geometry/shepard_interpolant.h"
+
+namespace xsect {
+
+namespace {
+
+std::vector<std::uint8_t> solidOf(const ScalarField& f) {
+  std::vector<std::uint8_t> in(f.values.size());
+  for (std::size_t q = 0; q < in.size(); ++q) in[q] = f.values[q] < 0;
+  return in;
+}
+
+}  // namespace
+
+SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& realPlanes,
+                        const SampledReconstruction& rec, const SectionArrangement& arrangement,
+                        const std::vector<GraphEdge>& edges,
+                        const std::function<void(double)>& progress) {
+  SmoothStage out;
+  std::vector<CuttingPlane> planes = realPlanes;
+  planes.insert(planes.end(), rec.end_planes.begin(), rec.end_planes.end());
+  const double h = c.voxel_size_mm;
+
+  // The grid reaches the end planes (f = cap > 0 there), so the surface closes inside it.
+  ReconstructionParams lp;
+  lp.method = ReconstructionMethod::section_voronoi;
+  lp.voxel_mm = h;
+  lp.end_margin_mm = rec.end_margin_mm;
+  const GridSpec grid = reconstructionLayout(realPlanes, lp).grid;
+
+  out.exponent = c.smoothing_exponent;
+  out.cap_auto = !c.smoothing_cap_mm;
+  out.cap_mm = c.smoothing_cap_mm ? *c.smoothing_cap_mm : defaultDistanceCap(realPlanes, 10 * h);
+  // A plane without sections says "outside" everywhere; its value is the end margin, the distance
+  // at which the virtual planes close the scene: large enough to close the solid beyond the
+  // outermost sections, small enough that far empty planes (each end plane is seen from most of
+  // the grid) do not bias the surface between sections. With the largest section's radius as the
+  // value instead, a sphere cut by 16 parallel planes shrank by 0.1 mm between its planes.
+  out.empty_value_mm = rec.end_margin_mm;
+  if (c.smoothing_method == "shepard") {
+    std::vector<PlaneDistanceFunction> f(planes.size());
+    tbb::parallel_for(std::size_t(0), planes.size(), [&](std::size_t i) {
+      f[i] = planeDistanceFunction(rec.fields[i], planes[i].plane, grid,
+                                   planes[i].sections.empty() ? out.empty_value_mm : out.cap_mm);
+    });
+    const ShepardData data{&planes, &rec.fields, &f};
+    const auto t0 = std::chrono::steady_clock::now();
+    ShepardField sf = shepardInterpolant(data, grid, out.exponent, progress);
+    out.evaluate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    out.mean_visible_planes = double(sf.visible_planes) / double(std::max<std::int64_t>(1, grid.count()));
+    out.max_visible_planes = sf.max_visible_planes;
+    out.field = std::move(sf.value);
+    out.shepard_check =
+        compareWithVoxels(edges, realPlanes, arrangement, rec.fields, solidOf(out.field), grid);
+    out.shepard_keeps_connectivity = out.shepard_check.same_partition;
+    out.method = "shepard";
+    out.final_check = out.shepard_check;
+  }
+
+  // The level-set smoothing of the method's solid (asked for, or in place of a Shepard surface
+  // that joins the sections differently): curvature flow with the planes' values held, stopped
+  // before it changes how the sections are joined.
+  if (c.smoothing_method == "level_set" ||
+      (c.smoothing_keep_connectivity && !out.shepard_keeps_connectivity)) {
+    const GraphVoxelCheck base =
+        compareWithVoxels(edges, realPlanes, arrangement, rec.fields, rec.inside, rec.field.grid);
+    const auto keeps = [&](const std::vector<std::uint8_t>& inside) {
+      const GraphVoxelCheck k =
+          compareWithVoxels(edges, realPlanes, arrangement, rec.fields, inside, rec.field.grid);
+      return k.pairs_joined_by_graph_only == base.pairs_joined_by_graph_only &&
+             k.pairs_joined_by_voxels_only == base.pairs_joined_by_voxels_only &&
+             k.voxel_components == base.voxel_components;
+    };
+    LevelSetSmoothingParams sp;
+    sp.iterations = c.smoothing_iterations;
+    LevelSetSmoothing ls = smoothSolidLevelSet(rec.field, planes, rec.fields, sp, keeps);
+    out.fell_back = c.smoothing_method == "shepard";
+    out.method = "level_set";
+    out.iterations_applied = ls.iterations_applied;
+    out.field = std::move(ls.field);
+    out.final_check = compareWithVoxels(edges, realPlanes, arrangement, rec.fields,
+                                        solidOf(out.field), out.field.grid);
+  }
+  out.surface = levelSetSurface(out.field, 3.0, c.smoothing_adaptivity);
+  return out;
+}
+
+}  // namespace xsect

@@ -1,0 +1,46 @@
+// Stage 6 (GUIDE.md, thesis ch. 1 §1.1): the smooth surface. Shepard's interpolant of the sections'
+// distance functions evaluated on a grid, renormalised into an OpenVDB narrow-band level set and
+// meshed; its connectivity between the sections compared with the method's graph; and, when asked
+// for or when Shepard joins the sections differently, a level-set smoothing of the method's solid
+// that keeps the method's connectivity.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "geometry/connectivity_graph.h"
+#include "geometry/sampled_reconstruction.h"
+#include "geometry/section_arrangement.h"
+#include "geometry/volume_mesher.h"
+#include "io/run_config.h"
+
+namespace xsect {
+
+struct SmoothStage {
+  std::string method;                 ///< what produced the surface: shepard | level_set
+  LevelSetSurface surface;            ///< level set (level_set.vdb) and its mesh
+  ScalarField field;                  ///< the dense field whose zero set it is (negative inside)
+  double exponent = 2;                ///< Shepard's p
+  double cap_mm = 0;                  ///< Shepard's clamp of f_i
+  bool cap_auto = true;
+  double empty_value_mm = 0;          ///< f_i of planes without sections (the end margin)
+  double evaluate_s = 0;              ///< seconds evaluating Shepard's interpolant
+  double mean_visible_planes = 0;     ///< planes seeing a voxel, on average
+  int max_visible_planes = 0;
+  GraphVoxelCheck shepard_check;      ///< Shepard's solid against the method's graph
+  bool shepard_keeps_connectivity = false;
+  bool fell_back = false;             ///< Shepard's surface replaced by the level-set smoothing
+  int iterations_applied = 0;         ///< level-set smoothing steps kept
+  GraphVoxelCheck final_check;        ///< the output's solid against the method's graph
+};
+
+/// @param realPlanes  the input planes with their sections.
+/// @param rec         the method's reconstruction (rasters, end planes, solid).
+/// @param edges       the method's graph (G for method 1, G' for method 2).
+SmoothStage smoothStage(const RunConfig& config, const std::vector<CuttingPlane>& realPlanes,
+                        const SampledReconstruction& rec, const SectionArrangement& arrangement,
+                        const std::vector<GraphEdge>& edges,
+                        const std::function<void(double)>& progress = {});
+
+}  // namespace xsect

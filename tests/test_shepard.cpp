@@ -1,0 +1,176 @@
+// Shepard's interpolant (thesis ch. 1 §1.1): the grid evaluation equals the O(k²) definition, the
+// far-field f_i stays within its stated error of the exact polygon distance, f equals f_i on the
+// planes (Property 3: the zero set passes through the contours), and as p grows the solid
+// approaches method 1's (the thesis' "sufficiently large n" remark), p = inf being method 1.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "geometry/end_planes.h"
+#include "geometry/nearest_plane_reconstruction.h"
+#include "geometry/plane_distance_function.h"
+#include "geometry/polygon.h"
+#include "geometry/shepard_interpolant.h"
+#include "section_fixtures.h"
+
+using namespace xsect;
+
+namespace {
+
+const Vec3 kCentre(0.3, -0.2, 0.1);
+
+/// Planes (random shell sections, plus the six end planes), their rasters and f_i on `grid`.
+struct Scene {
+  std::vector<CuttingPlane> planes;
+  std::vector<SectionDistanceField> near;
+  std::vector<PlaneDistanceFunction> f;
+  GridSpec grid;
+  ShepardData data() const { return {&planes, &near, &f}; }
+};
+
+Scene scene(int count, unsigned seed, double voxel, int n, double Ri) {
+  Scene s;
+  std::mt19937_64 rng(seed);
+  s.planes = test::randomShellPlanes(count, rng, kCentre, 2.0, 3.0, Ri, 64);
+  const auto ends = endPlanes(kCentre - Vec3::Constant(3.0), kCentre + Vec3::Constant(3.0), 0.8);
+  s.planes.insert(s.planes.end(), ends.begin(), ends.end());
+  s.grid.voxel = voxel;
+  s.grid.origin = kCentre - Vec3::Constant(0.5 * voxel * (n - 1)) + Vec3(0.013, -0.007, 0.011);
+  s.grid.dims = {n, n + 1, n - 1};
+  for (const auto& p : s.planes) {
+    s.near.push_back(sectionDistanceField(p.sections, 0.5 * voxel, 3 * voxel));
+    s.f.push_back(planeDistanceFunction(s.near.back(), p.plane, s.grid, p.sections.empty() ? 0.8 : 3.0));
+  }
+  return s;
+}
+
+/// Distance of x to the nearest visibility tie (a projection x_i within reach of a plane that may
+/// hide it): where the visible set changes, f jumps, so the definition and the grid may differ.
+double tieMargin(const std::vector<CuttingPlane>& planes, const Vec3& x) {
+  double m = 1e300;
+  for (std::size_t i = 0; i < planes.size(); ++i) {
+    const double si = planes[i].plane.signedDistance(x);
+    const Vec3 xi = x - si * planes[i].plane.normal;
+    for (std::size_t q = 0; q < planes.size(); ++q)
+      if (q != i && std::abs(planes[q].plane.signedDistance(x)) < std::abs(si))
+        m = std::min(m, std::abs(planes[q].plane.signedDistance(xi)));
+  }
+  return m;
+}
+
+}  // namespace
+
+TEST(Shepard, GridEvaluationEqualsTheDefinition) {
+  for (const int count : {3, 8, 14, 30})
+    for (const double p : {1.0, 2.0, 8.0, std::numeric_limits<double>::infinity()}) {
+      const Scene s = scene(count, 100 + count, 0.25, 26, 1.2);
+      const ShepardField fast = shepardInterpolant(s.data(), s.grid, p);
+      int compared = 0, skipped = 0, maxVisible = 0;
+      double worst = 0;
+      const auto& D = s.grid.dims;
+      for (int k = 0; k < D[2]; ++k)
+        for (int j = 0; j < D[1]; ++j)
+          for (int i = 0; i < D[0]; ++i) {
+            const Vec3 x = s.grid.centre(i, j, k);
+            if (tieMargin(s.planes, x) < 1e-6) {
+              ++skipped;
+              continue;
+            }
+            int visible = 0;
+            const double ref = shepardValue(s.data(), x, p, &visible);
+            maxVisible = std::max(maxVisible, visible);
+            worst = std::max(worst, std::abs(ref - double(fast.value.at(i, j, k))));
+            ++compared;
+          }
+      EXPECT_LE(worst, 1e-5) << count << " planes, p = " << p;
+      EXPECT_LT(skipped, compared / 1000 + 1) << count << " planes";
+      EXPECT_EQ(fast.max_visible_planes, maxVisible) << count << " planes, p = " << p;
+    }
+}
+
+TEST(Shepard, DistanceFunctionWithinItsErrorBoundOfTheExactPolygonDistance) {
+  const Scene s = scene(12, 7, 0.2, 30, 1.5);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-4.0, 4.0);
+  for (std::size_t i = 0; i < s.planes.size(); ++i) {
+    if (s.planes[i].sections.empty()) continue;
+    const double bound = farErrorBound(s.f[i]);
+    double worstNear = 0, worstFar = 0;
+    for (int n = 0; n < 4000; ++n) {
+      const Vec2 ab(u(rng), u(rng));
+      const Vec3 x = s.planes[i].plane.toWorld(ab);
+      bool inGrid = true;
+      for (int a = 0; a < 3; ++a)
+        inGrid = inGrid && x[a] >= s.grid.origin[a] &&
+                 x[a] <= s.grid.origin[a] + s.grid.voxel * (s.grid.dims[a] - 1);
+      if (!inGrid) continue;
+      const double exact = std::min(signedDistanceToSections(s.planes[i].sections, ab), double(s.f[i].cap));
+      const double got = planeDistanceValue(s.near[i], s.f[i], ab.x(), ab.y());
+      const double err = std::abs(got - exact);
+      (std::abs(exact) < 0.5 * s.near[i].band ? worstNear : worstFar) =
+          std::max(std::abs(exact) < 0.5 * s.near[i].band ? worstNear : worstFar, err);
+      ASSERT_LE(err, bound) << "plane " << i << " at (" << ab.transpose() << "), exact " << exact;
+      if (std::abs(exact) > 0.25 * bound)  // the sign is right wherever the error cannot flip it
+        ASSERT_EQ(got < 0, exact < 0) << "plane " << i << " at (" << ab.transpose() << ")";
+    }
+    // Near the contours the band raster's bilinear error is far below the bound.
+    EXPECT_LT(worstNear, 0.25 * bound) << "plane " << i;
+  }
+}
+
+TEST(Shepard, EqualsEachPlanesFunctionOnItsPlaneSoTheZeroSetPassesThroughTheContours) {
+  const Scene s = scene(10, 21, 0.25, 20, 1.0);
+  for (const double p : {1.0, 2.0, 32.0}) {
+    double worst = 0;
+    int samples = 0;
+    for (std::size_t i = 0; i < s.planes.size(); ++i)
+      for (const Section& sec : s.planes[i].sections)
+        for (const Vec2& a : sec.outer) {
+          // A point on the contour: f_i = 0 there, and f = f_i on P_i (Property 3), unless it
+          // also lies on another plane (then f is the mean of their f_j, all 0 on a conforming
+          // intersection line: these shell sections conform).
+          const double v = shepardValue(s.data(), s.planes[i].plane.toWorld(a), p);
+          worst = std::max(worst, std::abs(v));
+          ++samples;
+        }
+    EXPECT_GT(samples, 100);
+    // f_i at a contour vertex: the band raster's bilinear error only (exact at its nodes).
+    EXPECT_LE(worst, 0.25 * 0.125) << "p = " << p;
+  }
+}
+
+TEST(Shepard, ApproachesMethod1AsTheExponentGrows) {
+  // The thesis (§1.1): for a sufficiently large n, R_f is close to R. p = inf is method 1 exactly.
+  const Scene s = scene(24, 5, 0.2, 40, 1.4);
+  const NearestPlaneField m1 = nearestPlaneReconstruction(s.planes, s.near, s.grid);
+  const auto iou = [&](const ScalarField& f) {
+    std::int64_t both = 0, either = 0;
+    for (std::size_t q = 0; q < f.values.size(); ++q) {
+      const bool a = f.values[q] < 0, b = m1.value.values[q] < 0;
+      both += a && b;
+      either += a || b;
+    }
+    return double(both) / double(either);
+  };
+  double previous = 0;
+  for (const double p : {2.0, 8.0, 32.0}) {
+    const double v = iou(shepardInterpolant(s.data(), s.grid, p).value);
+    EXPECT_GT(v, previous) << "p = " << p;
+    previous = v;
+    if (p == 32.0) EXPECT_GE(v, 0.98);
+  }
+  const ShepardField inf = shepardInterpolant(s.data(), s.grid, std::numeric_limits<double>::infinity());
+  std::int64_t differ = 0;
+  for (std::size_t q = 0; q < inf.value.values.size(); ++q)
+    differ += (inf.value.values[q] < 0) != (m1.value.values[q] < 0);
+  EXPECT_EQ(differ, 0);
+}
+
+TEST(Shepard, RejectsInvalidArguments) {
+  const Scene s = scene(3, 1, 0.5, 6, 0.0);
+  EXPECT_THROW(shepardInterpolant(s.data(), s.grid, 0.0), std::invalid_argument);
+  EXPECT_THROW(shepardInterpolant(s.data(), s.grid, -2.0), std::invalid_argument);
+  std::vector<PlaneDistanceFunction> few(s.f.begin(), s.f.begin() + 1);
+  EXPECT_THROW(shepardInterpolant({&s.planes, &s.near, &few}, s.grid, 2.0), std::invalid_argument);
+  EXPECT_THROW(planeDistanceFunction(s.near[0], s.planes[0].plane, s.grid, 0.0), std::invalid_argument);
+}
