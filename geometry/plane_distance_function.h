@@ -1,6 +1,7 @@
 // The function f_i of the Shepard interpolant (thesis ch. 1 §1.1) on a whole cutting plane: the
 // signed Euclidean distance to the plane's section-contours, negative inside the sections, clamped
-// above at `cap`; a plane without sections has f_i ≡ cap.
+// above at `cap`; a plane without sections has f_i ≡ cap (the caller picks the cap per plane:
+// the pipeline gives planes without sections the end margin, pipeline/smooth_stage.cpp).
 //
 // Why a cap: the interpolant averages the f_i of the planes that see x. Far from its contours a
 // plane says only "outside, far"; an empty plane (a virtual end plane, or a slice that missed the

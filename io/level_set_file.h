@@ -22,7 +22,7 @@
 // Reproducible bytes: OpenVDB stamps every file with a random UUID (the 36-character text at bytes
 // 21..56 of the header: magic 8, file version 4, library version 4+4, has-grid-offsets flag 1);
 // writing the same grid twice gives files that differ in those bytes and nowhere else (checked
-// with `cmp -l`, also with different TBB thread counts). The writer replaces it with a UUID-shaped
+// with `cmp -l`; the tests also compare writes made with 1 and 4 TBB threads). The writer replaces it with a UUID-shaped
 // tag derived from SHA-256 of the file with that field zeroed (version nibble 8, "custom", RFC
 // 9562), so the bytes depend only on the level set, the grid name and the versions of xsect,
 // OpenVDB and Blosc (OpenVDB Blosc-compresses its delayed-load metadata when it can), and
@@ -57,8 +57,8 @@ void writeLevelSetVdb(const std::string& path, const NarrowBandLevelSet& ls,
 ///   and coords are shifted by -m (else origin and coords stay as in the file); dims = highest
 ///   (shifted) active index + 1. An empty grid without the metadata has dims (0, 0, 0).
 /// - coords, values: every active voxel (active tiles expanded), sorted by (k, j, i).
-/// A writer input whose coords lie in [0, dims) round-trips exactly (grid, background, coords,
-/// values).
+/// A level set written by writeLevelSetVdb (coords sorted, as the struct requires) round-trips
+/// exactly: grid, background, coords and values, bit for bit.
 /// Throws InputError(path, field, what): "file" (missing, unreadable, not a VDB file, truncated or
 /// corrupt, a format version other than 222..this OpenVDB's), "grid" (no grid of that name, not a
 /// float grid, too many active voxels), "grid class" (not a level set), "transform",
