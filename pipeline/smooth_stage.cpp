@@ -32,7 +32,7 @@ SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& rea
   planes.insert(planes.end(), rec.end_planes.begin(), rec.end_planes.end());
   const double h = c.voxel_size_mm;
 
-  // The grid reaches the end planes (f = cap > 0 there), so the surface closes inside it.
+  // The grid reaches the end planes (f = the end margin > 0 there): the surface closes inside it.
   ReconstructionParams lp;
   lp.method = ReconstructionMethod::section_voronoi;
   lp.voxel_mm = h;
