@@ -9,15 +9,11 @@
 #include <limits>
 #include <stdexcept>
 
+#include "geometry/plane_rows.h"
+
 namespace xsect {
 
 namespace {
-
-struct PlaneRow {  // s(x) = n.x - d; plane coordinates a = u.x - uo, b = v.x - vo
-  double nx, ny, nz, d, ux, uy, uz, uo, vx, vy, vz, vo;
-  double ax, ay, az;  // |n|: the half-width of the distance interval over a box is |n|.e
-  double s(const Vec3& x) const { return nx * x.x() + ny * x.y() + nz * x.z() - d; }
-};
 
 /// Planes of `from` that may be nearest somewhere in the box [c - e, c + e]: those whose lower
 /// distance bound does not exceed the smallest upper bound. One pass keeps every plane under the
@@ -53,14 +49,7 @@ NearestPlaneField nearestPlaneReconstruction(const std::vector<CuttingPlane>& pl
   if (fields.size() != planes.size())
     throw std::invalid_argument("method 1: one distance raster per plane is required");
   if (!(grid.voxel > 0)) throw std::invalid_argument("method 1: voxel size must be positive");
-  std::vector<PlaneRow> rows(planes.size());
-  for (std::size_t i = 0; i < planes.size(); ++i) {
-    const Plane& p = planes[i].plane;
-    rows[i] = {p.normal.x(), p.normal.y(), p.normal.z(), p.normal.dot(p.origin),
-               p.u.x(),      p.u.y(),      p.u.z(),      p.u.dot(p.origin),
-               p.v.x(),      p.v.y(),      p.v.z(),      p.v.dot(p.origin),
-               std::abs(p.normal.x()), std::abs(p.normal.y()), std::abs(p.normal.z())};
-  }
+  const std::vector<PlaneRow> rows = planeRows(planes);
   std::vector<int> all(planes.size());
   for (std::size_t i = 0; i < all.size(); ++i) all[i] = int(i);
 

@@ -11,6 +11,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "geometry/plane_rows.h"
+
 namespace xsect {
 
 namespace {
@@ -52,12 +54,7 @@ double combine(const int* plane, const double* t, const double* fv, int m, doubl
   return swf / sw;
 }
 
-struct Row {  // s(x) = n.x - d; plane coordinates a = u.x - uo, b = v.x - vo
-  double nx, ny, nz, d, ux, uy, uz, uo, vx, vy, vz, vo;
-  double ax, ay, az;  // |n|
-  double s(const Vec3& x) const { return nx * x.x() + ny * x.y() + nz * x.z() - d; }
-  double dot(const Row& o) const { return nx * o.nx + ny * o.ny + nz * o.nz; }
-};
+using Row = PlaneRow;
 
 struct Entry {
   int plane;
@@ -190,14 +187,7 @@ ShepardField shepardInterpolant(const ShepardData& data, const GridSpec& grid, d
     throw std::invalid_argument("Shepard: one distance function per plane is required");
   if (!(exponent > 0)) throw std::invalid_argument("Shepard: the exponent must be positive");
   if (!(grid.voxel > 0)) throw std::invalid_argument("Shepard: voxel size must be positive");
-  std::vector<Row> rows(planes.size());
-  for (std::size_t i = 0; i < planes.size(); ++i) {
-    const Plane& p = planes[i].plane;
-    rows[i] = {p.normal.x(), p.normal.y(), p.normal.z(), p.normal.dot(p.origin),
-               p.u.x(),      p.u.y(),      p.u.z(),      p.u.dot(p.origin),
-               p.v.x(),      p.v.y(),      p.v.z(),      p.v.dot(p.origin),
-               std::abs(p.normal.x()), std::abs(p.normal.y()), std::abs(p.normal.z())};
-  }
+  const std::vector<Row> rows = planeRows(planes);
   std::vector<Entry> all(planes.size());
   for (std::size_t i = 0; i < all.size(); ++i) all[i] = {int(i), true};
 

@@ -45,11 +45,11 @@ TriangleMesh toTriangles(const std::vector<openvdb::Vec3s>& points,
   return mesh;
 }
 
-openvdb::FloatGrid::Ptr gridOfField(const ScalarField& field) {
+/// The dense field as an OpenVDB grid on its lattice (world transform included), with the given
+/// background (at least 1e-3).
+openvdb::FloatGrid::Ptr gridOfField(const ScalarField& field, float background) {
   openvdb::initialize();  // idempotent
   const auto& g = field.grid;
-  float background = 0.0f;
-  for (float v : field.values) background = std::max(background, std::abs(v));
   background = std::max(background, 1e-3f);
   openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(background);
   {
@@ -67,7 +67,9 @@ openvdb::FloatGrid::Ptr gridOfField(const ScalarField& field) {
 
 LevelSetSurface levelSetSurface(const ScalarField& field, double half_width_voxels,
                                 double adaptivity) {
-  const openvdb::FloatGrid::Ptr dense = gridOfField(field);
+  float background = 0.0f;
+  for (float v : field.values) background = std::max(background, std::abs(v));
+  const openvdb::FloatGrid::Ptr dense = gridOfField(field, background);
   const float hw = float(std::max(1.0, half_width_voxels));
   openvdb::FloatGrid::Ptr ls = openvdb::tools::levelSetRebuild(*dense, 0.0f, hw, hw);
   LevelSetSurface out;
@@ -103,21 +105,9 @@ LevelSetSurface levelSetSurface(const ScalarField& field, double half_width_voxe
 }
 
 TriangleMesh meshZeroLevel(const ScalarField& field, double adaptivity) {
-  openvdb::initialize();  // idempotent
-  const auto& g = field.grid;
   float background = 0.0f;
   for (float v : field.values) background = std::max(background, v);
-  background = std::max(background, 1e-3f);
-  openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(background);
-  {
-    const openvdb::CoordBBox bbox(openvdb::Coord(0, 0, 0),
-                                  openvdb::Coord(g.dims[0] - 1, g.dims[1] - 1, g.dims[2] - 1));
-    openvdb::tools::Dense<const float, openvdb::tools::LayoutXYZ> dense(bbox, field.values.data());
-    openvdb::tools::copyFromDense(dense, *grid, 0.0f);
-  }
-  grid->setTransform(openvdb::math::Transform::createLinearTransform(g.voxel));
-  grid->transform().postTranslate(openvdb::Vec3d(g.origin.x(), g.origin.y(), g.origin.z()));
-
+  const openvdb::FloatGrid::Ptr grid = gridOfField(field, background);
   std::vector<openvdb::Vec3s> points;
   std::vector<openvdb::Vec3I> tris;
   std::vector<openvdb::Vec4I> quads;

@@ -213,7 +213,7 @@ int runCommand(const RunOptions& o) {
   SmoothStage smooth;
   if (smoothing) {
     progress.stage("smooth");
-    smooth = smoothStage(c, in.planes, rec, arrangement, methodEdges,
+    smooth = smoothStage(c, in.planes, rec, arrangement, methodEdges, graphCheck,
                          [&](double f) { progress.update(f); });
     if (c.smoothing_method == "shepard" && !smooth.shepard_keeps_connectivity)
       in.warnings.push_back("Shepard's surface joins the sections differently from the method's graph (" +

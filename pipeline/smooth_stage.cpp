@@ -25,7 +25,7 @@ std::vector<std::uint8_t> solidOf(const ScalarField& f) {
 
 SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& realPlanes,
                         const SampledReconstruction& rec, const SectionArrangement& arrangement,
-                        const std::vector<GraphEdge>& edges,
+                        const std::vector<GraphEdge>& edges, const GraphVoxelCheck& base,
                         const std::function<void(double)>& progress) {
   SmoothStage out;
   std::vector<CuttingPlane> planes = realPlanes;
@@ -73,8 +73,6 @@ SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& rea
   // before it changes how the sections are joined.
   if (c.smoothing_method == "level_set" ||
       (c.smoothing_keep_connectivity && !out.shepard_keeps_connectivity)) {
-    const GraphVoxelCheck base =
-        compareWithVoxels(edges, realPlanes, arrangement, rec.fields, rec.inside, rec.field.grid);
     const auto keeps = [&](const std::vector<std::uint8_t>& inside) {
       const GraphVoxelCheck k =
           compareWithVoxels(edges, realPlanes, arrangement, rec.fields, inside, rec.field.grid);

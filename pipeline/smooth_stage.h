@@ -38,9 +38,11 @@ struct SmoothStage {
 /// @param realPlanes  the input planes with their sections.
 /// @param rec         the method's reconstruction (rasters, end planes, solid).
 /// @param edges       the method's graph (G for method 1, G' for method 2).
+/// @param base        that graph against the method's own voxel solid (compareWithVoxels): the
+///                    level-set smoothing must keep this comparison unchanged.
 SmoothStage smoothStage(const RunConfig& config, const std::vector<CuttingPlane>& realPlanes,
                         const SampledReconstruction& rec, const SectionArrangement& arrangement,
-                        const std::vector<GraphEdge>& edges,
+                        const std::vector<GraphEdge>& edges, const GraphVoxelCheck& base,
                         const std::function<void(double)>& progress = {});
 
 }  // namespace xsect
