@@ -34,6 +34,13 @@ SCENARIOS = {
     "random-200-shepard": ("genus2-random-200.yaml", ["reconstruction.end_margin_mm=1.0",
                                                       "smoothing.method=shepard",
                                                       "smoothing.exponent=2"]),
+    # tracking error (σ = 1 mm, 1°): the sections as segmented, then made to agree along their
+    # intersection lines (issue 5); the freehand sweep with enforcement measures the pair search
+    # on 400 frames
+    "multiaxial-jitter": ("torus-multiaxial-jitter.yaml", []),
+    "multiaxial-jitter-conform": ("torus-multiaxial-jitter.yaml", ["conformity.enforce=true",
+                                                                   "conformity.max_correction_mm=100"]),
+    "freehand-400-conform": ("vessel-tree-freehand.yaml", ["conformity.enforce=true"]),
 }
 QUICK = ["freehand-400", "multiaxial-3x40", "random-200", "freehand-400-m2", "freehand-400-shepard"]
 BASES = ["freehand-400", "multiaxial-3x40", "random-200"]
@@ -234,6 +241,9 @@ def main():
             "dice": ev.get("dice"), "conformity_iou_min": ev.get("conformity_iou_min"),
             "conformity_iou_min_wide": wide_min(ev, rep["reconstruction"]["voxel_size_mm"]),
             "repetitions": reps,
+            "conformity": {k: rep.get("conformity", {}).get(k) for k in
+                           ("pairs", "before", "after", "pairs_enforced", "endpoint_moves",
+                            "edits_added", "edits_removed", "flagged_slices")},
         }
         if rep.get("smoothing") is not None or any(s.startswith("smoothing.") for s in sets):
             results[name]["smoothing_evaluate_s"] = (None if None in smooth_eval else median(smooth_eval))
@@ -253,6 +263,13 @@ def main():
                          f"({r['voxels'] / 1e6:.2f} Mvoxel, {r['planes']} planes)")
             if stage == "arrange":
                 extra = f"  {r['cells']} cells with sections, graphs G" + ("" if r["method"] == "nearest_plane" else " and G'")
+            if stage == "conform":
+                c = r.get("conformity") or {}
+                b, af = c.get("before") or {}, c.get("after")
+                extra = (f"  {c.get('pairs')} pairs of slices, median mismatch {b.get('median_mismatch_mm', 0):.2f} mm"
+                         + ("" if af is None else
+                            f", enforced on {c.get('pairs_enforced')}: after max {af['max_mismatch_mm']:.1e} mm"
+                            f" ({c.get('endpoint_moves')} moves, {c.get('edits_added')}+{c.get('edits_removed')} edits)"))
             if stage == "smooth":
                 ev = r.get("smoothing_evaluate_s")
                 extra = "  Shepard interpolant evaluation " + ("n/a" if ev is None else f"{ev:.3f} s")

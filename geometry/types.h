@@ -62,6 +62,13 @@ struct CuttingPlane {
   Plane plane;
   std::vector<Section> sections;
   PlaneRect extent;        ///< observed part of the plane (image bounds) in plane coordinates
+  /// The field of view within the extent when a mask narrowed it (a probe's sector): its rings in
+  /// plane coordinates (mm). Empty: the whole extent was observed (a mask with no observed pixel
+  /// leaves the extent empty instead).
+  std::vector<Ring> field_of_view;
+  /// Contours given directly (.csl): the whole plane counts as observed, the sections are all of
+  /// O ∩ P (the extent is only the sections' bounds).
+  bool observed_everywhere = false;
   double pixel_mm = 0.0;   ///< image pixel size (finest detail the sections carry); 0 if unknown
   bool is_virtual = false; ///< virtual empty plane added to close open cells (issue: open ends)
 };

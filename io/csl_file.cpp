@@ -134,6 +134,7 @@ std::vector<CuttingPlane> readCslFile(const std::string& path) {
     for (auto& ring : r.outers) toPlane(ring);
     for (auto& ring : r.holes) toPlane(ring);
     cp.sections = sectionsFromRings(std::move(r.outers), std::move(r.holes));
+    cp.observed_everywhere = true;  // a contour file gives all of O ∩ P on each plane
     if (!cp.sections.empty()) {
       Vec2 emin = Vec2::Constant(1e300), emax = -emin;
       for (const auto& s : cp.sections)

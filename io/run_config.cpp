@@ -21,7 +21,9 @@ const std::set<std::string> kKnownKeys = {
     "input", "input.slices", "input.csl", "input.contour", "input.plus_sequence",
     "segmentation", "segmentation.method", "segmentation.threshold", "segmentation.sigma_px",
     "segmentation.open_radius_px", "segmentation.close_radius_px", "segmentation.min_area_mm2",
-    "segmentation.simplify_mm", "segmentation.merge_labels", "conformity", "conformity.enforce", "reconstruction",
+    "segmentation.simplify_mm", "segmentation.merge_labels", "conformity", "conformity.enforce",
+    "conformity.mode", "conformity.max_correction_mm", "conformity.band_mm", "conformity.min_angle_deg",
+    "conformity.flag_mm", "conformity.drop_flagged", "reconstruction",
     "reconstruction.method", "reconstruction.voxel_size_mm", "reconstruction.end_margin_mm",
     "reconstruction.conformal_mesh",
     "smoothing", "smoothing.method", "smoothing.exponent", "smoothing.cap_mm",
@@ -141,8 +143,35 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
     num("min_area_mm2", 0, &p.min_area_mm2);
     num("simplify_mm", 0, &p.simplify_mm);
   }
-  if (const YAML::Node s = section("conformity"))
-    if (s["enforce"]) c.conformity_enforce = yamlBool(s["enforce"], path, "conformity.enforce");
+  if (const YAML::Node s = section("conformity")) {
+    RunConfig::Conformity& f = c.conformity;
+    if (s["enforce"]) f.enforce = yamlBool(s["enforce"], path, "conformity.enforce");
+    if (s["drop_flagged"]) f.drop_flagged = yamlBool(s["drop_flagged"], path, "conformity.drop_flagged");
+    if (s["mode"]) {
+      f.mode = yamlString(s["mode"], path, "conformity.mode");
+      if (f.mode != "intersection" && f.mode != "union" && f.mode != "average")
+        throw InputError(path, "conformity.mode",
+                         "unknown mode '" + f.mode + "' (intersection | union | average)",
+                         yamlLine(s["mode"]));
+    }
+    const auto positive = [&](const char* k, double* out) {
+      if (!s[k]) return;
+      const double v = yamlNumber(s[k], path, std::string("conformity.") + k);
+      if (!(v > 0) || !std::isfinite(v))
+        throw InputError(path, std::string("conformity.") + k, "must be a positive number of mm",
+                         yamlLine(s[k]));
+      *out = v;
+    };
+    positive("max_correction_mm", &f.max_correction_mm);
+    positive("band_mm", &f.band_mm);
+    positive("flag_mm", &f.flag_mm);
+    if (s["min_angle_deg"]) {
+      f.min_angle_deg = yamlNumber(s["min_angle_deg"], path, "conformity.min_angle_deg");
+      if (!(f.min_angle_deg >= 0 && f.min_angle_deg < 90))
+        throw InputError(path, "conformity.min_angle_deg", "must lie in [0, 90) degrees",
+                         yamlLine(s["min_angle_deg"]));
+    }
+  }
 
   if (const YAML::Node s = section("reconstruction")) {
     if (s["method"]) {

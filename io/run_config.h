@@ -16,7 +16,18 @@ struct RunConfig {
   std::string input_kind;           ///< slices | csl | contour | plus_sequence
   std::string input_path;           ///< resolved against the configuration file
   SegmentationParams segmentation;
-  bool conformity_enforce = false;
+  /// Stage 3, conformity along plane intersections (geometry/conformity_enforcement.h).
+  struct Conformity {
+    bool enforce = false;             ///< edit the sections so that traces agree
+    std::string mode = "union";       ///< intersection | union | average
+    double max_correction_mm = 5.0;   ///< larger corrections are reported, not applied
+    double band_mm = 2.0;             ///< edits stay within this distance of their line
+    double min_angle_deg = 5.0;       ///< pairs of planes at a smaller angle are not compared
+    /// A slice whose median disagreement with the slices it crosses exceeds both this and 3 times
+    /// the typical slice's is flagged.
+    double flag_mm = 3.0;
+    bool drop_flagged = false;        ///< flagged slices are left out of the reconstruction
+  } conformity;
   std::string reconstruction_method = "nearest_plane";  ///< nearest_plane | section_voronoi
   double voxel_size_mm = 0.5;
   std::optional<double> end_margin_mm;                  ///< empty = auto

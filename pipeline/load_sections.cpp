@@ -6,6 +6,7 @@
 #include "geometry/plane_of_pose.h"
 #include "io/image_io.h"
 #include "io/input_error.h"
+#include "segmentation/field_of_view.h"
 #include "segmentation/series_threshold.h"
 
 namespace xsect {
@@ -51,6 +52,8 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
     cp.pixel_mm = std::min(spacing.x(), spacing.y());
     cp.extent.min = Vec2::Zero();
     cp.extent.max = Vec2((images[i].cols - 1) * spacing.x(), (images[i].rows - 1) * spacing.y());
+    cp.field_of_view = fieldOfViewRings(fovs[i], spacing);
+    if (!fovs[i].empty() && cv::countNonZero(fovs[i]) == 0) cp.extent = PlaneRect{};  // observed nowhere
     const bool perLabel = perSlice.method == "labels" && labelled;
     if (perLabel && !perSlice.merge_labels)
       (*labelled)[std::size_t(i)] = segmentSlice(images[i], fovs[i], spacing, perSlice).sections;

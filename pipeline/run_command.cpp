@@ -33,6 +33,7 @@
 #include "io/slices_file.h"
 #include "io/staged_output.h"
 #include "pipeline/commands.h"
+#include "pipeline/conform_stage.h"
 #include "pipeline/library_versions.h"
 #include "pipeline/load_sections.h"
 #include "pipeline/progress.h"
@@ -71,9 +72,11 @@ struct Inputs {
   int slices = 0;
   double threshold = 0;  // grey threshold applied (slices input)
   std::vector<std::vector<Section>> labelled;  // segmentation labels: per plane, per label
+  json conformity;          // stage 3's summary (report.json "conformity")
+  json conformity_details;  // conformity.json
 };
 
-/// Stages load + segment (+ conform, which this version reports but does not enforce).
+/// Stages load + segment + conform.
 Inputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress) {
   Inputs in;
   progress.stage("load");
@@ -103,11 +106,14 @@ Inputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress) {
   in.slices = int(in.planes.size());
   clock.end("segment");
   progress.stage("conform");
-  if (c.conformity_enforce)
-    in.warnings.push_back(
-        "conformity.enforce: enforcement along plane intersections is not available in this "
-        "version; the sections are used as segmented");
+  ConformStage conform = conformStage(c.conformity, std::move(in.planes), std::move(in.labelled));
+  in.planes = std::move(conform.planes);
+  in.labelled = std::move(conform.labelled);
+  in.conformity = std::move(conform.summary);
+  in.conformity_details = std::move(conform.details);
+  in.warnings.insert(in.warnings.end(), conform.warnings.begin(), conform.warnings.end());
   clock.end("conform");
+  progress.note(conform.stderr_summary);
   return in;
 }
 
@@ -344,6 +350,7 @@ int runCommand(const RunOptions& o) {
                 {"edges", edges}};
   writeText(out.file("graph.json"), graph.dump(2) + "\n");
   writeText(out.file("graph.dot"), dot);
+  writeText(out.file("conformity.json"), in.conformity_details.dump(2) + "\n");
 
   const double total = [&] {
     double t = 0;
@@ -355,7 +362,8 @@ int runCommand(const RunOptions& o) {
   report["betti"] = topo.betti;
   report["voxel_betti"] = rec.voxel_betti;
   report["watertight"] = topo.watertight;
-  report["counts"] = {{"slices", in.slices}, {"planes_with_sections", planesWithSections},
+  report["counts"] = {{"slices", in.slices}, {"slices_used", in.planes.size()},
+                      {"planes_with_sections", planesWithSections},
                       {"sections", sections}, {"end_planes", rec.end_planes.size()},
                       {"cells", arrangement.cells}, {"sub_sections", arrangement.sub_sections.size()},
                       {"voxels", rec.field.grid.count()},
@@ -433,13 +441,14 @@ int runCommand(const RunOptions& o) {
   report["topology_repair"] = {{"specks_removed", rec.repair.specks_removed},
                                {"cavities_filled", rec.repair.cavities_filled},
                                {"critical_voxels_added", rec.repair.critical_voxels_added}};
-  report["conformity"] = {{"conformal_mesh", c.conformal_mesh},
+  report["conformity"] = in.conformity;
+  report["conformity"].update(json{{"conformal_mesh", c.conformal_mesh},
                           {"planes_cut", cutStats.planes_cut},
                           {"cut_vertices", cutStats.vertices_added},
                           {"cut_vertices_on_contour", cutStats.vertices_snapped},
                           {"cut_vertices_short_of_contour", cutStats.vertices_shortened},
                           {"cut_vertices_off_contour", cutStats.vertices_unsnapped},
-                          {"cut_max_move_mm", cutStats.max_move_mm}};
+                          {"cut_max_move_mm", cutStats.max_move_mm}});
   report["timings_s"] = clock.timings;
   report["timings_s"]["total"] = total;
   report["peak_memory_mb"] = clock.memory;
@@ -489,6 +498,7 @@ int checkCommand(const RunOptions& o) {
   r["config"] = in.config.path;
   r["valid"] = true;
   r["counts"] = {{"slices", in.slices}, {"sections", sections}};
+  r["conformity"] = in.conformity;
   if (sections > 0) {
     const ReconstructionLayout L = layoutOf(in.planes, in.config);
     r["sections_bounds_mm"] = {vec(L.sections_min), vec(L.sections_max)};

@@ -9,6 +9,7 @@
 #include <map>
 
 #include "cli.h"
+#include "phantom_runs.h"
 #include "geometry/mesh_distance.h"
 #include "io/level_set_file.h"
 #include "io/mesh_io.h"
@@ -22,7 +23,9 @@ using namespace xsect;
 
 namespace {
 
-json readJson(const fs::path& p) { return json::parse(test::slurp(p)); }
+using test::eval;
+using test::phantom;
+using test::readJson;
 
 /// The sections `xsect run` reconstructs from, for the configuration.
 std::vector<CuttingPlane> sectionsOf(const fs::path& config) {
@@ -32,27 +35,10 @@ std::vector<CuttingPlane> sectionsOf(const fs::path& config) {
   return sectionsFromSlices(slices, c.input_path, c.segmentation, &warnings);
 }
 
-fs::path phantom(const std::string& tag, const std::string& spec) {
-  const fs::path dir = test::freshDir(tag);
-  test::writeFile(dir / "spec.yaml", spec);
-  const auto r = test::runXsect("phantom " + (dir / "spec.yaml").string() + " --out " +
-                                (dir / "ph").string() + " --quiet");
-  EXPECT_EQ(r.code, 0) << r.err;
-  return dir;
-}
-
 void run(const fs::path& dir, const std::string& out, const std::string& sets) {
   const auto r = test::runXsect("run " + (dir / "ph/config.yaml").string() + " --out " +
                                 (dir / out).string() + " --quiet " + sets);
   ASSERT_EQ(r.code, 0) << r.err;
-}
-
-json eval(const fs::path& dir, const std::string& out) {
-  const auto r = test::runXsect("eval --mesh " + (dir / out / "mesh.ply").string() + " --truth " +
-                                (dir / "ph/truth.yaml").string() + " --json " +
-                                (dir / (out + ".json")).string() + " --quiet");
-  EXPECT_EQ(r.code, 0) << r.err;
-  return readJson(dir / (out + ".json"));
 }
 
 const char* kTorusMultiaxial =

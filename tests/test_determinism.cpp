@@ -1,5 +1,6 @@
 // Output is deterministic: the same inputs and configuration give byte-identical meshes, graphs
-// label volumes and (smoothing) level sets whatever the thread count, with either method (report.json differs only in timings; manifest.json records threads).
+// label volumes, conformity reports and (smoothing) level sets whatever the thread count, with
+// either method and with conformity enforced (report.json differs only in timings; manifest.json records threads).
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -20,10 +21,11 @@ TEST(Determinism, SameBytesWhateverTheThreadCount) {
                          " output: {mesh: [ply, stl, obj]}}\n");
   auto r = xsect::test::runXsect("phantom " + (dir / "spec.yaml").string() + " --out " + (dir / "ph").string() + " --quiet");
   ASSERT_EQ(r.code, 0) << r.err;
-  for (const std::string method : {"nearest_plane", "section_voronoi", "shepard"}) {
+  for (const std::string method : {"nearest_plane", "section_voronoi", "shepard", "conform"}) {
     SCOPED_TRACE(method);
-    const std::string set = method == "shepard" ? " --set smoothing.method=shepard"
-                                                : " --set reconstruction.method=" + method;
+    const std::string set = method == "shepard"   ? " --set smoothing.method=shepard"
+                            : method == "conform" ? " --set conformity.enforce=true --set conformity.mode=average"
+                                                  : " --set reconstruction.method=" + method;
     for (const char* t : {"1", "2", "3"}) {
       r = xsect::test::runXsect("run " + (dir / "ph/config.yaml").string() + " --out " +
                                 (dir / (method + t)).string() + " --quiet --threads " + t + set);
@@ -31,6 +33,7 @@ TEST(Determinism, SameBytesWhateverTheThreadCount) {
     }
     std::vector<std::string> files{"mesh.ply", "mesh.stl", "mesh.obj", "graph.json", "graph.dot", "labels.nrrd"};
     if (method == "shepard") files.insert(files.end(), {"level_set.vdb", "mesh_unsmoothed.ply"});
+    files.push_back("conformity.json");
     for (const std::string& f : files) {
       const std::string a = slurp(dir / (method + "1") / f);
       EXPECT_GT(a.size(), 100u) << f;

@@ -1,0 +1,34 @@
+// Helpers for acceptance tests through the binary: render a phantom from a spec into a fresh
+// folder, evaluate a run's mesh against the phantom's truth, read JSON outputs.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <string>
+
+#include "cli.h"
+
+namespace xsect::test {
+
+inline nlohmann::json readJson(const std::filesystem::path& p) { return nlohmann::json::parse(slurp(p)); }
+
+/// A fresh folder holding spec.yaml and the phantom rendered from it in ph/.
+inline std::filesystem::path phantom(const std::string& tag, const std::string& spec) {
+  const std::filesystem::path dir = freshDir(tag);
+  writeFile(dir / "spec.yaml", spec);
+  const auto r = runXsect("phantom " + (dir / "spec.yaml").string() + " --out " + (dir / "ph").string() + " --quiet");
+  EXPECT_EQ(r.code, 0) << r.err;
+  return dir;
+}
+
+/// `xsect eval` of dir/out/mesh.ply against the phantom's truth; its JSON (written to dir/out.json).
+inline nlohmann::json eval(const std::filesystem::path& dir, const std::string& out) {
+  const auto r = runXsect("eval --mesh " + (dir / out / "mesh.ply").string() + " --truth " +
+                          (dir / "ph/truth.yaml").string() + " --json " + (dir / (out + ".json")).string() + " --quiet");
+  EXPECT_EQ(r.code, 0) << r.err;
+  return readJson(dir / (out + ".json"));
+}
+
+}  // namespace xsect::test
