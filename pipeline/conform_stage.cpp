@@ -75,11 +75,13 @@ json traceJson(const Trace& t) {
 
 json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 
-std::string mm(double v) {
+std::string number(double v) {
   char b[32];
-  std::snprintf(b, sizeof b, "%.3g mm", v);
+  std::snprintf(b, sizeof b, "%.3g", v);
   return b;
 }
+
+std::string mm(double v) { return number(v) + " mm"; }
 
 ConsensusMode modeOf(const std::string& m) {
   return m == "intersection" ? ConsensusMode::intersection
@@ -256,7 +258,9 @@ ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<Cut
   out.details = {{"summary", out.summary}, {"slices", slices}, {"pairs", pairs}};
 
   // Terminal and warnings.
-  std::string s = "conformity: " + std::to_string(pairsMeasured) + " pairs of slices meet";
+  std::string s = "conformity: " + std::to_string(pairsMeasured) + " pairs of slices meet at " +
+                  number(settings.min_angle_deg) + "° or more" +
+                  (search.pairs_near_parallel ? " (" + std::to_string(search.pairs_near_parallel) + " nearly parallel pairs not compared)" : "");
   if (!search.pairs.empty()) {
     s += "; disagreement median " + mm(beforeSummary["median_mismatch_mm"].get<double>()) + ", max " +
          mm(beforeSummary["max_mismatch_mm"].get<double>());

@@ -70,3 +70,22 @@ TEST(OReX, SparseObliquePlanesGiveOneClosedSolidNearTheReference) {
     EXPECT_GT(o.eval["dice"].get<double>(), 0.9);
   }
 }
+
+// OReX's sections were cut from one mesh, so they agree along every intersection line: the
+// measurement must find no disagreement (no false alarm from the trace computation), and
+// enforcement must leave them as they are.
+#include "geometry/conformity_enforcement.h"
+#include "geometry/plane_pair_traces.h"
+
+TEST(OReX, ObliqueSectionsCutFromOneMeshAgreeAlongTheirLines) {
+  if (!fs::exists(kData / "Elephant.csl")) GTEST_SKIP() << "no " << kData;
+  const auto planes = xsect::readCslFile((kData / "Elephant.csl").string());
+  const xsect::PlanePairSearch found = xsect::planePairTraces(planes, 5.0);
+  EXPECT_GT(found.pairs.size(), 100u);
+  for (const auto& p : found.pairs) {
+    EXPECT_LE(p.disagreement.symmetric_difference_mm, 1e-6) << p.a << "-" << p.b;
+    EXPECT_FALSE(p.trace_a.empty() && p.trace_b.empty());
+  }
+  const xsect::ConformityEnforcement e = xsect::enforceConformity(planes, found.pairs, {}, found.unmeasured);
+  EXPECT_EQ(e.planes_edited, 0);
+}
