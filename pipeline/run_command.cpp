@@ -13,6 +13,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "geometry/cell_connectivity_check.h"
 #include "geometry/conformal_cut.h"
 #include "pipeline/smooth_stage.h"
 #include "io/level_set_file.h"
@@ -119,6 +120,16 @@ Inputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress) {
 
 json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 
+/// report.json: a solid's connectivity against the graph, cell by cell.
+json cellsJson(const CellConnectivityCheck& c) {
+  return {{"cells_compared", c.cells_compared},
+          {"cells_unresolved", c.cells_unresolved},
+          {"cells_differing", c.cells_differing},
+          {"pairs_joined_by_graph_only", c.pairs_joined_by_graph_only},
+          {"pairs_joined_by_solid_only", c.pairs_joined_by_voxels_only},
+          {"differing_cells", c.differing_cells}};
+}
+
 ReconstructionParams reconstructionParams(const RunConfig& c) {
   ReconstructionParams rp;
   rp.voxel_mm = c.voxel_size_mm;
@@ -204,6 +215,9 @@ int runCommand(const RunOptions& o) {
   const std::vector<GraphEdge>& methodEdges = method2 ? graphs.g_prime : graphs.g;
   const GraphVoxelCheck graphCheck =
       compareWithVoxels(methodEdges, in.planes, arrangement, rec.fields, rec.inside, rec.field.grid);
+  // The same, cell by cell (thesis: R_C's components are the classes of S_C the lifts join).
+  const CellConnectivityCheck cellCheck =
+      compareCellsWithVoxels(methodEdges, allPlanes, arrangement, rec.fields, rec.inside, rec.field.grid);
   bool gInGPrime = true;
   for (const GraphEdge& e : graphs.g)
     gInGPrime = gInGPrime && std::binary_search(graphs.g_prime.begin(), graphs.g_prime.end(), e);
@@ -219,14 +233,15 @@ int runCommand(const RunOptions& o) {
   SmoothStage smooth;
   if (smoothing) {
     progress.stage("smooth");
-    smooth = smoothStage(c, in.planes, rec, arrangement, methodEdges, graphCheck,
+    smooth = smoothStage(c, in.planes, rec, arrangement, methodEdges, graphCheck, cellCheck,
                          [&](double f) { progress.update(f); });
     if (c.smoothing_method == "shepard" && !smooth.shepard_keeps_connectivity)
       in.warnings.push_back("Shepard's surface joins the sections differently from the method's graph (" +
                             std::to_string(smooth.shepard_check.pairs_joined_by_graph_only) +
                             " pairs joined by the graph only, " +
                             std::to_string(smooth.shepard_check.pairs_joined_by_voxels_only) +
-                            " by the surface only)" +
+                            " by the surface only; " + std::to_string(smooth.shepard_cells.cells_differing) +
+                            " cells differ)" +
                             (smooth.fell_back ? ": the surface written is the level-set smoothing of the "
                                                 "method's solid, which keeps the method's connectivity"
                                               : ""));
@@ -402,16 +417,18 @@ int runCommand(const RunOptions& o) {
                      {"same_partition_as_voxels", graphCheck.same_partition},
                      {"pairs_joined_by_graph_only", graphCheck.pairs_joined_by_graph_only},
                      {"pairs_joined_by_voxels_only", graphCheck.pairs_joined_by_voxels_only},
-                     {"sections_not_located", graphCheck.sections_unlocated}};
+                     {"sections_not_located", graphCheck.sections_unlocated},
+                     {"per_cell", cellsJson(cellCheck)}};
   if (smoothing) {
     const MeshTopology mt = meshTopology(methodMesh);
     const bool shepard = c.smoothing_method == "shepard";
-    const auto check = [](const GraphVoxelCheck& g) {
+    const auto check = [](const GraphVoxelCheck& g, const CellConnectivityCheck& cells) {
       return json{{"same_partition_as_graph", g.same_partition},
                   {"components", g.voxel_components},
                   {"pairs_joined_by_graph_only", g.pairs_joined_by_graph_only},
                   {"pairs_joined_by_surface_only", g.pairs_joined_by_voxels_only},
-                  {"sections_not_located", g.sections_unlocated}};
+                  {"sections_not_located", g.sections_unlocated},
+                  {"per_cell", cellsJson(cells)}};
     };
     report["smoothing"] = {{"method", c.smoothing_method},
                            {"surface_from", smooth.method},
@@ -429,11 +446,11 @@ int runCommand(const RunOptions& o) {
                            {"voxel_betti", smoothVoxelBetti},
                            {"level_set_active_voxels", smooth.surface.level_set.coords.size()},
                            {"level_set_half_width_mm", smooth.surface.level_set.background},
-                           {"shepard_connectivity", shepard ? check(smooth.shepard_check) : json(nullptr)},
+                           {"shepard_connectivity", shepard ? check(smooth.shepard_check, smooth.shepard_cells) : json(nullptr)},
                            {"shepard_keeps_connectivity", shepard ? json(smooth.shepard_keeps_connectivity) : json(nullptr)},
                            {"fell_back_to_level_set", smooth.fell_back},
                            {"level_set_iterations", smooth.iterations_applied},
-                           {"connectivity", check(smooth.final_check)},
+                           {"connectivity", check(smooth.final_check, smooth.final_cells)},
                            {"unsmoothed", {{"betti", mt.betti}, {"watertight", mt.watertight},
                                            {"volume_mm3", mt.volume_mm3},
                                            {"mesh_triangles", methodMesh.triangles.size()}}}};

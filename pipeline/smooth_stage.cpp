@@ -26,6 +26,7 @@ std::vector<std::uint8_t> solidOf(const ScalarField& f) {
 SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& realPlanes,
                         const SampledReconstruction& rec, const SectionArrangement& arrangement,
                         const std::vector<GraphEdge>& edges, const GraphVoxelCheck& base,
+                        const CellConnectivityCheck& baseCells,
                         const std::function<void(double)>& progress) {
   SmoothStage out;
   std::vector<CuttingPlane> planes = realPlanes;
@@ -63,9 +64,15 @@ SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& rea
     out.field = std::move(sf.value);
     out.shepard_check =
         compareWithVoxels(edges, realPlanes, arrangement, rec.fields, solidOf(out.field), grid);
-    out.shepard_keeps_connectivity = out.shepard_check.same_partition;
+    out.shepard_cells = compareCellsWithVoxels(edges, planes, arrangement, rec.fields, solidOf(out.field), grid);
+    const auto pairs = [](const CellConnectivityCheck& k) {
+      return k.pairs_joined_by_graph_only + k.pairs_joined_by_voxels_only;
+    };
+    out.shepard_keeps_connectivity =
+        out.shepard_check.same_partition && pairs(out.shepard_cells) <= pairs(baseCells);
     out.method = "shepard";
     out.final_check = out.shepard_check;
+    out.final_cells = out.shepard_cells;
   }
 
   // The level-set smoothing of the method's solid (asked for, or in place of a Shepard surface
@@ -89,6 +96,7 @@ SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& rea
     out.field = std::move(ls.field);
     out.final_check = compareWithVoxels(edges, realPlanes, arrangement, rec.fields,
                                         solidOf(out.field), out.field.grid);
+    out.final_cells = compareCellsWithVoxels(edges, planes, arrangement, rec.fields, solidOf(out.field), out.field.grid);
   }
   out.surface = levelSetSurface(out.field, 3.0, c.smoothing_adaptivity);
   return out;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/cell_connectivity_check.h"
 #include "geometry/connectivity_graph.h"
 #include "geometry/sampled_reconstruction.h"
 #include "geometry/section_arrangement.h"
@@ -29,10 +30,12 @@ struct SmoothStage {
   double mean_visible_planes = 0;     ///< planes seeing a voxel, on average
   int max_visible_planes = 0;
   GraphVoxelCheck shepard_check;      ///< Shepard's solid against the method's graph
+  CellConnectivityCheck shepard_cells;  ///< the same, cell by cell
   bool shepard_keeps_connectivity = false;
   bool fell_back = false;             ///< Shepard's surface replaced by the level-set smoothing
   int iterations_applied = 0;         ///< level-set smoothing steps kept
   GraphVoxelCheck final_check;        ///< the output's solid against the method's graph
+  CellConnectivityCheck final_cells;  ///< the same, cell by cell
 };
 
 /// @param realPlanes  the input planes with their sections.
@@ -40,9 +43,14 @@ struct SmoothStage {
 /// @param edges       the method's graph (G for method 1, G' for method 2).
 /// @param base        that graph against the method's own voxel solid (compareWithVoxels): the
 ///                    level-set smoothing must keep this comparison unchanged.
+/// @param baseCells   the same, cell by cell (compareCellsWithVoxels): Shepard keeps the
+///                    method's connectivity when it joins the sections as the graph does overall
+///                    and differs from the graph in no more section pairs, cell by cell, than
+///                    the method's own voxel solid does.
 SmoothStage smoothStage(const RunConfig& config, const std::vector<CuttingPlane>& realPlanes,
                         const SampledReconstruction& rec, const SectionArrangement& arrangement,
                         const std::vector<GraphEdge>& edges, const GraphVoxelCheck& base,
+                        const CellConnectivityCheck& baseCells,
                         const std::function<void(double)>& progress = {});
 
 }  // namespace xsect

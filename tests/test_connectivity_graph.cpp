@@ -108,3 +108,50 @@ TEST(ConnectivityGraph, GIsASubgraphOfGPrimeAndMatchesTheVoxels) {  // Propositi
   EXPECT_GT(edgesG, 20);
   EXPECT_GT(extra, 0) << "method 2 should make connections method 1 does not";
 }
+
+// Cell by cell (issue 4: sections per component, per cell): a cylinder cut by two discs (z = 0,
+// z = 4) and one lengthwise plane (x = 0.3), so the slab between the discs is two cells. Method 1's
+// solid joins the discs in both cells, as G does. Cutting the solid in one of the two cells keeps
+// the sections in one component (joined through the other cell): the global check cannot see it,
+// the per-cell check finds the one cell where G and the solid now differ.
+#include "geometry/cell_connectivity_check.h"
+
+TEST(ConnectivityGraph, PerCellCheckSeesAConnectionLostInOneCell) {
+  std::vector<CuttingPlane> planes = {diskPlane(2, 0, 3), diskPlane(2, 4, 3)};
+  CuttingPlane length;
+  length.plane = test::axisPlane(0, 0.3);  // u = y, v = z
+  const double half = std::sqrt(9.0 - 0.3 * 0.3);
+  length.sections.push_back(Section{Ring{{-half, -2}, {half, -2}, {half, 6}, {-half, 6}}, {}, 1});
+  planes.push_back(length);
+  for (auto& p : boxAround(8)) planes.push_back(p);
+  std::vector<SectionDistanceField> fields;
+  for (const auto& p : planes) fields.push_back(sectionDistanceField(p.sections, 0.05, 0.6));
+  const SectionArrangement arr = arrangeSections(planes, 0.2);
+  const ConnectivityGraphs graphs = connectivityGraphs(planes, fields, arr, {}, false);
+  GridSpec grid;
+  grid.voxel = 0.2;
+  grid.origin = Vec3::Constant(-7.9);
+  grid.dims = {80, 80, 80};
+  const auto m1 = nearestPlaneReconstruction(planes, fields, grid);
+  std::vector<std::uint8_t> inside(m1.value.values.size());
+  for (std::size_t q = 0; q < inside.size(); ++q) inside[q] = m1.value.values[q] < 0;
+
+  const CellConnectivityCheck before = compareCellsWithVoxels(graphs.g, planes, arr, fields, inside, grid);
+  EXPECT_GE(before.cells_compared, 2);  // the two halves of the slab between the discs
+  EXPECT_EQ(before.cells_differing, 0);
+
+  // A gap 0.6 mm thick at z = 2 in the half x > 0.3 of the slab.
+  for (int k = 0; k < grid.dims[2]; ++k)
+    for (int j = 0; j < grid.dims[1]; ++j)
+      for (int i = 0; i < grid.dims[0]; ++i) {
+        const Vec3 x = grid.centre(i, j, k);
+        if (x.x() > 0.3 && std::abs(x.z() - 2.0) < 0.3) inside[std::size_t(grid.index(i, j, k))] = 0;
+      }
+  const GraphVoxelCheck global = compareWithVoxels(graphs.g, planes, arr, fields, inside, grid);
+  EXPECT_TRUE(global.same_partition) << "still one component, through the other half";
+  const CellConnectivityCheck after = compareCellsWithVoxels(graphs.g, planes, arr, fields, inside, grid);
+  EXPECT_EQ(after.cells_differing, 1);
+  // The two discs, and the lengthwise section with the disc on the far side of the gap.
+  EXPECT_EQ(after.pairs_joined_by_graph_only, 2);
+  EXPECT_EQ(after.pairs_joined_by_voxels_only, 0);
+}

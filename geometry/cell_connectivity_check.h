@@ -1,0 +1,44 @@
+// Connectivity cell by cell (thesis ch. 1 §2 and ch. 2 §5.2: in each cell C of the arrangement,
+// the components of R_C are the classes of sections of S_C that the lifts join, which is what the
+// graph's edges of cell C record). Compares, per cell, the sections each component of a voxel
+// solid (the method's, or a smooth surface's) joins inside that cell with the classes of the
+// graph's edges of that cell. A stronger check than the global one (connectivity_graph.h
+// compareWithVoxels): two sections can be joined through another cell in one and not the other.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "geometry/connectivity_graph.h"
+#include "geometry/section_arrangement.h"
+#include "geometry/section_distance_field.h"
+#include "geometry/types.h"
+
+namespace xsect {
+
+struct CellConnectivityCheck {
+  int cells_compared = 0;    ///< cells bounded by two or more sections, each with a voxel seed
+  /// Cells bounded by two or more sections where some sub-section has no voxel of the solid in
+  /// the cell beside it (a cell thinner than a voxel there, or a solid that misses the section).
+  int cells_unresolved = 0;
+  int cells_differing = 0;   ///< compared cells whose two partitions differ
+  int pairs_joined_by_graph_only = 0;   ///< summed over the compared cells
+  int pairs_joined_by_voxels_only = 0;
+  std::vector<int> differing_cells;     ///< their ids (arrangement cell ids), at most 20
+};
+
+/// @param edges        the graph (GraphEdge::cell says in which cell two lifts meet).
+/// @param planes       all planes the arrangement was built on (real and virtual), same order.
+/// @param arrangement  arrangeSections(planes, ...).
+/// @param fields       per plane, its sections' distance raster (to choose deep seed points).
+/// @param inside       the solid, one byte per voxel of `grid`.
+/// A voxel belongs to the cell whose sign vector its centre has. Components are 6-connected
+/// inside one cell. Deterministic; parallel over cells.
+CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges,
+                                             const std::vector<CuttingPlane>& planes,
+                                             const SectionArrangement& arrangement,
+                                             const std::vector<SectionDistanceField>& fields,
+                                             const std::vector<std::uint8_t>& inside,
+                                             const GridSpec& grid);
+
+}  // namespace xsect
