@@ -50,8 +50,16 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
   std::map<std::array<int, 3>, std::pair<float, const SectionPoint*>> deepest;
   for (const SectionPoint& sp : arr.points) {
     if (sp.kind != SectionPoint::sample || std::size_t(sp.plane) >= fields.size()) continue;
-    const Vec3 x = planes[std::size_t(sp.plane)].plane.toWorld(sp.p);
     float f = fields[std::size_t(sp.plane)].sample(sp.p.x(), sp.p.y());
+    // Only a point deeper in its section than the best so far can be deeper overall.
+    bool better = false;
+    for (const int cell : sp.cell) {
+      if (cell < 0) continue;
+      const auto it = deepest.find({sp.plane, sp.section, cell});
+      better = better || it == deepest.end() || f < it->second.first;
+    }
+    if (!better) continue;
+    const Vec3 x = planes[std::size_t(sp.plane)].plane.toWorld(sp.p);
     for (std::size_t j = 0; j < P; ++j)
       if (j != std::size_t(sp.plane)) f = std::max(f, -float(std::abs(planes[j].plane.signedDistance(x))));
     for (const int cell : sp.cell) {
@@ -127,18 +135,28 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
       if (component[std::size_t(start)] >= 0) continue;
       component[std::size_t(start)] = int(s);
       queue.assign(1, start);
+      std::vector<std::size_t> near;
       while (!queue.empty()) {
         const std::int64_t v = queue.back();
         queue.pop_back();
         const int i = int(v % grid.dims[0]), j = int((v / grid.dims[0]) % grid.dims[1]),
                   k = int(v / (std::int64_t(grid.dims[0]) * grid.dims[1]));
+        // A neighbour one voxel away can be on the other side only of the planes within a voxel.
+        const Vec3 x = grid.centre(i, j, k);
+        near.clear();
+        for (std::size_t p = 0; p < P; ++p)
+          if (std::abs(planes[p].plane.signedDistance(x)) <= grid.voxel) near.push_back(p);
         const std::array<std::array<int, 3>, 6> steps{{{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}}};
         for (const auto& d : steps) {
           const int a = i + d[0], b = j + d[1], e = k + d[2];
           if (a < 0 || b < 0 || e < 0 || a >= grid.dims[0] || b >= grid.dims[1] || e >= grid.dims[2]) continue;
           const std::int64_t w = grid.index(a, b, e);
+          if (!inside[std::size_t(w)]) continue;
+          const Vec3 y = grid.centre(a, b, e);
+          bool same = true;
+          for (const std::size_t p : near) same = same && signOf(p, y) == c.signs[p];
           // own-cell voxels only: other cells' labels are written by other threads
-          if (!inside[std::size_t(w)] || !inCell(c.signs, grid.centre(a, b, e)) || component[std::size_t(w)] >= 0) continue;
+          if (!same || component[std::size_t(w)] >= 0) continue;
           component[std::size_t(w)] = int(s);
           queue.push_back(w);
         }
