@@ -25,6 +25,8 @@ struct CellConnectivityCheck {
   int pairs_joined_by_graph_only = 0;   ///< summed over the compared cells
   int pairs_joined_by_voxels_only = 0;
   std::vector<int> differing_cells;     ///< their ids (arrangement cell ids), at most 20
+  /// Per cell id: the section pairs the two groupings disagree on; -1 where not compared.
+  std::vector<int> pairs_by_cell;
 };
 
 /// @param edges        the graph (GraphEdge::cell says in which cell two lifts meet).
@@ -33,12 +35,19 @@ struct CellConnectivityCheck {
 /// @param fields       per plane, its sections' distance raster (to choose deep seed points).
 /// @param inside       the solid, one byte per voxel of `grid`.
 /// A voxel belongs to the cell whose sign vector its centre has. Components are 6-connected
-/// inside one cell. Deterministic; parallel over cells.
+/// inside one cell. Seeds: beside every sample point of a sub-section at least a voxel deep in
+/// it (into the section and away from the traces bounding it), or beside its deepest point; a
+/// section joins every component it touches. A cell is unresolved when a seed point has no
+/// voxel of the solid within a voxel beside it. Deterministic; parallel over cells.
 CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges,
                                              const std::vector<CuttingPlane>& planes,
                                              const SectionArrangement& arrangement,
                                              const std::vector<SectionDistanceField>& fields,
                                              const std::vector<std::uint8_t>& inside,
                                              const GridSpec& grid);
+
+/// Whether `solid` differs from the graph, in every cell both compared, in no more section pairs
+/// than `reference` (the method's own solid) does.
+bool keepsCellConnectivity(const CellConnectivityCheck& solid, const CellConnectivityCheck& reference);
 
 }  // namespace xsect

@@ -65,11 +65,8 @@ SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& rea
     out.shepard_check =
         compareWithVoxels(edges, realPlanes, arrangement, rec.fields, solidOf(out.field), grid);
     out.shepard_cells = compareCellsWithVoxels(edges, planes, arrangement, rec.fields, solidOf(out.field), grid);
-    const auto pairs = [](const CellConnectivityCheck& k) {
-      return k.pairs_joined_by_graph_only + k.pairs_joined_by_voxels_only;
-    };
     out.shepard_keeps_connectivity =
-        out.shepard_check.same_partition && pairs(out.shepard_cells) <= pairs(baseCells);
+        out.shepard_check.same_partition && keepsCellConnectivity(out.shepard_cells, baseCells);
     out.method = "shepard";
     out.final_check = out.shepard_check;
     out.final_cells = out.shepard_cells;

@@ -45,8 +45,8 @@ struct SmoothStage {
 ///                    level-set smoothing must keep this comparison unchanged.
 /// @param baseCells   the same, cell by cell (compareCellsWithVoxels): Shepard keeps the
 ///                    method's connectivity when it joins the sections as the graph does overall
-///                    and differs from the graph in no more section pairs, cell by cell, than
-///                    the method's own voxel solid does.
+///                    and, in every cell both resolve, differs from the graph in no more section
+///                    pairs than the method's own voxel solid does.
 SmoothStage smoothStage(const RunConfig& config, const std::vector<CuttingPlane>& realPlanes,
                         const SampledReconstruction& rec, const SectionArrangement& arrangement,
                         const std::vector<GraphEdge>& edges, const GraphVoxelCheck& base,

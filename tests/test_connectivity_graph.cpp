@@ -110,37 +110,64 @@ TEST(ConnectivityGraph, GIsASubgraphOfGPrimeAndMatchesTheVoxels) {  // Propositi
 }
 
 // Cell by cell (issue 4: sections per component, per cell): a cylinder cut by two discs (z = 0,
-// z = 4) and one lengthwise plane (x = 0.3), so the slab between the discs is two cells. Method 1's
-// solid joins the discs in both cells, as G does. Cutting the solid in one of the two cells keeps
-// the sections in one component (joined through the other cell): the global check cannot see it,
+// z = 4) and crossed by an empty plane (x = 0.3), so the slab between the discs is two cells.
+// Method 1's solid joins the discs in both halves, as G does. Cutting the solid in one half keeps
+// the discs in one component (joined through the other half): the global check cannot see it;
 // the per-cell check finds the one cell where G and the solid now differ.
 #include "geometry/cell_connectivity_check.h"
 
+namespace {
+
+std::vector<std::uint8_t> method1Solid(const std::vector<CuttingPlane>& planes,
+                                       const std::vector<SectionDistanceField>& fields, const GridSpec& grid) {
+  const auto m1 = nearestPlaneReconstruction(planes, fields, grid);
+  std::vector<std::uint8_t> inside(m1.value.values.size());
+  for (std::size_t q = 0; q < inside.size(); ++q) inside[q] = m1.value.values[q] < 0;
+  return inside;
+}
+
+GridSpec offPlanesGrid() {  // voxel centres off every plane of these tests
+  GridSpec grid;
+  grid.voxel = 0.2;
+  grid.origin = Vec3::Constant(-7.93);
+  grid.dims = {80, 80, 80};
+  return grid;
+}
+
+}  // namespace
+
 TEST(ConnectivityGraph, PerCellCheckSeesAConnectionLostInOneCell) {
-  std::vector<CuttingPlane> planes = {diskPlane(2, 0, 3), diskPlane(2, 4, 3)};
-  CuttingPlane length;
-  length.plane = test::axisPlane(0, 0.3);  // u = y, v = z
-  const double half = std::sqrt(9.0 - 0.3 * 0.3);
-  length.sections.push_back(Section{Ring{{-half, -2}, {half, -2}, {half, 6}, {-half, 6}}, {}, 1});
-  planes.push_back(length);
+  std::vector<CuttingPlane> planes = {diskPlane(2, 0, 3), diskPlane(2, 4, 3), diskPlane(0, 0.3, 0)};
   for (auto& p : boxAround(8)) planes.push_back(p);
   std::vector<SectionDistanceField> fields;
   for (const auto& p : planes) fields.push_back(sectionDistanceField(p.sections, 0.05, 0.6));
   const SectionArrangement arr = arrangeSections(planes, 0.2);
   const ConnectivityGraphs graphs = connectivityGraphs(planes, fields, arr, {}, false);
-  GridSpec grid;
-  grid.voxel = 0.2;
-  grid.origin = Vec3::Constant(-7.9);
-  grid.dims = {80, 80, 80};
-  const auto m1 = nearestPlaneReconstruction(planes, fields, grid);
-  std::vector<std::uint8_t> inside(m1.value.values.size());
-  for (std::size_t q = 0; q < inside.size(); ++q) inside[q] = m1.value.values[q] < 0;
+  const GridSpec grid = offPlanesGrid();
+  std::vector<std::uint8_t> inside = method1Solid(planes, fields, grid);
 
+  // Between the discs, on either side of x = 0.3: the two cells bounded by two sections.
   const CellConnectivityCheck before = compareCellsWithVoxels(graphs.g, planes, arr, fields, inside, grid);
-  EXPECT_GE(before.cells_compared, 2);  // the two halves of the slab between the discs
+  EXPECT_EQ(arr.cells, 6);
+  EXPECT_EQ(before.cells_compared, 2);
+  EXPECT_EQ(before.cells_unresolved, 0);
   EXPECT_EQ(before.cells_differing, 0);
+  int between = -1;  // the one on the side x > 0.3
+  for (const SectionPoint& sp : arr.points)
+    if (sp.plane == 0 && sp.kind == SectionPoint::sample && sp.p.x() > 1.0) between = sp.cell[1];
+  ASSERT_GE(between, 0);
 
-  // A gap 0.6 mm thick at z = 2 in the half x > 0.3 of the slab.
+  // Without the graph's edge of that cell, the solid joins what the graph does not.
+  std::vector<GraphEdge> fewer;
+  for (const GraphEdge& e : graphs.g)
+    if (e.cell != between) fewer.push_back(e);
+  ASSERT_LT(fewer.size(), graphs.g.size());
+  const CellConnectivityCheck missing = compareCellsWithVoxels(fewer, planes, arr, fields, inside, grid);
+  EXPECT_EQ(missing.differing_cells, std::vector<int>{between});
+  EXPECT_EQ(missing.pairs_joined_by_voxels_only, 1);
+  EXPECT_EQ(missing.pairs_joined_by_graph_only, 0);
+
+  // A gap 0.6 mm thick at z = 2 on the side x > 0.3.
   for (int k = 0; k < grid.dims[2]; ++k)
     for (int j = 0; j < grid.dims[1]; ++j)
       for (int i = 0; i < grid.dims[0]; ++i) {
@@ -150,8 +177,31 @@ TEST(ConnectivityGraph, PerCellCheckSeesAConnectionLostInOneCell) {
   const GraphVoxelCheck global = compareWithVoxels(graphs.g, planes, arr, fields, inside, grid);
   EXPECT_TRUE(global.same_partition) << "still one component, through the other half";
   const CellConnectivityCheck after = compareCellsWithVoxels(graphs.g, planes, arr, fields, inside, grid);
-  EXPECT_EQ(after.cells_differing, 1);
-  // The two discs, and the lengthwise section with the disc on the far side of the gap.
-  EXPECT_EQ(after.pairs_joined_by_graph_only, 2);
+  EXPECT_EQ(after.differing_cells, std::vector<int>{between});
+  EXPECT_EQ(after.pairs_joined_by_graph_only, 1);
   EXPECT_EQ(after.pairs_joined_by_voxels_only, 0);
+  EXPECT_FALSE(keepsCellConnectivity(after, before));
+  EXPECT_TRUE(keepsCellConnectivity(before, after));
+}
+
+// A section touching two components of a cell joins them; a U-shaped section whose two arms
+// each hold one component is not a disagreement with the graph (a false alarm with one seed).
+TEST(ConnectivityGraph, PerCellCheckSeedsEveryPartOfASubSection) {
+  CuttingPlane u;
+  u.plane = test::axisPlane(2, 0);
+  u.sections.push_back(Section{Ring{{-3, -2}, {3, -2}, {3, 4}, {1, 4}, {1, -1}, {-1, -1}, {-1, 4}, {-3, 4}}, {}, 1});
+  CuttingPlane top;
+  top.plane = test::axisPlane(2, 4);
+  top.sections.push_back(Section{test::circle(Vec2(-2, 2.5), 0.9, 64), {}, 1});
+  top.sections.push_back(Section{test::circle(Vec2(2, 2.5), 0.9, 64), {}, 1});
+  std::vector<CuttingPlane> planes = {u, top, diskPlane(1, -0.5, 0)};
+  for (auto& p : boxAround(8)) planes.push_back(p);
+  std::vector<SectionDistanceField> fields;
+  for (const auto& p : planes) fields.push_back(sectionDistanceField(p.sections, 0.05, 0.6));
+  const SectionArrangement arr = arrangeSections(planes, 0.2);
+  const ConnectivityGraphs graphs = connectivityGraphs(planes, fields, arr, {}, false);
+  const GridSpec grid = offPlanesGrid();
+  const CellConnectivityCheck c = compareCellsWithVoxels(graphs.g, planes, arr, fields, method1Solid(planes, fields, grid), grid);
+  EXPECT_GT(c.cells_compared, 0);
+  EXPECT_EQ(c.cells_differing, 0) << c.pairs_joined_by_graph_only << " " << c.pairs_joined_by_voxels_only;
 }
