@@ -126,6 +126,24 @@ std::vector<std::uint8_t> method1Solid(const std::vector<CuttingPlane>& planes,
   return inside;
 }
 
+/// Planes inside a box of half-width 8 with their rasters, cells and graph G.
+struct Scene {
+  std::vector<CuttingPlane> planes;
+  std::vector<SectionDistanceField> fields;
+  SectionArrangement arr;
+  ConnectivityGraphs graphs;
+};
+
+Scene sceneOf(std::vector<CuttingPlane> planes) {
+  Scene s;
+  for (auto& p : boxAround(8)) planes.push_back(p);
+  for (const auto& p : planes) s.fields.push_back(sectionDistanceField(p.sections, 0.05, 0.6));
+  s.arr = arrangeSections(planes, 0.2);
+  s.graphs = connectivityGraphs(planes, s.fields, s.arr, {}, false);
+  s.planes = std::move(planes);
+  return s;
+}
+
 GridSpec offPlanesGrid() {  // voxel centres off every plane of these tests
   GridSpec grid;
   grid.voxel = 0.2;
@@ -137,12 +155,8 @@ GridSpec offPlanesGrid() {  // voxel centres off every plane of these tests
 }  // namespace
 
 TEST(ConnectivityGraph, PerCellCheckSeesAConnectionLostInOneCell) {
-  std::vector<CuttingPlane> planes = {diskPlane(2, 0, 3), diskPlane(2, 4, 3), diskPlane(0, 0.3, 0)};
-  for (auto& p : boxAround(8)) planes.push_back(p);
-  std::vector<SectionDistanceField> fields;
-  for (const auto& p : planes) fields.push_back(sectionDistanceField(p.sections, 0.05, 0.6));
-  const SectionArrangement arr = arrangeSections(planes, 0.2);
-  const ConnectivityGraphs graphs = connectivityGraphs(planes, fields, arr, {}, false);
+  const Scene scene = sceneOf({diskPlane(2, 0, 3), diskPlane(2, 4, 3), diskPlane(0, 0.3, 0)});
+  const auto& [planes, fields, arr, graphs] = scene;
   const GridSpec grid = offPlanesGrid();
   std::vector<std::uint8_t> inside = method1Solid(planes, fields, grid);
 
@@ -194,12 +208,8 @@ TEST(ConnectivityGraph, PerCellCheckSeedsEveryPartOfASubSection) {
   top.plane = test::axisPlane(2, 4);
   top.sections.push_back(Section{test::circle(Vec2(-2, 2.5), 0.9, 64), {}, 1});
   top.sections.push_back(Section{test::circle(Vec2(2, 2.5), 0.9, 64), {}, 1});
-  std::vector<CuttingPlane> planes = {u, top, diskPlane(1, -0.5, 0)};
-  for (auto& p : boxAround(8)) planes.push_back(p);
-  std::vector<SectionDistanceField> fields;
-  for (const auto& p : planes) fields.push_back(sectionDistanceField(p.sections, 0.05, 0.6));
-  const SectionArrangement arr = arrangeSections(planes, 0.2);
-  const ConnectivityGraphs graphs = connectivityGraphs(planes, fields, arr, {}, false);
+  const Scene scene = sceneOf({u, top, diskPlane(1, -0.5, 0)});
+  const auto& [planes, fields, arr, graphs] = scene;
   const GridSpec grid = offPlanesGrid();
   const CellConnectivityCheck c = compareCellsWithVoxels(graphs.g, planes, arr, fields, method1Solid(planes, fields, grid), grid);
   EXPECT_GT(c.cells_compared, 0);
