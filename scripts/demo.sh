@@ -23,4 +23,4 @@ print(f"total {r['timings_s']['total']:.2f} s")
 PY
 echo
 echo "phantom (slices, truth):   $demo/phantom"
-echo "reconstruction (mesh.ply, report.json, manifest.json, graph.json, eval.json): $demo/result"
+echo "reconstruction (mesh.ply, labels.nrrd, report.json, conformity.json, graph.json, manifest.json, eval.json): $demo/result"
