@@ -38,10 +38,6 @@ struct Rhombus {
   double s0, s1, w;
 };
 
-Trace symmetricDifference(const Trace& a, const Trace& b) {
-  return subtractTraces(uniteTraces(a, b), intersectTraces(a, b));
-}
-
 /// The interval of `t` that ends (side 0: starts) at x, if any.
 const Interval* touching(const Trace& t, double x, bool endsAtX) {
   for (const Interval& i : t)
@@ -276,10 +272,6 @@ int placeVertex(std::vector<Section>* sections, const Vec2& q, double tol) {
   return 2;
 }
 
-bool insertVertex(std::vector<Section>* sections, const Vec2& q, double tol) {
-  return placeVertex(sections, q, tol) > 0;
-}
-
 
 /// Whether t is an end of one of the intervals (where observation stops, not a contour).
 bool onBoundaryOf(const Trace& c, double t) {
@@ -349,13 +341,13 @@ std::vector<Section> deformAlongLines(const CuttingPlane& cp, const std::vector<
   if (chosen.empty()) return cp.sections;
   std::vector<Section> out = cp.sections;
   for (const Bump& b : chosen)
-    if (!insertVertex(&out, b.centre, 1e-6)) return cp.sections;
+    if (placeVertex(&out, b.centre, 1e-6) == 0) return cp.sections;
   // Every other crossing near a bump becomes a vertex too, so that no subdivided piece of an
   // edge runs from a moved point to beyond a crossing and drags the crossing along.
   for (const Vec2& q : crossings)
     for (const Bump& b : chosen)
       if ((q - b.centre).norm() > 1e-9 && (q - b.centre).norm() < 4 * b.radius + 1.0) {
-        insertVertex(&out, q, 1e-6);
+        placeVertex(&out, q, 1e-6);
         break;
       }
   const auto deformRing = [&](const Ring& ring) {
@@ -469,22 +461,22 @@ PlaneEditResult editPlane(const CuttingPlane& cp, std::vector<LineEdit> edits,
     }
     inputs.push_back(std::move(p));
   }
-  const auto othersThan = [&](std::size_t edit) {
-    std::vector<GuardedLine> o;
-    const PlaneLine own = lineInPlane(cp.plane, edits[edit].line);
+  // Per edited line, the plane's other lines with their targets (what its rhombi must keep off).
+  std::vector<std::vector<GuardedLine>> guards(edits.size());
+  for (std::size_t e = 0; e < edits.size(); ++e) {
+    const PlaneLine own = lineInPlane(cp.plane, edits[e].line);
     for (std::size_t k = 0; k < planeLines.size(); ++k) {
       const PlaneLine& l = planeLines[k];
       if ((l.o - own.o).norm() > 1e-9 || std::abs(l.d.x() * own.d.y() - l.d.y() * own.d.x()) > 1e-12)
-        o.push_back({l, lines[k].second});
+        guards[e].push_back({l, lines[k].second});
     }
-    return o;
-  };
+  }
   PolygonSet set;
   set.join(inputs.begin(), inputs.end());
   for (std::size_t k = 0; k < addRings.size(); ++k)
-    set.join(protectedEdit(addRings[k], lineInPlane(cp.plane, edits[addLine[k]].line), othersThan(addLine[k]), true));
+    set.join(protectedEdit(addRings[k], lineInPlane(cp.plane, edits[addLine[k]].line), guards[addLine[k]], true));
   for (std::size_t k = 0; k < removeRings.size(); ++k)
-    set.difference(protectedEdit(removeRings[k], lineInPlane(cp.plane, edits[removeLine[k]].line), othersThan(removeLine[k]), false));
+    set.difference(protectedEdit(removeRings[k], lineInPlane(cp.plane, edits[removeLine[k]].line), guards[removeLine[k]], false));
   std::vector<PolygonWithHoles> result;
   set.polygons_with_holes(std::back_inserter(result));
   std::vector<Section> edited;

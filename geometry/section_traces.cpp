@@ -164,6 +164,10 @@ Trace subtractTraces(const Trace& a, const Trace& b) {
   return normalised(std::move(out));
 }
 
+Trace symmetricDifference(const Trace& a, const Trace& b) {
+  return subtractTraces(uniteTraces(a, b), intersectTraces(a, b));
+}
+
 double traceLength(const Trace& a) {
   double l = 0;
   for (const Interval& i : a) l += i.length();
@@ -177,7 +181,7 @@ double longestInterval(const Trace& a) {
 }
 
 TraceDisagreement traceDisagreement(const Trace& a, const Trace& b, const Trace& common) {
-  const Trace diff = intersectTraces(subtractTraces(uniteTraces(a, b), intersectTraces(a, b)), common);
+  const Trace diff = intersectTraces(symmetricDifference(a, b), common);
   return {traceLength(diff), longestInterval(diff)};
 }
 

@@ -56,6 +56,7 @@ Trace observedTrace(const CuttingPlane& plane, const PlaneLine& line);
 Trace intersectTraces(const Trace& a, const Trace& b);
 Trace uniteTraces(const Trace& a, const Trace& b);
 Trace subtractTraces(const Trace& a, const Trace& b);  ///< a \ b
+Trace symmetricDifference(const Trace& a, const Trace& b);  ///< (a ∪ b) \ (a ∩ b)
 double traceLength(const Trace& a);
 /// Length of the longest interval, 0 for an empty trace.
 double longestInterval(const Trace& a);

@@ -174,8 +174,9 @@ ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<Cut
     after = retrace(search.pairs, planes);
     // Lines that were not measured (no section on them, or nearly parallel planes) must not
     // have been changed by the edits.
-    for (const PlanePairTraces& p : retrace(search.unmeasured, planes)) {
-      const PlanePairTraces& was = search.unmeasured[std::size_t(&p - &search.unmeasured[0])];
+    const std::vector<PlanePairTraces> now = retrace(search.unmeasured, planes);
+    for (std::size_t k = 0; k < now.size(); ++k) {
+      const PlanePairTraces &p = now[k], &was = search.unmeasured[k];
       unmeasuredDisturbed += traceDisagreement(p.trace_a, was.trace_a, p.common).symmetric_difference_mm > kAgree ||
                              traceDisagreement(p.trace_b, was.trace_b, p.common).symmetric_difference_mm > kAgree;
     }

@@ -71,6 +71,9 @@ TEST(AcceptanceConformity, JitteredTorusAgreesAfterEnforcementAndRegainsItsTopol
   const json& after = enforced["conformity"]["after"];
   EXPECT_EQ(after["pairs_disagreeing"].get<int>(), 0);
   EXPECT_LE(after["max_mismatch_mm"].get<double>(), 1e-6);
+  // ...and the lines of pairs not compared (nearly parallel, or no section on them) are as they were.
+  EXPECT_GT(enforced["conformity"]["pairs_without_sections"].get<int>() + enforced["conformity"]["pairs_near_parallel"].get<int>(), 0);
+  EXPECT_EQ(enforced["conformity"]["unmeasured_pairs_disturbed"].get<int>(), 0);
   const json details = readJson(dir / "enforced/conformity.json");
   ASSERT_EQ(int(details["pairs"].size()), pairs);
   for (const json& p : details["pairs"]) {
