@@ -28,12 +28,12 @@ SCENARIOS = {
                                                  "reconstruction.method=section_voronoi"]),
     # method 1 smoothed by the Shepard interpolant (thesis ch. 1 §1.1) on the same inputs
     "freehand-400-shepard": ("vessel-tree-freehand.yaml", ["smoothing.method=shepard",
-                                                           "smoothing.exponent=2"]),
+                                                           "smoothing.exponent=1"]),
     "multiaxial-3x40-shepard": ("torus-multiaxial-3x40.yaml", ["smoothing.method=shepard",
-                                                               "smoothing.exponent=2"]),
+                                                               "smoothing.exponent=1"]),
     "random-200-shepard": ("genus2-random-200.yaml", ["reconstruction.end_margin_mm=1.0",
                                                       "smoothing.method=shepard",
-                                                      "smoothing.exponent=2"]),
+                                                      "smoothing.exponent=1"]),
     # tracking error (σ = 1 mm, 1°): the sections as segmented, then made to agree along their
     # intersection lines (issue 5); the freehand sweep with enforcement measures the pair search
     # on 400 frames

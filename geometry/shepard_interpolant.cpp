@@ -27,31 +27,50 @@ inline double weightRatio(double tmin, double t, double p) {
 }
 
 /// The combination step shared by the definition and the grid: planes that see x, their
-/// distances t and values fv, listed by increasing plane index.
-double combine(const int* plane, const double* t, const double* fv, int m, double p) {
-  double tmin = std::numeric_limits<double>::infinity();
+/// distances t and values fv, listed by increasing plane index. Planes with weight factor 0 take
+/// no part (not even on their own plane), unless no other plane sees x: then f is the nearest
+/// plane's value. p = inf is method 1: the nearest plane, factors ignored.
+double combine(const int* plane, const double* t, const double* fv, int m, double p,
+               const std::vector<double>* factor) {
+  const auto weightOf = [&](int k) { return factor ? (*factor)[std::size_t(plane[k])] : 1.0; };
+  double tmin = std::numeric_limits<double>::infinity(), tminWeighted = tmin;
   int nearest = -1;
-  for (int k = 0; k < m; ++k)
+  for (int k = 0; k < m; ++k) {
     if (t[k] < tmin || (t[k] == tmin && plane[k] < plane[nearest])) {
       tmin = t[k];
       nearest = k;
     }
-  if (std::isinf(p)) return fv[nearest];
+    if (weightOf(k) > 0) tminWeighted = std::min(tminWeighted, t[k]);
+  }
+  if (std::isinf(p) || std::isinf(tminWeighted)) return fv[nearest];
   double sw = 0, swf = 0;
-  if (tmin == 0) {  // on a plane: f = f_i there (Property 3); on several, their mean
+  if (tminWeighted == 0) {  // on a plane: f = f_i there (Property 3); on several, their mean
     for (int k = 0; k < m; ++k)
-      if (t[k] == 0) {
+      if (t[k] == 0 && weightOf(k) > 0) {
         sw += 1;
         swf += fv[k];
       }
     return swf / sw;
   }
   for (int k = 0; k < m; ++k) {
-    const double w = weightRatio(tmin, t[k], p);
+    const double w = weightRatio(tminWeighted, t[k], p) * weightOf(k);
     sw += w;
     swf += w * fv[k];
   }
   return swf / sw;
+}
+
+/// Throws unless `data` has one distance function and (if any) one finite, non-negative weight
+/// factor per plane.
+void checkData(const ShepardData& data) {
+  const auto& planes = *data.planes;
+  if (data.near->size() != planes.size() || data.f->size() != planes.size())
+    throw std::invalid_argument("Shepard: one distance function per plane is required");
+  if (data.weight_factor &&
+      (data.weight_factor->size() != planes.size() ||
+       std::any_of(data.weight_factor->begin(), data.weight_factor->end(),
+                   [](double v) { return !(v >= 0 && std::isfinite(v)); })))
+    throw std::invalid_argument("Shepard: one finite, non-negative weight factor per plane is required");
 }
 
 using Row = PlaneRow;
@@ -155,7 +174,23 @@ void cullBox(const std::vector<Row>& rows, const std::vector<Entry>& from, const
 
 }  // namespace
 
+std::vector<double> endPlaneWeightFactors(const std::vector<CuttingPlane>& planes,
+                                          std::size_t first_end_plane) {
+  std::vector<double> factor(planes.size(), 1.0);
+  for (std::size_t e = first_end_plane; e < planes.size(); ++e) {
+    double m = 0;
+    for (std::size_t i = 0; i < first_end_plane && i < planes.size(); ++i)
+      if (!planes[i].sections.empty()) {
+        const double c = planes[i].plane.normal.dot(planes[e].plane.normal);
+        m = std::max(m, c * c);
+      }
+    factor[e] = m;
+  }
+  return factor;
+}
+
 double shepardValue(const ShepardData& data, const Vec3& x, double exponent, int* visible) {
+  checkData(data);
   const auto& planes = *data.planes;
   const std::size_t k = planes.size();
   std::vector<double> s(k);
@@ -176,15 +211,14 @@ double shepardValue(const ShepardData& data, const Vec3& x, double exponent, int
   }
   if (visible) *visible = int(idx.size());
   if (idx.empty()) throw std::logic_error("Shepard: no plane sees the point");  // the nearest always does
-  return combine(idx.data(), t.data(), fv.data(), int(idx.size()), exponent);
+  return combine(idx.data(), t.data(), fv.data(), int(idx.size()), exponent, data.weight_factor);
 }
 
 ShepardField shepardInterpolant(const ShepardData& data, const GridSpec& grid, double exponent,
                                 const std::function<void(double)>& progress) {
   const auto& planes = *data.planes;
   if (planes.empty()) throw std::invalid_argument("Shepard: no cutting plane");
-  if (data.near->size() != planes.size() || data.f->size() != planes.size())
-    throw std::invalid_argument("Shepard: one distance function per plane is required");
+  checkData(data);
   if (!(exponent > 0)) throw std::invalid_argument("Shepard: the exponent must be positive");
   if (!(grid.voxel > 0)) throw std::invalid_argument("Shepard: voxel size must be positive");
   const std::vector<Row> rows = planeRows(planes);
@@ -274,7 +308,7 @@ ShepardField shepardInterpolant(const ShepardData& data, const GridSpec& grid, d
           vis += nv;
           vmax = std::max(vmax, nv);
           out.value.values[std::size_t(grid.index(i, j, k))] =
-              float(combine(w.vp.data(), w.tv.data(), w.fv.data(), nv, exponent));
+              float(combine(w.vp.data(), w.tv.data(), w.fv.data(), nv, exponent, data.weight_factor));
         }
   };
   const std::function<void(int, int, int, int, int, const std::vector<Entry>&, Scratch&,

@@ -8,9 +8,13 @@
 // Limits and conventions:
 //  - on a plane (|x - x_i| = 0) f equals the mean of the f_i of the planes through x: f|_{P_i} = f_i
 //    (Property 3), so the zero set passes through the section-contours;
-//  - p = +inf is the limit: f = f_j(x_j) for the nearest plane P_j (ties: lowest index), which is
+//  - p = +inf is method 1: f = f_j(x_j) for the nearest plane P_j (ties: lowest index), which is
 //    always visible — method 1's value (nearest_plane_reconstruction.h);
-//  - the weights are computed as (t_min / t_i)^p, which is the same ratio without overflow.
+//  - the weights are computed as (t_min / t_i)^p, which is the same ratio without overflow;
+//  - the virtual end planes (end_planes.h) take part with their weight scaled by
+//    endPlaneWeightFactors; a plane with factor 0 takes no part, even on itself, unless no plane
+//    with a positive factor sees x (then f is the nearest plane's value). So as p grows, f tends
+//    to the nearest plane with a positive factor, while p = inf is method 1 (the nearest plane).
 // f is smooth inside each cell away from the loci where a projection x_i passes behind another
 // plane, where the visible set changes and f jumps (a plane that stops being visible is never the
 // nearest, so the jump shrinks as p grows).
@@ -38,7 +42,24 @@ struct ShepardData {
   const std::vector<CuttingPlane>* planes = nullptr;
   const std::vector<SectionDistanceField>* near = nullptr;
   const std::vector<PlaneDistanceFunction>* f = nullptr;
+  /// Optional factor on each plane's weight w_i (1 when absent): see endPlaneWeightFactors.
+  const std::vector<double>* weight_factor = nullptr;
 };
+
+/// Weight factors for `planes` whose entries from `first_end_plane` on are the virtual end planes
+/// (end_planes.h): 1 for a cutting plane; for an end plane E, max over the cutting planes P_i
+/// holding sections of (n_i · n_E)².
+///
+/// Why: the end planes are not cutting planes of the thesis; they close the cells where a
+/// section's value would otherwise extend to infinity, which happens along the section's own
+/// normal (x_i stays put as x moves along n_i). Along a direction perpendicular to every n_i the
+/// projections x_i slide out of the sections and f closes by itself; an end plane facing that way
+/// would only add a far "outside" vote, and for p = 1 a plane's vote f_E w_E ≈ (its distance from
+/// the surface) / t does not fade with t. A parallel stack thus gets no side end planes in f and,
+/// as the thesis states for two parallel planes and g the identity, f between two neighbouring
+/// planes is the linear interpolation of their distance functions.
+std::vector<double> endPlaneWeightFactors(const std::vector<CuttingPlane>& planes,
+                                          std::size_t first_end_plane);
 
 /// The definition, evaluated at x with the thesis' O(k²) visibility test (the reference the fast
 /// evaluation is tested against). `exponent` p > 0, +inf allowed. Optionally returns the number

@@ -33,7 +33,7 @@ struct RunConfig {
   std::optional<double> end_margin_mm;                  ///< empty = auto
   bool conformal_mesh = true;  ///< cut the mesh along the planes onto the section contours
   std::string smoothing_method = "none";                ///< none | shepard | level_set
-  double smoothing_exponent = 2.0;                      ///< Shepard: g(t) = t^p; +inf allowed
+  double smoothing_exponent = 1.0;                      ///< Shepard: g(t) = t^p; +inf allowed
   std::optional<double> smoothing_cap_mm;               ///< Shepard: clamp of f_i; empty = auto
   double smoothing_adaptivity = 0.0;                    ///< OpenVDB mesh adaptivity in [0, 1]
   /// Shepard: when its solid joins the sections differently from the method's graph, output the

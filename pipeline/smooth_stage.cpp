@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "geometry/contour_pinning.h"
 #include "geometry/plane_distance_function.h"
 #include "geometry/level_set_smoothing.h"
 #include "geometry/shepard_interpolant.h"
@@ -55,13 +56,22 @@ SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& rea
       f[i] = planeDistanceFunction(rec.fields[i], planes[i].plane, grid,
                                    planes[i].sections.empty() ? out.empty_value_mm : out.cap_mm);
     });
-    const ShepardData data{&planes, &rec.fields, &f};
+    const std::vector<double> factor = endPlaneWeightFactors(planes, realPlanes.size());
+    const ShepardData data{&planes, &rec.fields, &f, &factor};
     const auto t0 = std::chrono::steady_clock::now();
     ShepardField sf = shepardInterpolant(data, grid, out.exponent, progress);
     out.evaluate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     out.mean_visible_planes = double(sf.visible_planes) / double(std::max<std::int64_t>(1, grid.count()));
     out.max_visible_planes = sf.max_visible_planes;
     out.field = std::move(sf.value);
+    out.end_plane_weights.assign(factor.begin() + std::ptrdiff_t(realPlanes.size()), factor.end());
+    // The zero set of f meets every plane in its sections (Property 3); on the grid, a quarter
+    // voxel of slack, so that the level set written (after renormalisation) stays within half a
+    // voxel of every contour.
+    out.pinning = pinSectionContours(
+        out.field, realPlanes,
+        [&](std::size_t i, double a, double b) { return double(planeDistanceValue(rec.fields[i], f[i], a, b)); },
+        0.25 * h);
     out.shepard_check =
         compareWithVoxels(edges, realPlanes, arrangement, rec.fields, solidOf(out.field), grid);
     out.shepard_cells = compareCellsWithVoxels(edges, planes, arrangement, rec.fields, solidOf(out.field), grid);

@@ -11,6 +11,7 @@
 
 #include "geometry/cell_connectivity_check.h"
 #include "geometry/connectivity_graph.h"
+#include "geometry/contour_pinning.h"
 #include "geometry/sampled_reconstruction.h"
 #include "geometry/section_arrangement.h"
 #include "geometry/volume_mesher.h"
@@ -22,13 +23,15 @@ struct SmoothStage {
   std::string method;                 ///< what produced the surface: shepard | level_set
   LevelSetSurface surface;            ///< level set (level_set.vdb) and its mesh
   ScalarField field;                  ///< the dense field whose zero set it is (negative inside)
-  double exponent = 2;                ///< Shepard's p
+  double exponent = 1;                ///< Shepard's p
   double cap_mm = 0;                  ///< Shepard's clamp of f_i
   bool cap_auto = true;
   double empty_value_mm = 0;          ///< f_i of planes without sections (the end margin)
   double evaluate_s = 0;              ///< seconds evaluating Shepard's interpolant
   double mean_visible_planes = 0;     ///< planes seeing a voxel, on average
   int max_visible_planes = 0;
+  std::vector<double> end_plane_weights;  ///< Shepard: the end planes' weight factors (-x +x -y +y -z +z)
+  ContourPinning pinning;             ///< Shepard: the contours pinned on the grid
   GraphVoxelCheck shepard_check;      ///< Shepard's solid against the method's graph
   CellConnectivityCheck shepard_cells;  ///< the same, cell by cell
   bool shepard_keeps_connectivity = false;

@@ -104,11 +104,14 @@ TEST(AcceptanceShepard, ZeroSetPassesThroughTheContoursWithinHalfAVoxel) {
     over += std::abs(v) > 0.5 * voxel;
   }
 
-  // All but a few samples (where two planes' segmented sections disagree on their common line by
-  // up to a pixel, and where the surface creases across a plane) within half a voxel.
-  EXPECT_LE(over, int(samples.size() / 100)) << "worst " << worstLs;
-  EXPECT_LE(worstLs, 0.6 * voxel);
+  // Every sample within half a voxel. Without the contour pinning (contour_pinning.h), 1612 of
+  // the 86,648 samples (at the tube's top and bottom, beside the outermost z-planes) read up to
+  // 0.67 voxel off.
+  EXPECT_EQ(over, 0) << "worst " << worstLs;
+  EXPECT_LE(worstLs, 0.5 * voxel);
   const json rep = readJson(dir / "res/report.json");
+  EXPECT_GT(rep["smoothing"]["contour_pinning"]["voxels_pinned"].get<int>(), 0);
+  EXPECT_GT(rep["smoothing"]["contour_pinning"]["worst_before_mm"].get<double>(), 0.5 * voxel);
   EXPECT_EQ(rep["smoothing"]["surface_from"], "shepard");
   EXPECT_EQ(rep["betti"], json::array({1, 1, 0}));
   EXPECT_TRUE(rep["watertight"]);
@@ -121,36 +124,43 @@ TEST(AcceptanceShepard, ZeroSetPassesThroughTheContoursWithinHalfAVoxel) {
   fs::remove_all(dir);
 }
 
-// Dense slicing: each phantom's Betti numbers, and a smaller mean distance to the truth than
-// method 1 on the same input. The ratio asked for by the issue (at most half of method 1's) is
-// reached with p = 2 on a parallel stack (sphere) and with p = 1 on the multi-axial torus; with
-// p = 2 on the random planes through the genus-2 solid it is about 0.8 (see the issue note: for
-// p > 1 the surface meets every plane at a right angle, as ∂f/∂n = 0 there).
+// Dense slicing: each phantom's Betti numbers, and a mean distance to the truth at most half of
+// method 1's on the same input, with the default exponent (p = 1, the thesis' "natural choice":
+// between two parallel planes f is the linear interpolation of their distance functions). On
+// random planes the ratio is not met: the cells are small polyhedra with many facets whose votes
+// (for p = 1) do not fade with distance, Shepard's solid joins the sections differently from G in
+// more cells than method 1's own solid does, and the surface falls back to the level-set
+// smoothing, which reaches about 0.75 of method 1's distance; that case is kept as a regression
+// bound.
 struct DenseCase {
   const char* name;
   std::string spec;
-  const char* exponent;
   double max_ratio;
+  const char* surface_from;
 };
 
-TEST(AcceptanceShepard, DenselySlicedPhantomsHaveTheirBettiNumbersAndBeatMethod1) {
+const char* kGenus2 =
+    "shape:\n  kind: genus2\n  params: {disk_radius: 20, hole_radius: 5, hole_offset: 8, "
+    "offset_radius: 2.5}\n  rotation_deg: [30, 0, 15]\nimage: {pixel_mm: 0.2}\n"
+    "config: {reconstruction: {voxel_size_mm: 0.3}}\n";
+
+TEST(AcceptanceShepard, DenselySlicedPhantomsHaveTheirBettiNumbersAndHalveMethod1sDistance) {
   const std::vector<DenseCase> cases = {
       {"sphere-parallel",
        "seed: 1\nshape: {kind: sphere, params: {radius: 10}}\npattern: {kind: parallel, count: 16}\n"
        "image: {pixel_mm: 0.1}\nconfig: {reconstruction: {voxel_size_mm: 0.25}}\n",
-       "2", 0.6},
-      {"torus-multiaxial", kTorusMultiaxial, "1", 0.5},
-      {"genus2-random",
-       "seed: 4\nshape:\n  kind: genus2\n  params: {disk_radius: 20, hole_radius: 5, hole_offset: 8, "
-       "offset_radius: 2.5}\n  rotation_deg: [30, 0, 15]\npattern: {kind: random, count: 120}\n"
-       "image: {pixel_mm: 0.2}\nconfig: {reconstruction: {voxel_size_mm: 0.3}}\n",
-       "2", 0.9},
+       0.5, "shepard"},
+      {"torus-multiaxial", kTorusMultiaxial, 0.5, "shepard"},
+      {"genus2-parallel", std::string("seed: 4\npattern: {kind: parallel, count: 40}\n") + kGenus2, 0.5,
+       "shepard"},
+      {"genus2-random", std::string("seed: 4\npattern: {kind: random, count: 120}\n") + kGenus2, 0.8,
+       "level_set"},
   };
   for (const DenseCase& c : cases) {
     SCOPED_TRACE(c.name);
     const fs::path dir = phantom(std::string("shepard-") + c.name, c.spec);
     run(dir, "m1", "");
-    run(dir, "sh", std::string("--set smoothing.method=shepard --set smoothing.exponent=") + c.exponent);
+    run(dir, "sh", "--set smoothing.method=shepard");
     const json e1 = eval(dir, "m1"), es = eval(dir, "sh");
     EXPECT_EQ(es["betti"], es["truth_betti"]);
     EXPECT_TRUE(es["watertight"]);
@@ -158,6 +168,8 @@ TEST(AcceptanceShepard, DenselySlicedPhantomsHaveTheirBettiNumbersAndBeatMethod1
     EXPECT_LE(r, c.max_ratio) << "Shepard " << es["mean_distance_mm"] << " mm, method 1 "
                               << e1["mean_distance_mm"] << " mm";
     const json rep = readJson(dir / "sh/report.json");
+    EXPECT_EQ(rep["smoothing"]["exponent"], 1.0);
+    EXPECT_EQ(rep["smoothing"]["surface_from"], c.surface_from);
     EXPECT_TRUE(rep["smoothing"]["connectivity"]["same_partition_as_graph"]);
     fs::remove_all(dir);
   }
@@ -198,11 +210,13 @@ TEST(AcceptanceShepard, FallsBackToALevelSetSmoothingThatKeepsMethod2sConnectivi
   EXPECT_EQ(kept["smoothing"]["surface_from"], "level_set");
   EXPECT_GT(kept["smoothing"]["level_set_iterations"].get<int>(), 0);
   EXPECT_TRUE(kept["smoothing"]["connectivity"]["same_partition_as_graph"]);
-  // Cell by cell: Shepard splits sections the graph joins inside a cell (and misses others'
-  // neighbourhoods: unresolved); the method's solid and the fallback agree with G' in every cell.
+  // Cell by cell: the method's solid and the fallback agree with G' in every cell; Shepard's does
+  // not (with p = 1 it misses the thin sections beside all 11 cells, which are then unresolved;
+  // with p = 2 it resolves one and splits sections there that the graph joins).
   EXPECT_EQ(kept["graph"]["per_cell"]["cells_compared"].get<int>(), 11);
   EXPECT_EQ(kept["graph"]["per_cell"]["cells_differing"].get<int>(), 0);
-  EXPECT_GE(kept["smoothing"]["shepard_connectivity"]["per_cell"]["cells_differing"].get<int>(), 1);
+  const json& sc = kept["smoothing"]["shepard_connectivity"]["per_cell"];
+  EXPECT_LT(sc["cells_compared"].get<int>() - sc["cells_differing"].get<int>(), 11);
   EXPECT_GT(kept["smoothing"]["connectivity"]["per_cell"]["cells_compared"].get<int>(), 5);
   EXPECT_EQ(kept["smoothing"]["connectivity"]["per_cell"]["cells_differing"].get<int>(), 0);
   EXPECT_EQ(kept["betti"], json::array({1, 0, 0}));

@@ -25,7 +25,8 @@ struct Scene {
   std::vector<SectionDistanceField> near;
   std::vector<PlaneDistanceFunction> f;
   GridSpec grid;
-  ShepardData data() const { return {&planes, &near, &f}; }
+  std::vector<double> factor;  ///< the end planes' weight factors (endPlaneWeightFactors)
+  ShepardData data() const { return {&planes, &near, &f, &factor}; }
 };
 
 Scene scene(int count, unsigned seed, double voxel, int n, double Ri) {
@@ -34,6 +35,7 @@ Scene scene(int count, unsigned seed, double voxel, int n, double Ri) {
   s.planes = test::randomShellPlanes(count, rng, kCentre, 2.0, 3.0, Ri, 64);
   const auto ends = endPlanes(kCentre - Vec3::Constant(3.0), kCentre + Vec3::Constant(3.0), 0.8);
   s.planes.insert(s.planes.end(), ends.begin(), ends.end());
+  s.factor = endPlaneWeightFactors(s.planes, std::size_t(count));
   s.grid.voxel = voxel;
   s.grid.origin = kCentre - Vec3::Constant(0.5 * voxel * (n - 1)) + Vec3(0.013, -0.007, 0.011);
   s.grid.dims = {n, n + 1, n - 1};
@@ -166,11 +168,67 @@ TEST(Shepard, ApproachesMethod1AsTheExponentGrows) {
   EXPECT_EQ(differ, 0);
 }
 
+TEST(Shepard, TwoParallelPlanesWithTheIdentityWeightInterpolateLinearly) {
+  // The thesis (§1.1): "in the case where we have two parallel cutting planes and h_i = |x - x_i|
+  // (g the identity), we obtain the standard linear interpolation between the distance functions
+  // to the contours". Discs of radius 3 (z = 0) and 2 (z = 2): the linear interpolation of their
+  // signed distances, r - 3 + z/2, vanishes on the frustum r = 3 - z/2. The scene is closed by the
+  // six end planes; the four beside the stack must not pull the frustum in (with their full
+  // weight, f on the frustum is off by up to 0.4 mm and 1372 voxels change sides).
+  Scene s;
+  for (const auto& [z, r] : {std::pair{0.0, 3.0}, std::pair{2.0, 2.0}}) {
+    CuttingPlane c;
+    c.plane = test::axisPlane(2, z);
+    c.sections.push_back(Section{test::circle(Vec2::Zero(), r, 720), {}});
+    s.planes.push_back(c);
+  }
+  const auto ends = endPlanes(Vec3(-3, -3, 0), Vec3(3, 3, 2), 1.0);
+  s.planes.insert(s.planes.end(), ends.begin(), ends.end());
+  s.factor = endPlaneWeightFactors(s.planes, 2);
+  for (std::size_t e = 2; e < s.planes.size(); ++e)
+    EXPECT_EQ(s.factor[e], std::abs(s.planes[e].plane.normal.z()) > 0.5 ? 1.0 : 0.0) << s.planes[e].name;
+  s.grid.voxel = 0.2;
+  s.grid.origin = Vec3(-4.1, -4.1, -1.1);
+  s.grid.dims = {42, 42, 22};
+  // A band of 1.5 mm holds both discs' distances on the whole frustum (|f_i| <= 1 there), so f_i
+  // is the band raster's (exact at its nodes) and not the coarser far-field one.
+  for (const auto& p : s.planes) {
+    s.near.push_back(sectionDistanceField(p.sections, 0.5 * s.grid.voxel, 1.5));
+    s.f.push_back(planeDistanceFunction(s.near.back(), p.plane, s.grid, p.sections.empty() ? 1.0 : 3.0));
+  }
+  double worst = 0;
+  for (int k = 1; k < 20; ++k)
+    for (int a = 0; a < 36; ++a) {
+      const double z = 0.1 * k, r = 3 - z / 2, phi = 2 * M_PI * (a + 0.3) / 36;
+      worst = std::max(worst, std::abs(shepardValue(s.data(), Vec3(r * std::cos(phi), r * std::sin(phi), z), 1.0)));
+    }
+  EXPECT_LE(worst, 2e-3);  // the band rasters' bilinear error at the contours
+  // The grid evaluation has the frustum's inside and outside, and equals the definition.
+  const ShepardField g = shepardInterpolant(s.data(), s.grid, 1.0);
+  int wrong = 0, compared = 0;
+  for (int k = 0; k < s.grid.dims[2]; ++k)
+    for (int j = 0; j < s.grid.dims[1]; ++j)
+      for (int i = 0; i < s.grid.dims[0]; ++i) {
+        const Vec3 x = s.grid.centre(i, j, k);
+        if (!(x.z() > 0 && x.z() < 2)) continue;
+        const double off = std::hypot(x.x(), x.y()) - (3 - x.z() / 2);
+        EXPECT_NEAR(g.value.at(i, j, k), shepardValue(s.data(), x, 1.0), 1e-5);
+        if (std::abs(off) < 0.01) continue;
+        ++compared;
+        wrong += (g.value.at(i, j, k) < 0) != (off < 0);
+      }
+  EXPECT_GT(compared, 5000);
+  EXPECT_EQ(wrong, 0);
+}
+
 TEST(Shepard, RejectsInvalidArguments) {
   const Scene s = scene(3, 1, 0.5, 6, 0.0);
   EXPECT_THROW(shepardInterpolant(s.data(), s.grid, 0.0), std::invalid_argument);
   EXPECT_THROW(shepardInterpolant(s.data(), s.grid, -2.0), std::invalid_argument);
   std::vector<PlaneDistanceFunction> few(s.f.begin(), s.f.begin() + 1);
   EXPECT_THROW(shepardInterpolant({&s.planes, &s.near, &few}, s.grid, 2.0), std::invalid_argument);
+  const std::vector<double> shortFactors(2, 1.0), negative(s.planes.size(), -1.0);
+  EXPECT_THROW(shepardInterpolant({&s.planes, &s.near, &s.f, &shortFactors}, s.grid, 2.0), std::invalid_argument);
+  EXPECT_THROW(shepardInterpolant({&s.planes, &s.near, &s.f, &negative}, s.grid, 2.0), std::invalid_argument);
   EXPECT_THROW(planeDistanceFunction(s.near[0], s.planes[0].plane, s.grid, 0.0), std::invalid_argument);
 }
