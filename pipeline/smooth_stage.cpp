@@ -65,9 +65,9 @@ SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& rea
     out.max_visible_planes = sf.max_visible_planes;
     out.field = std::move(sf.value);
     out.end_plane_weights.assign(factor.begin() + std::ptrdiff_t(realPlanes.size()), factor.end());
-    // The zero set of f meets every plane in its sections (Property 3); on the grid, a quarter
-    // voxel of slack, so that the level set written (after renormalisation) stays within half a
-    // voxel of every contour.
+    // The zero set of f meets every plane in its sections (Property 3); on the grid, where the
+    // solid bulges past a contour by more than a quarter voxel, the voxels around it take f_i
+    // (not where it misses the contour, nor between planes closer than a voxel: contour_pinning.h).
     out.pinning = pinSectionContours(
         out.field, realPlanes,
         [&](std::size_t i, double a, double b) { return double(planeDistanceValue(rec.fields[i], f[i], a, b)); },
