@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "geometry/polygon.h"
+
 namespace xsect {
 
 namespace {
@@ -59,16 +61,7 @@ void offSamples(const ScalarField& field, const std::vector<CuttingPlane>& plane
       out.push_back({g.index(ii, jj, kk), std::abs(plane.plane.signedDistance(g.centre(ii, jj, kk))), p});
     }
   };
-  for (const Section& s : plane.sections) {
-    std::vector<const Ring*> rings{&s.outer};
-    for (const Ring& h : s.holes) rings.push_back(&h);
-    for (const Ring* r : rings)
-      for (std::size_t e = 0; e < r->size(); ++e) {
-        const Vec2 a = (*r)[e], b = (*r)[(e + 1) % r->size()];
-        const int n = std::max(1, int(std::ceil((b - a).norm() / step)));
-        for (int q = 0; q < n; ++q) visit(plane.plane.toWorld(a + (b - a) * (double(q) / n)));
-      }
-  }
+  for (const Vec2& a : contourSamples(plane.sections, step)) visit(plane.plane.toWorld(a));
 }
 
 }  // namespace

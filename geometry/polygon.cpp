@@ -29,6 +29,22 @@ double ringLength(const Ring& r) {
   return l;
 }
 
+std::vector<Vec2> contourSamples(const std::vector<Section>& sections, double step) {
+  std::vector<Vec2> out;
+  const auto ring = [&](const Ring& r) {
+    for (std::size_t e = 0; e < r.size(); ++e) {
+      const Vec2 a = r[e], b = r[(e + 1) % r.size()];
+      const int n = std::isinf(step) ? 1 : std::max(1, int(std::ceil((b - a).norm() / step)));
+      for (int q = 0; q < n; ++q) out.push_back(a + (b - a) * (double(q) / n));
+    }
+  };
+  for (const Section& s : sections) {
+    ring(s.outer);
+    for (const Ring& h : s.holes) ring(h);
+  }
+  return out;
+}
+
 double sectionArea(const Section& s) {
   double a = std::abs(signedArea(s.outer));
   for (const auto& h : s.holes) a -= std::abs(signedArea(h));

@@ -30,5 +30,8 @@ double signedDistanceToSections(const std::vector<Section>& sections, const Vec2
 std::vector<Section> sectionsFromRings(std::vector<Ring> outers, std::vector<Ring> holes);
 /// Centroid of a section (area-weighted, holes subtracted).
 Vec2 sectionCentroid(const Section& s);
+/// Points along every ring (outer rings and holes) of the sections: each vertex, and points on
+/// each edge at most `step` mm apart (step = +inf: the vertices only), ring by ring in order.
+std::vector<Vec2> contourSamples(const std::vector<Section>& sections, double step);
 
 }  // namespace xsect

@@ -4,12 +4,15 @@
 // without moving the surface away from the truth; a slice 10 mm off is flagged and dropping it
 // restores the truth's Betti numbers; bad settings are rejected.
 #include <gtest/gtest.h>
+
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
 
 #include "cli.h"
 #include "phantom_runs.h"
+#include "geometry/polygon.h"
 #include "geometry/conformity_enforcement.h"
 #include "geometry/plane_pair_traces.h"
 #include "io/run_config.h"
@@ -102,12 +105,8 @@ TEST(AcceptanceConformity, JitteredTorusAgreesAfterEnforcementAndRegainsItsTopol
           for (const int k : {p.a, p.b}) {
             const CuttingPlane& cp = e.planes[std::size_t(k)];
             double nearest = 1e9;
-            for (const Section& s : cp.sections) {
-              std::vector<const Ring*> rings{&s.outer};
-              for (const Ring& h : s.holes) rings.push_back(&h);
-              for (const Ring* r : rings)
-                for (const Vec2& v : *r) nearest = std::min(nearest, (cp.plane.toWorld(v) - p.line.at(t)).norm());
-            }
+            for (const Vec2& v : contourSamples(cp.sections, std::numeric_limits<double>::infinity()))
+              nearest = std::min(nearest, (cp.plane.toWorld(v) - p.line.at(t)).norm());
             EXPECT_LT(nearest, 1e-9) << "endpoint " << t << " of slices " << p.a << ", " << p.b << " in plane " << k
                 << " common " << c0.t0 << " " << c0.t1 << " applied " << e.corrections[std::size_t(&p - now.data())].applied
                 << " before a " << ::testing::PrintToString(std::vector<double>{found.pairs[std::size_t(&p - now.data())].trace_a.front().t0, found.pairs[std::size_t(&p - now.data())].trace_a.back().t1})

@@ -11,6 +11,7 @@
 #include "cli.h"
 #include "phantom_runs.h"
 #include "geometry/mesh_distance.h"
+#include "geometry/polygon.h"
 #include "io/level_set_file.h"
 #include "io/mesh_io.h"
 #include "io/run_config.h"
@@ -58,16 +59,7 @@ TEST(AcceptanceShepard, ZeroSetPassesThroughTheContoursWithinHalfAVoxel) {
   const double voxel = 0.25;
   std::vector<Vec3> samples;
   for (const auto& p : planes)
-    for (const auto& s : p.sections) {
-      std::vector<const Ring*> rings{&s.outer};
-      for (const auto& h : s.holes) rings.push_back(&h);
-      for (const Ring* r : rings)
-        for (std::size_t i = 0; i < r->size(); ++i) {
-          const Vec2 a = (*r)[i], b = (*r)[(i + 1) % r->size()];
-          const int n = std::max(1, int(std::ceil((b - a).norm() / (0.2 * voxel))));
-          for (int k = 0; k < n; ++k) samples.push_back(p.plane.toWorld(a + (b - a) * (double(k) / n)));
-        }
-    }
+    for (const Vec2& a : contourSamples(p.sections, 0.2 * voxel)) samples.push_back(p.plane.toWorld(a));
   ASSERT_GT(samples.size(), 5000u);
   const std::vector<double> d = distance.distances(samples);
   double worst = 0, sum = 0;

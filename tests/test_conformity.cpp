@@ -2,6 +2,8 @@
 // consensus modes, and the local exact edits that make two planes' sections agree.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <tbb/global_control.h>
 
 #include <random>
@@ -63,24 +65,15 @@ void expectTrace(const Trace& t, const std::vector<std::pair<double, double>>& w
 void expectUnchangedAwayFromLine(const CuttingPlane& before, const CuttingPlane& after,
                                  const CommonLine& line, double band) {
   const PlaneLine l = lineInPlane(before.plane, line);
-  std::vector<Vec2> kept;
-  for (const Section& s : after.sections) {
-    kept.insert(kept.end(), s.outer.begin(), s.outer.end());
-    for (const Ring& h : s.holes) kept.insert(kept.end(), h.begin(), h.end());
-  }
+  const std::vector<Vec2> kept = contourSamples(after.sections, std::numeric_limits<double>::infinity());
   int far = 0;
-  for (const Section& s : before.sections) {
-    std::vector<const Ring*> rings{&s.outer};
-    for (const Ring& h : s.holes) rings.push_back(&h);
-    for (const Ring* r : rings)
-      for (const Vec2& p : *r) {
-        const Vec2 q = p - l.o;
-        if (std::abs(l.d.x() * q.y() - l.d.y() * q.x()) <= band + 1e-9) continue;
-        ++far;
-        bool found = false;
-        for (const Vec2& k : kept) found = found || (k - p).norm() < 1e-12;
-        EXPECT_TRUE(found) << "vertex (" << p.x() << ", " << p.y() << ") moved";
-      }
+  for (const Vec2& p : contourSamples(before.sections, std::numeric_limits<double>::infinity())) {
+    const Vec2 q = p - l.o;
+    if (std::abs(l.d.x() * q.y() - l.d.y() * q.x()) <= band + 1e-9) continue;
+    ++far;
+    bool found = false;
+    for (const Vec2& k : kept) found = found || (k - p).norm() < 1e-12;
+    EXPECT_TRUE(found) << "vertex (" << p.x() << ", " << p.y() << ") moved";
   }
   EXPECT_GT(far, 0);
   // ...and every vertex that is new lies within the band.

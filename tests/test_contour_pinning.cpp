@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "geometry/contour_pinning.h"
+#include "geometry/polygon.h"
 #include "section_fixtures.h"
 
 using namespace xsect;
@@ -138,6 +140,20 @@ TEST(ContourPinning, AVoxelTakesTheNearestAskingPlanesValue) {
               << x.transpose();
         }
   }
+}
+
+TEST(ContourPinning, SamplesEveryRingAtMostAStepApart) {
+  // The samples pinning reads (polygon.h contourSamples): a unit square with a square hole.
+  const Ring outer{{0, 0}, {1, 0}, {1, 1}, {0, 1}}, hole{{0.4, 0.4}, {0.4, 0.6}, {0.6, 0.6}, {0.6, 0.4}};
+  const std::vector<Section> sections{Section{outer, {hole}}};
+  const std::vector<Vec2> s = contourSamples(sections, 0.3);
+  EXPECT_EQ(s.size(), 4u * 4u + 4u * 1u);  // ceil(1 / 0.3) = 4 per outer edge, 1 per 0.2 edge
+  EXPECT_EQ(s[0], Vec2(0, 0));
+  EXPECT_EQ(s[1], Vec2(0.25, 0));
+  EXPECT_EQ(s[16], Vec2(0.4, 0.4));
+  EXPECT_EQ(contourSamples(sections, std::numeric_limits<double>::infinity()).size(), 8u);
+  NotchScene n;
+  EXPECT_EQ(pinSectionContours(n.field, n.planes, NotchScene::discValue, 0.05).samples, 720);
 }
 
 TEST(ContourPinning, RejectsInvalidArguments) {
