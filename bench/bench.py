@@ -21,6 +21,8 @@ SCENARIOS = {
     "multiaxial-3x40": ("torus-multiaxial-3x40.yaml", []),
     "random-200": ("genus2-random-200.yaml", ["reconstruction.end_margin_mm=1.0"]),
     "random-400": ("genus2-random-400.yaml", ["reconstruction.end_margin_mm=1.0"]),
+    # freehand-400 without tracking error (what the pose error costs each reconstruction)
+    "freehand-400-exact": ("vessel-tree-freehand-exact.yaml", []),
     # method 2 (Voronoi diagram of the sections) on the same inputs
     "freehand-400-m2": ("vessel-tree-freehand.yaml", ["reconstruction.method=section_voronoi"]),
     "multiaxial-3x40-m2": ("torus-multiaxial-3x40.yaml", ["reconstruction.method=section_voronoi"]),
@@ -34,6 +36,8 @@ SCENARIOS = {
     "random-200-shepard": ("genus2-random-200.yaml", ["reconstruction.end_margin_mm=1.0",
                                                       "smoothing.method=shepard",
                                                       "smoothing.exponent=1"]),
+    "freehand-400-exact-shepard": ("vessel-tree-freehand-exact.yaml", ["smoothing.method=shepard",
+                                                                       "smoothing.exponent=1"]),
     # tracking error (σ = 1 mm, 1°): the sections as segmented, then made to agree along their
     # intersection lines (issue 5); the freehand sweep with enforcement measures the pair search
     # on 400 frames
@@ -43,7 +47,7 @@ SCENARIOS = {
     "freehand-400-conform": ("vessel-tree-freehand.yaml", ["conformity.enforce=true"]),
 }
 QUICK = ["freehand-400", "multiaxial-3x40", "random-200", "freehand-400-m2", "freehand-400-shepard"]
-BASES = ["freehand-400", "multiaxial-3x40", "random-200"]
+BASES = ["freehand-400", "multiaxial-3x40", "random-200", "freehand-400-exact"]
 # Overrides that change what the Poisson baseline sees (the sections, the sampling step).
 POISSON_KEYS = ("input.", "segmentation.", "reconstruction.voxel_size_mm")
 

@@ -39,7 +39,17 @@ SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& rea
   lp.method = ReconstructionMethod::section_voronoi;
   lp.voxel_mm = h;
   lp.end_margin_mm = rec.end_margin_mm;
-  const GridSpec grid = reconstructionLayout(realPlanes, lp).grid;
+  // On the method's voxel lattice (a whole number of voxels beyond its grid), so that the per-cell
+  // comparison with the method's own solid reads the same voxel centres in both: on shifted
+  // lattices a thin cell holds different voxels in each, and lattice differences counted as
+  // connectivity differences.
+  GridSpec grid = reconstructionLayout(realPlanes, lp).grid;
+  for (int a = 0; a < 3; ++a) {
+    const int shift = std::max(0, int(std::ceil((rec.field.grid.origin[a] - grid.origin[a]) / h - 1e-9)));
+    const double lower = rec.field.grid.origin[a] - shift * h;
+    grid.dims[a] += grid.origin[a] - lower > 1e-9 * h ? 1 : 0;
+    grid.origin[a] = lower;
+  }
 
   out.exponent = c.smoothing_exponent;
   out.cap_auto = !c.smoothing_cap_mm;

@@ -113,6 +113,14 @@ TEST(AcceptanceShepard, ZeroSetPassesThroughTheContoursWithinHalfAVoxel) {
   // Shepard's solid joins the sections as the method's graph G does.
   EXPECT_TRUE(rep["smoothing"]["shepard_connectivity"]["same_partition_as_graph"]);
   EXPECT_TRUE(fs::exists(dir / "res/mesh_unsmoothed.ply"));
+  // Its grid reaches the end planes, beyond method 1's, on the same voxel lattice (the per-cell
+  // comparison with the method's solid reads the same voxel centres in both).
+  for (int a = 0; a < 3; ++a) {
+    const double shift = (rep["reconstruction"]["grid_origin_mm"][a].get<double>() -
+                          rep["smoothing"]["grid_origin_mm"][a].get<double>()) / voxel;
+    EXPECT_GE(shift, 1.0) << "axis " << a;
+    EXPECT_NEAR(shift, std::round(shift), 1e-6) << "axis " << a;
+  }
   fs::remove_all(dir);
 }
 
