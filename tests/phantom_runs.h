@@ -1,5 +1,6 @@
 // Helpers for acceptance tests through the binary: render a phantom from a spec into a fresh
-// folder, evaluate a run's mesh against the phantom's truth, read JSON outputs.
+// folder, reconstruct it, evaluate a run's mesh against the phantom's truth, read JSON outputs,
+// and load the sections a run reconstructs from.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -7,8 +8,12 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "cli.h"
+#include "io/run_config.h"
+#include "io/slices_file.h"
+#include "pipeline/load_sections.h"
 
 namespace xsect::test {
 
@@ -29,6 +34,22 @@ inline nlohmann::json eval(const std::filesystem::path& dir, const std::string& 
                           (dir / "ph/truth.yaml").string() + " --json " + (dir / (out + ".json")).string() + " --quiet");
   EXPECT_EQ(r.code, 0) << r.err;
   return readJson(dir / (out + ".json"));
+}
+
+/// `xsect run` of the phantom in dir (ph/config.yaml) into dir/out with extra arguments `sets`;
+/// its report.json.
+inline nlohmann::json run(const std::filesystem::path& dir, const std::string& out, const std::string& sets) {
+  const auto r = runXsect("run " + (dir / "ph/config.yaml").string() + " --out " + (dir / out).string() +
+                          " --quiet " + sets);
+  EXPECT_EQ(r.code, 0) << r.err;
+  return readJson(dir / out / "report.json");
+}
+
+/// The sections `xsect run` reconstructs from, for the configuration.
+inline std::vector<CuttingPlane> sectionsOf(const std::filesystem::path& config) {
+  const RunConfig c = readRunConfig(config.string());
+  std::vector<std::string> warnings;
+  return sectionsFromSlices(readSlicesFile(c.input_path, &warnings), c.input_path, c.segmentation, &warnings);
 }
 
 }  // namespace xsect::test

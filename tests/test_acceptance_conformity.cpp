@@ -17,7 +17,6 @@
 #include "geometry/plane_pair_traces.h"
 #include "io/run_config.h"
 #include "io/slices_file.h"
-#include "pipeline/load_sections.h"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -28,13 +27,7 @@ namespace {
 using test::eval;
 using test::phantom;
 using test::readJson;
-
-json run(const fs::path& dir, const std::string& out, const std::string& sets) {
-  const auto r = test::runXsect("run " + (dir / "ph/config.yaml").string() + " --out " +
-                                (dir / out).string() + " --quiet " + sets);
-  EXPECT_EQ(r.code, 0) << r.err;
-  return readJson(dir / out / "report.json");
-}
+using test::run;
 
 /// A torus (tube radius 15 mm) cut by three orthogonal stacks of 10 planes. With jitter, the
 /// recorded poses differ from the true ones by σ = 1 mm per axis and 1°, as a tracker would.
@@ -88,8 +81,7 @@ TEST(AcceptanceConformity, JitteredTorusAgreesAfterEnforcementAndRegainsItsTopol
   // The same enforcement through the library: the consensus endpoints are vertices of both
   // planes' polygons, the same world point (within 1e-9 mm).
   const RunConfig c = readRunConfig((dir / "ph/config.yaml").string());
-  std::vector<std::string> warnings;
-  const auto planes = sectionsFromSlices(readSlicesFile(c.input_path, &warnings), c.input_path, c.segmentation, &warnings);
+  const auto planes = test::sectionsOf(dir / "ph/config.yaml");
   const PlanePairSearch found = planePairTraces(planes, c.conformity.min_angle_deg);
   ConformityParams params;
   params.max_correction_mm = 100;

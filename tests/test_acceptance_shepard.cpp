@@ -14,9 +14,6 @@
 #include "geometry/polygon.h"
 #include "io/level_set_file.h"
 #include "io/mesh_io.h"
-#include "io/run_config.h"
-#include "io/slices_file.h"
-#include "pipeline/load_sections.h"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
@@ -27,20 +24,8 @@ namespace {
 using test::eval;
 using test::phantom;
 using test::readJson;
-
-/// The sections `xsect run` reconstructs from, for the configuration.
-std::vector<CuttingPlane> sectionsOf(const fs::path& config) {
-  const RunConfig c = readRunConfig(config.string());
-  std::vector<std::string> warnings;
-  const auto slices = readSlicesFile(c.input_path, &warnings);
-  return sectionsFromSlices(slices, c.input_path, c.segmentation, &warnings);
-}
-
-void run(const fs::path& dir, const std::string& out, const std::string& sets) {
-  const auto r = test::runXsect("run " + (dir / "ph/config.yaml").string() + " --out " +
-                                (dir / out).string() + " --quiet " + sets);
-  ASSERT_EQ(r.code, 0) << r.err;
-}
+using test::run;
+using test::sectionsOf;
 
 const char* kTorusMultiaxial =
     "seed: 2\nshape: {kind: torus, params: {major_radius: 12, minor_radius: 4}}\n"
