@@ -49,9 +49,14 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
                                              const SectionArrangement& arr,
                                              const std::vector<SectionDistanceField>& fields,
                                              const std::vector<std::uint8_t>& inside,
-                                             const GridSpec& grid) {
+                                             const GridSpec& grid,
+                                             const std::vector<int>& only_cells, double seed_mm) {
   const std::size_t P = planes.size();
+  const auto wanted = [&](int cell) {
+    return cell >= 0 && (only_cells.empty() || std::binary_search(only_cells.begin(), only_cells.end(), cell));
+  };
   const double h = grid.voxel;
+  const double hs = seed_mm > 0 ? seed_mm : h;  // seeds: how deep, and how far off the section
   std::vector<int> offset(P + 1, 0);
   for (std::size_t i = 0; i < P; ++i) offset[i + 1] = offset[i] + int(planes[i].sections.size());
   const auto signOf = [&](std::size_t j, const Vec3& x) -> std::int8_t {
@@ -83,26 +88,27 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
   std::map<std::array<int, 3>, Points> points;
   for (const SectionPoint& sp : arr.points) {
     if (sp.kind != SectionPoint::sample || std::size_t(sp.plane) >= fields.size()) continue;
+    if (!wanted(sp.cell[0]) && !wanted(sp.cell[1])) continue;
     const float contour = fields[std::size_t(sp.plane)].sample(sp.p.x(), sp.p.y());
-    bool better = contour <= -h;  // a candidate seed; else only a candidate deepest point
+    bool better = contour <= -hs;  // a candidate seed; else only a candidate deepest point
     for (const int cell : sp.cell) {
-      if (cell < 0) continue;
+      if (!wanted(cell)) continue;
       const auto it = points.find({sp.plane, sp.section, cell});
       better = better || it == points.end() || contour < it->second.depth;
     }
     if (!better) continue;
     const float f = depthOf(sp, contour);
     for (const int cell : sp.cell) {
-      if (cell < 0) continue;
+      if (!wanted(cell)) continue;
       Points& p = points[{sp.plane, sp.section, cell}];
       if (!p.deepest || f < p.depth) p.depth = f, p.deepest = &sp;
-      if (f <= -h) p.deep.push_back(&sp);
+      if (f <= -hs) p.deep.push_back(&sp);
     }
   }
 
   std::vector<CellWork> cells(std::size_t(std::max(arr.cells, 0)));
   for (const SubSection& ss : arr.sub_sections) {
-    if (ss.cell < 0 || std::size_t(ss.cell) >= cells.size()) continue;
+    if (!wanted(ss.cell) || std::size_t(ss.cell) >= cells.size()) continue;
     CellWork& c = cells[std::size_t(ss.cell)];
     const int node = offset[std::size_t(ss.plane)] + ss.section;
     c.nodes.push_back(node);
@@ -131,7 +137,7 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
       // A voxel of the solid, in the cell, just off the section on the cell's side.
       std::int64_t voxel = -1;
       for (const double t : {0.6, 1.0}) {
-        const Vec3 g = (x0 + double(ss.side) * t * h * own.plane.normal - grid.origin) / h;
+        const Vec3 g = (x0 + double(ss.side) * t * hs * own.plane.normal - grid.origin) / h;
         const int i = int(std::lround(g.x())), j = int(std::lround(g.y())), k = int(std::lround(g.z()));
         if (i < 0 || j < 0 || k < 0 || i >= grid.dims[0] || j >= grid.dims[1] || k >= grid.dims[2]) continue;
         const std::int64_t v = grid.index(i, j, k);
@@ -240,13 +246,18 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
   return out;
 }
 
-bool keepsCellConnectivity(const CellConnectivityCheck& solid, const CellConnectivityCheck& reference) {
+std::vector<int> cellsDifferingMore(const CellConnectivityCheck& solid, const CellConnectivityCheck& reference) {
+  std::vector<int> out;
   const std::size_t n = std::min(solid.pairs_by_cell.size(), reference.pairs_by_cell.size());
   for (std::size_t c = 0; c < n; ++c)
     if (solid.pairs_by_cell[c] >= 0 && reference.pairs_by_cell[c] >= 0 &&
         solid.pairs_by_cell[c] > reference.pairs_by_cell[c])
-      return false;
-  return true;
+      out.push_back(int(c));
+  return out;
+}
+
+bool keepsCellConnectivity(const CellConnectivityCheck& solid, const CellConnectivityCheck& reference) {
+  return cellsDifferingMore(solid, reference).empty();
 }
 
 }  // namespace xsect

@@ -36,18 +36,32 @@ struct CellConnectivityCheck {
 /// @param inside       the solid, one byte per voxel of `grid`.
 /// A voxel belongs to the cell whose sign vector its centre has. Components are 6-connected
 /// inside one cell. Seeds: beside every sample point of a sub-section at least a voxel deep in
-/// it (into the section and away from the traces bounding it), or beside its deepest point; a
+/// it (into the section and away from the traces bounding it), or beside its deepest point
+/// (the voxel whose centre is nearest to the point moved 0.6 or else 1 voxel into the cell); a
 /// section joins every component it touches. A cell is unresolved when a seed point has no
 /// voxel of the solid within a voxel beside it. Deterministic; parallel over cells.
+/// @param only_cells   optional, sorted cell ids: compare these cells only (the others are not
+///                     compared, pairs_by_cell -1), e.g. on a small grid around them.
+/// @param seed_mm      optional (> 0), in place of grid.voxel for the seeds: how deep a sample
+///                     point must be to seed, and how far off the section its voxel is looked
+///                     for. On a finer lattice, the coarse grid's voxel keeps the same seeds (what
+///                     "a section touches a component" means) while the solid between them is
+///                     resolved finer.
 CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges,
                                              const std::vector<CuttingPlane>& planes,
                                              const SectionArrangement& arrangement,
                                              const std::vector<SectionDistanceField>& fields,
                                              const std::vector<std::uint8_t>& inside,
-                                             const GridSpec& grid);
+                                             const GridSpec& grid,
+                                             const std::vector<int>& only_cells = {},
+                                             double seed_mm = 0);
 
 /// Whether `solid` differs from the graph, in every cell both compared, in no more section pairs
 /// than `reference` (the method's own solid) does.
 bool keepsCellConnectivity(const CellConnectivityCheck& solid, const CellConnectivityCheck& reference);
+
+/// The cells, in increasing id, where keepsCellConnectivity fails: compared by both, and `solid`
+/// differs from the graph in more section pairs than `reference` does.
+std::vector<int> cellsDifferingMore(const CellConnectivityCheck& solid, const CellConnectivityCheck& reference);
 
 }  // namespace xsect

@@ -240,8 +240,11 @@ int runCommand(const RunOptions& o) {
                             std::to_string(smooth.shepard_check.pairs_joined_by_graph_only) +
                             " pairs joined by the graph only, " +
                             std::to_string(smooth.shepard_check.pairs_joined_by_voxels_only) +
-                            " by the surface only; " + std::to_string(smooth.shepard_cells.cells_differing) +
-                            " cells differ)" +
+                            " by the surface only; " +
+                            std::to_string(std::count_if(smooth.refined_cells.begin(), smooth.refined_cells.end(),
+                                                         [](const CellRefinement& r) { return !r.accepted; })) +
+                            " cells where it differs from the graph more than the method's solid does, "
+                            "on the grid and on finer lattices)" +
                             (smooth.fell_back ? ": the surface written is the level-set smoothing of the "
                                                 "method's solid, which keeps the method's connectivity"
                                               : ""));
@@ -430,6 +433,18 @@ int runCommand(const RunOptions& o) {
                   {"sections_not_located", g.sections_unlocated},
                   {"per_cell", cellsJson(cells)}};
     };
+    const auto refined = [](const std::vector<CellRefinement>& cells) {
+      json out = json::array();
+      for (const CellRefinement& r : cells)
+        out.push_back({{"cell", r.cell},
+                       {"pairs_differing", r.pairs},
+                       {"method_pairs_differing", r.reference_pairs},
+                       {"refinement", r.factor},
+                       {"lattice_dims", r.dims},
+                       {"refined_pairs_differing", r.refined_pairs},
+                       {"accepted", r.accepted}});
+      return out;
+    };
     report["smoothing"] = {{"method", c.smoothing_method},
                            {"surface_from", smooth.method},
                            {"exponent", std::isinf(smooth.exponent) ? json("inf") : json(smooth.exponent)},
@@ -455,6 +470,7 @@ int runCommand(const RunOptions& o) {
                            {"level_set_active_voxels", smooth.surface.level_set.coords.size()},
                            {"level_set_half_width_mm", smooth.surface.level_set.background},
                            {"shepard_connectivity", shepard ? check(smooth.shepard_check, smooth.shepard_cells) : json(nullptr)},
+                           {"shepard_refined_cells", shepard ? refined(smooth.refined_cells) : json(nullptr)},
                            {"shepard_keeps_connectivity", shepard ? json(smooth.shepard_keeps_connectivity) : json(nullptr)},
                            {"fell_back_to_level_set", smooth.fell_back},
                            {"level_set_iterations", smooth.iterations_applied},

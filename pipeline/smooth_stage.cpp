@@ -4,9 +4,11 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
+#include "geometry/cell_refinement.h"
 #include "geometry/contour_pinning.h"
 #include "geometry/plane_distance_function.h"
 #include "geometry/level_set_smoothing.h"
@@ -85,8 +87,18 @@ SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& rea
     out.shepard_check =
         compareWithVoxels(edges, realPlanes, arrangement, rec.fields, solidOf(out.field), grid);
     out.shepard_cells = compareCellsWithVoxels(edges, planes, arrangement, rec.fields, solidOf(out.field), grid);
-    out.shepard_keeps_connectivity =
-        out.shepard_check.same_partition && keepsCellConnectivity(out.shepard_cells, baseCells);
+    // Cells where Shepard's voxel solid joins the sections differently from the method's own:
+    // re-decided on finer lattices around them, with f evaluated there (cell_refinement.h), so
+    // that a passage narrower than a voxel counts as what f does, not as what the lattice shows.
+    if (out.shepard_check.same_partition) {
+      out.refined_cells = refineCellComparison(
+          cellsDifferingMore(out.shepard_cells, baseCells), out.shepard_cells, baseCells, edges, planes,
+          arrangement, rec.fields, grid, [&](const GridSpec& fine) {
+            return solidOf(shepardInterpolant(data, fine, out.exponent, {}).value);
+          });
+      out.shepard_keeps_connectivity = std::all_of(out.refined_cells.begin(), out.refined_cells.end(),
+                                                   [](const CellRefinement& r) { return r.accepted; });
+    }
     out.method = "shepard";
     out.final_check = out.shepard_check;
     out.final_cells = out.shepard_cells;
@@ -102,7 +114,10 @@ SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& rea
           compareWithVoxels(edges, realPlanes, arrangement, rec.fields, inside, rec.field.grid);
       return k.pairs_joined_by_graph_only == base.pairs_joined_by_graph_only &&
              k.pairs_joined_by_voxels_only == base.pairs_joined_by_voxels_only &&
-             k.voxel_components == base.voxel_components;
+             k.voxel_components == base.voxel_components &&
+             keepsCellConnectivity(compareCellsWithVoxels(edges, planes, arrangement, rec.fields, inside,
+                                                          rec.field.grid),
+                                   baseCells);
     };
     LevelSetSmoothingParams sp;
     sp.iterations = c.smoothing_iterations;

@@ -1,8 +1,9 @@
 // Stage 6 (GUIDE.md, thesis ch. 1 §1.1): the smooth surface. Shepard's interpolant of the sections'
 // distance functions evaluated on a grid, renormalised into an OpenVDB narrow-band level set and
-// meshed; its connectivity between the sections compared with the method's graph; and, when asked
-// for or when Shepard joins the sections differently, a level-set smoothing of the method's solid
-// that keeps the method's connectivity.
+// meshed; its connectivity between the sections compared with the method's graph (cell by cell,
+// the cells the grid cannot decide re-decided on finer lattices: cell_refinement.h); and, when
+// asked for or when Shepard joins the sections differently, a level-set smoothing of the method's
+// solid that keeps the method's connectivity.
 #pragma once
 
 #include <functional>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "geometry/cell_connectivity_check.h"
+#include "geometry/cell_refinement.h"
 #include "geometry/connectivity_graph.h"
 #include "geometry/contour_pinning.h"
 #include "geometry/sampled_reconstruction.h"
@@ -34,6 +36,9 @@ struct SmoothStage {
   ContourPinning pinning;             ///< Shepard: the contours pinned on the grid
   GraphVoxelCheck shepard_check;      ///< Shepard's solid against the method's graph
   CellConnectivityCheck shepard_cells;  ///< the same, cell by cell
+  /// Shepard: the cells its solid joined differently from the method's, re-decided on finer
+  /// lattices (cell_refinement.h)
+  std::vector<CellRefinement> refined_cells;
   bool shepard_keeps_connectivity = false;
   bool fell_back = false;             ///< Shepard's surface replaced by the level-set smoothing
   int iterations_applied = 0;         ///< level-set smoothing steps kept
@@ -49,7 +54,9 @@ struct SmoothStage {
 /// @param baseCells   the same, cell by cell (compareCellsWithVoxels): Shepard keeps the
 ///                    method's connectivity when it joins the sections as the graph does overall
 ///                    and, in every cell both resolve, differs from the graph in no more section
-///                    pairs than the method's own voxel solid does.
+///                    pairs than the method's own voxel solid does, on the grid or, where not, on
+///                    the first finer lattice that resolves the cell (cell_refinement.h). The
+///                    level-set smoothing stops before the first step that breaks either rule.
 SmoothStage smoothStage(const RunConfig& config, const std::vector<CuttingPlane>& realPlanes,
                         const SampledReconstruction& rec, const SectionArrangement& arrangement,
                         const std::vector<GraphEdge>& edges, const GraphVoxelCheck& base,

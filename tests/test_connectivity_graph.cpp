@@ -215,3 +215,64 @@ TEST(ConnectivityGraph, PerCellCheckSeedsEveryPartOfASubSection) {
   EXPECT_GT(c.cells_compared, 0);
   EXPECT_EQ(c.cells_differing, 0) << c.pairs_joined_by_graph_only << " " << c.pairs_joined_by_voxels_only;
 }
+
+// Re-deciding a cell on finer lattices (cell_refinement.h): two discs (z = 0, z = 4) and, between
+// them, a solid made of a slab on each disc and a neck of radius 0.06 mm whose axis runs midway
+// between the grid's voxel centres (0.2 mm apart). On the grid the neck holds no voxel centre, so
+// the solid splits the discs that G (and method 1's solid) joins in that cell; on the lattice of
+// half the spacing the axis is a row of voxel centres and the cell agrees with G again. Without
+// the neck the finer lattice confirms the split; with too small a budget nothing is evaluated.
+#include "geometry/cell_refinement.h"
+
+TEST(ConnectivityGraph, RefinementResolvesAPassageThinnerThanAVoxel) {
+  const Scene scene = sceneOf({diskPlane(2, 0, 3), diskPlane(2, 4, 3)});
+  const auto& [planes, fields, arr, graphs] = scene;
+  const GridSpec grid = offPlanesGrid();  // centres at x, y = ... 0.07, 0.27 ...
+  const auto solidOn = [](bool neck) {
+    return [neck](const GridSpec& g) {
+      std::vector<std::uint8_t> in(std::size_t(g.count()), 0);
+      for (int k = 0; k < g.dims[2]; ++k)
+        for (int j = 0; j < g.dims[1]; ++j)
+          for (int i = 0; i < g.dims[0]; ++i) {
+            const Vec3 x = g.centre(i, j, k);
+            const bool slab = std::hypot(x.x(), x.y()) < 3.5 && (std::abs(x.z()) < 0.5 || std::abs(x.z() - 4) < 0.5);
+            const bool inNeck = neck && std::hypot(x.x() - 0.17, x.y() - 0.17) < 0.06 && x.z() > 0 && x.z() < 4;
+            in[std::size_t(g.index(i, j, k))] = slab || inNeck;
+          }
+      return in;
+    };
+  };
+  const CellConnectivityCheck reference =
+      compareCellsWithVoxels(graphs.g, planes, arr, fields, method1Solid(planes, fields, grid), grid);
+  const CellConnectivityCheck coarse = compareCellsWithVoxels(graphs.g, planes, arr, fields, solidOn(true)(grid), grid);
+  const std::vector<int> disputed = cellsDifferingMore(coarse, reference);
+  ASSERT_EQ(disputed.size(), 1u) << "the neck is invisible on the grid";
+  const int cell = disputed[0];
+  EXPECT_EQ(reference.pairs_by_cell[std::size_t(cell)], 0);
+  EXPECT_EQ(coarse.pairs_by_cell[std::size_t(cell)], 1);
+  // Restricted to that cell, the comparison is the same.
+  const CellConnectivityCheck only =
+      compareCellsWithVoxels(graphs.g, planes, arr, fields, solidOn(true)(grid), grid, {cell});
+  EXPECT_EQ(only.cells_compared, 1);
+  EXPECT_EQ(only.pairs_by_cell[std::size_t(cell)], 1);
+
+  const auto withNeck = refineCellComparison(disputed, coarse, reference, graphs.g, planes, arr, fields, grid, solidOn(true));
+  ASSERT_EQ(withNeck.size(), 1u);
+  EXPECT_EQ(withNeck[0].cell, cell);
+  EXPECT_EQ(withNeck[0].factor, 2);
+  EXPECT_EQ(withNeck[0].refined_pairs, 0);
+  EXPECT_TRUE(withNeck[0].accepted);
+  // The box covers the cell (the slab between the discs, all 80 voxel centres across the box of
+  // half-width 8, indices 0..79) and two voxels more on each side: 2·(79 + 4) + 1 lattice points.
+  EXPECT_EQ(withNeck[0].dims[0], 167);
+
+  const auto noNeck = refineCellComparison(disputed, coarse, reference, graphs.g, planes, arr, fields, grid, solidOn(false));
+  EXPECT_EQ(noNeck[0].factor, 2);
+  EXPECT_EQ(noNeck[0].refined_pairs, 1);
+  EXPECT_FALSE(noNeck[0].accepted);
+
+  const auto tooBig = refineCellComparison(disputed, coarse, reference, graphs.g, planes, arr, fields, grid,
+                                           solidOn(true), 8, 1000);
+  EXPECT_EQ(tooBig[0].factor, 0);
+  EXPECT_FALSE(tooBig[0].accepted);
+}
