@@ -30,24 +30,26 @@ std::vector<std::int8_t> signsOfCell(int cell, const std::vector<CuttingPlane>& 
   return {};
 }
 
+bool inCell(const Vec3& x, const std::vector<std::int8_t>& signs, const std::vector<CuttingPlane>& planes) {
+  for (std::size_t p = 0; p < planes.size(); ++p) {
+    const double d = planes[p].plane.signedDistance(x);
+    if ((d > 0 ? 1 : (d < 0 ? -1 : 0)) != signs[p]) return false;
+  }
+  return true;
+}
+
 /// Box (grid indices, inclusive) of the grid's voxel centres in the cell: those 26-connected,
-/// within the cell, to the centres near its section points. Empty when none is found.
+/// within the cell, to the centres near its section points. Empty when none is found, or when the
+/// box grows past `widest` voxels along an axis (its lattices would be too large to evaluate).
 std::optional<std::array<int, 6>> cellBox(int cell, const std::vector<std::int8_t>& signs,
                                           const std::vector<CuttingPlane>& planes,
-                                          const SectionArrangement& arr, const GridSpec& grid) {
-  const auto inCell = [&](int i, int j, int k) {
-    const Vec3 x = grid.centre(i, j, k);
-    for (std::size_t p = 0; p < planes.size(); ++p) {
-      const double d = planes[p].plane.signedDistance(x);
-      if ((d > 0 ? 1 : (d < 0 ? -1 : 0)) != signs[p]) return false;
-    }
-    return true;
-  };
+                                          const SectionArrangement& arr, const GridSpec& grid,
+                                          std::int64_t widest) {
+  const auto inCellAt = [&](int i, int j, int k) { return inCell(grid.centre(i, j, k), signs, planes); };
   const auto inGrid = [&](int i, int j, int k) {
     return i >= 0 && j >= 0 && k >= 0 && i < grid.dims[0] && j < grid.dims[1] && k < grid.dims[2];
   };
   std::vector<std::int64_t> queue;
-  std::vector<std::int64_t> seen;  // sorted after the seeding, then kept sorted by insertion
   for (const SectionPoint& sp : arr.points) {
     if (sp.cell[0] != cell && sp.cell[1] != cell) continue;
     const Vec3 g = (planes[std::size_t(sp.plane)].plane.toWorld(sp.p) - grid.origin) / grid.voxel;
@@ -66,7 +68,7 @@ std::optional<std::array<int, 6>> cellBox(int cell, const std::vector<std::int8_
   queue.erase(std::remove_if(queue.begin(), queue.end(),
                              [&](std::int64_t v) {
                                const auto c = ijk(v);
-                               return !inCell(c[0], c[1], c[2]);
+                               return !inCellAt(c[0], c[1], c[2]);
                              }),
               queue.end());
   if (queue.empty()) return std::nullopt;
@@ -78,15 +80,18 @@ std::optional<std::array<int, 6>> cellBox(int cell, const std::vector<std::int8_
     const std::int64_t v = queue.back();
     queue.pop_back();
     const auto c = ijk(v);
-    for (int a = 0; a < 3; ++a) box[std::size_t(a)] = std::min(box[std::size_t(a)], c[std::size_t(a)]),
-                                box[std::size_t(a + 3)] = std::max(box[std::size_t(a + 3)], c[std::size_t(a)]);
+    for (int a = 0; a < 3; ++a) {
+      box[std::size_t(a)] = std::min(box[std::size_t(a)], c[std::size_t(a)]);
+      box[std::size_t(a + 3)] = std::max(box[std::size_t(a + 3)], c[std::size_t(a)]);
+      if (box[std::size_t(a + 3)] - box[std::size_t(a)] > widest) return std::nullopt;
+    }
     for (int dk = -1; dk <= 1; ++dk)
       for (int dj = -1; dj <= 1; ++dj)
         for (int di = -1; di <= 1; ++di) {
           const int i = c[0] + di, j = c[1] + dj, k = c[2] + dk;
           if (!inGrid(i, j, k)) continue;
           const std::int64_t w = grid.index(i, j, k);
-          if (visited[std::size_t(w)] || !inCell(i, j, k)) continue;
+          if (visited[std::size_t(w)] || !inCellAt(i, j, k)) continue;
           visited[std::size_t(w)] = 1;
           queue.push_back(w);
         }
@@ -113,7 +118,10 @@ std::vector<CellRefinement> refineCellComparison(
     r.pairs = pairsIn(solid, cell);
     r.reference_pairs = pairsIn(reference, cell);
     const std::vector<std::int8_t> signs = signsOfCell(cell, planes, arrangement);
-    const auto box = signs.empty() ? std::nullopt : cellBox(cell, signs, planes, arrangement, grid);
+    // The coarsest lattice (factor 2) has 2·(width + 4) + 1 points per axis: boxes wider than
+    // max_voxels allows on all three axes are not searched to the end.
+    const auto widest = std::int64_t(std::cbrt(double(max_voxels)) / 2);
+    const auto box = signs.empty() ? std::nullopt : cellBox(cell, signs, planes, arrangement, grid, widest);
     for (int factor = 2; box && r.reference_pairs >= 0 && factor <= max_factor; factor *= 2) {
       // From two voxels below the box to two above, on the grid's centres and every 1/factor
       // between them.
@@ -124,8 +132,27 @@ std::vector<CellRefinement> refineCellComparison(
         fine.dims[std::size_t(a)] = ((*box)[std::size_t(a + 3)] - (*box)[std::size_t(a)] + 4) * factor + 1;
       r.dims = fine.dims;
       if (fine.count() > max_voxels) break;
+      const std::vector<std::uint8_t> inside = evaluate(fine);
+      // The solid in the cell must stay inside the box: reaching its outer layer, it may join
+      // sections through a part of the cell beyond it (not decided here: rejected).
+      bool reaches = false;
+      for (int k = 0; k < fine.dims[2] && !reaches; ++k)
+        for (int j = 0; j < fine.dims[1] && !reaches; ++j)
+          for (int i = 0; i < fine.dims[0] && !reaches; ++i) {
+            const bool outer = i == 0 || j == 0 || k == 0 || i + 1 == fine.dims[0] || j + 1 == fine.dims[1] ||
+                               k + 1 == fine.dims[2];
+            if (!outer) {
+              i = fine.dims[0] - 2;  // straight to the far face of this row
+              continue;
+            }
+            reaches = inside[std::size_t(fine.index(i, j, k))] && inCell(fine.centre(i, j, k), signs, planes);
+          }
+      if (reaches) {
+        r.leaves_box = true;
+        break;
+      }
       const CellConnectivityCheck check =
-          compareCellsWithVoxels(edges, planes, arrangement, fields, evaluate(fine), fine, {cell}, grid.voxel);
+          compareCellsWithVoxels(edges, planes, arrangement, fields, inside, fine, {cell}, grid.voxel);
       const int pairs = pairsIn(check, cell);
       if (pairs < 0) continue;  // not resolved on this lattice: try a finer one
       r.factor = factor;

@@ -17,7 +17,9 @@
 // it). The first lattice on which the cell resolves (every sub-section has a voxel of the solid
 // beside it) decides: the cell is accepted when the surface there differs from the graph in no
 // more section pairs than the reference (the method's own solid on the grid) does. A cell that
-// resolves on none of them, or whose box exceeds max_voxels at the next factor, is not accepted.
+// resolves on none of them, whose box exceeds max_voxels at the next factor, or in which the
+// solid reaches the box's outer layer (it might join sections through a part of the cell beyond
+// the box), is not accepted.
 #pragma once
 
 #include <array>
@@ -36,6 +38,7 @@ struct CellRefinement {
   int factor = 0;            ///< the lattice that decided, spacing grid.voxel / factor; 0: none
   int refined_pairs = -1;    ///< section pairs the surface disagrees on there (-1: not resolved)
   std::array<int, 3> dims{0, 0, 0};  ///< that lattice's size (the last one tried)
+  bool leaves_box = false;   ///< the solid in the cell reached the box's outer layer (rejected)
   bool accepted = false;     ///< refined_pairs in 0..reference_pairs
 };
 

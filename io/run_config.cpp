@@ -23,7 +23,7 @@ const std::set<std::string> kKnownKeys = {
     "segmentation.open_radius_px", "segmentation.close_radius_px", "segmentation.min_area_mm2",
     "segmentation.simplify_mm", "segmentation.merge_labels", "conformity", "conformity.enforce",
     "conformity.mode", "conformity.max_correction_mm", "conformity.band_mm", "conformity.min_angle_deg",
-    "conformity.flag_mm", "conformity.drop_flagged", "reconstruction",
+    "conformity.flag_mm", "conformity.drop_flagged", "conformity.pose_smoothing_frames", "reconstruction",
     "reconstruction.method", "reconstruction.voxel_size_mm", "reconstruction.end_margin_mm",
     "reconstruction.conformal_mesh",
     "smoothing", "smoothing.method", "smoothing.exponent", "smoothing.cap_mm",
@@ -165,6 +165,16 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
     positive("max_correction_mm", &f.max_correction_mm);
     positive("band_mm", &f.band_mm);
     positive("flag_mm", &f.flag_mm);
+    if (const YAML::Node n = s["pose_smoothing_frames"]) {
+      const double v = yamlNumber(n, path, "conformity.pose_smoothing_frames");
+      if (!(v >= 0 && v <= 1000) || v != std::floor(v))
+        throw InputError(path, "conformity.pose_smoothing_frames", "must be an integer in [0, 1000]", yamlLine(n));
+      f.pose_smoothing_frames = int(v);
+      if (f.pose_smoothing_frames > 0 && c.input_kind != "slices" && c.input_kind != "plus_sequence")
+        throw InputError(path, "conformity.pose_smoothing_frames",
+                         "smooths a tracked sweep's poses: only for input.slices, not input." + c.input_kind,
+                         yamlLine(n));
+    }
     if (s["min_angle_deg"]) {
       f.min_angle_deg = yamlNumber(s["min_angle_deg"], path, "conformity.min_angle_deg");
       if (!(f.min_angle_deg >= 0 && f.min_angle_deg < 90))

@@ -27,6 +27,9 @@ struct RunConfig {
     /// the typical slice's is flagged.
     double flag_mm = 3.0;
     bool drop_flagged = false;        ///< flagged slices are left out of the reconstruction
+    /// Tracked sweeps: the poses are smoothed over this many frames on each side, in the slices'
+    /// order (geometry/pose_smoothing.h); 0 = off.
+    int pose_smoothing_frames = 0;
   } conformity;
   std::string reconstruction_method = "nearest_plane";  ///< nearest_plane | section_voronoi
   double voxel_size_mm = 0.5;

@@ -7,6 +7,7 @@
 
 #include "geometry/conformity_enforcement.h"
 #include "geometry/plane_pair_traces.h"
+#include "geometry/pose_smoothing.h"
 
 namespace xsect {
 namespace {
@@ -94,6 +95,40 @@ ConsensusMode modeOf(const std::string& m) {
 ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<CuttingPlane> planes,
                           std::vector<std::vector<Section>> labelled) {
   ConformStage out;
+  // Tracked sweeps: the poses smoothed along the sweep first (the sections move with their
+  // planes), so that everything after, measurement included, sees the smoothed poses.
+  json poseSmoothing = nullptr;
+  std::vector<double> poseShift(planes.size(), 0.0), poseRotation(planes.size(), 0.0),
+      poseWeight(planes.size(), 1.0);
+  if (settings.pose_smoothing_frames > 0) {
+    std::vector<Plane> poses;
+    std::vector<Vec2> centres;  // the observed region's centre: what the fit holds to the sweep
+    for (const CuttingPlane& p : planes) {
+      poses.push_back(p.plane);
+      centres.push_back(0.5 * (p.extent.min + p.extent.max));
+    }
+    const PoseSmoothing smoothed = smoothPoseTrajectory(poses, centres, settings.pose_smoothing_frames);
+    for (std::size_t i = 0; i < planes.size(); ++i) planes[i].plane = smoothed.planes[i];
+    poseShift = smoothed.shift_mm;
+    poseRotation = smoothed.rotation_deg;
+    poseWeight = smoothed.robustness;
+    json outliers = json::array();
+    for (std::size_t i = 0; i < planes.size(); ++i)
+      if (smoothed.robustness[i] == 0) outliers.push_back(planes[i].slice);
+    const auto meanOf = [](const std::vector<double>& v) {
+      double t = 0;
+      for (const double x : v) t += x;
+      return v.empty() ? 0.0 : t / double(v.size());
+    };
+    const auto maxOf = [](const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); };
+    poseSmoothing = {{"half_window_frames", settings.pose_smoothing_frames},
+                     {"mean_shift_mm", meanOf(poseShift)},
+                     {"max_shift_mm", maxOf(poseShift)},
+                     {"mean_rotation_deg", meanOf(poseRotation)},
+                     {"max_rotation_deg", maxOf(poseRotation)},
+                     {"sweeps", smoothed.sweeps},
+                     {"outlier_slices", outliers}};
+  }
   PlanePairSearch search = planePairTraces(planes, settings.min_angle_deg);
   const std::vector<SliceStats> before = sliceStats(search.pairs, planes.size());
   const json beforeSummary = pairsSummary(search.pairs);
@@ -137,6 +172,9 @@ ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<Cut
                                   {"max_mismatch_mm", before[i].max_mismatch},
                                   {"symmetric_difference_mm", before[i].symmetric_difference}}},
                       {"after", nullptr},
+                      {"pose_shift_mm", poseShift[i]},
+                      {"pose_rotation_deg", poseRotation[i]},
+                      {"pose_weight", poseWeight[i]},
                       {"flagged", bool(flagged[i])},
                       {"dropped", settings.drop_flagged && flagged[i]}});
   std::vector<std::size_t> rowOfPlane(planes.size());  // row in `slices` of each kept plane
@@ -231,6 +269,7 @@ ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<Cut
                  {"band_mm", settings.band_mm},
                  {"min_angle_deg", settings.min_angle_deg},
                  {"flag_mm", settings.flag_mm},
+                 {"pose_smoothing", poseSmoothing},
                  {"typical_slice_mismatch_mm", typical},
                  {"flagged_above_mm", flagAbove},
                  {"drop_flagged", settings.drop_flagged},
@@ -259,7 +298,19 @@ ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<Cut
   out.details = {{"summary", out.summary}, {"slices", slices}, {"pairs", pairs}};
 
   // Terminal and warnings.
-  std::string s = "conformity: " + std::to_string(pairsMeasured) + " pairs of slices meet at " +
+  std::string s;
+  if (settings.pose_smoothing_frames > 0)
+    s += "conformity: poses smoothed over ±" + std::to_string(settings.pose_smoothing_frames) +
+         " frames: corrections mean " + mm(poseSmoothing["mean_shift_mm"].get<double>()) + " / " +
+         number(poseSmoothing["mean_rotation_deg"].get<double>()) + "°, max " +
+         mm(poseSmoothing["max_shift_mm"].get<double>()) + " / " +
+         number(poseSmoothing["max_rotation_deg"].get<double>()) + "°" +
+         (poseSmoothing["outlier_slices"].empty()
+              ? std::string()
+              : "; " + std::to_string(poseSmoothing["outlier_slices"].size()) +
+                    " slice(s) off the trajectory, put back onto it (conformity.json pose_weight 0)") +
+         "\n";
+  s += "conformity: " + std::to_string(pairsMeasured) + " pairs of slices meet at " +
                   number(settings.min_angle_deg) + "° or more" +
                   (search.pairs_near_parallel ? " (" + std::to_string(search.pairs_near_parallel) + " nearly parallel pairs not compared)" : "");
   if (!search.pairs.empty()) {

@@ -240,11 +240,15 @@ int runCommand(const RunOptions& o) {
                             std::to_string(smooth.shepard_check.pairs_joined_by_graph_only) +
                             " pairs joined by the graph only, " +
                             std::to_string(smooth.shepard_check.pairs_joined_by_voxels_only) +
-                            " by the surface only; " +
-                            std::to_string(std::count_if(smooth.refined_cells.begin(), smooth.refined_cells.end(),
-                                                         [](const CellRefinement& r) { return !r.accepted; })) +
-                            " cells where it differs from the graph more than the method's solid does, "
-                            "on the grid and on finer lattices)" +
+                            " by the surface only" +
+                            (smooth.shepard_check.same_partition
+                                 ? "; " +
+                                       std::to_string(std::count_if(
+                                           smooth.refined_cells.begin(), smooth.refined_cells.end(),
+                                           [](const CellRefinement& r) { return !r.accepted; })) +
+                                       " cells where it differs from the graph more than the method's solid "
+                                       "does, on the grid and on finer lattices)"
+                                 : std::string(")")) +
                             (smooth.fell_back ? ": the surface written is the level-set smoothing of the "
                                                 "method's solid, which keeps the method's connectivity"
                                               : ""));
@@ -442,6 +446,7 @@ int runCommand(const RunOptions& o) {
                        {"refinement", r.factor},
                        {"lattice_dims", r.dims},
                        {"refined_pairs_differing", r.refined_pairs},
+                       {"solid_leaves_box", r.leaves_box},
                        {"accepted", r.accepted}});
       return out;
     };
