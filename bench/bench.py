@@ -49,7 +49,7 @@ SCENARIOS = {
 QUICK = ["freehand-400", "multiaxial-3x40", "random-200", "freehand-400-m2", "freehand-400-shepard"]
 BASES = ["freehand-400", "multiaxial-3x40", "random-200", "freehand-400-exact"]
 # Overrides that change what the Poisson baseline sees (the sections, the sampling step).
-POISSON_KEYS = ("input.", "segmentation.", "conformity.", "reconstruction.voxel_size_mm")
+POISSON_KEYS = ("input.", "segmentation.", "reconstruction.voxel_size_mm")
 
 
 def run(cmd, fatal=True):

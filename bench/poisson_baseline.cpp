@@ -4,8 +4,11 @@
 // Usage: xsect_poisson_baseline CONFIG.yaml --out MESH.ply [--json STATS.json] [--set key=value]...
 //
 // The run configuration is read as `xsect run` reads it (readRunConfig, --set overrides), the
-// slices are segmented by the same code (sectionsFromSlices; or `input.csl` read directly) and go
-// through the same conform stage (conformStage: pose smoothing, dropped slices, enforcement). Every
+// slices are segmented by the same code (sectionsFromSlices; or `input.csl` read directly): the
+// input's contours as a user without xsect would hand them to Poisson, before xsect's conform stage
+// (no pose smoothing, no enforcement). (Given freehand-400's smoothed poses instead, CGAL 5.5's
+// Poisson meshes no surface at all: its surface mesher finds no facet and
+// facets_in_complex_2_to_triangle_mesh dereferences an empty set; measured 2026-11-22.) Every
 // section contour (outer rings and holes) is resampled by arc length at the configuration's
 // `reconstruction.voxel_size_mm` (the step nearest to it that divides the ring's perimeter evenly):
 // the points a user would hand to Poisson, about as dense as the voxel grid xsect evaluates, and
@@ -52,7 +55,6 @@
 #include "io/mesh_io.h"
 #include "io/run_config.h"
 #include "io/slices_file.h"
-#include "pipeline/conform_stage.h"
 #include "pipeline/load_sections.h"
 
 namespace {
@@ -160,8 +162,6 @@ int run(const Options& o) {
     throw xsect::InputError(c.path, "input." + c.input_kind,
                             "this input kind is not available to the baseline (slices | csl)");
   }
-  // Stage 3 as `xsect run` does it (pose smoothing, dropped slices, enforcement, as configured).
-  planes = xsect::conformStage(c.conformity, std::move(planes), {}).planes;
   const double loadSeconds = secondsSince(tLoad);
   const double step = c.voxel_size_mm;
   if (!(step > 0) || !std::isfinite(step))
