@@ -31,6 +31,16 @@ Plane trueFrame(int i, const Vec2& ref) {
   return p;
 }
 
+/// The frame turned by r about its point `ref` (plane coordinates), then moved by `shift`.
+Plane turned(Plane p, const Eigen::Matrix3d& r, const Vec2& ref, const Vec3& shift = Vec3::Zero()) {
+  const Vec3 point = p.toWorld(ref) + shift;
+  p.u = r * p.u;
+  p.v = r * p.v;
+  p.normal = r * p.normal;
+  p.origin = point - ref.x() * p.u - ref.y() * p.v;
+  return p;
+}
+
 double angleBetween(const Plane& a, const Plane& b) {
   Eigen::Matrix3d ra, rb;
   ra << a.u, a.v, a.normal;
@@ -61,16 +71,11 @@ TEST(PoseSmoothing, ReducesTrackingJitterTowardTheTrueSweep) {
   std::vector<Plane> truth, recorded;
   for (int i = 0; i < 400; ++i) {
     truth.push_back(trueFrame(i, ref));
-    Plane p = truth.back();
     // 0.05 mm per axis, 0.1 degree about a random axis through the reference point.
     const Vec3 axis = Vec3(gauss(rng), gauss(rng), gauss(rng)).normalized();
     const Eigen::Matrix3d r = Eigen::AngleAxisd(0.1 * M_PI / 180 * gauss(rng), axis).toRotationMatrix();
-    const Vec3 point = p.toWorld(ref) + 0.05 * Vec3(gauss(rng), gauss(rng), gauss(rng));
-    p.u = r * p.u;
-    p.v = r * p.v;
-    p.normal = r * p.normal;
-    p.origin = point - ref.x() * p.u - ref.y() * p.v;
-    recorded.push_back(p);
+    const Vec3 shift = 0.05 * Vec3(gauss(rng), gauss(rng), gauss(rng));
+    recorded.push_back(turned(truth.back(), r, ref, shift));
   }
   // Error of a frame: how far its corners (the 64 x 48 mm image) are from the true ones.
   const auto error = [&](const std::vector<Plane>& planes) {
@@ -130,12 +135,8 @@ TEST(PoseSmoothing, AGlitchIsPutBackWithoutPullingItsNeighbours) {
     p.origin += Vec3(gauss(rng), gauss(rng), gauss(rng));
     recorded.push_back(p);
   }
-  Plane& bad = recorded[50];
-  const Eigen::Matrix3d turn = Eigen::AngleAxisd(3.0 * M_PI / 180, Vec3::UnitX()).toRotationMatrix();
-  bad.u = turn * bad.u;
-  bad.v = turn * bad.v;
-  bad.normal = turn * bad.normal;
-  bad.origin += Vec3(10, 0, 0);
+  recorded[50] = turned(recorded[50], Eigen::AngleAxisd(3.0 * M_PI / 180, Vec3::UnitX()).toRotationMatrix(), ref,
+                        Vec3(10, 0, 0));
   const PoseSmoothing s = smoothPoseTrajectory(recorded, std::vector<Vec2>(recorded.size(), ref), 10);
   EXPECT_EQ(s.sweeps, 1);
   EXPECT_EQ(s.robustness[50], 0.0);
@@ -155,13 +156,11 @@ TEST(PoseSmoothing, WindowsDoNotCrossSweeps) {
   std::vector<Plane> planes;
   for (int i = 0; i < 30; ++i) planes.push_back(trueFrame(i, ref));
   for (int i = 0; i < 30; ++i) {
-    Plane p = trueFrame(i, ref);
-    const Vec3 point = quarter * p.toWorld(ref) + Vec3(0, 5, 0);
-    p.u = quarter * p.u;
-    p.v = quarter * p.v;
-    p.normal = quarter * p.normal;
-    p.origin = point - ref.x() * p.u - ref.y() * p.v;
-    planes.push_back(p);
+    const Plane p = trueFrame(i, ref);
+    // The whole second sweep turned about the world origin: its reference point goes to
+    // quarter · point + (0, 5, 0).
+    const Vec3 point = p.toWorld(ref);
+    planes.push_back(turned(p, quarter, ref, quarter * point + Vec3(0, 5, 0) - point));
   }
   const PoseSmoothing s = smoothPoseTrajectory(planes, std::vector<Vec2>(planes.size(), ref), 8);
   EXPECT_EQ(s.sweeps, 2);
