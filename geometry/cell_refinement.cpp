@@ -99,6 +99,20 @@ std::optional<std::array<int, 6>> cellBox(int cell, const std::vector<std::int8_
   return box;
 }
 
+/// Whether the solid has a voxel in the cell on the outer layer of the lattice `box`.
+bool reachesOuterLayer(const std::vector<std::uint8_t>& inside, const GridSpec& box,
+                       const std::vector<std::int8_t>& signs, const std::vector<CuttingPlane>& planes) {
+  for (int k = 0; k < box.dims[2]; ++k)
+    for (int j = 0; j < box.dims[1]; ++j)
+      for (int i = 0; i < box.dims[0]; ++i) {
+        const bool outer = i == 0 || j == 0 || k == 0 || i + 1 == box.dims[0] || j + 1 == box.dims[1] ||
+                           k + 1 == box.dims[2];
+        if (outer && inside[std::size_t(box.index(i, j, k))] && inCell(box.centre(i, j, k), signs, planes))
+          return true;
+      }
+  return false;
+}
+
 }  // namespace
 
 std::vector<CellRefinement> refineCellComparison(
@@ -109,6 +123,9 @@ std::vector<CellRefinement> refineCellComparison(
     const std::function<std::vector<std::uint8_t>(const GridSpec&)>& evaluate, int max_factor,
     std::int64_t max_voxels) {
   std::vector<CellRefinement> out;
+  // The coarsest lattice (factor 2) has 2·(width + 4) + 1 points per axis: boxes wider than
+  // max_voxels allows on all three axes are not searched to the end.
+  const auto widest = std::int64_t(std::cbrt(double(max_voxels)) / 2);
   const auto pairsIn = [](const CellConnectivityCheck& c, int cell) {
     return cell >= 0 && std::size_t(cell) < c.pairs_by_cell.size() ? c.pairs_by_cell[std::size_t(cell)] : -1;
   };
@@ -118,9 +135,6 @@ std::vector<CellRefinement> refineCellComparison(
     r.pairs = pairsIn(solid, cell);
     r.reference_pairs = pairsIn(reference, cell);
     const std::vector<std::int8_t> signs = signsOfCell(cell, planes, arrangement);
-    // The coarsest lattice (factor 2) has 2·(width + 4) + 1 points per axis: boxes wider than
-    // max_voxels allows on all three axes are not searched to the end.
-    const auto widest = std::int64_t(std::cbrt(double(max_voxels)) / 2);
     const auto box = signs.empty() ? std::nullopt : cellBox(cell, signs, planes, arrangement, grid, widest);
     for (int factor = 2; box && r.reference_pairs >= 0 && factor <= max_factor; factor *= 2) {
       // From two voxels below the box to two above, on the grid's centres and every 1/factor
@@ -135,19 +149,7 @@ std::vector<CellRefinement> refineCellComparison(
       const std::vector<std::uint8_t> inside = evaluate(fine);
       // The solid in the cell must stay inside the box: reaching its outer layer, it may join
       // sections through a part of the cell beyond it (not decided here: rejected).
-      bool reaches = false;
-      for (int k = 0; k < fine.dims[2] && !reaches; ++k)
-        for (int j = 0; j < fine.dims[1] && !reaches; ++j)
-          for (int i = 0; i < fine.dims[0] && !reaches; ++i) {
-            const bool outer = i == 0 || j == 0 || k == 0 || i + 1 == fine.dims[0] || j + 1 == fine.dims[1] ||
-                               k + 1 == fine.dims[2];
-            if (!outer) {
-              i = fine.dims[0] - 2;  // straight to the far face of this row
-              continue;
-            }
-            reaches = inside[std::size_t(fine.index(i, j, k))] && inCell(fine.centre(i, j, k), signs, planes);
-          }
-      if (reaches) {
+      if (reachesOuterLayer(inside, fine, signs, planes)) {
         r.leaves_box = true;
         break;
       }

@@ -17,6 +17,12 @@ constexpr int kMaxGlitchFrames = 3;
 /// Corrections below this are tracker noise, never a glitch: the bisquare scale is at least this.
 constexpr double kMinOutlierMm = 0.5;
 
+/// The upper median (the middle value, or the higher of the two middle ones); v not empty.
+double medianOf(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
 Eigen::Matrix3d rotationOf(const Plane& p) {
   Eigen::Matrix3d r;
   r.col(0) = p.u;
@@ -57,9 +63,7 @@ PoseSmoothing smoothPoseTrajectory(const std::vector<Plane>& planes, const std::
   for (int i = 1; i < n; ++i)
     step[std::size_t(i)] = (planes[std::size_t(i)].toWorld(reference[std::size_t(i)]) -
                             planes[std::size_t(i - 1)].toWorld(reference[std::size_t(i)])).norm();
-  std::vector<double> steps(step.begin() + 1, step.end());
-  std::nth_element(steps.begin(), steps.begin() + std::ptrdiff_t(steps.size() / 2), steps.end());
-  const double medianStep = steps[steps.size() / 2];
+  const double medianStep = medianOf(std::vector<double>(step.begin() + 1, step.end()));
   // Whether frames a < b continue one sweep (b - a steps apart).
   const auto continues = [&](int a, int b) {
     const double turn = Eigen::AngleAxisd(rotationOf(planes[std::size_t(a)]).transpose() *
@@ -88,15 +92,12 @@ PoseSmoothing smoothPoseTrajectory(const std::vector<Plane>& planes, const std::
   // the origins (pixel (0, 0)), at least 1 mm.
   std::vector<double> arms;
   for (const Vec2& c : reference) arms.push_back(c.norm());
-  std::nth_element(arms.begin(), arms.begin() + std::ptrdiff_t(arms.size() / 2), arms.end());
-  const double lever = std::max(1.0, arms[arms.size() / 2]);
+  const double lever = std::max(1.0, medianOf(arms));
 
   std::vector<double> residual(std::size_t(n), 0.0);
   for (int pass = 0; pass <= kRobustPasses; ++pass) {
     if (pass > 0) {  // bisquare weights from the last pass's residuals (Cleveland 1979)
-      std::vector<double> r = residual;
-      std::nth_element(r.begin(), r.begin() + std::ptrdiff_t(r.size() / 2), r.end());
-      const double scale = std::max(6 * r[r.size() / 2], kMinOutlierMm);
+      const double scale = std::max(6 * medianOf(residual), kMinOutlierMm);
       for (int j = 0; j < n; ++j) {
         const double u = residual[std::size_t(j)] / scale;
         out.robustness[std::size_t(j)] = u < 1 ? (1 - u * u) * (1 - u * u) : 0.0;

@@ -65,13 +65,7 @@ struct Reader {
       if (!def) throw InputError(file, path, "missing", lineOf(parent));
       return *def;
     }
-    const double v = yamlNumber(n, file, path);
-    if (v != std::floor(v) || v < lo || v > hi)
-      throw InputError(file, path,
-                       "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                           "] (got " + n.Scalar() + ")",
-                       lineOf(n));
-    return int(v);
+    return yamlInteger(n, file, path, lo, hi);
   }
   Vec3 vec3(const YAML::Node& parent, const std::string& key, const std::string& path,
             const Vec3& def, bool unit = false) const {

@@ -166,10 +166,7 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
     positive("band_mm", &f.band_mm);
     positive("flag_mm", &f.flag_mm);
     if (const YAML::Node n = s["pose_smoothing_frames"]) {
-      const double v = yamlNumber(n, path, "conformity.pose_smoothing_frames");
-      if (!(v >= 0 && v <= 1000) || v != std::floor(v))
-        throw InputError(path, "conformity.pose_smoothing_frames", "must be an integer in [0, 1000]", yamlLine(n));
-      f.pose_smoothing_frames = int(v);
+      f.pose_smoothing_frames = yamlInteger(n, path, "conformity.pose_smoothing_frames", 0, 1000);
       if (f.pose_smoothing_frames > 0 && c.input_kind != "slices" && c.input_kind != "plus_sequence")
         throw InputError(path, "conformity.pose_smoothing_frames",
                          "smooths a tracked sweep's poses: only for input.slices, not input." + c.input_kind,
@@ -246,10 +243,7 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
       c.smoothing_keep_connectivity =
           yamlBool(s["keep_connectivity"], path, "smoothing.keep_connectivity");
     if (const YAML::Node n = s["iterations"]) {
-      const double v = yamlNumber(n, path, "smoothing.iterations");
-      if (!(v >= 0 && v <= 1000 && v == std::floor(v)))
-        throw InputError(path, "smoothing.iterations", "must be an integer in [0, 1000]", yamlLine(n));
-      c.smoothing_iterations = int(v);
+      c.smoothing_iterations = yamlInteger(n, path, "smoothing.iterations", 0, 1000);
     }
   }
   c.output_dir = resolvePath(base, "out");

@@ -39,6 +39,17 @@ inline double yamlNumber(const YAML::Node& n, const std::string& file, const std
   return v;
 }
 
+/// An integer in [lo, hi] (a YAML number without fractional part).
+inline int yamlInteger(const YAML::Node& n, const std::string& file, const std::string& key, int lo, int hi) {
+  const double v = yamlNumber(n, file, key);
+  if (v != std::floor(v) || v < lo || v > hi)
+    throw InputError(file, key,
+                     "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "] (got " +
+                         n.Scalar() + ")",
+                     yamlLine(n));
+  return int(v);
+}
+
 inline std::string yamlString(const YAML::Node& n, const std::string& file,
                               const std::string& key) {
   if (!n || !n.IsScalar()) throw InputError(file, key, "expected a string", yamlLine(n));
