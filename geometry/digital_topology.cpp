@@ -98,6 +98,28 @@ int removeCriticalConfigurations(std::vector<std::uint8_t>& in, const GridSpec& 
 
 }  // namespace
 
+int makeWellComposed(std::vector<std::uint8_t>& inside, const GridSpec& grid) {
+  int added = 0;
+  for (int a = removeCriticalConfigurations(inside, grid); a > 0; a = removeCriticalConfigurations(inside, grid))
+    added += a;
+  return added;
+}
+
+std::int64_t imposeSolid(ScalarField& field, const std::vector<std::uint8_t>& inside, float nudge_mm) {
+  std::int64_t changed = 0;
+  for (std::size_t q = 0; q < inside.size(); ++q) {
+    float& v = field.values[q];
+    if (inside[q] && !(v < 0)) {
+      v = -nudge_mm;
+      ++changed;
+    } else if (!inside[q] && v < 0) {
+      v = nudge_mm;
+      ++changed;
+    }
+  }
+  return changed;
+}
+
 TopologyRepair repairSampledTopology(std::vector<std::uint8_t>& inside,
                                      const std::vector<std::uint8_t>& inside_anchor,
                                      const std::vector<std::uint8_t>& outside_anchor,
@@ -119,12 +141,7 @@ TopologyRepair repairSampledTopology(std::vector<std::uint8_t>& inside,
       for (std::size_t c = 0; c < bg.anchored.size(); ++c)
         if (!bg.anchored[c] && !bg.border[c]) ++r.cavities_filled, ++changed;
     }
-    int added = 0;
-    for (int pass = 0; pass < 16; ++pass) {
-      const int a = removeCriticalConfigurations(inside, grid);
-      added += a;
-      if (a == 0) break;
-    }
+    const int added = makeWellComposed(inside, grid);
     r.critical_voxels_added += added;
     if (changed == 0 && added == 0) break;
   }

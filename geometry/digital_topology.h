@@ -32,6 +32,20 @@ TopologyRepair repairSampledTopology(std::vector<std::uint8_t>& inside,
                                      const std::vector<std::uint8_t>& outside_anchor,
                                      const GridSpec& grid);
 
+/// Removes every critical configuration (a 2x2 checkerboard in an axis plane, two voxels or two
+/// holes meeting at a vertex only) by adding voxels, until none is left: the set becomes
+/// well-composed, so its 26-connected components, its 6-connected complement and the iso-surface
+/// OpenVDB meshes between its voxel centres (volume_mesher.h) have one topology, that of the union
+/// of its closed voxel cubes (voxelBetti). Voxels are only added, each next to the configuration
+/// it removes. Returns the number of voxels added.
+/// Terminates: every pass that finds a configuration adds a voxel (in practice 1-3 passes).
+int makeWellComposed(std::vector<std::uint8_t>& inside, const GridSpec& grid);
+
+/// Gives a sampled field the solid `inside` (one byte per voxel): voxels of the set whose value is
+/// >= 0 take -nudge_mm, voxels outside it whose value is < 0 take +nudge_mm (nudge > 0: a small
+/// distance), so the zero set meshed bounds exactly that set. Returns the number of values changed.
+std::int64_t imposeSolid(ScalarField& field, const std::vector<std::uint8_t>& inside, float nudge_mm);
+
 /// 26-connected components of the voxel set: label per voxel (-1 outside), count in *count.
 std::vector<int> solidComponents(const std::vector<std::uint8_t>& inside, const GridSpec& grid,
                                  int* count);

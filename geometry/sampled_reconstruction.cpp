@@ -123,17 +123,11 @@ SampledReconstruction reconstructOnGrid(const std::vector<CuttingPlane>& realPla
 
   // The field for meshing: the evaluated values, with their sign forced to the repaired set.
   out.field = std::move(value);
-  const float nudge = float(0.05 * h);
+  imposeSolid(out.field, out.inside, float(0.05 * h));
   std::int64_t inside = 0;
   for (std::size_t q = 0; q < n; ++q) {
     if (out.section_plane[q] >= int(realPlanes.size())) out.section_plane[q] = -1;
-    float& v = out.field.values[q];
-    if (out.inside[q]) {
-      ++inside;
-      if (v >= 0) v = -nudge;
-    } else if (v < 0) {
-      v = nudge;
-    }
+    inside += out.inside[q];
   }
   out.voxels_inside = inside;
   out.fields = std::move(fields);

@@ -20,9 +20,12 @@ struct LevelSetSurface {
   TriangleMesh mesh;             ///< the level set's zero set (OpenVDB volumeToMesh)
 };
 
-/// Renormalises the zero set of `field` (any continuous field, negative inside, not necessarily a
-/// distance) to a signed distance in a narrow band (OpenVDB tools::levelSetRebuild: the zero set is
-/// polygonised, then the exact distance to it is computed within the band) and meshes it.
+/// The zero set of `field` (any continuous field, negative inside, not necessarily a distance) as a
+/// mesh (meshZeroLevel) and as a narrow-band level set with the same solid: within
+/// half_width_voxels of the mesh, the distance to the mesh (OpenVDB
+/// tools::meshToUnsignedDistanceField) with the sign of the field at that voxel. Give a field
+/// whose solid {value < 0} is well-composed (digital_topology.h makeWellComposed) and whose
+/// outermost voxel layer is outside: the mesh then bounds that solid and has its Betti numbers.
 /// @param half_width_voxels  band half-width on each side (>= 1).
 /// @param adaptivity         OpenVDB's mesh adaptivity in [0, 1] (0 = one vertex per surface voxel).
 LevelSetSurface levelSetSurface(const ScalarField& field, double half_width_voxels = 3.0,

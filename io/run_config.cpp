@@ -24,7 +24,7 @@ const std::set<std::string> kKnownKeys = {
     "segmentation.simplify_mm", "segmentation.merge_labels", "conformity", "conformity.enforce",
     "conformity.mode", "conformity.max_correction_mm", "conformity.band_mm", "conformity.min_angle_deg",
     "conformity.flag_mm", "conformity.drop_flagged", "conformity.pose_smoothing_frames", "reconstruction",
-    "reconstruction.method", "reconstruction.voxel_size_mm", "reconstruction.end_margin_mm",
+    "reconstruction.method", "reconstruction.voxel_size_mm", "reconstruction.voxel_budget", "reconstruction.end_margin_mm",
     "reconstruction.conformal_mesh",
     "smoothing", "smoothing.method", "smoothing.exponent", "smoothing.cap_mm",
     "smoothing.adaptivity", "smoothing.keep_connectivity", "smoothing.iterations", "output", "output.dir", "output.mesh"};
@@ -190,12 +190,17 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
                              "' (nearest_plane | section_voronoi)",
                          yamlLine(s["method"]));
     }
-    if (s["voxel_size_mm"]) {
-      c.voxel_size_mm = yamlNumber(s["voxel_size_mm"], path, "reconstruction.voxel_size_mm");
-      if (c.voxel_size_mm <= 0)
-        throw InputError(path, "reconstruction.voxel_size_mm", "must be positive",
-                         yamlLine(s["voxel_size_mm"]));
+    if (const YAML::Node v = s["voxel_size_mm"]) {
+      if (!(v.IsScalar() && v.Scalar() == "auto")) {
+        c.voxel_size_mm = yamlNumber(v, path, "reconstruction.voxel_size_mm");
+        if (!(c.voxel_size_mm > 0) || !std::isfinite(c.voxel_size_mm))
+          throw InputError(path, "reconstruction.voxel_size_mm", "must be a positive size in mm or 'auto'",
+                           yamlLine(v));
+        c.voxel_size_auto = false;
+      }
     }
+    if (const YAML::Node n = s["voxel_budget"])
+      c.voxel_budget = yamlInteger(n, path, "reconstruction.voxel_budget", 1000, 2000000000);
     if (s["conformal_mesh"])
       c.conformal_mesh = yamlBool(s["conformal_mesh"], path, "reconstruction.conformal_mesh");
     if (const YAML::Node m = s["end_margin_mm"]) {

@@ -32,7 +32,11 @@ struct RunConfig {
     int pose_smoothing_frames = 0;
   } conformity;
   std::string reconstruction_method = "nearest_plane";  ///< nearest_plane | section_voronoi
-  double voxel_size_mm = 0.5;
+  /// The voxel size, mm: the configuration's, or, when voxel_size_auto, 0 until the run resolves
+  /// it from the sections (geometry/automatic_voxel_size.h).
+  double voxel_size_mm = 0;
+  bool voxel_size_auto = true;                          ///< `auto` (the default)
+  std::int64_t voxel_budget = 4000000;                  ///< auto: the largest grid, voxels
   std::optional<double> end_margin_mm;                  ///< empty = auto
   bool conformal_mesh = true;  ///< cut the mesh along the planes onto the section contours
   std::string smoothing_method = "none";                ///< none | shepard | level_set

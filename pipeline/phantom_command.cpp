@@ -33,12 +33,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// A value rounded to two significant digits (for a readable default voxel size).
-double roundTwoDigits(double v) {
-  const double e = std::pow(10.0, std::floor(std::log10(v)) - 1);
-  return std::round(v / e) * e;
-}
-
 /// Deep merge of `over` into `base` (maps merge key by key; anything else replaces). Keys with
 /// dots ("reconstruction.voxel_size_mm") address nested maps. (yaml-cpp nodes are handles:
 /// assigning one Node variable to another rebinds the data, so the walk recurses instead.)
@@ -68,7 +62,7 @@ void mergeValue(YAML::Node base, const std::string& key, const YAML::Node& value
   }
 }
 
-std::string configYaml(const PhantomSpec& spec, const Vec3& bmin, const Vec3& bmax) {
+std::string configYaml(const PhantomSpec& spec) {
   YAML::Node c(YAML::NodeType::Map);
   c["input"]["slices"] = "slices.yaml";
   const auto& d = spec.degradations;
@@ -83,8 +77,7 @@ std::string configYaml(const PhantomSpec& spec, const Vec3& bmin, const Vec3& bm
   }
   c["conformity"]["enforce"] = false;
   c["reconstruction"]["method"] = "nearest_plane";
-  const double voxel = roundTwoDigits(std::max(spec.image.pixel_mm, (bmax - bmin).norm() / 100.0));
-  c["reconstruction"]["voxel_size_mm"] = yamlNumberText(voxel);
+  c["reconstruction"]["voxel_size_mm"] = "auto";  // chosen from the sections (automatic_voxel_size.h)
   c["reconstruction"]["end_margin_mm"] = "auto";
   c["smoothing"]["method"] = "none";
   c["output"]["dir"] = "out";
@@ -194,7 +187,7 @@ int phantomCommand(const PhantomOptions& options) {
   writeSlicesFile(out.file("slices.yaml").string(), recorded);
   writeSlicesFile(out.file("true_poses.yaml").string(), truth);
   writeTruthFile(out.file("truth.yaml").string(), shape);
-  writeText(out.file("config.yaml"), configYaml(spec, bmin, bmax));
+  writeText(out.file("config.yaml"), configYaml(spec));
   out.commit();
 
   const int nClipped = int(std::count(clipped.begin(), clipped.end(), 1));

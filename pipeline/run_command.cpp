@@ -38,6 +38,7 @@
 #include "pipeline/library_versions.h"
 #include "pipeline/load_sections.h"
 #include "pipeline/progress.h"
+#include "pipeline/voxel_size_choice.h"
 
 namespace xsect {
 namespace fs = std::filesystem;
@@ -130,15 +131,6 @@ json cellsJson(const CellConnectivityCheck& c) {
           {"differing_cells", c.differing_cells}};
 }
 
-ReconstructionParams reconstructionParams(const RunConfig& c) {
-  ReconstructionParams rp;
-  rp.voxel_mm = c.voxel_size_mm;
-  rp.method = c.reconstruction_method == "section_voronoi" ? ReconstructionMethod::section_voronoi
-                                                           : ReconstructionMethod::nearest_plane;
-  rp.end_margin_mm = c.end_margin_mm;
-  return rp;
-}
-
 /// The grid the reconstruction will use; configuration problems become InputError.
 ReconstructionLayout layoutOf(const std::vector<CuttingPlane>& planes, const RunConfig& c) {
   try {
@@ -157,6 +149,47 @@ void checkMemory(const RunConfig& c, const ReconstructionLayout& L) {
                      "a grid of " + std::to_string(L.grid.count()) + " voxels needs about " +
                          std::to_string(int(need / 1e9)) + " GB, more than this machine has (" +
                          std::to_string(int(have / 1e9)) + " GB): increase the voxel size");
+}
+
+/// Resolves the voxel size (auto) and checks it against the sections' widths; a too coarse explicit
+/// size is a warning printed even with --quiet.
+VoxelSizeReport resolveVoxelSize(Inputs& in, bool quiet) {
+  VoxelSizeReport r = chooseVoxelSize(in.config, in.planes);
+  if (!r.warning.empty()) {
+    in.warnings.insert(in.warnings.begin(), r.warning);
+    std::cerr << "WARNING: " << r.warning << "\n";
+  }
+  if (!quiet && r.automatic)
+    std::cerr << "voxel size " << r.voxel_mm << " mm (auto, limited by " << voxelSizeLimitName(r.choice.limited_by)
+              << "; " << r.choice.voxels << " voxels)\n";
+  return r;
+}
+
+json voxelSizeJson(const VoxelSizeReport& r) {
+  return {{"voxel_size_mm", r.voxel_mm},
+          {"auto", r.automatic},
+          {"limited_by", r.automatic ? json(voxelSizeLimitName(r.choice.limited_by)) : json("configuration")},
+          {"bounds_diagonal_mm", r.automatic ? json(r.choice.bounds_diagonal_mm) : json(nullptr)},
+          {"median_pixel_mm", r.automatic ? json(r.choice.median_pixel_mm) : json(nullptr)},
+          {"voxel_budget", r.automatic ? json(r.choice.voxel_budget) : json(nullptr)},
+          {"median_section_width_mm", r.median_section_width_mm},
+          {"min_section_width_mm", r.min_section_width_mm},
+          {"sections_narrower_than_two_voxels", r.sections_narrower_than_two_voxels}};
+}
+
+/// The mesh written must bound the solid report.json describes (issue 14): a difference is a
+/// defect of this program, an error (exit 1, nothing written), never a warning.
+void requireMeshBoundsSolid(const MeshTopology& mesh, const Betti& solid, const std::string& what) {
+  if (solid[0] == 0 || mesh.betti[0] == 0)
+    throw std::runtime_error(what + " is empty although the sections are not (the solid has " +
+                             std::to_string(solid[0]) + " components): nothing written");
+  if (mesh.watertight && mesh.betti == solid) return;
+  const auto betti = [](const Betti& b) {
+    return "(" + std::to_string(b[0]) + ", " + std::to_string(b[1]) + ", " + std::to_string(b[2]) + ")";
+  };
+  throw std::runtime_error(what + " has Betti numbers " + betti(mesh.betti) +
+                           (mesh.watertight ? "" : " and is not watertight") + " while the voxel solid it was made from has " +
+                           betti(solid) + "; nothing written (a defect of xsect: please report it with the configuration)");
 }
 
 void writeText(const fs::path& p, const std::string& text) {
@@ -181,6 +214,7 @@ int runCommand(const RunOptions& o) {
   }
   if (sections == 0)
     throw InputError(c.input_path, "", "no section found in any slice (check segmentation settings)");
+  const VoxelSizeReport voxelSize = resolveVoxelSize(in, o.quiet);
 
   progress.stage("reconstruct");
   const ReconstructionParams rp = reconstructionParams(c);
@@ -192,6 +226,8 @@ int runCommand(const RunOptions& o) {
     throw InputError(c.path, "reconstruction", e.what());
   }
   clock.end("reconstruct");
+  if (rec.voxels_inside == 0)
+    throw std::runtime_error(emptySolidMessage(voxelSize, sections));
   in.warnings.push_back("open ends closed by 6 virtual empty planes at " +
                         std::to_string(rec.end_margin_mm) + " mm beyond the sections' bounds" +
                         (rec.end_margin_auto ? " (automatic margin)" : ""));
@@ -296,8 +332,12 @@ int runCommand(const RunOptions& o) {
         in_L[q] = voxelLabel[q] == L;
         m.voxels += in_L[q];
       }
+      // Well-composed, so that the mesh bounds the set voxelBetti counts.
+      makeWellComposed(in_L, rec.field.grid);
+      ScalarField f = labelField(rec.field, voxelLabel, L, float(0.05 * c.voxel_size_mm));
+      imposeSolid(f, in_L, float(0.05 * c.voxel_size_mm));
       m.voxel_betti = voxelBetti(in_L, rec.field.grid);
-      m.mesh = meshZeroLevel(labelField(rec.field, voxelLabel, L, float(0.05 * c.voxel_size_mm)));
+      m.mesh = meshZeroLevel(f);
       materials.push_back(std::move(m));
     }
   if (labelValues.size() > 64)
@@ -308,15 +348,12 @@ int runCommand(const RunOptions& o) {
 
   progress.stage("diagnose");
   const MeshTopology topo = meshTopology(mesh);
-  Betti smoothVoxelBetti{0, 0, 0};
-  if (smoothing) {
-    std::vector<std::uint8_t> s(smooth.field.values.size());
-    for (std::size_t q = 0; q < s.size(); ++q) s[q] = smooth.field.values[q] < 0;
-    smoothVoxelBetti = voxelBetti(s, smooth.field.grid);
-  }
-  if (topo.betti != (smoothing ? smoothVoxelBetti : rec.voxel_betti))
-    in.warnings.push_back("Betti numbers of the mesh and of the voxel solid differ");
-  if (!topo.watertight) in.warnings.push_back("the mesh is not watertight");
+  const Betti smoothVoxelBetti = smoothing ? smooth.voxel_betti : Betti{0, 0, 0};
+  requireMeshBoundsSolid(topo, smoothing ? smoothVoxelBetti : rec.voxel_betti,
+                         smoothing ? "the smoothed mesh (" + smooth.method + ")" : std::string("the mesh"));
+  if (smoothing) requireMeshBoundsSolid(meshTopology(methodMesh), rec.voxel_betti, "the unsmoothed mesh");
+  for (const Material& m : materials)
+    requireMeshBoundsSolid(meshTopology(m.mesh), m.voxel_betti, "the mesh of label " + std::to_string(m.label));
   clock.end("diagnose");
 
   progress.stage("write");
@@ -396,6 +433,7 @@ int runCommand(const RunOptions& o) {
     report["segmentation"] = {{"method", c.segmentation.method}, {"threshold_used", in.threshold}};
   report["reconstruction"] = {{"method", c.reconstruction_method},
                               {"voxel_size_mm", c.voxel_size_mm},
+                              {"voxel_size", voxelSizeJson(voxelSize)},
                               {"grid_origin_mm", vec(rec.field.grid.origin)},
                               {"grid_dims", rec.field.grid.dims},
                               {"end_margin_mm", rec.end_margin_mm},
@@ -472,6 +510,10 @@ int runCommand(const RunOptions& o) {
                                                               {"worst_before_mm", smooth.pinning.worst_before_mm}}
                                                        : json(nullptr)},
                            {"voxel_betti", smoothVoxelBetti},
+                           {"repair", {{"specks_removed", smooth.repair.specks_removed},
+                                       {"cavities_filled", smooth.repair.cavities_filled},
+                                       {"critical_voxels_added", smooth.repair.critical_voxels_added}}},
+                           {"adaptivity_dropped", smooth.adaptivity_dropped},
                            {"level_set_active_voxels", smooth.surface.level_set.coords.size()},
                            {"level_set_half_width_mm", smooth.surface.level_set.background},
                            {"shepard_connectivity", shepard ? check(smooth.shepard_check, smooth.shepard_cells) : json(nullptr)},
@@ -546,6 +588,7 @@ int checkCommand(const RunOptions& o) {
   r["counts"] = {{"slices", in.slices}, {"sections", sections}};
   r["conformity"] = in.conformity;
   if (sections > 0) {
+    r["voxel_size"] = voxelSizeJson(resolveVoxelSize(in, true));
     const ReconstructionLayout L = layoutOf(in.planes, in.config);
     r["sections_bounds_mm"] = {vec(L.sections_min), vec(L.sections_max)};
     r["end_margin_mm"] = L.end_margin_mm;

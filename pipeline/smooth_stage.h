@@ -14,6 +14,7 @@
 #include "geometry/cell_refinement.h"
 #include "geometry/connectivity_graph.h"
 #include "geometry/contour_pinning.h"
+#include "geometry/digital_topology.h"
 #include "geometry/sampled_reconstruction.h"
 #include "geometry/section_arrangement.h"
 #include "geometry/volume_mesher.h"
@@ -42,6 +43,11 @@ struct SmoothStage {
   bool shepard_keeps_connectivity = false;
   bool fell_back = false;             ///< Shepard's surface replaced by the level-set smoothing
   int iterations_applied = 0;         ///< level-set smoothing steps kept
+  /// The smooth solid repaired as the method's is (digital_topology.h, plane_evidence.h): what
+  /// the sections do not show removed, then well-composed, so that its mesh has its Betti numbers.
+  TopologyRepair repair;
+  Betti voxel_betti{0, 0, 0};         ///< of the smooth solid {field < 0}: the surface's, by construction
+  bool adaptivity_dropped = false;    ///< the adaptive mesh changed the topology: meshed without
   GraphVoxelCheck final_check;        ///< the output's solid against the method's graph
   CellConnectivityCheck final_cells;  ///< the same, cell by cell
 };

@@ -24,12 +24,12 @@ struct Outcome {
   json report, eval;
 };
 
-Outcome reconstruct(const std::string& name, double voxel) {
+/// Runs the .csl with the configuration's extra text (none: a configuration naming only the input).
+Outcome reconstruct(const std::string& name, const std::string& extra, const std::string& sets = "") {
   const fs::path dir = xsect::test::freshDir("orex");
-  xsect::test::writeFile(dir / "config.yaml", "input:\n  csl: " + (kData / (name + ".csl")).string() +
-                                                  "\nreconstruction:\n  voxel_size_mm: " +
-                                                  std::to_string(voxel) + "\noutput:\n  dir: out\n");
-  auto r = xsect::test::runXsect("run " + (dir / "config.yaml").string() + " --quiet");
+  xsect::test::writeFile(dir / "config.yaml", "input:\n  csl: " + (kData / (name + ".csl")).string() + "\n" + extra);
+  auto r = xsect::test::runXsect("run " + (dir / "config.yaml").string() + " --out " + (dir / "out").string() +
+                                 " --quiet " + sets);
   EXPECT_EQ(r.code, 0) << r.err;
   r = xsect::test::runXsect("eval --mesh " + (dir / "out/mesh.ply").string() + " --reference " +
                             (kData / (name + "_scaled.stl")).string() + " --json " +
@@ -38,6 +38,10 @@ Outcome reconstruct(const std::string& name, double voxel) {
   Outcome o{json::parse(std::ifstream(dir / "out/report.json")), json::parse(std::ifstream(dir / "eval.json"))};
   fs::remove_all(dir);
   return o;
+}
+
+Outcome reconstruct(const std::string& name, double voxel) {
+  return reconstruct(name, "reconstruction:\n  voxel_size_mm: " + std::to_string(voxel) + "\n");
 }
 
 }  // namespace
@@ -68,6 +72,39 @@ TEST(OReX, SparseObliquePlanesGiveOneClosedSolidNearTheReference) {
     EXPECT_EQ(o.report["betti"][2], 0);
     EXPECT_LT(o.eval["mean_distance_mm"].get<double>(), 0.02);  // shapes are ~1 unit across
     EXPECT_GT(o.eval["dice"].get<double>(), 0.9);
+  }
+}
+
+// Issue 14: OReX's files are about one unit across; a configuration naming only the input must
+// not use a millimetre default (0.5 mm gave 1,716 voxels and an empty mesh with exit 0).
+TEST(OReX, ConfigurationNamingOnlyTheInputUsesAnAutomaticVoxelSize) {
+  for (const char* name : {"Elephant", "hand_ok", "eight_15"}) {
+    SCOPED_TRACE(name);
+    if (!fs::exists(kData / (std::string(name) + ".csl"))) GTEST_SKIP() << "no " << kData;
+    const Outcome o = reconstruct(name, "");
+    const json& v = o.report["reconstruction"]["voxel_size"];
+    EXPECT_TRUE(v["auto"].get<bool>());
+    EXPECT_LT(v["voxel_size_mm"].get<double>(), 0.05);  // ~1 unit across
+    EXPECT_GT(o.report["counts"]["mesh_triangles"].get<int>(), 1000);
+    EXPECT_TRUE(o.eval["watertight"].get<bool>());
+    EXPECT_EQ(o.eval["betti"], o.report["betti"]);
+    EXPECT_GE(o.eval["dice"].get<double>(), 0.9);
+  }
+}
+
+// Issue 14: on the Elephant's oblique sections Shepard falls back to the level-set smoothing; the
+// mesh written had Betti (3, 7, 0) while that solid had (1, 18, 0).
+TEST(OReX, ElephantSmoothedMeshIsTheReportedSolid) {
+  if (!fs::exists(kData / "Elephant.csl")) GTEST_SKIP() << "no " << kData;
+  for (const std::string voxel : {"auto", "0.01"}) {
+    SCOPED_TRACE(voxel);
+    const Outcome o = reconstruct("Elephant", "reconstruction:\n  voxel_size_mm: " + voxel +
+                                                  "\nsmoothing:\n  method: shepard\n");
+    EXPECT_EQ(o.eval["betti"], o.report["betti"]);
+    EXPECT_EQ(o.report["betti"], o.report["smoothing"]["voxel_betti"]);
+    EXPECT_EQ(o.report["betti"][0], 1);
+    EXPECT_EQ(o.report["smoothing"]["unsmoothed"]["betti"][0], 1);
+    EXPECT_TRUE(o.eval["watertight"].get<bool>());
   }
 }
 

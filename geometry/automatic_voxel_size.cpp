@@ -1,0 +1,78 @@
+// The automatic voxel size (see automatic_voxel_size.h).
+#include "geometry/automatic_voxel_size.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "geometry/end_planes.h"
+
+namespace xsect {
+
+const char* voxelSizeLimitName(VoxelSizeLimit limit) {
+  switch (limit) {
+    case VoxelSizeLimit::bounds: return "bounds";
+    case VoxelSizeLimit::section_width: return "section_width";
+    case VoxelSizeLimit::pixel: return "pixel";
+    case VoxelSizeLimit::voxel_budget: return "voxel_budget";
+  }
+  return "bounds";
+}
+
+double twoSignificantDigits(double v, bool up) {
+  if (!(v > 0) || !std::isfinite(v)) return v;
+  const double e = std::pow(10.0, std::floor(std::log10(v)) - 1);
+  const double q = v / e;
+  // A relative slack of 1e-9 keeps exact two-digit values (0.35) from rounding up to the next.
+  return (up ? std::ceil(q - 1e-9) : std::round(q)) * e;
+}
+
+double medianOf(std::vector<double> values) {
+  if (values.empty()) return 0;
+  std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(values.size() / 2), values.end());
+  return values[values.size() / 2];
+}
+
+VoxelSizeChoice automaticVoxelSize(const std::vector<CuttingPlane>& planes, const std::vector<double>& widths,
+                                   ReconstructionParams params, std::int64_t voxel_budget) {
+  if (voxel_budget < 1000) throw std::invalid_argument("voxel budget must be at least 1000 voxels");
+  Vec3 lo, hi;
+  if (!sectionBounds(planes, &lo, &hi)) throw std::invalid_argument("no section in any slice: nothing to reconstruct");
+  VoxelSizeChoice c;
+  c.voxel_budget = voxel_budget;
+  c.bounds_diagonal_mm = (hi - lo).norm();
+  c.median_section_width_mm = medianOf(widths);
+  std::vector<double> pixels;
+  for (const auto& p : planes)
+    if (!p.is_virtual && !p.sections.empty() && p.pixel_mm > 0) pixels.push_back(p.pixel_mm);
+  c.median_pixel_mm = medianOf(pixels);
+
+  double h = c.bounds_diagonal_mm / 100.0;
+  if (c.median_section_width_mm > 0 && c.median_section_width_mm / 4.0 < h) {
+    h = c.median_section_width_mm / 4.0;
+    c.limited_by = VoxelSizeLimit::section_width;
+  }
+  if (c.median_pixel_mm / 2.0 > h) {
+    h = c.median_pixel_mm / 2.0;
+    c.limited_by = VoxelSizeLimit::pixel;
+  }
+  // Sections that are all points or segments (no area, no extent): any positive size.
+  if (!(h > 0)) h = std::max({c.median_pixel_mm, 1e-3 * std::max(1.0, hi.cwiseAbs().maxCoeff()), 1e-12});
+  h = twoSignificantDigits(h);
+  // The budget: the grid grows as h^-3; a few steps reach it (the end margin may depend on h).
+  for (int step = 0; step < 40; ++step) {
+    params.voxel_mm = h;
+    try {
+      c.voxels = reconstructionLayout(planes, params).grid.count();
+    } catch (const std::invalid_argument&) {  // past 2^31 voxels
+      c.voxels = std::int64_t(1) << 40;
+    }
+    if (c.voxels <= voxel_budget) break;
+    h = twoSignificantDigits(h * std::max(1.01, std::cbrt(double(c.voxels) / double(voxel_budget))), true);
+    c.limited_by = VoxelSizeLimit::voxel_budget;
+  }
+  c.voxel_mm = h;
+  return c;
+}
+
+}  // namespace xsect

@@ -1,0 +1,61 @@
+// Inscribed-disk diameter of a section on a raster (see section_width.h).
+#include "geometry/section_width.h"
+
+#include <opencv2/imgproc.hpp>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "geometry/polygon.h"
+
+namespace xsect {
+
+double sectionWidth(const Section& section, int raster_px) {
+  if (raster_px < 8) throw std::invalid_argument("section width raster must be at least 8 cells");
+  if (section.outer.size() < 3 || !(sectionArea(section) > 0)) return 0.0;
+  const Eigen::AlignedBox2d box = ringBounds(section.outer);
+  const Vec2 size = box.sizes();
+  const double step = std::max(size.x(), size.y()) / raster_px;
+  if (!(step > 0) || !std::isfinite(step)) return 0.0;
+  // One empty cell around the box, so the distance transform sees the outside on every side.
+  const int cols = int(std::ceil(size.x() / step)) + 3, rows = int(std::ceil(size.y() / step)) + 3;
+  const Vec2 origin = box.min() - Vec2::Constant(step);
+  const auto pixels = [&](const Ring& r) {
+    std::vector<cv::Point> p;
+    p.reserve(r.size());
+    // fillPoly with 8 fractional bits: sub-cell vertex positions.
+    for (const Vec2& q : r)
+      p.emplace_back(int(std::lround((q.x() - origin.x()) / step * 256.0 - 128.0)),
+                     int(std::lround((q.y() - origin.y()) / step * 256.0 - 128.0)));
+    return p;
+  };
+  cv::Mat mask = cv::Mat::zeros(rows, cols, CV_8U);
+  const std::vector<std::vector<cv::Point>> outer{pixels(section.outer)};
+  cv::fillPoly(mask, outer, cv::Scalar(255), cv::LINE_8, 8);
+  if (!section.holes.empty()) {
+    std::vector<std::vector<cv::Point>> holes;
+    for (const Ring& h : section.holes) holes.push_back(pixels(h));
+    cv::fillPoly(mask, holes, cv::Scalar(0), cv::LINE_8, 8);
+  }
+  cv::Mat distance;
+  cv::distanceTransform(mask, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  double largest = 0;
+  cv::minMaxLoc(distance, nullptr, &largest);
+  // A cell centre at distance d (cells) from the nearest outside cell centre is about d - 1/2
+  // from the boundary; a filled section has at least one cell at d = 1.
+  return 2.0 * std::max(0.5, largest - 0.5) * step;
+}
+
+std::vector<double> sectionWidths(const std::vector<CuttingPlane>& planes, int raster_px) {
+  std::vector<const Section*> all;
+  for (const auto& p : planes)
+    if (!p.is_virtual)
+      for (const auto& s : p.sections) all.push_back(&s);
+  std::vector<double> out(all.size());
+  tbb::parallel_for(std::size_t(0), all.size(), [&](std::size_t q) { out[q] = sectionWidth(*all[q], raster_px); });
+  return out;
+}
+
+}  // namespace xsect

@@ -1,0 +1,84 @@
+// The run's voxel size and its check against the sections' widths (see voxel_size_choice.h).
+#include "pipeline/voxel_size_choice.h"
+
+#include <algorithm>
+#include <sstream>
+
+#include "geometry/section_width.h"
+#include "io/input_error.h"
+
+namespace xsect {
+
+namespace {
+
+std::string mm(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+ReconstructionParams reconstructionParams(const RunConfig& c) {
+  ReconstructionParams p;
+  p.voxel_mm = c.voxel_size_mm;
+  p.method = c.reconstruction_method == "section_voronoi" ? ReconstructionMethod::section_voronoi
+                                                          : ReconstructionMethod::nearest_plane;
+  p.end_margin_mm = c.end_margin_mm;
+  return p;
+}
+
+VoxelSizeReport chooseVoxelSize(RunConfig& c, const std::vector<CuttingPlane>& planes) {
+  VoxelSizeReport r;
+  const std::vector<double> widths = sectionWidths(planes);
+  r.automatic = c.voxel_size_auto;
+  if (c.voxel_size_auto) {
+    try {
+      r.choice = automaticVoxelSize(planes, widths, reconstructionParams(c), c.voxel_budget);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(c.path, "reconstruction.voxel_size_mm", e.what());
+    }
+    c.voxel_size_mm = r.choice.voxel_mm;
+  }
+  r.voxel_mm = c.voxel_size_mm;
+  r.sections = int(widths.size());
+  r.median_section_width_mm = medianOf(widths);
+  r.min_section_width_mm = widths.empty() ? 0.0 : *std::min_element(widths.begin(), widths.end());
+  r.sections_narrower_than_two_voxels =
+      int(std::count_if(widths.begin(), widths.end(), [&](double w) { return w < 2 * r.voxel_mm; }));
+  r.suggested_voxel_mm = twoSignificantDigits(r.median_section_width_mm / 4);
+  if (2 * r.sections_narrower_than_two_voxels <= r.sections) return r;
+
+  const std::string what = std::to_string(r.sections_narrower_than_two_voxels) + " of " +
+                           std::to_string(r.sections) + " sections are narrower than two voxels (median width " +
+                           mm(r.median_section_width_mm) + " mm)";
+  if (c.voxel_size_auto) {
+    // Only the budget makes the rule this coarse: the size to use needs a larger budget.
+    ReconstructionParams p = reconstructionParams(c);
+    p.voxel_mm = r.suggested_voxel_mm;
+    std::string voxels = "more";
+    try {
+      voxels = std::to_string(reconstructionLayout(planes, p).grid.count());
+    } catch (const std::invalid_argument&) {
+    }
+    throw InputError(c.path, "reconstruction.voxel_size_mm",
+                     "at the automatic voxel size of " + mm(r.voxel_mm) + " mm (limited by reconstruction.voxel_budget = " +
+                         std::to_string(c.voxel_budget) + " voxels), " + what +
+                         ": the grid cannot resolve them; set reconstruction.voxel_size_mm: " +
+                         mm(r.suggested_voxel_mm) + " (a quarter of the median width) and reconstruction.voxel_budget: " +
+                         voxels);
+  }
+  r.warning = "reconstruction.voxel_size_mm = " + mm(r.voxel_mm) + " mm is too coarse for these sections: " + what +
+              "; the result may lose thin parts or be empty. Use reconstruction.voxel_size_mm: " +
+              mm(r.suggested_voxel_mm) + " (a quarter of the median width) or auto";
+  return r;
+}
+
+std::string emptySolidMessage(const VoxelSizeReport& r, int sections) {
+  return "the reconstructed solid is empty although the input has " + std::to_string(sections) +
+         " sections: no voxel centre of the " + mm(r.voxel_mm) + " mm grid lies in it (median section width " +
+         mm(r.median_section_width_mm) + " mm); use a smaller reconstruction.voxel_size_mm, e.g. " +
+         mm(r.suggested_voxel_mm) + ", or auto";
+}
+
+}  // namespace xsect

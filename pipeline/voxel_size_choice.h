@@ -1,0 +1,41 @@
+// The voxel size of a run (issue 14): `auto` resolved from the sections (automatic_voxel_size.h),
+// and a check that the grid resolves them: when most sections are narrower than two voxels, an
+// automatic size is an input error naming the size to use, an explicit one a loud warning.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "geometry/automatic_voxel_size.h"
+#include "geometry/types.h"
+#include "io/run_config.h"
+
+namespace xsect {
+
+struct VoxelSizeReport {
+  double voxel_mm = 0;
+  bool automatic = true;
+  VoxelSizeChoice choice;               ///< the rule's terms (automatic sizes only)
+  double median_section_width_mm = 0;   ///< inscribed-disk diameter (section_width.h)
+  double min_section_width_mm = 0;
+  int sections = 0;
+  int sections_narrower_than_two_voxels = 0;
+  double suggested_voxel_mm = 0;        ///< a quarter of the median section width
+  std::string warning;                  ///< explicit size too coarse: what to do; else empty
+};
+
+/// The reconstruction's parameters from the configuration (voxel size as resolved).
+ReconstructionParams reconstructionParams(const RunConfig& config);
+
+/// Resolves config.voxel_size_mm in place when it is `auto` and checks the grid against the
+/// sections' widths. Throws InputError (reconstruction.voxel_size_mm) when an automatic size
+/// leaves most sections narrower than two voxels (only the voxel budget can force that).
+/// @param planes  the real planes with their sections (at least one section).
+VoxelSizeReport chooseVoxelSize(RunConfig& config, const std::vector<CuttingPlane>& planes);
+
+/// The message of a run whose solid came out empty from non-empty sections: the grid, the
+/// sections' width and the voxel size to use.
+std::string emptySolidMessage(const VoxelSizeReport& report, int sections);
+
+}  // namespace xsect
