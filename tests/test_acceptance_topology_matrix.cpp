@@ -31,6 +31,8 @@ struct MatrixCase {
   const char* method;  ///< reconstruction.method
 };
 
+void PrintTo(const MatrixCase& c, std::ostream* os) { *os << c.spec << " " << c.method; }
+
 std::string caseName(const testing::TestParamInfo<MatrixCase>& info) {
   std::string n = std::string(info.param.spec) + "_" + info.param.method;
   for (char& ch : n)
