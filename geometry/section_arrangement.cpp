@@ -40,6 +40,8 @@ struct Zobrist {
 /// floating-point filter (the evaluation's rounding error is below 8 ulp of the magnitudes summed)
 /// and CGAL's exact predicate when the value is within that bound of zero.
 int sign(const K::Plane_3& P, const Vec3& x) {
+  // GMP raises SIGFPE on converting a non-finite number: a defect upstream, reported as one.
+  if (!x.allFinite()) throw std::logic_error("a non-finite point reached the arrangement's exact predicate");
   const double a = P.a(), b = P.b(), c = P.c(), d = P.d();
   const double v = a * x.x() + b * x.y() + c * x.z() + d;
   const double mag = std::abs(a * x.x()) + std::abs(b * x.y()) + std::abs(c * x.z()) + std::abs(d);
@@ -97,8 +99,12 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
           for (const std::size_t j : crossing) {
             const int sa = sign(eq[j], a), sb = sign(eq[j], b);
             if (sa * sb >= 0) continue;
+            // The exact signs say the edge crosses plane j; the rounded distances may not (both
+            // about 0 when the planes nearly coincide, e.g. a frame listed twice): the crossing is
+            // then taken at the edge's midpoint, never at 0/0.
             const double da = planes[j].plane.signedDistance(a), db = planes[j].plane.signedDistance(b);
-            const double t = da / (da - db);
+            const double q = da / (da - db);
+            const double t = std::isfinite(q) ? std::clamp(q, 0.0, 1.0) : 0.5;
             P.push_back({int(i), int(s), r[v] + t * (r[(v + 1) % r.size()] - r[v]),
                          SectionPoint::trace, {-1, -1}, int(j)});
           }

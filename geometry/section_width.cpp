@@ -12,12 +12,15 @@
 
 namespace xsect {
 
-double sectionWidth(const Section& section, int raster_px) {
-  if (raster_px < 8) throw std::invalid_argument("section width raster must be at least 8 cells");
-  if (section.outer.size() < 3 || !(sectionArea(section) > 0)) return 0.0;
+double sectionWidth(const Section& section, double cells_per_width) {
+  if (!(cells_per_width >= 4)) throw std::invalid_argument("section width raster must have at least 4 cells per width");
+  const double area = sectionArea(section);
+  if (section.outer.size() < 3 || !(area > 0)) return 0.0;
+  double perimeter = ringLength(section.outer);
+  for (const Ring& h : section.holes) perimeter += ringLength(h);
   const Eigen::AlignedBox2d box = ringBounds(section.outer);
   const Vec2 size = box.sizes();
-  const double step = std::max(size.x(), size.y()) / raster_px;
+  const double step = std::max(2.0 * area / perimeter / cells_per_width, std::max(size.x(), size.y()) / 4096.0);
   if (!(step > 0) || !std::isfinite(step)) return 0.0;
   // One empty cell around the box, so the distance transform sees the outside on every side.
   const int cols = int(std::ceil(size.x() / step)) + 3, rows = int(std::ceil(size.y() / step)) + 3;
@@ -48,13 +51,13 @@ double sectionWidth(const Section& section, int raster_px) {
   return 2.0 * std::max(0.5, largest - 0.5) * step;
 }
 
-std::vector<double> sectionWidths(const std::vector<CuttingPlane>& planes, int raster_px) {
+std::vector<double> sectionWidths(const std::vector<CuttingPlane>& planes, double cells_per_width) {
   std::vector<const Section*> all;
   for (const auto& p : planes)
     if (!p.is_virtual)
       for (const auto& s : p.sections) all.push_back(&s);
   std::vector<double> out(all.size());
-  tbb::parallel_for(std::size_t(0), all.size(), [&](std::size_t q) { out[q] = sectionWidth(*all[q], raster_px); });
+  tbb::parallel_for(std::size_t(0), all.size(), [&](std::size_t q) { out[q] = sectionWidth(*all[q], cells_per_width); });
   return out;
 }
 

@@ -3,13 +3,35 @@
 
 #include <tbb/parallel_for.h>
 
+#include <map>
+
 #include "geometry/plane_of_pose.h"
+#include "io/file_hash.h"
 #include "io/image_io.h"
 #include "io/input_error.h"
 #include "segmentation/field_of_view.h"
 #include "segmentation/series_threshold.h"
 
 namespace xsect {
+
+std::vector<SliceRecord> mergeRepeatedSlices(std::vector<SliceRecord> slices, std::vector<std::string>* warnings) {
+  std::map<std::string, std::size_t> first;  // identity -> first slice with it
+  std::vector<SliceRecord> kept;
+  for (std::size_t i = 0; i < slices.size(); ++i) {
+    std::string key = sha256File(slices[i].image_resolved) + "|" +
+                      (slices[i].fov_resolved ? sha256File(*slices[i].fov_resolved) : std::string("-")) + "|";
+    const Mat4& m = slices[i].image_to_world;
+    key.append(reinterpret_cast<const char*>(m.data()), sizeof(double) * 16);
+    const auto [it, inserted] = first.emplace(key, i);
+    if (inserted) {
+      kept.push_back(std::move(slices[i]));
+    } else if (warnings) {
+      warnings->push_back("slices[" + std::to_string(i) + "] (" + slices[i].image + ") repeats slices[" +
+                          std::to_string(it->second) + "] (the same image at the same pose): merged");
+    }
+  }
+  return kept;
+}
 
 std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& slices,
                                              const std::string& listing_file,

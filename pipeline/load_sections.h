@@ -11,6 +11,12 @@
 
 namespace xsect {
 
+/// Exactly repeated slices (the same image bytes, the same field-of-view mask bytes, the same
+/// pose to the last bit: a list concatenated twice, a frame exported twice) kept once, the first
+/// of each in the listing's order; `warnings` receives one line naming each slice merged.
+/// (Coincident planes with different images are not repeats: both observed the plane.)
+std::vector<SliceRecord> mergeRepeatedSlices(std::vector<SliceRecord> slices, std::vector<std::string>* warnings);
+
 /// @param listing_file  the slices.yaml the records came from (for error messages).
 /// @param warnings      receives "slice N touches the edge of its field of view" and the like.
 /// @param thresholdUsed receives the grey threshold applied (method otsu: one threshold for the

@@ -89,7 +89,7 @@ Inputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress) {
   in.input_files.push_back(c.input_path);
   std::vector<SliceRecord> slices;
   if (c.input_kind == "slices") {
-    slices = readSlicesFile(c.input_path, &in.warnings);
+    slices = mergeRepeatedSlices(readSlicesFile(c.input_path, &in.warnings), &in.warnings);
     for (const auto& s : slices) {
       in.input_files.push_back(s.image_resolved);
       if (s.fov_resolved) in.input_files.push_back(*s.fov_resolved);
