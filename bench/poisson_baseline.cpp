@@ -56,6 +56,7 @@
 #include "io/run_config.h"
 #include "io/slices_file.h"
 #include "pipeline/load_sections.h"
+#include "pipeline/voxel_size_choice.h"
 
 namespace {
 
@@ -163,9 +164,8 @@ int run(const Options& o) {
                             "this input kind is not available to the baseline (slices | csl)");
   }
   const double loadSeconds = secondsSince(tLoad);
-  const double step = c.voxel_size_mm;
-  if (!(step > 0) || !std::isfinite(step))
-    throw xsect::InputError(c.path, "reconstruction.voxel_size_mm", "must be a positive number");
+  xsect::RunConfig resolved = c;  // voxel_size_mm: auto resolved as `xsect run` does
+  const double step = xsect::chooseVoxelSize(resolved, planes).voxel_mm;
 
   const auto tSample = clock::now();
   std::vector<PointWithNormal> points;

@@ -21,10 +21,14 @@ const char* voxelSizeLimitName(VoxelSizeLimit limit) {
 
 double twoSignificantDigits(double v, bool up) {
   if (!(v > 0) || !std::isfinite(v)) return v;
-  const double e = std::pow(10.0, std::floor(std::log10(v)) - 1);
-  const double q = v / e;
+  // v = q 10^k with q in [10, 100): q rounded, then scaled by an exact power of ten (dividing by
+  // 10^-k when k < 0, so that 41 / 100 is the double nearest 0.41, not 41 * 0.01 = 0.41000000000000003).
+  const int k = int(std::floor(std::log10(v))) - 1;
+  const double scale = std::pow(10.0, std::abs(k));
+  const double q = k < 0 ? v * scale : v / scale;
   // A relative slack of 1e-9 keeps exact two-digit values (0.35) from rounding up to the next.
-  return (up ? std::ceil(q - 1e-9) : std::round(q)) * e;
+  const double r = up ? std::ceil(q - 1e-9) : std::round(q);
+  return k < 0 ? r / scale : r * scale;
 }
 
 double medianOf(std::vector<double> values) {
@@ -59,8 +63,11 @@ VoxelSizeChoice automaticVoxelSize(const std::vector<CuttingPlane>& planes, cons
   // Sections that are all points or segments (no area, no extent): any positive size.
   if (!(h > 0)) h = std::max({c.median_pixel_mm, 1e-3 * std::max(1.0, hi.cwiseAbs().maxCoeff()), 1e-12});
   h = twoSignificantDigits(h);
-  // The budget: the grid grows as h^-3; a few steps reach it (the end margin may depend on h).
-  for (int step = 0; step < 40; ++step) {
+  // The budget: the grid shrinks as h^-3; a few steps reach it. It cannot shrink below the
+  // margins' layers (about 9^3 voxels for method 1, 11^3 for method 2, more with a fixed end
+  // margin larger than the object): a budget below that is refused with the smallest grid.
+  const double start = h;
+  for (;;) {
     params.voxel_mm = h;
     try {
       c.voxels = reconstructionLayout(planes, params).grid.count();
@@ -68,6 +75,11 @@ VoxelSizeChoice automaticVoxelSize(const std::vector<CuttingPlane>& planes, cons
       c.voxels = std::int64_t(1) << 40;
     }
     if (c.voxels <= voxel_budget) break;
+    // Past a thousand times the rule's size the grid is its margins' layers alone.
+    if (h > 1000 * start)
+      throw std::invalid_argument("no voxel size fits a grid of " + std::to_string(voxel_budget) +
+                                  " voxels (the smallest grid has " + std::to_string(c.voxels) +
+                                  "): raise reconstruction.voxel_budget");
     h = twoSignificantDigits(h * std::max(1.01, std::cbrt(double(c.voxels) / double(voxel_budget))), true);
     c.limited_by = VoxelSizeLimit::voxel_budget;
   }

@@ -6,7 +6,8 @@
 // cube-like object), w the median section width (inscribed-disk diameter, section_width.h: the
 // typical section is at least 4 voxels wide, so thin objects get a finer grid), p the median pixel
 // size of the images (finer voxels than half a pixel add no detail in the planes; unknown for
-// .csl contours), and the budget the largest grid allowed (voxels, end margins included).
+// .csl contours), and the budget the largest grid allowed for the method (voxels, end margins
+// included).
 // Rounded to two significant digits.
 #pragma once
 
@@ -36,8 +37,10 @@ struct VoxelSizeChoice {
 /// @param planes  the real cutting planes with their sections (at least one section).
 /// @param widths  sectionWidths(planes) (section_width.h), mm.
 /// @param params  the reconstruction's method and end margin (voxel_mm is ignored).
-/// @param voxel_budget  largest grid, voxels (>= 1000).
-/// Throws std::invalid_argument when there is no section or the budget is below 1000.
+/// @param voxel_budget  largest grid of the method, voxels (>= 1000; the smoothing's grid, which
+///                      reaches the end planes, is larger).
+/// Throws std::invalid_argument when there is no section, the budget is below 1000, or no voxel
+/// size fits the budget (the margins' layers alone exceed it).
 VoxelSizeChoice automaticVoxelSize(const std::vector<CuttingPlane>& planes, const std::vector<double>& widths,
                                    ReconstructionParams params, std::int64_t voxel_budget);
 

@@ -38,8 +38,9 @@ PlaneEvidence planeEvidence(const std::vector<CuttingPlane>& planes,
         // distance at index t along a: d0 + na h t
         const double d0 = P.signedDistance(grid.centre(idx[0], idx[1], idx[2]));
         const double t0 = (-near_mm - d0) / (na * h), t1 = (near_mm - d0) / (na * h);
-        const int lo = std::max(0, int(std::floor(std::min(t0, t1)))),
-                  hi = std::min(grid.dims[a] - 1, int(std::ceil(std::max(t0, t1))));
+        // Clamped as doubles: a plane far from the grid must not overflow the conversion.
+        const int lo = int(std::clamp(std::floor(std::min(t0, t1)), 0.0, double(grid.dims[a]))),
+                  hi = int(std::clamp(std::ceil(std::max(t0, t1)), -1.0, double(grid.dims[a] - 1)));
         for (int t = lo; t <= hi; ++t) {
           idx[a] = t;
           const double d = std::abs(d0 + na * h * t);

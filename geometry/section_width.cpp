@@ -28,7 +28,8 @@ double sectionWidth(const Section& section, double cells_per_width) {
   const auto pixels = [&](const Ring& r) {
     std::vector<cv::Point> p;
     p.reserve(r.size());
-    // fillPoly with 8 fractional bits: sub-cell vertex positions.
+    // Cell centres at integer coordinates; 8 fractional bits so that OpenCV rounds each vertex to
+    // its nearest cell rather than truncating.
     for (const Vec2& q : r)
       p.emplace_back(int(std::lround((q.x() - origin.x()) / step * 256.0 - 128.0)),
                      int(std::lround((q.y() - origin.y()) / step * 256.0 - 128.0)));

@@ -16,8 +16,8 @@ TriangleMesh meshZeroLevel(const ScalarField& field, double adaptivity = 0.0);
 
 /// A smooth field's zero set as an OpenVDB narrow-band level set and its mesh.
 struct LevelSetSurface {
-  NarrowBandLevelSet level_set;  ///< signed distance to the zero set, mm, on the field's lattice
-  TriangleMesh mesh;             ///< the level set's zero set (OpenVDB volumeToMesh)
+  NarrowBandLevelSet level_set;  ///< distance to `mesh`, mm, signed by the field, on its lattice
+  TriangleMesh mesh;             ///< the field's zero set (OpenVDB volumeToMesh)
 };
 
 /// The zero set of `field` (any continuous field, negative inside, not necessarily a distance) as a

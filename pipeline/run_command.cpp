@@ -320,6 +320,7 @@ int runCommand(const RunOptions& o) {
     std::uint16_t label;
     TriangleMesh mesh;
     std::int64_t voxels = 0;
+    int critical_voxels_added = 0;
     Betti voxel_betti{0, 0, 0};
   };
   std::vector<Material> materials;
@@ -332,8 +333,15 @@ int runCommand(const RunOptions& o) {
         in_L[q] = voxelLabel[q] == L;
         m.voxels += in_L[q];
       }
-      // Well-composed, so that the mesh bounds the set voxelBetti counts.
-      makeWellComposed(in_L, rec.field.grid);
+      if (m.voxels == 0) {  // a label too small for the grid (a few pixels in one slice)
+        in.warnings.push_back("label " + std::to_string(L) + " has sections but no voxel at " +
+                              std::to_string(c.voxel_size_mm) + " mm: no mesh for it");
+        continue;
+      }
+      // Well-composed, so that the mesh bounds the set voxelBetti counts: the mesh of a label
+      // may take a voxel of a neighbouring label where the two meet at a vertex or an edge only
+      // (counted in critical_voxels_added; labels.nrrd keeps each voxel's own label).
+      m.critical_voxels_added = makeWellComposed(in_L, rec.field.grid);
       ScalarField f = labelField(rec.field, voxelLabel, L, float(0.05 * c.voxel_size_mm));
       imposeSolid(f, in_L, float(0.05 * c.voxel_size_mm));
       m.voxel_betti = voxelBetti(in_L, rec.field.grid);
@@ -446,7 +454,8 @@ int runCommand(const RunOptions& o) {
   for (const Material& m : materials) {
     const MeshTopology t = meshTopology(m.mesh);
     mats.push_back({{"label", m.label}, {"betti", t.betti}, {"voxel_betti", m.voxel_betti},
-                    {"watertight", t.watertight}, {"voxels", m.voxels}, {"volume_mm3", t.volume_mm3},
+                    {"watertight", t.watertight}, {"voxels", m.voxels},
+                    {"critical_voxels_added", m.critical_voxels_added}, {"volume_mm3", t.volume_mm3},
                     {"mesh_triangles", m.mesh.triangles.size()}});
   }
   report["materials"] = mats;

@@ -161,8 +161,12 @@ SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& rea
   out.voxel_betti = voxelBetti(solidOf(out.field), out.field.grid);
   out.surface = levelSetSurface(out.field, 3.0, c.smoothing_adaptivity);
   // OpenVDB's adaptive meshing merges vertices across the surface's thin parts; where that changes
-  // the topology, the surface is meshed again without adaptivity (which cannot).
-  if (c.smoothing_adaptivity > 0 && meshTopology(out.surface.mesh).betti != out.voxel_betti) {
+  // the topology or opens the surface, it is meshed again without adaptivity.
+  const auto bounds = [&](const TriangleMesh& m) {
+    const MeshTopology t = meshTopology(m);
+    return t.watertight && t.betti == out.voxel_betti;
+  };
+  if (c.smoothing_adaptivity > 0 && !bounds(out.surface.mesh)) {
     out.surface = levelSetSurface(out.field, 3.0, 0.0);
     out.adaptivity_dropped = true;
   }

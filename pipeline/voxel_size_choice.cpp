@@ -52,8 +52,17 @@ VoxelSizeReport chooseVoxelSize(RunConfig& c, const std::vector<CuttingPlane>& p
   const std::string what = std::to_string(r.sections_narrower_than_two_voxels) + " of " +
                            std::to_string(r.sections) + " sections are narrower than two voxels (median width " +
                            mm(r.median_section_width_mm) + " mm)";
+  if (c.voxel_size_auto && r.choice.limited_by == VoxelSizeLimit::pixel)
+    // The rule stops at half a pixel: sections under a pixel wide are the segmentation's noise or
+    // structures the images do not resolve; a finer grid is the user's explicit choice.
+    throw InputError(c.path, "reconstruction.voxel_size_mm",
+                     "at the automatic voxel size of " + mm(r.voxel_mm) + " mm (half the median pixel, " +
+                         mm(r.choice.median_pixel_mm) + " mm), " + what +
+                         ": the images hardly resolve them; set reconstruction.voxel_size_mm: " +
+                         mm(r.suggested_voxel_mm) + " (a quarter of the median width) to reconstruct them anyway");
   if (c.voxel_size_auto) {
-    // Only the budget makes the rule this coarse: the size to use needs a larger budget.
+    // Otherwise only the budget makes the rule this coarse (h <= w/4 leaves the median section
+    // four voxels wide): the size to use needs a larger budget.
     ReconstructionParams p = reconstructionParams(c);
     p.voxel_mm = r.suggested_voxel_mm;
     std::string voxels = "more";

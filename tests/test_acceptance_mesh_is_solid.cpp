@@ -101,10 +101,11 @@ TEST(AcceptanceMeshIsSolid, AutomaticVoxelSizeIsTheDefaultAndReported) {
 
 TEST(AcceptanceMeshIsSolid, CoarseExplicitVoxelSizeWarnsLoudly) {
   const fs::path dir = thinEllipsoid("coarse");
-  // Voxels of 3.5 mm: every section is narrower than two voxels; the solid is not empty yet.
-  const auto r = runPhantom(dir, "--set reconstruction.voxel_size_mm=3.5");
+  // Voxels of 3.2 mm: every section is narrower than two voxels; the solid is not empty yet (it is
+  // from 3.8 mm on).
+  const auto r = runPhantom(dir, "--set reconstruction.voxel_size_mm=3.2");
   EXPECT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.err.find("WARNING: reconstruction.voxel_size_mm = 3.5 mm is too coarse"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("WARNING: reconstruction.voxel_size_mm = 3.2 mm is too coarse"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("Use reconstruction.voxel_size_mm: 1.3"), std::string::npos) << r.err;  // median width / 4
   EXPECT_NE(r.err.find("sections are narrower than two voxels"), std::string::npos) << r.err;
   const json rep = readJson(dir / "out/report.json");
@@ -116,7 +117,11 @@ TEST(AcceptanceMeshIsSolid, CoarseExplicitVoxelSizeWarnsLoudly) {
 
 TEST(AcceptanceMeshIsSolid, AutomaticSizeForcedCoarseByTheBudgetIsAnInputError) {
   expectRefused(smallSphere("budget"), "--set reconstruction.voxel_budget=1000", 2,
-                {"reconstruction.voxel_size_mm", "set reconstruction.voxel_size_mm: "});
+                {"reconstruction.voxel_size_mm", "limited by reconstruction.voxel_budget = 1000",
+                 "set reconstruction.voxel_size_mm: 2.4 (a quarter of the median width) and reconstruction.voxel_budget: "});
+  // Method 2's grid has at least 12^3 voxels of margins: no size fits 1000.
+  expectRefused(smallSphere("budget2"), "--set reconstruction.voxel_budget=1000 --set reconstruction.method=section_voronoi",
+                2, {"reconstruction.voxel_size_mm: no voxel size fits a grid of 1000 voxels", "raise reconstruction.voxel_budget"});
 }
 
 TEST(AcceptanceMeshIsSolid, EmptyResultFromNonEmptySectionsIsAnError) {

@@ -21,18 +21,21 @@ TEST(Determinism, SameBytesWhateverTheThreadCount) {
                          " output: {mesh: [ply, stl, obj]}}\n");
   auto r = xsect::test::runXsect("phantom " + (dir / "spec.yaml").string() + " --out " + (dir / "ph").string() + " --quiet");
   ASSERT_EQ(r.code, 0) << r.err;
-  for (const std::string method : {"nearest_plane", "section_voronoi", "shepard", "conform"}) {
+  for (const std::string method : {"nearest_plane", "section_voronoi", "shepard", "level_set", "conform"}) {
     SCOPED_TRACE(method);
-    const std::string set = method == "shepard"   ? " --set smoothing.method=shepard"
-                            : method == "conform" ? " --set conformity.enforce=true --set conformity.mode=average"
-                                                  : " --set reconstruction.method=" + method;
+    // level_set: with adaptive meshing and the automatic voxel size.
+    const std::string set = method == "shepard"     ? " --set smoothing.method=shepard"
+                            : method == "level_set" ? " --set smoothing.method=level_set --set smoothing.adaptivity=0.5"
+                                                      " --set reconstruction.voxel_size_mm=auto"
+                            : method == "conform"   ? " --set conformity.enforce=true --set conformity.mode=average"
+                                                    : " --set reconstruction.method=" + method;
     for (const char* t : {"1", "2", "3"}) {
       r = xsect::test::runXsect("run " + (dir / "ph/config.yaml").string() + " --out " +
                                 (dir / (method + t)).string() + " --quiet --threads " + t + set);
       ASSERT_EQ(r.code, 0) << r.err;
     }
     std::vector<std::string> files{"mesh.ply", "mesh.stl", "mesh.obj", "graph.json", "graph.dot", "labels.nrrd"};
-    if (method == "shepard") files.insert(files.end(), {"level_set.vdb", "mesh_unsmoothed.ply"});
+    if (method == "shepard" || method == "level_set") files.insert(files.end(), {"level_set.vdb", "mesh_unsmoothed.ply"});
     files.push_back("conformity.json");
     for (const std::string& f : files) {
       const std::string a = slurp(dir / (method + "1") / f);
