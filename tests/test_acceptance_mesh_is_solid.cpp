@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "phantom_runs.h"
 
@@ -128,4 +130,33 @@ TEST(AcceptanceMeshIsSolid, EmptyResultFromNonEmptySectionsIsAnError) {
   // 5 mm voxels: no voxel centre lies in the ellipsoid.
   expectRefused(thinEllipsoid("empty"), "--set reconstruction.voxel_size_mm=5", 1,
                 {"the reconstructed solid is empty although the input has", "use a smaller reconstruction.voxel_size_mm"});
+}
+
+TEST(AcceptanceMeshIsSolid, ALabelTooSmallForTheGridIsAWarningNotAFailure) {
+  // Label images: a disk of label 1 on 8 parallel slices, and a 2 x 2 pixel speck of label 2 on
+  // one (0.4 mm, a stray value of a label map): the grid has no voxel of label 2.
+  const fs::path dir = test::freshDir("small-label");
+  fs::create_directories(dir / "images");
+  std::string slices = "slices:\n";
+  for (int k = 0; k < 8; ++k) {
+    cv::Mat m = cv::Mat::zeros(120, 120, CV_8U);
+    cv::circle(m, {60, 60}, 40, cv::Scalar(1), -1);
+    if (k == 3) cv::rectangle(m, {10, 10}, {11, 11}, cv::Scalar(2), -1);
+    const std::string name = "images/" + std::to_string(k) + ".png";
+    ASSERT_TRUE(cv::imwrite((dir / name).string(), m));
+    slices += "  - image: " + name + "\n    image_to_world:\n      - [0.2, 0, 0, -12]\n      - [0, 0.2, 0, -12]\n"
+              "      - [0, 0, 0, " + std::to_string(k) + "]\n      - [0, 0, 0, 1]\n";
+  }
+  test::writeFile(dir / "slices.yaml", slices);
+  test::writeFile(dir / "config.yaml", "input:\n  slices: slices.yaml\nsegmentation:\n  method: labels\n");
+  const auto r = test::runXsect("run " + (dir / "config.yaml").string() + " --out " + (dir / "out").string() + " --quiet");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json rep = readJson(dir / "out/report.json");
+  EXPECT_NE(rep["warnings"].dump().find("label 2 has sections but no voxel"), std::string::npos) << rep["warnings"];
+  ASSERT_EQ(rep["materials"].size(), 1u);
+  EXPECT_EQ(rep["materials"][0]["label"], 1);
+  EXPECT_EQ(rep["materials"][0]["betti"], rep["materials"][0]["voxel_betti"]);
+  EXPECT_TRUE(fs::exists(dir / "out/mesh_label_1.ply"));
+  EXPECT_FALSE(fs::exists(dir / "out/mesh_label_2.ply"));
+  fs::remove_all(dir);
 }
