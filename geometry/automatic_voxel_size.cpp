@@ -66,7 +66,9 @@ VoxelSizeChoice automaticVoxelSize(const std::vector<CuttingPlane>& planes, cons
   // The budget: the grid shrinks as h^-3; a few steps reach it. It cannot shrink below the
   // margins' layers (about 9^3 voxels for method 1, 11^3 for method 2, more with a fixed end
   // margin larger than the object): a budget below that is refused with the smallest grid.
-  const double start = h;
+  // Past a thousand times the larger of the rule's size and the bounds, the grid is its margins'
+  // layers alone.
+  const double last = 1000 * std::max(h, c.bounds_diagonal_mm);
   for (;;) {
     params.voxel_mm = h;
     try {
@@ -75,8 +77,7 @@ VoxelSizeChoice automaticVoxelSize(const std::vector<CuttingPlane>& planes, cons
       c.voxels = std::int64_t(1) << 40;
     }
     if (c.voxels <= voxel_budget) break;
-    // Past a thousand times the rule's size the grid is its margins' layers alone.
-    if (h > 1000 * start)
+    if (h > last)
       throw std::invalid_argument("no voxel size fits a grid of " + std::to_string(voxel_budget) +
                                   " voxels (the smallest grid has " + std::to_string(c.voxels) +
                                   "): raise reconstruction.voxel_budget");

@@ -16,14 +16,20 @@ PlaneEvidence planeEvidence(const std::vector<CuttingPlane>& planes,
   if (fields.size() != planes.size()) throw std::invalid_argument("one distance field per plane is required");
   if (!(near_mm >= 0) || !(margin_mm >= 0)) throw std::invalid_argument("evidence distances must be >= 0");
   const std::size_t n = std::size_t(grid.count());
-  std::vector<float> best(n, std::numeric_limits<float>::infinity());
-  std::vector<std::int32_t> owner(n, -1);
   const double h = grid.voxel;
-  // Plane by plane (the order decides ties), each plane's voxels column by column along the axis
-  // most normal to it: |n_a| >= 1/√3, so a column meets the slab |distance| <= near in at most
-  // 2 near / (|n_a| h) + 1 voxels.
+  const float tie = float(1e-6 * h);
+  std::vector<float> best(n, std::numeric_limits<float>::infinity());
+  PlaneEvidence e;
+  e.inside.assign(n, 0);
+  e.outside.assign(n, 0);
+  // Plane by plane, each plane's voxels column by column along the axis most normal to it:
+  // |n_a| >= 1/√3, so a column meets the slab |distance| <= near in at most 2 near / (|n_a| h) + 1
+  // voxels. Planes at the same distance (within a millionth of a voxel: coincident planes, two
+  // observations of one plane) decide together: inside when one of them says inside, outside
+  // when all say outside (a plane listed again without its section must not erase it).
   for (std::size_t p = 0; p < planes.size(); ++p) {
-    const Plane& P = planes[p].plane;
+    const CuttingPlane& cp = planes[p];
+    const Plane& P = cp.plane;
     int a = 0;
     for (int k = 1; k < 3; ++k)
       if (std::abs(P.normal[k]) > std::abs(P.normal[a])) a = k;
@@ -43,30 +49,25 @@ PlaneEvidence planeEvidence(const std::vector<CuttingPlane>& planes,
                   hi = int(std::clamp(std::ceil(std::max(t0, t1)), -1.0, double(grid.dims[a] - 1)));
         for (int t = lo; t <= hi; ++t) {
           idx[a] = t;
-          const double d = std::abs(d0 + na * h * t);
+          const float d = float(std::abs(d0 + na * h * t));
           if (d > near_mm) continue;
           const std::size_t q = std::size_t(grid.index(idx[0], idx[1], idx[2]));
-          if (float(d) < best[q]) {
-            best[q] = float(d);
-            owner[q] = std::int32_t(p);
+          if (d > best[q] + tie) continue;
+          const Vec2 x = P.toPlane(grid.centre(idx[0], idx[1], idx[2]));
+          const float f = fields[p].sample(x.x(), x.y());
+          const bool in = f <= -margin_mm && !cp.is_virtual, out = f >= margin_mm;
+          if (d < best[q] - tie) {
+            e.inside[q] = in;
+            e.outside[q] = out;
+          } else {
+            e.inside[q] = e.inside[q] || in;
+            e.outside[q] = e.outside[q] && out;
           }
+          best[q] = std::min(best[q], d);
         }
       }
     });
   }
-  PlaneEvidence e;
-  e.inside.assign(n, 0);
-  e.outside.assign(n, 0);
-  tbb::parallel_for(std::size_t(0), n, [&](std::size_t q) {
-    if (owner[q] < 0) return;
-    const CuttingPlane& cp = planes[std::size_t(owner[q])];
-    const int i = int(q % std::size_t(grid.dims[0])), j = int((q / std::size_t(grid.dims[0])) % std::size_t(grid.dims[1])),
-              k = int(q / (std::size_t(grid.dims[0]) * std::size_t(grid.dims[1])));
-    const Vec2 x = cp.plane.toPlane(grid.centre(i, j, k));
-    const float f = fields[std::size_t(owner[q])].sample(x.x(), x.y());
-    e.inside[q] = f <= -margin_mm && !cp.is_virtual;
-    e.outside[q] = f >= margin_mm;
-  });
   return e;
 }
 

@@ -25,7 +25,9 @@ struct PlaneEvidence {
 /// @param fields     f_i of each plane, same order (section_distance_field.h).
 /// @param grid       the voxel lattice.
 /// @param near_mm    a voxel is next to a plane when its centre is within this distance (mm, >= 0);
-///                   among several, the nearest plane decides (ties: the lower index).
+///                   among several, the nearest plane decides; planes equally near (within a
+///                   millionth of a voxel: coincident planes) decide together, inside when one
+///                   says inside, outside when all say outside.
 /// @param margin_mm  clearly inside / outside: f_i at the projection <= -margin / >= margin (mm).
 /// Throws std::invalid_argument when fields.size() != planes.size() or a length is negative.
 PlaneEvidence planeEvidence(const std::vector<CuttingPlane>& planes,

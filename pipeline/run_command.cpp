@@ -226,8 +226,13 @@ int runCommand(const RunOptions& o) {
     throw InputError(c.path, "reconstruction", e.what());
   }
   clock.end("reconstruct");
-  if (rec.voxels_inside == 0)
+  if (rec.voxels_inside == 0) {
+    // An automatic size the budget forced so coarse that nothing is left: the configuration must
+    // change (exit 2); otherwise exit 1 with the size to use (issue 14).
+    if (voxelSize.automatic && voxelSize.choice.limited_by == VoxelSizeLimit::voxel_budget)
+      throw InputError(c.path, "reconstruction.voxel_budget", emptySolidMessage(voxelSize, sections));
     throw std::runtime_error(emptySolidMessage(voxelSize, sections));
+  }
   in.warnings.push_back("open ends closed by 6 virtual empty planes at " +
                         std::to_string(rec.end_margin_mm) + " mm beyond the sections' bounds" +
                         (rec.end_margin_auto ? " (automatic margin)" : ""));

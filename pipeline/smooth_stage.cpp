@@ -113,7 +113,9 @@ SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& rea
     // Cells where Shepard's voxel solid joins the sections differently from the method's own:
     // re-decided on finer lattices around them, with f evaluated there (cell_refinement.h), so
     // that a passage narrower than a voxel counts as what f does, not as what the lattice shows.
-    if (out.shepard_check.same_partition) {
+    // An empty solid joins nothing (the graph may have no edge to contradict: one section).
+    const bool empty = std::none_of(solid.begin(), solid.end(), [](std::uint8_t v) { return v != 0; });
+    if (out.shepard_check.same_partition && !empty) {
       out.refined_cells = refineCellComparison(
           cellsDifferingMore(out.shepard_cells, baseCells), out.shepard_cells, baseCells, edges, planes,
           arrangement, rec.fields, grid, [&](const GridSpec& fine) {

@@ -2,8 +2,10 @@
 #include "pipeline/voxel_size_choice.h"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
+#include "geometry/end_planes.h"
 #include "geometry/section_width.h"
 #include "io/input_error.h"
 
@@ -15,6 +17,29 @@ std::string mm(double v) {
   std::ostringstream s;
   s << v;
   return s.str();
+}
+
+/// Sizes the libraries cannot hold (issue 15): OpenVDB's transforms refuse voxels below about
+/// 1.4e-5 (a scale whose determinant is under 3e-15), and meshes are single precision (PLY and
+/// STL store floats, OpenVDB meshes in floats): far from the origin a float cannot tell voxel
+/// corners apart. Both are input errors that say what to change, not a crash or a wrong mesh.
+void checkRepresentable(const RunConfig& c, const std::vector<CuttingPlane>& planes) {
+  const double h = c.voxel_size_mm;
+  if (h < 2e-5)
+    throw InputError(c.path, "reconstruction.voxel_size_mm",
+                     "a voxel of " + mm(h) + " mm is below what OpenVDB's transforms hold (2e-5): the data are in "
+                     "very small units; express them in smaller ones (e.g. micrometres instead of millimetres)");
+  Vec3 lo, hi;
+  if (!sectionBounds(planes, &lo, &hi)) return;
+  const double far = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
+  // A float's spacing at |x| is at most |x| 2^-23; a sixteenth of a voxel keeps the mesh's
+  // vertices (on voxel edges) distinct.
+  if (far * std::ldexp(1.0, -23) > h / 16)
+    throw InputError(c.input_path, "",
+                     "the sections lie up to " + mm(far) + " mm from the origin while the voxel is " + mm(h) +
+                         " mm: single-precision meshes (PLY, STL) cannot hold that detail there; translate the "
+                         "data nearer the origin or use a voxel of at least " +
+                         mm(twoSignificantDigits(16 * far * std::ldexp(1.0, -23), true)) + " mm");
 }
 
 }  // namespace
@@ -41,6 +66,7 @@ VoxelSizeReport chooseVoxelSize(RunConfig& c, const std::vector<CuttingPlane>& p
     c.voxel_size_mm = r.choice.voxel_mm;
   }
   r.voxel_mm = c.voxel_size_mm;
+  checkRepresentable(c, planes);
   r.sections = int(widths.size());
   r.median_section_width_mm = medianOf(widths);
   r.min_section_width_mm = widths.empty() ? 0.0 : *std::min_element(widths.begin(), widths.end());
@@ -86,8 +112,10 @@ VoxelSizeReport chooseVoxelSize(RunConfig& c, const std::vector<CuttingPlane>& p
 std::string emptySolidMessage(const VoxelSizeReport& r, int sections) {
   return "the reconstructed solid is empty although the input has " + std::to_string(sections) +
          " sections: no voxel centre of the " + mm(r.voxel_mm) + " mm grid lies in it (median section width " +
-         mm(r.median_section_width_mm) + " mm); use a smaller reconstruction.voxel_size_mm, e.g. " +
-         mm(r.suggested_voxel_mm) + ", or auto";
+         mm(r.median_section_width_mm) + " mm); " +
+         (r.automatic && r.choice.limited_by == VoxelSizeLimit::voxel_budget ? "the voxel budget forced the automatic size up: set reconstruction.voxel_size_mm: " +
+                            mm(r.suggested_voxel_mm) + " and raise reconstruction.voxel_budget"
+                      : "use a smaller reconstruction.voxel_size_mm, e.g. " + mm(r.suggested_voxel_mm) + ", or auto");
 }
 
 }  // namespace xsect

@@ -29,7 +29,8 @@ struct VoxelSizeReport {
 ReconstructionParams reconstructionParams(const RunConfig& config);
 
 /// Resolves config.voxel_size_mm in place when it is `auto` and checks the grid against the
-/// sections' widths. Throws InputError (reconstruction.voxel_size_mm) when an automatic size
+/// sections' widths, and the size against what OpenVDB and single-precision meshes can hold
+/// (voxels of at least 2e-5 mm; coordinates within 2^19 voxels of the origin). Throws InputError (reconstruction.voxel_size_mm) when an automatic size
 /// leaves most sections narrower than two voxels (only the voxel budget can force that).
 /// @param planes  the real planes with their sections (at least one section).
 VoxelSizeReport chooseVoxelSize(RunConfig& config, const std::vector<CuttingPlane>& planes);

@@ -129,7 +129,8 @@ TEST(PlaneEvidence, VoxelsBesideAPlaneInsideAndOutsideItsSection) {
 }
 
 TEST(PlaneEvidence, EqualsTheDefinitionOnRandomObliquePlanes) {
-  // Brute force: for every voxel, the nearest plane within reach (lowest index on ties) decides.
+  // Brute force: for every voxel, the nearest planes within reach decide (one inside suffices,
+  // all must say outside). Plane 12 repeats plane 3 without its section, plane 13 plane 4.
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1, 1);
   GridSpec g;
@@ -154,6 +155,12 @@ TEST(PlaneEvidence, EqualsTheDefinitionOnRandomObliquePlanes) {
     fields.push_back(sectionDistanceField(p.sections, 0.05, 1.0));
     planes.push_back(p);
   }
+  for (const std::size_t k : {std::size_t(3), std::size_t(4)}) {
+    CuttingPlane p = planes[k];
+    if (k == 3) p.sections.clear();
+    fields.push_back(sectionDistanceField(p.sections, 0.05, 1.0));
+    planes.push_back(p);
+  }
   const double near = 0.5 * std::sqrt(3.0) * g.voxel, margin = 0.5 * g.voxel;
   const PlaneEvidence e = planeEvidence(planes, fields, g, near, margin);
   int inside = 0, outside = 0;
@@ -161,18 +168,19 @@ TEST(PlaneEvidence, EqualsTheDefinitionOnRandomObliquePlanes) {
     for (int j = 0; j < g.dims[1]; ++j)
       for (int i = 0; i < g.dims[0]; ++i) {
         const Vec3 x = g.centre(i, j, k);
-        int best = -1;
         double bestD = 1e300;
         for (std::size_t p = 0; p < planes.size(); ++p) {
           const double d = std::abs(planes[p].plane.signedDistance(x));
-          if (d <= near && float(d) < float(bestD)) best = int(p), bestD = d;
+          if (d <= near) bestD = std::min(bestD, d);
         }
-        bool in = false, out = false;
-        if (best >= 0) {
-          const Vec2 y = planes[std::size_t(best)].plane.toPlane(x);
-          const float f = fields[std::size_t(best)].sample(y.x(), y.y());
-          in = f <= -margin && !planes[std::size_t(best)].is_virtual;
-          out = f >= margin;
+        bool in = false, out = bestD < 1e300;
+        for (std::size_t p = 0; p < planes.size(); ++p) {
+          const double d = std::abs(planes[p].plane.signedDistance(x));
+          if (d > near || std::abs(d - bestD) > 1e-6 * g.voxel) continue;
+          const Vec2 y = planes[p].plane.toPlane(x);
+          const float f = fields[p].sample(y.x(), y.y());
+          in = in || (f <= -margin && !planes[p].is_virtual);
+          out = out && f >= margin;
         }
         const std::size_t q = std::size_t(g.index(i, j, k));
         EXPECT_EQ(bool(e.inside[q]), in) << x.transpose();
