@@ -39,6 +39,18 @@ struct Tokens {
       throw InputError(file, what, "expected an integer >= " + std::to_string(lo) + ", got '" + t + "'", line);
     return v;
   }
+  /// A count checked against what the file can still hold (`tokens_each` tokens per item), before
+  /// anything is allocated for it: a corrupt count is an input error, not an allocation failure.
+  long count(const std::string& what, long lo, long tokens_each) {
+    const long v = integer(what, lo);
+    const long left = long(items.size() - at);
+    if (v > left / tokens_each)
+      throw InputError(file, what,
+                       std::to_string(v) + " items need at least " + std::to_string(tokens_each) +
+                           " values each, but the file holds only " + std::to_string(left) + " more",
+                       items[at - 1].second);
+    return v;
+  }
 };
 
 }  // namespace
@@ -54,7 +66,7 @@ std::vector<CuttingPlane> readCslFile(const std::string& path) {
     for (std::string t; ss >> t;) tk.items.emplace_back(t, ln);
   }
   if (tk.next("header").first != "CSLC") throw InputError(path, "header", "expected 'CSLC'", 1);
-  const long nPlanes = tk.integer("plane count", 1);
+  const long nPlanes = tk.count("plane count", 1, 7);  // index, counts, A B C D
   tk.integer("label count", 0);
 
   struct Raw { Vec3 n; double d; std::vector<Vec3> pts; std::vector<Ring> outers, holes; int line; };
@@ -65,8 +77,8 @@ std::vector<CuttingPlane> readCslFile(const std::string& path) {
     Raw& r = raw[p];
     r.line = tk.items[std::min(tk.at, tk.items.size() - 1)].second;
     tk.integer(key + " index", 0);
-    const long nv = tk.integer(key + " vertex count", 0);
-    const long nc = tk.integer(key + " component count", 0);
+    const long nv = tk.count(key + " vertex count", 0, 3);
+    const long nc = tk.count(key + " component count", 0, 5);  // count, label, 3 indices
     for (int k = 0; k < 3; ++k) r.n[k] = tk.number(key + " normal");
     r.d = tk.number(key + " offset D");
     const double len = r.n.norm();
@@ -88,6 +100,8 @@ std::vector<CuttingPlane> readCslFile(const std::string& path) {
       if (end == head.c_str() || count < 3 || (*end != '\0' && *end != 'h'))
         throw InputError(path, ckey, "expected a vertex count (optionally with h<parent>), got '" + head + "'", hline);
       tk.integer(ckey + " label", 0);
+      if (count > long(tk.items.size() - tk.at))
+        throw InputError(path, ckey, "vertex count " + std::to_string(count) + " exceeds what the file holds", hline);
       std::vector<long> idx(count);
       for (long q = 0; q < count; ++q) {
         idx[q] = tk.integer(ckey + " vertex index", 0);

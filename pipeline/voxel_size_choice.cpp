@@ -5,7 +5,6 @@
 #include <cmath>
 #include <sstream>
 
-#include "geometry/end_planes.h"
 #include "geometry/section_width.h"
 #include "io/input_error.h"
 
@@ -29,14 +28,20 @@ void checkRepresentable(const RunConfig& c, const std::vector<CuttingPlane>& pla
     throw InputError(c.path, "reconstruction.voxel_size_mm",
                      "a voxel of " + mm(h) + " mm is below what OpenVDB's transforms hold (2e-5): the data are in "
                      "very small units; express them in smaller ones (e.g. micrometres instead of millimetres)");
-  Vec3 lo, hi;
-  if (!sectionBounds(planes, &lo, &hi)) return;
+  // The grid's box (end margins and outer layers included): where mesh vertices can be.
+  GridSpec g;
+  try {
+    g = reconstructionLayout(planes, reconstructionParams(c)).grid;
+  } catch (const std::invalid_argument& e) {  // past 2^31 voxels
+    throw InputError(c.path, "reconstruction.voxel_size_mm", e.what());
+  }
+  const Vec3 lo = g.origin, hi = g.centre(g.dims[0] - 1, g.dims[1] - 1, g.dims[2] - 1);
   const double far = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
   // A float's spacing at |x| is at most |x| 2^-23; a sixteenth of a voxel keeps the mesh's
   // vertices (on voxel edges) distinct.
   if (far * std::ldexp(1.0, -23) > h / 16)
     throw InputError(c.input_path, "",
-                     "the sections lie up to " + mm(far) + " mm from the origin while the voxel is " + mm(h) +
+                     "the grid reaches " + mm(far) + " mm from the origin while the voxel is " + mm(h) +
                          " mm: single-precision meshes (PLY, STL) cannot hold that detail there; translate the "
                          "data nearer the origin or use a voxel of at least " +
                          mm(twoSignificantDigits(16 * far * std::ldexp(1.0, -23), true)) + " mm");

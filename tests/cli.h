@@ -20,10 +20,12 @@ struct CliResult {
   std::string err;
 };
 
-/// Runs `xsect ARGS`, stdout discarded, stderr captured.
-inline CliResult runXsect(const std::string& args) {
+/// Runs `xsect ARGS`, stdout discarded, stderr captured; with timeout_s > 0 it is killed after that
+/// many seconds (exit code 124, coreutils' timeout).
+inline CliResult runXsect(const std::string& args, int timeout_s = 0) {
   const auto errFile = freshDir("stderr") / "err.txt";
-  const std::string cmd = std::string(XSECT_BIN) + " " + args + " >/dev/null 2>" + errFile.string();
+  const std::string cmd = (timeout_s > 0 ? "timeout " + std::to_string(timeout_s) + " " : std::string()) +
+                          std::string(XSECT_BIN) + " " + args + " >/dev/null 2>" + errFile.string();
   const int status = std::system(cmd.c_str());
   CliResult r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -122,13 +122,13 @@ inline FuzzCase geometricFuzzCase(std::uint64_t seed) {
     csl << comps.str();
   }
   const char* methods[] = {"nearest_plane", "section_voronoi"};
-  const char* smoothing[] = {"none", "none", "shepard", "level_set"};
-  const std::string method = methods[pick(2)], smooth = smoothing[pick(4)];
+  const char* smoothing[] = {"none", "none", "none", "none", "shepard", "level_set"};
+  const std::string method = methods[pick(2)], smooth = smoothing[pick(6)];
   what << " planes " << planes.size() << " method " << method << " smoothing " << smooth;
   FuzzCase f;
   f.csl = csl.str();
   f.config = "input:\n  csl: input.csl\nreconstruction:\n  method: " + method +
-             "\n  voxel_budget: 60000\nsmoothing:\n  method: " + smooth + "\noutput:\n  dir: out\n";
+             "\n  voxel_budget: 30000\nsmoothing:\n  method: " + smooth + "\noutput:\n  dir: out\n";
   f.what = what.str();
   return f;
 }

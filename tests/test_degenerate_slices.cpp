@@ -81,3 +81,27 @@ TEST(DegenerateSlices, CoincidentPlanesWithDifferentSectionsRun) {
   EXPECT_EQ(rep["counts"]["slices"], slices.size() + extra.size());
   fs::remove_all(dir);
 }
+
+TEST(DegenerateSlices, CslCountsAreCheckedBeforeAllocation) {
+  // Counts a corrupt file claims are checked against what it holds (issue 15, item 3): exit 2
+  // naming the field, not an allocation failure.
+  const fs::path dir = test::freshDir("csl-counts");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"CSLC\n1000000000000 1\n1 0 0 0 0 1 0\n", "plane count"},
+      {"CSLC\n1 1\n1 999999999999 1 0 0 1 0\n0 0 0\n", "plane 1 vertex count"},
+      {"CSLC\n1 1\n1 3 88888888888 0 0 1 0\n0 0 0\n1 0 0\n0 1 0\n3 1 0 1 2\n", "plane 1 component count"},
+      {"CSLC\n1 1\n1 3 1 0 0 1 0\n0 0 0\n1 0 0\n0 1 0\n77777777777 1 0 1 2\n", "plane 1 component 0"},
+  };
+  for (const auto& [text, field] : cases) {
+    SCOPED_TRACE(field);
+    test::writeFile(dir / "bad.csl", text);
+    test::writeFile(dir / "config.yaml", "input:\n  csl: bad.csl\n");
+    const auto r = test::runXsect("run " + (dir / "config.yaml").string() + " --out " + (dir / "out").string() +
+                                  " --quiet");
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find("bad.csl"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(field), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "out"));
+  }
+  fs::remove_all(dir);
+}
