@@ -1,11 +1,13 @@
 // .csl reader (see csl_file.h).
 #include "io/csl_file.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
 
 #include "geometry/polygon.h"
+#include "geometry/ring_validity.h"
 #include "io/input_error.h"
 
 namespace xsect {
@@ -55,7 +57,7 @@ struct Tokens {
 
 }  // namespace
 
-std::vector<CuttingPlane> readCslFile(const std::string& path) {
+std::vector<CuttingPlane> readCslFile(const std::string& path, std::vector<std::string>* warnings) {
   std::ifstream in(path);
   if (!in) throw InputError(path, "", "cannot open file");
   Tokens tk;
@@ -69,7 +71,14 @@ std::vector<CuttingPlane> readCslFile(const std::string& path) {
   const long nPlanes = tk.count("plane count", 1, 7);  // index, counts, A B C D
   tk.integer("label count", 0);
 
-  struct Raw { Vec3 n; double d; std::vector<Vec3> pts; std::vector<Ring> outers, holes; int line; };
+  struct Raw {
+    Vec3 n;
+    double d;
+    std::vector<Vec3> pts;
+    std::vector<Ring> outers, holes;
+    std::vector<long> outerComponent, holeComponent;  // component numbers, for messages
+    int line;
+  };
   std::vector<Raw> raw(nPlanes);
   Vec3 lo = Vec3::Constant(1e300), hi = -lo;
   for (long p = 0; p < nPlanes; ++p) {
@@ -108,6 +117,7 @@ std::vector<CuttingPlane> readCslFile(const std::string& path) {
         if (idx[q] >= nv)
           throw InputError(path, ckey, "vertex index " + std::to_string(idx[q]) + " out of range", hline);
       }
+      (hole ? r.holeComponent : r.outerComponent).push_back(c);
       (hole ? r.holes : r.outers).emplace_back();
       Ring& ring = (hole ? r.holes : r.outers).back();
       for (long q : idx) ring.emplace_back(double(q), 0.0);  // keep indices until the frame exists
@@ -145,8 +155,28 @@ std::vector<CuttingPlane> readCslFile(const std::string& path) {
     const auto toPlane = [&](Ring& ring) {
       for (auto& q : ring) q = pl.toPlane(r.pts[std::size_t(q.x())]);
     };
-    for (auto& ring : r.outers) toPlane(ring);
-    for (auto& ring : r.holes) toPlane(ring);
+    // Rings in the plane, cleaned: without area (tolerance: 1e-12 of the data's extent squared)
+    // dropped, self-intersecting refused.
+    const double tinyArea = 1e-12 * std::max((hi - lo).squaredNorm(), 1e-300);
+    const auto clean = [&](std::vector<Ring>& rings, const std::vector<long>& components) {
+      std::vector<Ring> kept;
+      for (std::size_t k = 0; k < rings.size(); ++k) {
+        toPlane(rings[k]);
+        Ring ring = withoutRepeatedVertices(rings[k]);
+        const std::string where = cp.name + " component " + std::to_string(components[k]);
+        if (ring.size() < 3 || std::abs(signedArea(ring)) <= tinyArea) {
+          if (warnings)
+            warnings->push_back(path + ": " + where + " has no area (a point or a segment): dropped");
+          continue;
+        }
+        if (!ringIsSimple(ring))
+          throw InputError(path, where, "the contour crosses itself (a self-intersecting ring)", r.line);
+        kept.push_back(std::move(ring));
+      }
+      rings = std::move(kept);
+    };
+    clean(r.outers, r.outerComponent);
+    clean(r.holes, r.holeComponent);
     cp.sections = sectionsFromRings(std::move(r.outers), std::move(r.holes));
     cp.observed_everywhere = true;  // a contour file gives all of O ∩ P on each plane
     if (!cp.sections.empty()) {

@@ -14,7 +14,10 @@ namespace xsect {
 /// A plane with no vertex is an empty section; its offset is the file's D, with the sign that
 /// puts the plane nearer the other planes' vertices. Contour orientation is normalised
 /// (outer counter-clockwise, holes clockwise). Labels are ignored (one material).
+/// Contours are cleaned of repeated vertices; a ring without area (a point or a segment: the
+/// section of a tangent plane) is dropped with a warning naming its plane and component; a
+/// self-intersecting ring is an error naming them (geometry/ring_validity.h).
 /// Throws InputError naming the file, line and field on malformed content.
-std::vector<CuttingPlane> readCslFile(const std::string& path);
+std::vector<CuttingPlane> readCslFile(const std::string& path, std::vector<std::string>* warnings = nullptr);
 
 }  // namespace xsect

@@ -95,7 +95,7 @@ Inputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress) {
       if (s.fov_resolved) in.input_files.push_back(*s.fov_resolved);
     }
   } else if (c.input_kind == "csl") {
-    in.planes = readCslFile(c.input_path);
+    in.planes = readCslFile(c.input_path, &in.warnings);
   } else {
     throw InputError(c.path, "input." + c.input_kind,
                      "this input kind is not available in this version (slices | csl)");

@@ -105,3 +105,31 @@ TEST(DegenerateSlices, CslCountsAreCheckedBeforeAllocation) {
   }
   fs::remove_all(dir);
 }
+
+TEST(DegenerateSlices, CslRingsWithoutAreaAreDroppedAndSelfIntersectingOnesRefused) {
+  const fs::path dir = test::freshDir("csl-rings");
+  // Plane 1: a segment (collinear ring, the section of a tangent plane) beside a square; plane 2:
+  // a square with a repeated vertex. Runs, the segment dropped with a warning naming it.
+  const std::string good =
+      "CSLC\n2 1\n"
+      "1 7 2 0 0 1 0\n0 0 0\n1 1 0\n2 2 0\n3 0 0\n5 0 0\n5 2 0\n3 2 0\n3 1 0 1 2\n4 1 3 4 5 6\n"
+      "2 5 1 0 0 1 -1\n3 0 1\n5 0 1\n5 0 1\n5 2 1\n3 2 1\n5 1 0 1 2 3 4\n";
+  test::writeFile(dir / "good.csl", good);
+  test::writeFile(dir / "good.yaml", "input:\n  csl: good.csl\n");
+  auto r = test::runXsect("run " + (dir / "good.yaml").string() + " --out " + (dir / "out").string() + " --quiet");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json rep = test::readJson(dir / "out/report.json");
+  EXPECT_NE(rep["warnings"].dump().find("plane 1 component 0 has no area (a point or a segment): dropped"),
+            std::string::npos)
+      << rep["warnings"];
+  EXPECT_EQ(rep["counts"]["sections"], 2);
+  EXPECT_EQ(rep["betti"], json::array({1, 0, 0}));
+  // A bow tie with unequal lobes (the symmetric one has no area): refused, naming plane and component.
+  test::writeFile(dir / "bad.csl", "CSLC\n1 1\n1 4 1 0 0 1 0\n0 0 0\n3 2 0\n3 0 0\n0 1 0\n4 1 0 1 2 3\n");
+  test::writeFile(dir / "bad.yaml", "input:\n  csl: bad.csl\n");
+  r = test::runXsect("run " + (dir / "bad.yaml").string() + " --out " + (dir / "bad").string() + " --quiet");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("bad.csl:3: plane 1 component 0: the contour crosses itself"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "bad"));
+  fs::remove_all(dir);
+}
