@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "geometry/end_planes.h"
+#include "geometry/median.h"
 
 namespace xsect {
 
@@ -31,12 +32,6 @@ double twoSignificantDigits(double v, bool up) {
   return k < 0 ? r / scale : r * scale;
 }
 
-double medianOf(std::vector<double> values) {
-  if (values.empty()) return 0;
-  std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(values.size() / 2), values.end());
-  return values[values.size() / 2];
-}
-
 VoxelSizeChoice automaticVoxelSize(const std::vector<CuttingPlane>& planes, const std::vector<double>& widths,
                                    ReconstructionParams params, std::int64_t voxel_budget) {
   if (voxel_budget < 1000) throw std::invalid_argument("voxel budget must be at least 1000 voxels");
@@ -45,11 +40,11 @@ VoxelSizeChoice automaticVoxelSize(const std::vector<CuttingPlane>& planes, cons
   VoxelSizeChoice c;
   c.voxel_budget = voxel_budget;
   c.bounds_diagonal_mm = (hi - lo).norm();
-  c.median_section_width_mm = medianOf(widths);
+  c.median_section_width_mm = upperMedian(widths);
   std::vector<double> pixels;
   for (const auto& p : planes)
     if (!p.is_virtual && !p.sections.empty() && p.pixel_mm > 0) pixels.push_back(p.pixel_mm);
-  c.median_pixel_mm = medianOf(pixels);
+  c.median_pixel_mm = upperMedian(pixels);
 
   double h = c.bounds_diagonal_mm / 100.0;
   if (c.median_section_width_mm > 0 && c.median_section_width_mm / 4.0 < h) {
@@ -60,8 +55,7 @@ VoxelSizeChoice automaticVoxelSize(const std::vector<CuttingPlane>& planes, cons
     h = c.median_pixel_mm / 2.0;
     c.limited_by = VoxelSizeLimit::pixel;
   }
-  // Sections that are all points or segments (no area, no extent): any positive size.
-  if (!(h > 0)) h = std::max({c.median_pixel_mm, 1e-3 * std::max(1.0, hi.cwiseAbs().maxCoeff()), 1e-12});
+  if (!(h > 0)) throw std::invalid_argument("the sections have no extent: no voxel size fits them");
   h = twoSignificantDigits(h);
   // The budget: the grid shrinks as h^-3; a few steps reach it. It cannot shrink below the
   // margins' layers (about 9^3 voxels for method 1, 11^3 for method 2, more with a fixed end

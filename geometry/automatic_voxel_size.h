@@ -47,7 +47,4 @@ VoxelSizeChoice automaticVoxelSize(const std::vector<CuttingPlane>& planes, cons
 /// v rounded to two significant digits (to nearest, or up), for readable lengths.
 double twoSignificantDigits(double v, bool up = false);
 
-/// Median of the values (the upper median for an even count); 0 for none.
-double medianOf(std::vector<double> values);
-
 }  // namespace xsect

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "geometry/median.h"
 #include "geometry/polygon.h"
 
 namespace xsect {
@@ -53,8 +54,7 @@ double automaticEndMargin(const std::vector<CuttingPlane>& planes, double fallba
     if (std::isfinite(gap)) gaps.push_back(gap);
   }
   if (gaps.empty()) return fallback;
-  std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
-  return gaps[gaps.size() / 2];
+  return upperMedian(std::move(gaps));
 }
 
 std::vector<CuttingPlane> endPlanes(const Vec3& min, const Vec3& max, double margin) {

@@ -1,6 +1,8 @@
 // Local quadratic regression of a sweep's poses (see pose_smoothing.h).
 #include "geometry/pose_smoothing.h"
 
+#include "geometry/median.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -16,12 +18,6 @@ constexpr int kRobustPasses = 2;
 constexpr int kMaxGlitchFrames = 3;
 /// Corrections below this are tracker noise, never a glitch: the bisquare scale is at least this.
 constexpr double kMinOutlierMm = 0.5;
-
-/// The upper median (the middle value, or the higher of the two middle ones); v not empty.
-double medianOf(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
 
 Eigen::Matrix3d rotationOf(const Plane& p) {
   Eigen::Matrix3d r;
@@ -63,7 +59,7 @@ PoseSmoothing smoothPoseTrajectory(const std::vector<Plane>& planes, const std::
   for (int i = 1; i < n; ++i)
     step[std::size_t(i)] = (planes[std::size_t(i)].toWorld(reference[std::size_t(i)]) -
                             planes[std::size_t(i - 1)].toWorld(reference[std::size_t(i)])).norm();
-  const double medianStep = medianOf(std::vector<double>(step.begin() + 1, step.end()));
+  const double medianStep = upperMedian(std::vector<double>(step.begin() + 1, step.end()));
   // Whether frames a < b continue one sweep (b - a steps apart).
   const auto continues = [&](int a, int b) {
     const double turn = Eigen::AngleAxisd(rotationOf(planes[std::size_t(a)]).transpose() *
@@ -92,12 +88,12 @@ PoseSmoothing smoothPoseTrajectory(const std::vector<Plane>& planes, const std::
   // the origins (pixel (0, 0)), at least 1 mm.
   std::vector<double> arms;
   for (const Vec2& c : reference) arms.push_back(c.norm());
-  const double lever = std::max(1.0, medianOf(arms));
+  const double lever = std::max(1.0, upperMedian(arms));
 
   std::vector<double> residual(std::size_t(n), 0.0);
   for (int pass = 0; pass <= kRobustPasses; ++pass) {
     if (pass > 0) {  // bisquare weights from the last pass's residuals (Cleveland 1979)
-      const double scale = std::max(6 * medianOf(residual), kMinOutlierMm);
+      const double scale = std::max(6 * upperMedian(residual), kMinOutlierMm);
       for (int j = 0; j < n; ++j) {
         const double u = residual[std::size_t(j)] / scale;
         out.robustness[std::size_t(j)] = u < 1 ? (1 - u * u) * (1 - u * u) : 0.0;

@@ -327,6 +327,7 @@ int runCommand(const RunOptions& o) {
     std::int64_t voxels = 0;
     int critical_voxels_added = 0;
     Betti voxel_betti{0, 0, 0};
+    MeshTopology topology;  ///< of `mesh`, computed once in the diagnose stage
   };
   std::vector<Material> materials;
   if (labelValues.size() >= 2)
@@ -364,9 +365,12 @@ int runCommand(const RunOptions& o) {
   const Betti smoothVoxelBetti = smoothing ? smooth.voxel_betti : Betti{0, 0, 0};
   requireMeshBoundsSolid(topo, smoothing ? smoothVoxelBetti : rec.voxel_betti,
                          smoothing ? "the smoothed mesh (" + smooth.method + ")" : std::string("the mesh"));
-  if (smoothing) requireMeshBoundsSolid(meshTopology(methodMesh), rec.voxel_betti, "the unsmoothed mesh");
-  for (const Material& m : materials)
-    requireMeshBoundsSolid(meshTopology(m.mesh), m.voxel_betti, "the mesh of label " + std::to_string(m.label));
+  const MeshTopology methodTopo = smoothing ? meshTopology(methodMesh) : topo;
+  if (smoothing) requireMeshBoundsSolid(methodTopo, rec.voxel_betti, "the unsmoothed mesh");
+  for (Material& m : materials) {
+    m.topology = meshTopology(m.mesh);
+    requireMeshBoundsSolid(m.topology, m.voxel_betti, "the mesh of label " + std::to_string(m.label));
+  }
   clock.end("diagnose");
 
   progress.stage("write");
@@ -457,7 +461,7 @@ int runCommand(const RunOptions& o) {
                               {"volume_mm3", topo.volume_mm3}};
   json mats = json::array();
   for (const Material& m : materials) {
-    const MeshTopology t = meshTopology(m.mesh);
+    const MeshTopology& t = m.topology;
     mats.push_back({{"label", m.label}, {"betti", t.betti}, {"voxel_betti", m.voxel_betti},
                     {"watertight", t.watertight}, {"voxels", m.voxels},
                     {"critical_voxels_added", m.critical_voxels_added}, {"volume_mm3", t.volume_mm3},
@@ -479,7 +483,7 @@ int runCommand(const RunOptions& o) {
                      {"sections_not_located", graphCheck.sections_unlocated},
                      {"per_cell", cellsJson(cellCheck)}};
   if (smoothing) {
-    const MeshTopology mt = meshTopology(methodMesh);
+    const MeshTopology& mt = methodTopo;
     const bool shepard = c.smoothing_method == "shepard";
     const auto check = [](const GraphVoxelCheck& g, const CellConnectivityCheck& cells) {
       return json{{"same_partition_as_graph", g.same_partition},

@@ -107,9 +107,8 @@ SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& rea
     std::vector<std::uint8_t> solid = solidOf(out.field);
     out.repair = repairSolid(solid, evidenceOn(planes, rec.fields, grid), grid);
     imposeSolid(out.field, solid, float(0.05 * h));
-    out.shepard_check =
-        compareWithVoxels(edges, realPlanes, arrangement, rec.fields, solidOf(out.field), grid);
-    out.shepard_cells = compareCellsWithVoxels(edges, planes, arrangement, rec.fields, solidOf(out.field), grid);
+    out.shepard_check = compareWithVoxels(edges, realPlanes, arrangement, rec.fields, solid, grid);
+    out.shepard_cells = compareCellsWithVoxels(edges, planes, arrangement, rec.fields, solid, grid);
     // Cells where Shepard's voxel solid joins the sections differently from the method's own:
     // re-decided on finer lattices around them, with f evaluated there (cell_refinement.h), so
     // that a passage narrower than a voxel counts as what f does, not as what the lattice shows.
@@ -156,9 +155,8 @@ SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& rea
     std::vector<std::uint8_t> solid = solidOf(out.field);
     out.repair = repairSolid(solid, evidence, out.field.grid);
     imposeSolid(out.field, solid, float(0.05 * h));
-    out.final_check = compareWithVoxels(edges, realPlanes, arrangement, rec.fields,
-                                        solidOf(out.field), out.field.grid);
-    out.final_cells = compareCellsWithVoxels(edges, planes, arrangement, rec.fields, solidOf(out.field), out.field.grid);
+    out.final_check = compareWithVoxels(edges, realPlanes, arrangement, rec.fields, solid, out.field.grid);
+    out.final_cells = compareCellsWithVoxels(edges, planes, arrangement, rec.fields, solid, out.field.grid);
   }
   out.voxel_betti = voxelBetti(solidOf(out.field), out.field.grid);
   out.surface = levelSetSurface(out.field, 3.0, c.smoothing_adaptivity);

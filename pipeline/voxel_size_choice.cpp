@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "geometry/median.h"
 #include "geometry/section_width.h"
 #include "io/input_error.h"
 
@@ -73,7 +74,7 @@ VoxelSizeReport chooseVoxelSize(RunConfig& c, const std::vector<CuttingPlane>& p
   r.voxel_mm = c.voxel_size_mm;
   checkRepresentable(c, planes);
   r.sections = int(widths.size());
-  r.median_section_width_mm = medianOf(widths);
+  r.median_section_width_mm = upperMedian(widths);
   r.min_section_width_mm = widths.empty() ? 0.0 : *std::min_element(widths.begin(), widths.end());
   r.sections_narrower_than_two_voxels =
       int(std::count_if(widths.begin(), widths.end(), [&](double w) { return w < 2 * r.voxel_mm; }));
