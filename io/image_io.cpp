@@ -3,12 +3,31 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include <algorithm>
+
+#include "io/image_header.h"
 #include "io/input_error.h"
 
 namespace xsect {
 
+std::uint64_t greyImageBytes(const std::string& path, const std::string& listing_file,
+                             const std::string& key) {
+  ImageHeader h;
+  try {
+    h = readImageHeader(path);
+  } catch (const std::runtime_error& e) {
+    throw InputError(listing_file, key, "cannot read image " + path + ": " + e.what());
+  }
+  if (h.pixels() > kMaxImagePixels)
+    throw InputError(listing_file, key,
+                     "image " + path + " is " + std::to_string(h.width) + " x " + std::to_string(h.height) +
+                         " pixels, more than the " + std::to_string(kMaxImagePixels) + " a slice may have");
+  return h.pixels() * std::uint64_t(h.bits_per_sample > 8 ? 2 : 1) * std::uint64_t(std::max(h.channels, 1));
+}
+
 cv::Mat readGreyImage(const std::string& path, const std::string& listing_file,
                       const std::string& key) {
+  greyImageBytes(path, listing_file, key);
   cv::Mat m;
   try {
     m = cv::imread(path, cv::IMREAD_UNCHANGED);

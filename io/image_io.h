@@ -1,14 +1,26 @@
 // Slice images: 8- or 16-bit single-channel PNG/TIFF (GUIDE.md), read with OpenCV and validated.
 #pragma once
 
+#include <cstdint>
 #include <opencv2/core.hpp>
 #include <string>
 
 namespace xsect {
 
-/// Reads a grey image. Throws InputError(listing_file, key, ...) if it cannot be read or is not
-/// an 8- or 16-bit single-channel image (colour images are rejected, not silently converted).
+/// The most pixels one slice image may have (16384 x 16384). Checked from the file's header before
+/// the image is decoded, so that a corrupt header cannot make the reader take gigabytes.
+constexpr std::uint64_t kMaxImagePixels = std::uint64_t(1) << 28;
+
+/// Reads a grey image. Throws InputError(listing_file, key, ...) if it cannot be read, is not a
+/// PNG or TIFF file, its header gives more than kMaxImagePixels, or it is not an 8- or 16-bit
+/// single-channel image (colour images are rejected, not silently converted).
 cv::Mat readGreyImage(const std::string& path, const std::string& listing_file,
                       const std::string& key);
+
+/// The bytes readGreyImage will take for the image at `path`, from its header (see
+/// image_header.h). Throws InputError(listing_file, key, ...) as readGreyImage does for a file that
+/// is not a PNG or TIFF, has a corrupt header or is larger than kMaxImagePixels.
+std::uint64_t greyImageBytes(const std::string& path, const std::string& listing_file,
+                             const std::string& key);
 
 }  // namespace xsect

@@ -9,6 +9,7 @@
 #include "io/file_hash.h"
 #include "io/image_io.h"
 #include "io/input_error.h"
+#include "pipeline/machine_memory.h"
 #include "segmentation/field_of_view.h"
 #include "segmentation/series_threshold.h"
 
@@ -42,6 +43,20 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
   const int n = int(slices.size());
   std::vector<CuttingPlane> planes(n);
   std::vector<char> touches(n, 0);
+  // Every frame is held while the series is segmented: its decoded size, from the headers, is
+  // checked against this machine's memory before any image is decoded (issue 15, item 3).
+  double bytes = 0;
+  for (int i = 0; i < n; ++i) {
+    const std::string key = "slices[" + std::to_string(i) + "]";
+    bytes += double(greyImageBytes(slices[i].image_resolved, listing_file, key + ".image"));
+    if (slices[i].fov_resolved) bytes += double(greyImageBytes(*slices[i].fov_resolved, listing_file, key + ".fov"));
+  }
+  const double memory = physicalMemoryBytes();
+  if (memory > 0 && bytes > 0.5 * memory)
+    throw InputError(listing_file, "slices",
+                     "the " + std::to_string(n) + " frames take " + std::to_string(int(bytes / 1e9)) +
+                         " GB decoded, more than half of this machine's memory (" +
+                         std::to_string(int(memory / 1e9)) + " GB)");
   // Read all images first (errors are reported for the first bad slice, deterministically).
   std::vector<cv::Mat> images(n), fovs(n);
   for (int i = 0; i < n; ++i) {

@@ -1,7 +1,6 @@
 // `xsect run` and `xsect check`: the stages of GUIDE.md wired together, timed, reported.
 // load -> segment -> conform -> reconstruct (method 1) -> mesh -> diagnose -> write.
 #include <sys/resource.h>
-#include <unistd.h>
 #include <tbb/info.h>
 #include <tbb/task_arena.h>
 
@@ -37,6 +36,7 @@
 #include "pipeline/conform_stage.h"
 #include "pipeline/library_versions.h"
 #include "pipeline/load_sections.h"
+#include "pipeline/machine_memory.h"
 #include "pipeline/progress.h"
 #include "pipeline/voxel_size_choice.h"
 
@@ -143,7 +143,7 @@ ReconstructionLayout layoutOf(const std::vector<CuttingPlane>& planes, const Run
 /// Refuses, before allocating, a grid that would not fit in this machine's memory.
 void checkMemory(const RunConfig& c, const ReconstructionLayout& L) {
   const double need = double(L.grid.count()) * kReconstructionBytesPerVoxel;
-  const double have = double(::sysconf(_SC_PHYS_PAGES)) * double(::sysconf(_SC_PAGE_SIZE));
+  const double have = physicalMemoryBytes();
   if (have > 0 && need > 0.8 * have)
     throw InputError(c.path, "reconstruction.voxel_size_mm",
                      "a grid of " + std::to_string(L.grid.count()) + " voxels needs about " +

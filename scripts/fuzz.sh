@@ -1,34 +1,77 @@
 #!/usr/bin/env bash
-# Runs the geometric fuzzer (tests/geometric_fuzz.h) for about SECONDS seconds (default 60):
-# random degenerate plane sets and sections through `xsect run`, chunks of 50 configurations from a
-# random first seed, two chunks at a time. Every run must exit 0 with a watertight mesh or exit 2
-# with a message; a failing configuration is printed with its seed (rerun it with
-# XSECT_FUZZ_SEED=<seed> XSECT_FUZZ_CONFIGS=1). Usage: scripts/fuzz.sh [SECONDS]
+# Fuzzes xsect for about SECONDS seconds (default 60) on this machine's cores (issue 15, item 2):
+#  1. every reader (tests/fuzz/reader_harnesses.cpp) with libFuzzer, built with clang,
+#     AddressSanitizer and UndefinedBehaviorSanitizer into ${XSECT_FUZZ_BUILD_DIR:-build-fuzz},
+#     starting from the seed corpora in tests/fuzz/corpus/ (two thirds of the time, two readers at a
+#     time; prints the executions per reader);
+#  2. the geometric fuzzer (tests/geometric_fuzz.h): random degenerate plane sets and sections
+#     through `xsect run`, chunks of 50 configurations, two at a time (the last third).
+# A crash, hang (10 s per input), leak or sanitizer report fails the script; its input is left in
+# build-fuzz/artifacts/: add it to tests/fuzz/corpus/<reader>/ as crash-<what>, where ctest replays it.
+# Usage: scripts/fuzz.sh [--readers-only] [SECONDS]     (building does not count in SECONDS)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-build="${XSECT_BUILD_DIR:-$root/build}"
+readers_only=0
+if [ "${1:-}" = "--readers-only" ]; then readers_only=1; shift; fi
 seconds="${1:-60}"
+build="${XSECT_BUILD_DIR:-$root/build}"
+fuzzbuild="${XSECT_FUZZ_BUILD_DIR:-$root/build-fuzz}"
 "$root/scripts/install-deps.sh"
-"$root/scripts/build.sh" >/dev/null
-seed=$(( (RANDOM << 15 | RANDOM) * 1000 ))
-end=$(( $(date +%s) + seconds ))
-chunks=0; failed=0
-while [ "$(date +%s)" -lt "$end" ]; do
-  pids=()
-  for lane in 0 1; do
-    # Each run has its own two-minute limit (tests/cli.h); a chunk of 50 gets 50 of them at most.
-    XSECT_FUZZ_SEED=$(( seed + (chunks + lane) * 50 )) XSECT_FUZZ_CONFIGS=50 \
-      timeout 6000 "$build/xsect_tests" --gtest_filter='Shards/GeometricFuzz.*/0' \
-      > "$build/fuzz-lane$lane.log" 2>&1 &
-    pids+=($!)
+configure=(cmake -S "$root" -B "$fuzzbuild" -G Ninja -DXSECT_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo)
+CC=clang CXX=clang++ "${configure[@]}" >/dev/null 2>&1 || CC=clang CXX=clang++ "${configure[@]}"
+cmake --build "$fuzzbuild" --parallel "$(nproc)" >/dev/null
+
+readers=(csl slices config mesh_ply mesh_stl mesh_obj nrrd truth phantom vdb image)
+reader_seconds=$(( readers_only ? seconds : seconds * 2 / 3 ))
+per_reader=$(( reader_seconds * 2 / ${#readers[@]} ))
+[ "$per_reader" -ge 1 ] || per_reader=1
+mkdir -p "$fuzzbuild/artifacts" "$fuzzbuild/logs"
+export ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=0"
+export LSAN_OPTIONS="suppressions=$root/tests/fuzz/lsan.supp:print_suppressions=0"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+failed=0
+fuzz_reader() {  # one reader for $per_reader seconds; its working corpus grows across runs
+  local r="$1" log="$fuzzbuild/logs/$1.log"
+  mkdir -p "$fuzzbuild/corpus/$r"
+  (cd "$fuzzbuild" && "$fuzzbuild/tests/fuzz/fuzz_$r" "$fuzzbuild/corpus/$r" "$root/tests/fuzz/corpus/$r" \
+     -max_total_time="$per_reader" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+     -artifact_prefix="$fuzzbuild/artifacts/$r-" -print_final_stats=1) > "$log" 2>&1
+}
+for ((i = 0; i < ${#readers[@]}; i += 2)); do
+  pids=(); names=()
+  for r in "${readers[@]:i:2}"; do fuzz_reader "$r" & pids+=($!); names+=("$r"); done
+  for k in "${!pids[@]}"; do
+    r="${names[$k]}"; log="$fuzzbuild/logs/$r.log"
+    if wait "${pids[$k]}"; then status=ok; else status=FAILED; failed=$((failed + 1)); fi
+    runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
+    printf 'reader %-9s %9s executions in %3d s: %s\n' "$r" "${runs:-?}" "$per_reader" "$status"
+    if [ "$status" = FAILED ]; then grep -E "ERROR|SUMMARY|Test unit written" "$log" | head -5; fi
   done
-  for lane in 0 1; do
-    # A lane passes only when its one test ran and passed (a filter matching nothing passes too).
-    if ! wait "${pids[$lane]}" || ! grep -q '^\[  PASSED  \] 1 test' "$build/fuzz-lane$lane.log"; then
-      failed=$((failed + 1)); cat "$build/fuzz-lane$lane.log"
-    fi
-  done
-  chunks=$((chunks + 2))
 done
-echo "geometric fuzz: $((chunks * 50)) configurations from seed $seed, $failed failing chunks"
+
+if [ "$readers_only" -eq 0 ]; then
+  "$root/scripts/build.sh" >/dev/null
+  seed=$(( (RANDOM << 15 | RANDOM) * 1000 ))
+  end=$(( $(date +%s) + seconds - reader_seconds ))
+  chunks=0; failed_chunks=0
+  while [ "$(date +%s)" -lt "$end" ]; do
+    pids=()
+    for lane in 0 1; do
+      # Each run has its own two-minute limit (tests/cli.h); a chunk of 50 gets 50 of them at most.
+      XSECT_FUZZ_SEED=$(( seed + (chunks + lane) * 50 )) XSECT_FUZZ_CONFIGS=50 \
+        timeout 6000 "$build/xsect_tests" --gtest_filter='Shards/GeometricFuzz.*/0' \
+        > "$fuzzbuild/logs/geometric-lane$lane.log" 2>&1 &
+      pids+=($!)
+    done
+    for lane in 0 1; do
+      # A lane passes only when its one test ran and passed (a filter matching nothing passes too).
+      if ! wait "${pids[$lane]}" || ! grep -q '^\[  PASSED  \] 1 test' "$fuzzbuild/logs/geometric-lane$lane.log"; then
+        failed_chunks=$((failed_chunks + 1)); cat "$fuzzbuild/logs/geometric-lane$lane.log"
+      fi
+    done
+    chunks=$((chunks + 2))
+  done
+  echo "geometric fuzz: $((chunks * 50)) configurations from seed $seed, $failed_chunks failing chunks"
+  failed=$((failed + failed_chunks))
+fi
 [ "$failed" -eq 0 ]

@@ -3,7 +3,8 @@
 set -euo pipefail
 PKGS=(build-essential cmake ninja-build pkg-config libcgal-dev libopencv-dev libopenvdb-dev
       libboost-iostreams-dev libtbb-dev libyaml-cpp-dev libeigen3-dev libgtest-dev libbenchmark-dev
-      nlohmann-json3-dev libcli11-dev zlib1g-dev libssl-dev python3)
+      nlohmann-json3-dev libcli11-dev zlib1g-dev libssl-dev python3
+      clang libclang-rt-dev)  # clang + its runtimes: libFuzzer, ASan, UBSan (scripts/fuzz.sh)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
