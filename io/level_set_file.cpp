@@ -176,9 +176,11 @@ void writeGridFile(const std::string& path, const openvdb::FloatGrid::Ptr& grid)
 /// exhausting memory: a narrow band of a 2048^3 grid stays well below it.
 constexpr openvdb::Index64 kMaxActiveVoxels = openvdb::Index64(1) << 28;
 /// Active tiles (uniform active blocks, which level-set tools do not make: a band keeps its
-/// voxels in leaves) are expanded voxel by voxel, up to this many voxels: a few bytes of a corrupt
-/// file can otherwise claim billions.
-constexpr openvdb::Index64 kMaxActiveTileVoxels = openvdb::Index64(1) << 24;
+/// voxels in leaves) are expanded voxel by voxel, up to this many voxels (512 leaf-sized tiles): a
+/// few bytes of a corrupt file can otherwise claim billions. The fuzzer (scripts/fuzz.sh) found a
+/// 25 kB file whose corrupt tiles claimed 10 million voxels under the former limit of 2^24: 3 s
+/// to read, 65 s under AddressSanitizer (tests/fuzz/corpus/vdb/crash-active-tiles-10M-voxels).
+constexpr openvdb::Index64 kMaxActiveTileVoxels = openvdb::Index64(1) << 18;
 
 /// A read-only stream buffer over bytes in memory (with seeking, which OpenVDB may use).
 class MemoryBuffer : public std::streambuf {

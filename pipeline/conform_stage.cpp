@@ -8,6 +8,7 @@
 #include "geometry/conformity_enforcement.h"
 #include "geometry/plane_pair_traces.h"
 #include "geometry/pose_smoothing.h"
+#include "segmentation/coincident_consensus.h"
 
 namespace xsect {
 namespace {
@@ -95,6 +96,27 @@ ConsensusMode modeOf(const std::string& m) {
 ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<CuttingPlane> planes,
                           std::vector<std::vector<Section>> labelled) {
   ConformStage out;
+  // Observations of one plane become one plane carrying their consensus (issue 15): the thesis'
+  // planes are distinct, and two sections on one plane must agree before anything compares traces.
+  CoincidentMerge merged = mergeCoincidentPlanes(std::move(planes), std::move(labelled));
+  planes = std::move(merged.planes);
+  labelled = std::move(merged.labelled);
+  json coincident = json::array();
+  for (const CoincidentConsensus& c : merged.consensus) {
+    coincident.push_back({{"slices", c.slices},
+                          {"kept", c.slices.front()},
+                          {"max_offset_mm", c.group.max_offset_mm},
+                          {"max_angle_deg", c.group.max_angle_deg},
+                          {"disagreement_area_mm2", c.disagreement_area_mm2},
+                          {"max_correction_mm", c.max_correction_mm}});
+    std::string list;
+    for (std::size_t k = 0; k < c.slices.size(); ++k)
+      list += (k == 0 ? "" : k + 1 == c.slices.size() ? " and " : ", ") + std::to_string(c.slices[k]);
+    out.warnings.push_back("slices " + list + " observe one plane (within " + mm(c.group.max_offset_mm) +
+                           "); their sections differ over " + number(c.disagreement_area_mm2) +
+                           " mm² (a contour moves up to " + mm(c.max_correction_mm) +
+                           " to the consensus): one plane with the median of their signed distances is used");
+  }
   // Tracked sweeps: the poses smoothed along the sweep first (the sections move with their
   // planes), so that everything after, measurement included, sees the smoothed poses.
   json poseSmoothing = nullptr;
@@ -264,6 +286,7 @@ ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<Cut
 
   const json afterSummary = settings.enforce ? pairsSummary(after) : json(nullptr);
   out.summary = {{"enforce", settings.enforce},
+                 {"coincident_planes", coincident},
                  {"mode", settings.mode},
                  {"max_correction_mm", settings.max_correction_mm},
                  {"band_mm", settings.band_mm},

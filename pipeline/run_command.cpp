@@ -236,6 +236,15 @@ int runCommand(const RunOptions& o) {
   in.warnings.push_back("open ends closed by 6 virtual empty planes at " +
                         std::to_string(rec.end_margin_mm) + " mm beyond the sections' bounds" +
                         (rec.end_margin_auto ? " (automatic margin)" : ""));
+  if (planesWithSections == 1) {
+    // One plane (a single slice, or every slice at one pose, merged in stage 3) says nothing about
+    // the object across it: method 1 extends its section to the end planes on both sides.
+    const auto holder = std::find_if(in.planes.begin(), in.planes.end(),
+                                     [](const CuttingPlane& p) { return !p.sections.empty(); });
+    in.warnings.push_back("only one plane holds sections (slice " + std::to_string(holder->slice) +
+                          "): the shape across it is unknown, and the result is its sections extended " +
+                          std::to_string(rec.end_margin_mm) + " mm to the end planes on each side");
+  }
 
   // Stage 4 (arrange) and the connectivity graphs: they need the rasters and the end planes the
   // reconstruction made, so they run after it.

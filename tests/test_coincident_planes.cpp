@@ -1,0 +1,105 @@
+// Issue 15: observations of one plane become one plane with the consensus of their sections
+// (segmentation/coincident_consensus.h). The consensus of two concentric disks of radii 3 and 5 is
+// the disk of radius 4 (the mean of their signed distances vanishes halfway); their disagreement
+// is the annulus between them, and each contour moves by 1 mm. Members whose planes carry other
+// (u, v) frames are read through the world; the merged plane observes the union of their regions.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "geometry/coincident_planes.h"
+#include "geometry/polygon.h"
+#include "section_fixtures.h"
+#include "segmentation/coincident_consensus.h"
+
+using namespace xsect;
+
+namespace {
+
+const double kPi = std::acos(-1.0);
+
+/// A 0.05 mm-pixel observation of the plane z = z0 holding a disk of radius r centred at world (cx, cy),
+/// in a frame turned by `turn` radians about z and with its origin at world (ox, oy, z0).
+CuttingPlane diskObservation(int slice, double r, double cx, double cy, double turn, double ox, double oy,
+                             double z0 = 0.0) {
+  CuttingPlane p;
+  p.slice = slice;
+  p.name = "obs" + std::to_string(slice);
+  p.plane.origin = Vec3(ox, oy, z0);
+  p.plane.u = Vec3(std::cos(turn), std::sin(turn), 0);
+  p.plane.v = Vec3(-std::sin(turn), std::cos(turn), 0);
+  p.plane.normal = Vec3::UnitZ();
+  p.pixel_mm = 0.05;
+  const Vec2 c = p.plane.toPlane(Vec3(cx, cy, z0));
+  p.sections.push_back(Section{test::circle(c, r, 400), {}, 1});
+  p.extent = {c - Vec2(10, 10), c + Vec2(10, 10)};  // a 20 mm image around the disk, in its own frame
+  return p;
+}
+
+}  // namespace
+
+TEST(CoincidentPlanes, DetectedWithinHalfAPixelOnly) {
+  const CuttingPlane a = diskObservation(0, 3, 0, 0, 0, -10, -10);
+  EXPECT_TRUE(planesCoincide(a, diskObservation(1, 5, 0, 0, 0.7, 3, -2, 0.02)));   // 0.02 < 0.025 mm
+  EXPECT_FALSE(planesCoincide(a, diskObservation(1, 5, 0, 0, 0.7, 3, -2, 0.03)));  // 0.03 > 0.025 mm
+  CuttingPlane tilted = diskObservation(1, 5, 0, 0, 0, -10, -10);
+  tilted.plane.normal = Vec3(0.002, 0, 1).normalized();  // 0.11°: 0.04 mm over the 20 mm extent
+  tilted.plane.u = tilted.plane.v.cross(tilted.plane.normal);
+  EXPECT_FALSE(planesCoincide(a, tilted));
+  CuttingPlane virtualPlane = a;
+  virtualPlane.is_virtual = true;
+  EXPECT_FALSE(planesCoincide(a, virtualPlane));
+  const std::vector<CoincidentGroup> groups = coincidentGroups(
+      {a, diskObservation(1, 4, 0, 0, 0, 0, 0, 5.0), diskObservation(2, 5, 0, 0, 1.0, 2, 2), diskObservation(3, 4, 0, 0, 0, 0, 0, 5.01)});
+  ASSERT_EQ(groups.size(), 2u);
+  EXPECT_EQ(groups[0].members, (std::vector<std::size_t>{0, 2}));
+  EXPECT_EQ(groups[1].members, (std::vector<std::size_t>{1, 3}));
+}
+
+TEST(CoincidentPlanes, ConsensusOfTwoDisksIsTheMeanDisk) {
+  // Radii 3 and 5, the second in a frame turned by 40° with another origin; a third plane elsewhere.
+  std::vector<CuttingPlane> planes = {diskObservation(0, 3, 1, 2, 0, -10, -10),
+                                      diskObservation(7, 2, 0, 0, 0, -10, -10, 6.0),
+                                      diskObservation(4, 5, 1, 2, 40 * kPi / 180, 4, -3)};
+  const CoincidentMerge m = mergeCoincidentPlanes(planes, {});
+  ASSERT_EQ(m.planes.size(), 2u);
+  ASSERT_EQ(m.consensus.size(), 1u);
+  EXPECT_EQ(m.consensus[0].slices, (std::vector<int>{0, 4}));
+  EXPECT_EQ(m.planes[0].slice, 0);
+  EXPECT_EQ(m.planes[1].slice, 7);
+  ASSERT_EQ(m.planes[0].sections.size(), 1u);
+  const Section& s = m.planes[0].sections[0];
+  EXPECT_TRUE(s.holes.empty());
+  EXPECT_NEAR(sectionArea(s), kPi * 16, 0.01 * kPi * 16);
+  for (const Vec2& p : s.outer) EXPECT_NEAR((m.planes[0].plane.toWorld(p) - Vec3(1, 2, 0)).norm(), 4.0, 0.05);
+  EXPECT_NEAR(m.consensus[0].disagreement_area_mm2, kPi * (25 - 9), 0.02 * kPi * 16);
+  EXPECT_NEAR(m.consensus[0].max_correction_mm, 1.0, 0.06);
+  EXPECT_FALSE(m.planes[0].field_of_view.empty());  // the union of two turned squares
+}
+
+TEST(CoincidentPlanes, AgreeingObservationsKeepTheirSectionAndTheMergedPlaneObservesTheUnion) {
+  CuttingPlane a = diskObservation(0, 3, 0, 0, 0, -10, -10), b = diskObservation(1, 3, 0, 0, 0, -10, -10);
+  const CoincidentMerge same = mergeCoincidentPlanes({a, b}, {});
+  EXPECT_TRUE(same.planes[0].field_of_view.empty());  // both observed the same 20 mm square
+  b.extent = {Vec2(10, 10), Vec2(25, 25)};  // b saw x, y in [0, 15]: the union is not a rectangle
+  const CoincidentMerge m = mergeCoincidentPlanes({a, b}, {{a.sections}, {b.sections}});
+  ASSERT_EQ(m.planes.size(), 1u);
+  ASSERT_EQ(m.labelled.size(), 1u);
+  EXPECT_EQ(m.labelled[0].size(), 1u);
+  EXPECT_NEAR(m.consensus[0].disagreement_area_mm2, 0.0, 0.05);
+  EXPECT_LT(m.consensus[0].max_correction_mm, 0.03);
+  ASSERT_EQ(m.planes[0].sections.size(), 1u);
+  EXPECT_NEAR(sectionArea(m.planes[0].sections[0]), sectionArea(a.sections[0]), 0.01 * kPi * 9);
+  const CuttingPlane& p = m.planes[0];
+  EXPECT_NEAR(p.extent.max.x(), 25.0, 1e-9);
+  ASSERT_FALSE(p.field_of_view.empty());
+  const auto seen = [&](double x, double y) {
+    bool in = false;
+    for (const Ring& r : p.field_of_view) in ^= ringContains(r, p.plane.toPlane(Vec3(x, y, 0)));
+    return in;
+  };
+  EXPECT_TRUE(seen(-5, -5));
+  EXPECT_TRUE(seen(12, 12));
+  EXPECT_FALSE(seen(12, -5));
+  EXPECT_FALSE(seen(-5, 12));
+}
