@@ -35,13 +35,15 @@ double coincidenceTolerance(const CuttingPlane& a, const CuttingPlane& b) {
   double pixel = 0.0;
   for (const double px : {a.pixel_mm, b.pixel_mm})
     if (px > 0 && (pixel == 0.0 || px < pixel)) pixel = px;
-  if (pixel > 0) return 0.5 * pixel;
+  if (pixel > 0) return 1e-3 * pixel;
   const double diag = std::max((a.extent.max - a.extent.min).norm(), (b.extent.max - b.extent.min).norm());
   return 1e-6 * diag;
 }
 
 bool planesCoincide(const CuttingPlane& a, const CuttingPlane& b) {
   if (a.is_virtual || b.is_virtual) return false;
+  const auto empty = [](const PlaneRect& e) { return !(e.max.x() > e.min.x() && e.max.y() > e.min.y()); };
+  if (empty(a.extent) || empty(b.extent)) return false;
   if (angleDeg(a.plane.normal, b.plane.normal) >= kMaxAngleDeg) return false;
   const double d = offsetMm(a, b);
   return std::isfinite(d) && d <= coincidenceTolerance(a, b);

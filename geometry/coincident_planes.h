@@ -6,9 +6,11 @@
 //
 // Definition. Planes A and B coincide when their normals make an angle below 1 degree and every
 // corner of each one's observed extent (the image rectangle; the sections' bounds for .csl planes)
-// lies within `tolerance` of the other plane, where tolerance is half the finer pixel of the two
-// (below it the images cannot tell the planes apart) or, for contours given without pixels,
-// a millionth of the larger extent's diagonal (the rounding of the file's coordinates).
+// lies within `tolerance` of the other plane, where tolerance is a thousandth of the finer pixel of
+// the two or, for contours given without pixels, a millionth of the larger extent's diagonal: the
+// same plane up to the rounding of a pose, never two frames of a sweep (even a dense sweep's frames
+// are hundredths of a pixel apart at least). A plane that observed nothing (an empty extent)
+// coincides with none.
 #pragma once
 
 #include <cstddef>

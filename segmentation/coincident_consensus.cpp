@@ -2,10 +2,13 @@
 #include "segmentation/coincident_consensus.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <set>
+#include <stdexcept>
 
-#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "geometry/polygon.h"
 #include "geometry/section_distance_field.h"
@@ -14,9 +17,15 @@
 namespace xsect {
 namespace {
 
-constexpr double kBandSteps = 16.0;        // signed distances are exact within at least this many steps
-constexpr double kMaxNodes = 4.0e6;        // the raster's step grows past this many nodes
-constexpr double kStepsPerDiagonal = 1024; // raster step for contours given without pixels
+constexpr double kBandSteps = 16.0;         // distances exact within this many raster steps of a contour
+constexpr double kMarginSteps = 18.0;       // raster margin around the sections' bounds
+constexpr double kMaxNodes = 4.0e6;         // the raster's step grows past this many nodes ...
+constexpr double kMaxNodeValues = 6.4e7;    // ... or this many distances held at once (256 MB)
+constexpr double kMaxRegionNodes = 1.0e6;   // the raster of the merged observed region
+constexpr double kStepsPerExtent = 1024.0;  // raster step for contours without pixels
+constexpr int kShift = 8;                   // fixed-point bits of the polygons given to cv::fillPoly
+
+enum class Reduce { median, least };
 
 /// Nodes origin + step * (i, j), i < nu, j < nv, in the first member's plane coordinates (mm).
 struct Raster {
@@ -24,40 +33,162 @@ struct Raster {
   double step = 1.0;
   int nu = 0, nv = 0;
   Vec2 node(int i, int j) const { return origin + step * Vec2(i, j); }
-  std::size_t count() const { return std::size_t(nu) * std::size_t(nv); }
+  double count() const { return double(nu) * double(nv); }
+  /// q as fixed-point raster coordinates for cv::fillPoly (x = i, y = j).
+  cv::Point fixedPoint(const Vec2& q) const {
+    const Vec2 p = (q - origin) / step * double(1 << kShift);
+    return {int(std::lround(std::clamp(p.x(), -1e9, 1e9))), int(std::lround(std::clamp(p.y(), -1e9, 1e9)))};
+  }
 };
+
+/// A raster over `box` grown by the margin, of step `step` or coarser: at most `maxNodes` nodes, and
+/// at most kMaxNodeValues distances for `layers` values per node. Nodes lie on multiples of the step.
+Raster rasterAround(const Eigen::AlignedBox2d& box, double step, int layers, double maxNodes) {
+  Raster r;
+  r.step = step;
+  for (int attempt = 0; attempt < 64; ++attempt) {
+    const Vec2 lo = box.min() - Vec2::Constant(kMarginSteps * r.step);
+    const Vec2 hi = box.max() + Vec2::Constant(kMarginSteps * r.step);
+    r.origin = Vec2(std::floor(lo.x() / r.step) * r.step, std::floor(lo.y() / r.step) * r.step);
+    r.nu = int(std::ceil((hi.x() - r.origin.x()) / r.step)) + 1;
+    r.nv = int(std::ceil((hi.y() - r.origin.y()) / r.step)) + 1;
+    const double limit = std::min(maxNodes, kMaxNodeValues / std::max(layers, 1));
+    if (r.count() <= limit) return r;
+    r.step *= std::max(1.1, std::sqrt(r.count() / limit));
+  }
+  throw std::runtime_error("coincident planes: no raster fits their sections");
+}
 
 /// A member's point in the first member's plane coordinates (through the world).
 Vec2 toFirst(const CuttingPlane& first, const CuttingPlane& member, const Vec2& p) {
   return first.plane.toPlane(member.plane.toWorld(p));
 }
 
+Ring ringInFirstFrame(const CuttingPlane& first, const CuttingPlane& member, Ring ring) {
+  for (Vec2& p : ring) p = toFirst(first, member, p);
+  return ring;
+}
+
 std::vector<Section> sectionsInFirstFrame(const CuttingPlane& first, const CuttingPlane& member,
-                                          const std::vector<Section>& sections) {
-  std::vector<Section> out = sections;
-  for (Section& s : out) {
-    for (Vec2& p : s.outer) p = toFirst(first, member, p);
-    for (Ring& h : s.holes)
-      for (Vec2& p : h) p = toFirst(first, member, p);
+                                          std::vector<Section> sections) {
+  for (Section& s : sections) {
+    s.outer = ringInFirstFrame(first, member, std::move(s.outer));
+    for (Ring& h : s.holes) h = ringInFirstFrame(first, member, std::move(h));
   }
-  return out;
+  return sections;
 }
 
-/// Whether `member` observed the point q of the first member's plane.
-bool observes(const CuttingPlane& first, const CuttingPlane& member, const Vec2& q) {
-  if (member.observed_everywhere) return true;
-  const Vec2 p = member.plane.toPlane(first.plane.toWorld(q));
-  if (!member.extent.contains(p)) return false;
-  if (member.field_of_view.empty()) return true;
-  bool inside = false;  // even-odd over the field-of-view rings, as section_traces.cpp reads them
-  for (const Ring& r : member.field_of_view) inside ^= ringContains(r, p);
-  return inside;
+bool extentIsEmpty(const PlaneRect& e) { return !(e.max.x() > e.min.x() && e.max.y() > e.min.y()); }
+
+std::array<Vec2, 4> corners(const PlaneRect& e) {
+  return {e.min, Vec2(e.max.x(), e.min.y()), e.max, Vec2(e.min.x(), e.max.y())};
 }
 
-/// Rings of {field > 0} as plane coordinates on the raster, split into sections.
-std::vector<Section> sectionsOfField(const cv::Mat& field, const Raster& r, int label) {
+/// 1 where `member` observed the plane, on the raster: its image rectangle, narrowed by its field
+/// of view (even-odd, as geometry/section_traces.cpp reads it).
+cv::Mat observedMask(const CuttingPlane& first, const CuttingPlane& member, const Raster& r) {
+  if (member.observed_everywhere) return cv::Mat(r.nv, r.nu, CV_8U, cv::Scalar(1));
+  cv::Mat mask(r.nv, r.nu, CV_8U, cv::Scalar(0));
+  if (extentIsEmpty(member.extent)) return mask;
+  std::vector<cv::Point> quad;
+  for (const Vec2& c : corners(member.extent)) quad.push_back(r.fixedPoint(toFirst(first, member, c)));
+  cv::fillConvexPoly(mask, quad, cv::Scalar(1), cv::LINE_8, kShift);
+  if (member.field_of_view.empty()) return mask;
+  std::vector<std::vector<cv::Point>> rings;
+  for (const Ring& ring : member.field_of_view) {
+    rings.emplace_back();
+    for (const Vec2& p : ring) rings.back().push_back(r.fixedPoint(toFirst(first, member, p)));
+  }
+  cv::Mat fov(r.nv, r.nu, CV_8U, cv::Scalar(0));
+  cv::fillPoly(fov, rings, cv::Scalar(1), cv::LINE_8, kShift);
+  return mask & fov;
+}
+
+/// The signed distance (mm, negative inside) to `sections` at every node: exact within the band,
+/// beyond it from a Euclidean distance transform between inside and outside nodes (never less than
+/// the band), so that values far from the contours still order the members correctly.
+cv::Mat signedDistance(const std::vector<Section>& sections, const Raster& r) {
+  const double band = kBandSteps * r.step;
+  const SectionDistanceField f = sectionDistanceField(sections, r.step, band);
+  cv::Mat d(r.nv, r.nu, CV_32F), inside(r.nv, r.nu, CV_8U);
+  for (int j = 0; j < r.nv; ++j)
+    for (int i = 0; i < r.nu; ++i) {
+      const Vec2 q = r.node(i, j);
+      const float v = f.sample(q.x(), q.y());
+      d.at<float>(j, i) = v;
+      inside.at<unsigned char>(j, i) = v < 0 ? 1 : 0;
+    }
+  const int in = cv::countNonZero(inside);
+  if (in == 0 || double(in) == r.count()) return d;  // no node on one side: nothing to measure to
+  cv::Mat toInside, toOutside;
+  cv::distanceTransform(inside == 0, toInside, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  cv::distanceTransform(inside, toOutside, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  for (int j = 0; j < r.nv; ++j)
+    for (int i = 0; i < r.nu; ++i) {
+      float& v = d.at<float>(j, i);
+      if (std::abs(v) < band) continue;
+      v = inside.at<unsigned char>(j, i) ? -std::max(float(band), float(r.step) * toOutside.at<float>(j, i))
+                                         : std::max(float(band), float(r.step) * toInside.at<float>(j, i));
+    }
+  return d;
+}
+
+/// The median (the mean of the two middle values for an even count) or the least of the values;
+/// `v` is reordered.
+double reduce(std::vector<float>& v, Reduce how) {
+  if (how == Reduce::least) return *std::min_element(v.begin(), v.end());
+  const std::size_t n = v.size(), h = n / 2;
+  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(h), v.end());
+  if (n % 2) return v[h];
+  const float upper = v[h];
+  return 0.5 * (double(upper) + double(*std::max_element(v.begin(), v.begin() + std::ptrdiff_t(h))));
+}
+
+/// The consensus field (positive inside, for isoContours) of the members' sections (first frame);
+/// members without sections do not vote unless none has any. Accumulates the disagreement where
+/// every voter observed.
+cv::Mat consensusField(const std::vector<std::vector<Section>>& sections, const std::vector<cv::Mat>& observed,
+                       const Raster& r, Reduce how, CoincidentConsensus* stats) {
+  std::vector<std::size_t> voters;
+  for (std::size_t m = 0; m < sections.size(); ++m)
+    if (!sections[m].empty()) voters.push_back(m);
+  const float outside = float(kBandSteps * r.step);
+  if (stats) stats->voting = int(voters.empty() ? sections.size() : voters.size());
+  if (voters.empty()) return cv::Mat(r.nv, r.nu, CV_32F, cv::Scalar(-outside));
+  std::vector<cv::Mat> d;
+  for (const std::size_t m : voters) d.push_back(signedDistance(sections[m], r));
+  cv::Mat field(r.nv, r.nu, CV_32F);
+  std::vector<float> seen;
+  double disagreeing = 0;
+  for (int j = 0; j < r.nv; ++j)
+    for (int i = 0; i < r.nu; ++i) {
+      seen.clear();
+      int inside = 0;
+      for (std::size_t k = 0; k < voters.size(); ++k) {
+        if (!observed[voters[k]].at<unsigned char>(j, i)) continue;
+        const float v = d[k].at<float>(j, i);
+        seen.push_back(v);
+        inside += v < 0;
+      }
+      const bool all = seen.size() == voters.size();
+      const double c = seen.empty() ? double(outside) : reduce(seen, how);
+      field.at<float>(j, i) = float(-c);
+      if (!stats) continue;
+      if (all && inside > 0 && inside < int(voters.size())) disagreeing += 1;
+      for (std::size_t k = 0; k < voters.size(); ++k) {
+        const float v = d[k].at<float>(j, i);
+        if (observed[voters[k]].at<unsigned char>(j, i) && (v < 0) != (c < 0))
+          stats->max_correction_mm = std::max(stats->max_correction_mm, double(std::abs(v)));
+      }
+    }
+  if (stats) stats->disagreement_area_mm2 += disagreeing * r.step * r.step;
+  return field;
+}
+
+/// Rings of a field (positive inside) as plane coordinates on the raster, split into sections.
+std::vector<Section> sectionsOfRings(std::vector<Ring> rings, const Raster& r, int label) {
   std::vector<Ring> outers, holes;
-  for (Ring ring : isoContours(field)) {
+  for (Ring& ring : rings) {
     for (Vec2& p : ring) p = r.node(0, 0) + r.step * p;
     (signedArea(ring) > 0 ? outers : holes).push_back(std::move(ring));
   }
@@ -66,171 +197,161 @@ std::vector<Section> sectionsOfField(const cv::Mat& field, const Raster& r, int 
   return sections;
 }
 
-/// Up to 2000 of the vertices of the sections' contours, evenly spread.
-std::vector<Vec2> someContourVertices(const std::vector<Section>& sections) {
-  std::vector<Vec2> all;
-  for (const Section& s : sections) {
-    all.insert(all.end(), s.outer.begin(), s.outer.end());
-    for (const Ring& h : s.holes) all.insert(all.end(), h.begin(), h.end());
+bool sameRing(const Ring& a, const Ring& b, double tol) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t k = 0; k < a.size(); ++k)
+    if ((a[k] - b[k]).norm() > tol) return false;
+  return true;
+}
+
+bool sameSections(const std::vector<Section>& a, const std::vector<Section>& b, double tol) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t s = 0; s < a.size(); ++s) {
+    if (a[s].label != b[s].label || !sameRing(a[s].outer, b[s].outer, tol) || a[s].holes.size() != b[s].holes.size())
+      return false;
+    for (std::size_t h = 0; h < a[s].holes.size(); ++h)
+      if (!sameRing(a[s].holes[h], b[s].holes[h], tol)) return false;
   }
-  const std::size_t every = all.size() / 2000 + 1;
-  std::vector<Vec2> some;
-  for (std::size_t k = 0; k < all.size(); k += every) some.push_back(all[k]);
-  return some;
+  return true;
 }
 
-/// The largest distance from a contour vertex of one member to another member's contours, over
-/// the members holding sections: how far apart the observations are (a symmetric Hausdorff
-/// distance between contours, on up to 2000 vertices each).
-double largestGap(const std::vector<std::vector<Section>>& members) {
-  double gap = 0.0;
-  for (std::size_t a = 0; a < members.size(); ++a) {
-    if (members[a].empty()) continue;
-    const std::vector<Vec2> vertices = someContourVertices(members[a]);
-    for (std::size_t b = 0; b < members.size(); ++b)
-      if (b != a && !members[b].empty())
-        for (const Vec2& v : vertices) gap = std::max(gap, std::abs(signedDistanceToSections(members[b], v)));
+/// Whether every member holding sections holds the first such member's, within `tol`.
+bool votersAgree(const std::vector<std::vector<Section>>& sections, double tol) {
+  const std::vector<Section>* reference = nullptr;
+  for (const auto& s : sections) {
+    if (s.empty()) continue;
+    if (!reference) reference = &s;
+    else if (!sameSections(*reference, s, tol)) return false;
   }
-  return gap;
+  return true;
 }
 
-/// The median of the values (the mean of the two middle ones for an even count); `v` is reordered.
-double median(std::vector<float>& v) {
-  const std::size_t n = v.size(), h = n / 2;
-  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(h), v.end());
-  if (n % 2) return v[h];
-  const float upper = v[h];
-  return 0.5 * (double(upper) + double(*std::max_element(v.begin(), v.begin() + std::ptrdiff_t(h))));
-}
-
-/// The consensus of the members' sections (already in the first member's frame) on the raster;
-/// `observed[m][node]` says whether member m observed the node. Accumulates the disagreement.
-/// `band`: signed distances are exact within it (more than the largest gap between members, so
-/// that the median is decided by exact values wherever the members disagree).
-std::vector<Section> consensusSections(const std::vector<std::vector<Section>>& members,
-                                       const std::vector<std::vector<char>>& observed, const Raster& r,
-                                       double band, int label, CoincidentConsensus* stats) {
-  std::vector<SectionDistanceField> fields;
-  for (const auto& sections : members) fields.push_back(sectionDistanceField(sections, r.step, band));
+/// The region the merged plane observed: the first member's when every member observed the same
+/// rectangle and field of view; otherwise the bounding rectangle of the extents, narrowed by the
+/// union of the observed regions (traced on a raster of at most kMaxRegionNodes nodes).
+void observedUnion(const std::vector<CuttingPlane>& planes, const CoincidentGroup& g, double tol,
+                   CuttingPlane& merged) {
+  const CuttingPlane& first = planes[g.members.front()];
+  bool same = true;
+  Eigen::AlignedBox2d box;
+  double pixel = 0.0;
+  for (const std::size_t k : g.members) {
+    const CuttingPlane& m = planes[k];
+    if (m.pixel_mm > 0 && (pixel == 0.0 || m.pixel_mm < pixel)) pixel = m.pixel_mm;
+    if (!extentIsEmpty(m.extent))
+      for (const Vec2& c : corners(m.extent)) box.extend(toFirst(first, m, c));
+    if (m.observed_everywhere != first.observed_everywhere ||
+        extentIsEmpty(m.extent) != extentIsEmpty(first.extent) ||
+        m.field_of_view.size() != first.field_of_view.size()) {
+      same = false;
+      continue;
+    }
+    for (int c = 0; c < 4; ++c)
+      same = same && (toFirst(first, m, corners(m.extent)[c]) - corners(first.extent)[c]).norm() <= tol;
+    for (std::size_t f = 0; f < m.field_of_view.size(); ++f)
+      same = same && sameRing(ringInFirstFrame(first, m, m.field_of_view[f]), first.field_of_view[f], tol);
+  }
+  if (same || first.observed_everywhere || box.isEmpty()) return;
+  merged.extent = {box.min(), box.max()};
+  merged.field_of_view.clear();
+  const Raster r = rasterAround(box, std::max(pixel, box.diagonal().norm() / kStepsPerExtent), 1, kMaxRegionNodes);
+  cv::Mat any(r.nv, r.nu, CV_8U, cv::Scalar(0));
+  for (const std::size_t k : g.members) any |= observedMask(first, planes[k], r);
   cv::Mat field(r.nv, r.nu, CV_32F);
-  double disagreeing = 0;
-  std::vector<float> values(fields.size()), seenValues;
+  bool whole = true;
+  const Vec2 shrink = Vec2::Constant(0.5 * r.step);
   for (int j = 0; j < r.nv; ++j)
     for (int i = 0; i < r.nu; ++i) {
-      const std::size_t n = std::size_t(j) * std::size_t(r.nu) + std::size_t(i);
+      const bool seen = any.at<unsigned char>(j, i) != 0;
+      field.at<float>(j, i) = seen ? 0.5f : -0.5f;
       const Vec2 q = r.node(i, j);
-      seenValues.clear();
-      int inside = 0;
-      for (std::size_t m = 0; m < fields.size(); ++m) {
-        if (!observed[m][n]) continue;
-        values[m] = fields[m].sample(q.x(), q.y());
-        seenValues.push_back(values[m]);
-        inside += values[m] < 0;
-      }
-      const int seen = int(seenValues.size());
-      const double consensus = seen ? median(seenValues) : band;
-      field.at<float>(j, i) = float(-consensus);
-      if (seen == int(fields.size()) && inside > 0 && inside < seen) disagreeing += 1;
-      for (std::size_t m = 0; m < fields.size(); ++m)
-        if (observed[m][n] && (values[m] < 0) != (consensus < 0))
-          stats->max_correction_mm = std::max(stats->max_correction_mm, double(std::abs(values[m])));
+      if (!seen && (q.array() > (box.min() + shrink).array()).all() && (q.array() < (box.max() - shrink).array()).all())
+        whole = false;
     }
-  stats->disagreement_area_mm2 += disagreeing * r.step * r.step;
-  return sectionsOfField(field, r, label);
+  if (whole) return;
+  for (Ring ring : isoContours(field)) {
+    for (Vec2& p : ring) p = r.node(0, 0) + r.step * p;
+    merged.field_of_view.push_back(std::move(ring));
+  }
 }
 
 CuttingPlane mergeGroup(const std::vector<CuttingPlane>& planes, const CoincidentGroup& g,
                         std::vector<std::vector<Section>>* labelled, CoincidentConsensus* stats) {
   const CuttingPlane& first = planes[g.members.front()];
-  // The members' sections and observed extents in the first member's frame.
+  const Reduce how = first.observed_everywhere ? Reduce::least : Reduce::median;
   std::vector<std::vector<Section>> sections;
-  Eigen::AlignedBox2d box, extentBox;
-  double pixel = 0.0;
-  bool everywhere = true;
+  Eigen::AlignedBox2d box;
+  double pixel = 0.0, tol = 0.0;
   for (const std::size_t k : g.members) {
     const CuttingPlane& m = planes[k];
     sections.push_back(sectionsInFirstFrame(first, m, m.sections));
     for (const Section& s : sections.back()) box.extend(ringBounds(s.outer));
-    if (!m.observed_everywhere)
-      for (const Vec2& c : {m.extent.min, Vec2(m.extent.max.x(), m.extent.min.y()), m.extent.max,
-                            Vec2(m.extent.min.x(), m.extent.max.y())})
-        extentBox.extend(toFirst(first, m, c));
-    everywhere = everywhere && m.observed_everywhere;
     if (m.pixel_mm > 0 && (pixel == 0.0 || m.pixel_mm < pixel)) pixel = m.pixel_mm;
+    tol = std::max(tol, coincidenceTolerance(first, m));
   }
   CuttingPlane merged = first;
   merged.pixel_mm = pixel;
-  merged.observed_everywhere = everywhere;
-  if (!everywhere) merged.extent = {extentBox.min(), extentBox.max()};
-  merged.field_of_view.clear();
-  Eigen::AlignedBox2d all = box;
-  if (!everywhere) all.extend(extentBox);
-  if (all.isEmpty()) {  // nothing observed, no section: nothing to agree on
+  observedUnion(planes, g, tol, merged);
+  const bool anyLabels = labelled && std::any_of(g.members.begin(), g.members.end(),
+                                                 [&](std::size_t k) { return !(*labelled)[k].empty(); });
+  if (box.isEmpty()) {  // no member holds a section
     merged.sections.clear();
+    stats->voting = int(g.members.size());
     return merged;
   }
-  const double diag = std::max(all.diagonal().norm(), 1e-300);
-  Raster r;
-  r.step = pixel > 0 ? pixel : diag / kStepsPerDiagonal;
-  const double gap = std::min(largestGap(sections), diag);
-  double band = std::max(kBandSteps * r.step, 1.5 * gap + 2 * r.step);
-  const double margin = band + 2 * r.step;
-  const Vec2 lo = all.min() - Vec2::Constant(margin), hi = all.max() + Vec2::Constant(margin);
-  const double area = (hi - lo).prod();
-  if (area / (r.step * r.step) > kMaxNodes) r.step = std::sqrt(area / kMaxNodes);
-  r.origin = Vec2(std::floor(lo.x() / r.step) * r.step, std::floor(lo.y() / r.step) * r.step);
-  r.nu = int(std::ceil((hi.x() - r.origin.x()) / r.step)) + 1;
-  r.nv = int(std::ceil((hi.y() - r.origin.y()) / r.step)) + 1;
-  band = std::max(band, kBandSteps * r.step);  // the step may have grown
-
-  std::vector<std::vector<char>> observed(g.members.size(), std::vector<char>(r.count()));
-  std::vector<char> observedAny(r.count(), 0);
-  for (std::size_t m = 0; m < g.members.size(); ++m)
-    for (int j = 0; j < r.nv; ++j)
-      for (int i = 0; i < r.nu; ++i) {
-        const std::size_t n = std::size_t(j) * std::size_t(r.nu) + std::size_t(i);
-        observed[m][n] = observes(first, planes[g.members[m]], r.node(i, j));
-        observedAny[n] |= observed[m][n];
-      }
-  const int label = first.sections.empty() ? 1 : first.sections.front().label;
-  merged.sections = consensusSections(sections, observed, r, band, label, stats);
-  if (labelled && !labelled->empty()) {
-    std::set<int> labels;
+  int voting = 0;
+  for (const auto& s : sections) voting += !s.empty();
+  if (votersAgree(sections, tol) && !anyLabels) {  // one contour set, seen again: kept as it is
+    stats->voting = voting;
+    merged.sections = *std::find_if(sections.begin(), sections.end(), [](const auto& s) { return !s.empty(); });
+    return merged;
+  }
+  int layers = int(g.members.size());
+  std::set<int> labels;
+  if (anyLabels)
     for (const std::size_t k : g.members)
       for (const Section& s : (*labelled)[k]) labels.insert(s.label);
-    std::vector<Section> perLabel;
-    CoincidentConsensus ignored;  // the disagreement is reported for the union of the labels
+  layers += int(labels.size()) * int(g.members.size());
+  const Raster r = rasterAround(box, pixel > 0 ? pixel : box.diagonal().norm() / kStepsPerExtent, layers, kMaxNodes);
+  std::vector<cv::Mat> observed;
+  for (const std::size_t k : g.members) observed.push_back(observedMask(first, planes[k], r));
+  const int label = first.sections.empty() ? 1 : first.sections.front().label;
+  const cv::Mat unionField = consensusField(sections, observed, r, how, stats);
+  merged.sections = sectionsOfRings(isoContours(unionField), r, label);
+  if (anyLabels) {
+    // Each label's consensus field f_L on the same raster. The labels are traced together so that
+    // they tile the plane, from g_L = f_L + (U - max_M f_M), U the union's field: the same
+    // boundaries between labels (g_L - g_M = f_L - f_M), and max_L g_L = U, so that the labels'
+    // union is the plane's sections (iso_contours.h: labelIsoContours decides the background as
+    // isoContours decides it on the largest field).
+    std::vector<LabelField> fields;
+    cv::Mat all(r.nv, r.nu, CV_32F, cv::Scalar(-1e30f));
     for (const int L : labels) {
       std::vector<std::vector<Section>> ofLabel;
       for (const std::size_t k : g.members) {
         std::vector<Section> withL;
         for (const Section& s : (*labelled)[k])
           if (s.label == L) withL.push_back(s);
-        ofLabel.push_back(sectionsInFirstFrame(first, planes[k], withL));
+        ofLabel.push_back(sectionsInFirstFrame(first, planes[k], std::move(withL)));
       }
-      for (Section& s : consensusSections(ofLabel, observed, r, band, L, &ignored)) perLabel.push_back(std::move(s));
+      LabelField f{L, cv::Rect(0, 0, r.nu, r.nv), consensusField(ofLabel, observed, r, how, nullptr)};
+      all = cv::max(all, f.field);
+      fields.push_back(std::move(f));
     }
+    const cv::Mat lift = unionField - all;
+    for (LabelField& f : fields) f.field += lift;
+    std::map<int, std::vector<Ring>> ringsOf;
+    for (LabelRing& lr : labelIsoContours(cv::Size(r.nu, r.nv), fields, -1.0f))
+      ringsOf[lr.label].push_back(std::move(lr.ring));
+    std::vector<Section> perLabel;
+    for (auto& [L, rings] : ringsOf)
+      for (Section& s : sectionsOfRings(std::move(rings), r, L)) perLabel.push_back(std::move(s));
     (*labelled)[g.members.front()] = std::move(perLabel);
   }
-  // The merged plane's field of view: where any member observed, unless that is the whole rectangle.
-  if (!everywhere) {
-    bool whole = true;
-    const Vec2 shrink = Vec2::Constant(0.5 * r.step);
-    cv::Mat seen(r.nv, r.nu, CV_32F);
-    for (int j = 0; j < r.nv; ++j)
-      for (int i = 0; i < r.nu; ++i) {
-        const std::size_t n = std::size_t(j) * std::size_t(r.nu) + std::size_t(i);
-        seen.at<float>(j, i) = observedAny[n] ? 0.5f : -0.5f;
-        const Vec2 q = r.node(i, j);
-        if (!observedAny[n] && (q.array() > (extentBox.min() + shrink).array()).all() &&
-            (q.array() < (extentBox.max() - shrink).array()).all())
-          whole = false;
-      }
-    if (!whole)
-      for (Ring ring : isoContours(seen)) {
-        for (Vec2& p : ring) p = r.node(0, 0) + r.step * p;
-        merged.field_of_view.push_back(std::move(ring));
-      }
+  if (merged.observed_everywhere) {  // a contour plane's extent is its sections' bounds
+    Eigen::AlignedBox2d bounds;
+    for (const Section& s : merged.sections) bounds.extend(ringBounds(s.outer));
+    if (!bounds.isEmpty()) merged.extent = {bounds.min(), bounds.max()};
   }
   return merged;
 }
@@ -239,20 +360,21 @@ CuttingPlane mergeGroup(const std::vector<CuttingPlane>& planes, const Coinciden
 
 CoincidentMerge mergeCoincidentPlanes(std::vector<CuttingPlane> planes,
                                       std::vector<std::vector<Section>> labelled) {
+  if (!labelled.empty() && labelled.size() != planes.size())
+    throw std::invalid_argument("mergeCoincidentPlanes: one row of labelled sections per plane, or none");
   CoincidentMerge out;
   const std::vector<CoincidentGroup> groups = coincidentGroups(planes);
-  std::vector<char> absorbed(planes.size(), 0);
+  std::vector<char> absorbed(planes.size(), 0), isFirst(planes.size(), 0);
   std::vector<CuttingPlane> mergedOf(planes.size());
   for (const CoincidentGroup& g : groups) {
     CoincidentConsensus c;
     c.group = g;
     for (const std::size_t k : g.members) c.slices.push_back(planes[k].slice);
     mergedOf[g.members.front()] = mergeGroup(planes, g, labelled.empty() ? nullptr : &labelled, &c);
+    isFirst[g.members.front()] = 1;
     for (std::size_t m = 1; m < g.members.size(); ++m) absorbed[g.members[m]] = 1;
     out.consensus.push_back(std::move(c));
   }
-  std::vector<char> isFirst(planes.size(), 0);
-  for (const CoincidentGroup& g : groups) isFirst[g.members.front()] = 1;
   for (std::size_t i = 0; i < planes.size(); ++i) {
     if (absorbed[i]) continue;
     out.planes.push_back(isFirst[i] ? std::move(mergedOf[i]) : std::move(planes[i]));

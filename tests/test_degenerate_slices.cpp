@@ -173,8 +173,8 @@ TEST(DegenerateSlices, CslRingsWithoutAreaAreDroppedAndSelfIntersectingOnesRefus
 TEST(DegenerateSlices, NearlyCoincidentAndNearlyParallelPlanes) {
   // Beside frames 3 and 9: their own image 3 pixels (0.6 mm) along the normal (nearly coincident,
   // distinct planes) and the next frame turned by 0.5 degree about its image's u axis (nearly
-  // parallel: its far edge 0.26 mm, more than half a pixel, off the frame's plane). Turned by 0.01
-  // degree instead (0.005 mm), it observes the frame's plane: merged.
+  // parallel: its far edge 0.26 mm off the frame's plane). Turned by 1e-5 degree instead (5e-6 mm,
+  // within a thousandth of a pixel), it observes the frame's plane: merged.
   const fs::path dir = fanPhantom("nearly");
   const std::vector<SliceRecord> slices = readSlicesFile((dir / "ph/slices.yaml").string());
   std::vector<SliceRecord> extra;
@@ -186,7 +186,7 @@ TEST(DegenerateSlices, NearlyCoincidentAndNearlyParallelPlanes) {
   EXPECT_TRUE(rep["watertight"].get<bool>());
   EXPECT_EQ(rep["betti"], json::array({1, 0, 0}));
   EXPECT_TRUE(rep["conformity"]["coincident_planes"].empty()) << rep["conformity"]["coincident_planes"];
-  extra = {moved(slices[4], Vec3::Zero(), 0.01)};
+  extra = {moved(slices[4], Vec3::Zero(), 1e-5)};
   rep = runConfig(withSlices(dir, "turned", extra), dir / "turned");
   EXPECT_TRUE(rep["watertight"].get<bool>());
   EXPECT_EQ(rep["betti"], json::array({1, 0, 0}));
