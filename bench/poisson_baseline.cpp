@@ -15,7 +15,7 @@
 // independent of how finely the segmentation traced the contour. Each point carries the normal a
 // user can know from a planar contour: in the plane, perpendicular to the contour, out of the solid.
 // Rings are in the plane's (u, v) frame, outer rings counter-clockwise and holes clockwise
-// (geometry/types.h), so an edge direction (dx, dy) has outward normal (dy, -dx); the normal at a
+// (geometry/core/types.h), so an edge direction (dx, dy) has outward normal (dy, -dx); the normal at a
 // vertex is the normalised sum of its two edges' normals, and a sample's normal interpolates its
 // edge's two vertex normals linearly (a smooth normal field, not one that jumps at every pixel step
 // of the traced contour).
@@ -49,7 +49,7 @@
 #include <utility>
 #include <vector>
 
-#include "geometry/types.h"
+#include "geometry/core/types.h"
 #include "io/csl_file.h"
 #include "io/input_error.h"
 #include "io/mesh_io.h"

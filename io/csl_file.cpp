@@ -6,8 +6,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "geometry/polygon.h"
-#include "geometry/ring_validity.h"
+#include "geometry/core/polygon.h"
+#include "geometry/core/ring_validity.h"
 #include "io/input_error.h"
 
 namespace xsect {

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/types.h"
+#include "geometry/core/types.h"
 
 namespace xsect {
 
@@ -16,7 +16,7 @@ namespace xsect {
 /// (outer counter-clockwise, holes clockwise). Labels are ignored (one material).
 /// Contours are cleaned of repeated vertices; a ring without area (a point or a segment: the
 /// section of a tangent plane) is dropped with a warning naming its plane and component; a
-/// self-intersecting ring is an error naming them (geometry/ring_validity.h).
+/// self-intersecting ring is an error naming them (geometry/core/ring_validity.h).
 /// Throws InputError naming the file, line and field on malformed content.
 std::vector<CuttingPlane> readCslFile(const std::string& path, std::vector<std::string>* warnings = nullptr);
 

@@ -32,7 +32,7 @@
 
 #include <string>
 
-#include "geometry/types.h"
+#include "geometry/core/types.h"
 
 namespace xsect {
 

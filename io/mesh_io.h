@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "geometry/types.h"
+#include "geometry/core/types.h"
 
 namespace xsect {
 

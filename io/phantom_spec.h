@@ -6,7 +6,7 @@
 //   shape:
 //     kind: torus                   # sphere | ellipsoid | torus | genus2 | hollow_sphere |
 //                                   # two_spheres | vessel_tree | twisted_cylinder | notched_torus
-//     params: {major_radius: 12, minor_radius: 4}   # per kind, see geometry/phantom_shape.cpp
+//     params: {major_radius: 12, minor_radius: 4}   # per kind, see geometry/phantoms/phantom_shape.cpp
 //     [centre: [0, 0, 0]]           # world position of the shape's origin, mm
 //     [rotation_deg: [0, 0, 0]]     # xyz Euler angles: R = Rz * Ry * Rx
 //     [label_split: {[point: [0, 0, 0]], normal: [1, 0, 0]}]   # two-label phantom (shape frame):
@@ -45,8 +45,8 @@
 #include <string>
 #include <vector>
 
-#include "geometry/phantom_shape.h"
-#include "geometry/slicing_pattern.h"
+#include "geometry/phantoms/phantom_shape.h"
+#include "geometry/phantoms/slicing_pattern.h"
 
 namespace xsect {
 

@@ -102,27 +102,24 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
   const YAML::Node input = section("input");
   if (!input) throw InputError(path, "input", "missing (input.slices, input.csl, ...)");
   int sources = 0;
-  for (const char* k : {"slices", "csl", "contour", "plus_sequence"}) {
+  for (const NamedChoice<InputKind>& kind : kInputKinds) {
+    const char* k = kind.name;
     if (!input[k]) continue;
     ++sources;
-    c.input_kind = k;
+    c.input_kind = kind.value;
     c.input_path = resolvePath(base, yamlString(input[k], path, std::string("input.") + k));
   }
   if (sources != 1)
     throw InputError(path, "input", "exactly one of slices, csl, contour, plus_sequence is required",
                      yamlLine(input));
   if (!fs::is_regular_file(c.input_path))
-    throw InputError(path, "input." + c.input_kind, "file not found: " + c.input_path,
-                     yamlLine(input[c.input_kind]));
+    throw InputError(path, std::string("input.") + nameOf(kInputKinds, c.input_kind), "file not found: " + c.input_path,
+                     yamlLine(input[nameOf(kInputKinds, c.input_kind)]));
 
   if (const YAML::Node s = section("segmentation")) {
     auto& p = c.segmentation;
     if (s["method"]) {
-      p.method = yamlString(s["method"], path, "segmentation.method");
-      if (p.method != "threshold" && p.method != "otsu" && p.method != "labels")
-        throw InputError(path, "segmentation.method",
-                         "unknown method '" + p.method + "' (threshold | otsu | labels)",
-                         yamlLine(s["method"]));
+      p.method = yamlChoice(s["method"], path, "segmentation.method", kSegmentationMethods, "method");
     }
     const auto num = [&](const char* k, double lo, double* out) {
       if (!s[k]) return;
@@ -148,11 +145,7 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
     if (s["enforce"]) f.enforce = yamlBool(s["enforce"], path, "conformity.enforce");
     if (s["drop_flagged"]) f.drop_flagged = yamlBool(s["drop_flagged"], path, "conformity.drop_flagged");
     if (s["mode"]) {
-      f.mode = yamlString(s["mode"], path, "conformity.mode");
-      if (f.mode != "intersection" && f.mode != "union" && f.mode != "average")
-        throw InputError(path, "conformity.mode",
-                         "unknown mode '" + f.mode + "' (intersection | union | average)",
-                         yamlLine(s["mode"]));
+      f.mode = yamlChoice(s["mode"], path, "conformity.mode", kConsensusModes, "mode");
     }
     const auto positive = [&](const char* k, double* out) {
       if (!s[k]) return;
@@ -167,9 +160,9 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
     positive("flag_mm", &f.flag_mm);
     if (const YAML::Node n = s["pose_smoothing_frames"]) {
       f.pose_smoothing_frames = yamlInteger(n, path, "conformity.pose_smoothing_frames", 0, 1000);
-      if (f.pose_smoothing_frames > 0 && c.input_kind != "slices" && c.input_kind != "plus_sequence")
+      if (f.pose_smoothing_frames > 0 && c.input_kind != InputKind::slices && c.input_kind != InputKind::plus_sequence)
         throw InputError(path, "conformity.pose_smoothing_frames",
-                         "smooths a tracked sweep's poses: only for input.slices, not input." + c.input_kind,
+                         std::string("smooths a tracked sweep's poses: only for input.slices, not input.") + nameOf(kInputKinds, c.input_kind),
                          yamlLine(n));
     }
     if (s["min_angle_deg"]) {
@@ -182,13 +175,8 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
 
   if (const YAML::Node s = section("reconstruction")) {
     if (s["method"]) {
-      c.reconstruction_method = yamlString(s["method"], path, "reconstruction.method");
-      if (c.reconstruction_method != "nearest_plane" &&
-          c.reconstruction_method != "section_voronoi")
-        throw InputError(path, "reconstruction.method",
-                         "unknown method '" + c.reconstruction_method +
-                             "' (nearest_plane | section_voronoi)",
-                         yamlLine(s["method"]));
+      c.reconstruction_method =
+          yamlChoice(s["method"], path, "reconstruction.method", kReconstructionMethods, "method");
     }
     if (const YAML::Node v = s["voxel_size_mm"]) {
       if (!(v.IsScalar() && v.Scalar() == "auto")) {
@@ -215,12 +203,7 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
   }
   if (const YAML::Node s = section("smoothing")) {
     if (s["method"]) {
-      c.smoothing_method = yamlString(s["method"], path, "smoothing.method");
-      if (c.smoothing_method != "none" && c.smoothing_method != "shepard" &&
-          c.smoothing_method != "level_set")
-        throw InputError(path, "smoothing.method",
-                         "unknown method '" + c.smoothing_method + "' (none | shepard | level_set)",
-                         yamlLine(s["method"]));
+      c.smoothing_method = yamlChoice(s["method"], path, "smoothing.method", kSmoothingMethods, "method");
     }
     if (s["exponent"]) {
       const YAML::Node e = s["exponent"];

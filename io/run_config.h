@@ -6,20 +6,40 @@
 #include <string>
 #include <vector>
 
+#include "geometry/conformity/consensus_mode.h"
+#include "geometry/core/named_choice.h"
+#include "geometry/reconstruction/reconstruction_method.h"
 #include "segmentation/segment_slice.h"
 
 namespace xsect {
 
+/// Where the sections come from: `input.<kind>` (exactly one).
+enum class InputKind { slices, csl, contour, plus_sequence };
+constexpr std::array<NamedChoice<InputKind>, 4> kInputKinds{{
+    {InputKind::slices, "slices"},
+    {InputKind::csl, "csl"},
+    {InputKind::contour, "contour"},
+    {InputKind::plus_sequence, "plus_sequence"},
+}};
+
+/// `smoothing.method`: the surface output besides the method's solid (GUIDE.md stage 6).
+enum class SmoothingMethod { none, shepard, level_set };
+constexpr std::array<NamedChoice<SmoothingMethod>, 3> kSmoothingMethods{{
+    {SmoothingMethod::none, "none"},
+    {SmoothingMethod::shepard, "shepard"},
+    {SmoothingMethod::level_set, "level_set"},
+}};
+
 struct RunConfig {
   std::string path;                 ///< the configuration file (absolute)
   // input (exactly one)
-  std::string input_kind;           ///< slices | csl | contour | plus_sequence
+  InputKind input_kind = InputKind::slices;
   std::string input_path;           ///< resolved against the configuration file
   SegmentationParams segmentation;
-  /// Stage 3, conformity along plane intersections (geometry/conformity_enforcement.h).
+  /// Stage 3, conformity along plane intersections (geometry/conformity/conformity_enforcement.h).
   struct Conformity {
     bool enforce = false;             ///< edit the sections so that traces agree
-    std::string mode = "union";       ///< intersection | union | average
+    ConsensusMode mode = ConsensusMode::union_;
     double max_correction_mm = 5.0;   ///< larger corrections are reported, not applied
     double band_mm = 2.0;             ///< edits stay within this distance of their line
     double min_angle_deg = 5.0;       ///< pairs of planes at a smaller angle are not compared
@@ -28,18 +48,18 @@ struct RunConfig {
     double flag_mm = 3.0;
     bool drop_flagged = false;        ///< flagged slices are left out of the reconstruction
     /// Tracked sweeps: the poses are smoothed over this many frames on each side, in the slices'
-    /// order (geometry/pose_smoothing.h); 0 = off.
+    /// order (geometry/conformity/pose_smoothing.h); 0 = off.
     int pose_smoothing_frames = 0;
   } conformity;
-  std::string reconstruction_method = "nearest_plane";  ///< nearest_plane | section_voronoi
+  ReconstructionMethod reconstruction_method = ReconstructionMethod::nearest_plane;
   /// The voxel size, mm: the configuration's, or, when voxel_size_auto, 0 until the run resolves
-  /// it from the sections (geometry/automatic_voxel_size.h).
+  /// it from the sections (geometry/reconstruction/automatic_voxel_size.h).
   double voxel_size_mm = 0;
   bool voxel_size_auto = true;                          ///< `auto` (the default)
   std::int64_t voxel_budget = 4000000;                  ///< auto: the largest grid, voxels
   std::optional<double> end_margin_mm;                  ///< empty = auto
   bool conformal_mesh = true;  ///< cut the mesh along the planes onto the section contours
-  std::string smoothing_method = "none";                ///< none | shepard | level_set
+  SmoothingMethod smoothing_method = SmoothingMethod::none;
   double smoothing_exponent = 1.0;                      ///< Shepard: g(t) = t^p; +inf allowed
   std::optional<double> smoothing_cap_mm;               ///< Shepard: clamp of f_i; empty = auto
   double smoothing_adaptivity = 0.0;                    ///< OpenVDB mesh adaptivity in [0, 1]

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "io/input_error.h"
+#include "io/text_file.h"
 #include "io/yaml_fields.h"
 #include "io/yaml_number.h"
 
@@ -103,10 +104,7 @@ void writeSlicesFile(const std::string& path, const std::vector<SliceRecord>& sl
     }
     if (s.fov) os << "    fov: " << *s.fov << "\n";
   }
-  std::ofstream f(path, std::ios::binary);
-  if (!f) throw std::runtime_error("cannot write " + path);
-  f << os.str();
-  if (!f) throw std::runtime_error("write failed: " + path);
+  writeTextFile(path, std::string(os.str()));
 }
 
 }  // namespace xsect

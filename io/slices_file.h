@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/types.h"
+#include "geometry/core/types.h"
 
 namespace xsect {
 

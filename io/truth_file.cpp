@@ -23,6 +23,7 @@
 #include <sstream>
 
 #include "io/input_error.h"
+#include "io/text_file.h"
 #include "io/yaml_fields.h"
 #include "io/yaml_number.h"
 
@@ -134,10 +135,7 @@ void writeTruthFile(const std::string& path, const PhantomShape& shape) {
   out << YAML::Key << "reach_exterior_mm" << YAML::Value << yamlNumberText(reachExterior(shape));
   out << YAML::Key << "exact_distance" << YAML::Value << hasExactDistance(shape);
   out << YAML::EndMap;
-  std::ofstream f(path, std::ios::binary);
-  if (!f) throw std::runtime_error("cannot write " + path);
-  f << out.c_str() << "\n";
-  if (!f) throw std::runtime_error("write failed: " + path);
+  writeTextFile(path, std::string(out.c_str()) + "\n");
 }
 
 PhantomShape readTruthFile(const std::string& path) {

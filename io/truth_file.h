@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "geometry/phantom_shape.h"
+#include "geometry/phantoms/phantom_shape.h"
 
 namespace xsect {
 

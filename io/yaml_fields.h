@@ -7,6 +7,7 @@
 #include <cmath>
 #include <string>
 
+#include "geometry/core/named_choice.h"
 #include "io/input_error.h"
 
 namespace xsect {
@@ -54,6 +55,15 @@ inline std::string yamlString(const YAML::Node& n, const std::string& file,
                               const std::string& key) {
   if (!n || !n.IsScalar()) throw InputError(file, key, "expected a string", yamlLine(n));
   return n.Scalar();
+}
+
+/// The choice `n` names in `table`; InputError "unknown <noun> 'x' (a | b | c)" otherwise.
+template <typename E, std::size_t N>
+E yamlChoice(const YAML::Node& n, const std::string& file, const std::string& key,
+             const std::array<NamedChoice<E>, N>& table, const std::string& noun) {
+  const std::string name = yamlString(n, file, key);
+  if (const std::optional<E> v = choiceNamed(table, name)) return *v;
+  throw InputError(file, key, "unknown " + noun + " '" + name + "' (" + choiceNames(table) + ")", yamlLine(n));
 }
 
 inline bool yamlBool(const YAML::Node& n, const std::string& file, const std::string& key) {

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "geometry/conformity_enforcement.h"
-#include "geometry/plane_pair_traces.h"
-#include "geometry/pose_smoothing.h"
+#include "geometry/conformity/conformity_enforcement.h"
+#include "geometry/arrangement/plane_pair_traces.h"
+#include "geometry/conformity/pose_smoothing.h"
 #include "segmentation/coincident_consensus.h"
 
 namespace xsect {
@@ -84,12 +84,6 @@ std::string number(double v) {
 }
 
 std::string mm(double v) { return number(v) + " mm"; }
-
-ConsensusMode modeOf(const std::string& m) {
-  return m == "intersection" ? ConsensusMode::intersection
-         : m == "union"      ? ConsensusMode::union_
-                             : ConsensusMode::average;
-}
 
 }  // namespace
 
@@ -225,7 +219,7 @@ ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<Cut
   int unmeasuredDisturbed = 0;
   if (settings.enforce) {
     ConformityParams params;
-    params.mode = modeOf(settings.mode);
+    params.mode = settings.mode;
     params.max_correction_mm = settings.max_correction_mm;
     params.band_mm = settings.band_mm;
     params.tolerance_mm = kAgree;
@@ -287,7 +281,7 @@ ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<Cut
   const json afterSummary = settings.enforce ? pairsSummary(after) : json(nullptr);
   out.summary = {{"enforce", settings.enforce},
                  {"coincident_planes", coincident},
-                 {"mode", settings.mode},
+                 {"mode", nameOf(kConsensusModes, settings.mode)},
                  {"max_correction_mm", settings.max_correction_mm},
                  {"band_mm", settings.band_mm},
                  {"min_angle_deg", settings.min_angle_deg},
@@ -344,7 +338,7 @@ ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<Cut
            std::to_string(worst[0]["slice_b"].get<int>()) + ")";
   }
   if (settings.enforce)
-    s += "\nconformity: enforced (" + settings.mode + ") on " + std::to_string(corrected) +
+    s += std::string("\nconformity: enforced (") + nameOf(kConsensusModes, settings.mode) + ") on " + std::to_string(corrected) +
          " pairs; after: max " + mm(afterSummary["max_mismatch_mm"].get<double>()) +
          (overMax ? "; " + std::to_string(overMax) + " pairs over max_correction_mm left as they were" : "");
   out.stderr_summary = s;

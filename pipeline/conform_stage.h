@@ -2,7 +2,7 @@
 // measures, for every pair of slices whose observed regions meet, how their sections' traces on
 // the common line disagree; flags slices whose disagreement with the others is too large to be
 // segmentation noise (probable tracking or segmentation failures) and optionally drops them;
-// optionally enforces a consensus trace on every line (geometry/conformity_enforcement.h) and
+// optionally enforces a consensus trace on every line (geometry/conformity/conformity_enforcement.h) and
 // measures again. Its report goes to report.json (summary) and conformity.json (per pair and per
 // slice).
 #pragma once
@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/types.h"
+#include "geometry/core/types.h"
 #include "io/run_config.h"
 
 namespace xsect {

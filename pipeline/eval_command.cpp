@@ -24,12 +24,13 @@
 #include <sstream>
 #include <unistd.h>
 
-#include "geometry/mesh_distance.h"
-#include "geometry/mesh_topology.h"
-#include "geometry/phantom_shape.h"
-#include "geometry/plane_cut.h"
-#include "geometry/polygon.h"
+#include "geometry/evaluation/mesh_distance.h"
+#include "geometry/meshing/mesh_topology.h"
+#include "geometry/phantoms/phantom_shape.h"
+#include "geometry/evaluation/plane_cut.h"
+#include "geometry/core/polygon.h"
 #include "io/input_error.h"
+#include "io/text_file.h"
 #include "io/mesh_io.h"
 #include "io/slices_file.h"
 #include "io/truth_file.h"
@@ -58,7 +59,7 @@ std::vector<CuttingPlane> loadSections(const std::string& slicesPath, double thr
                                        Progress* progress) {
   const std::vector<SliceRecord> slices = readSlicesFile(slicesPath);
   SegmentationParams params;
-  params.method = "threshold";
+  params.method = SegmentationMethod::threshold;
   params.threshold = threshold;
   progress->stage("eval: segmenting " + std::to_string(slices.size()) + " slices");
   return sectionsFromSlices(slices, slicesPath, params, nullptr);
@@ -89,33 +90,6 @@ json conformity(const TriangleMesh& mesh, const std::vector<CuttingPlane>& plane
     progress->update(double(i + 1) / double(planes.size()));
   }
   return list;
-}
-
-/// Writes `text` to `path` through a temporary file in the same folder and a rename, so the
-/// file is either the old one or complete.
-void writeAtomically(const std::string& path, const std::string& text) {
-  const fs::path target = fs::absolute(fs::path(path));
-  if (!target.parent_path().empty()) fs::create_directories(target.parent_path());
-  const fs::path tmp = target.parent_path() /
-                       ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()));
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot write " + tmp.string());
-    out << text;
-    out.close();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw std::runtime_error("error while writing " + tmp.string());
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    const std::string why = ec.message();
-    fs::remove(tmp, ec);
-    throw std::runtime_error("cannot move " + tmp.string() + " to " + target.string() + ": " + why);
-  }
 }
 
 }  // namespace
@@ -229,7 +203,7 @@ int evalCommand(const EvalOptions& options) {
   }
   progress.finish();
 
-  writeAtomically(options.json, out.dump(2) + "\n");
+  writeTextFileAtomically(options.json, out.dump(2) + "\n");
   if (!options.quiet) {
     std::ostringstream s;
     s << "eval: hausdorff " << dist.hausdorffMm() << " mm, mean " << dist.meanMm()

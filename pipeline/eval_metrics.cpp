@@ -11,7 +11,7 @@
 #include <cmath>
 #include <optional>
 
-#include "geometry/random_streams.h"
+#include "geometry/core/random_streams.h"
 
 namespace xsect {
 namespace {

@@ -9,8 +9,8 @@
 #include <functional>
 #include <vector>
 
-#include "geometry/mesh_distance.h"
-#include "geometry/types.h"
+#include "geometry/evaluation/mesh_distance.h"
+#include "geometry/core/types.h"
 
 namespace xsect {
 

@@ -5,7 +5,7 @@
 
 #include <map>
 
-#include "geometry/plane_of_pose.h"
+#include "geometry/core/plane_of_pose.h"
 #include "io/file_hash.h"
 #include "io/image_io.h"
 #include "io/input_error.h"
@@ -72,12 +72,12 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
   }
   // Otsu: one threshold for the series, from the pooled histogram (series_threshold.h).
   SegmentationParams perSlice = params;
-  if (params.method == "otsu") {
-    perSlice.method = "threshold";
+  if (params.method == SegmentationMethod::otsu) {
+    perSlice.method = SegmentationMethod::threshold;
     perSlice.threshold = otsuThresholdOfSeries(images, fovs, params.sigma_px);
     if (thresholdUsed) *thresholdUsed = perSlice.threshold;
   } else if (thresholdUsed) {
-    *thresholdUsed = params.method == "labels" ? 0.5 : params.threshold;
+    *thresholdUsed = params.method == SegmentationMethod::labels ? 0.5 : params.threshold;
   }
   if (labelled) labelled->assign(std::size_t(n), {});
   tbb::parallel_for(0, n, [&](int i) {
@@ -91,11 +91,11 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
     cp.extent.max = Vec2((images[i].cols - 1) * spacing.x(), (images[i].rows - 1) * spacing.y());
     cp.field_of_view = fieldOfViewRings(fovs[i], spacing);
     if (!fovs[i].empty() && cv::countNonZero(fovs[i]) == 0) cp.extent = PlaneRect{};  // observed nowhere
-    const bool perLabel = perSlice.method == "labels" && labelled;
+    const bool perLabel = perSlice.method == SegmentationMethod::labels && labelled;
     if (perLabel && !perSlice.merge_labels)
       (*labelled)[std::size_t(i)] = segmentSlice(images[i], fovs[i], spacing, perSlice).sections;
     cv::Mat input = images[i];
-    if (perSlice.method == "labels") {  // the union of the labels: the geometry reconstructed
+    if (perSlice.method == SegmentationMethod::labels) {  // the union of the labels: the geometry reconstructed
       input = cv::Mat(images[i].size(), CV_8U);
       input.setTo(0);
       input.setTo(1, images[i] != 0);

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/types.h"
+#include "geometry/core/types.h"
 #include "io/slices_file.h"
 #include "segmentation/segment_slice.h"
 

@@ -20,6 +20,7 @@
 #include <tbb/parallel_for.h>
 
 #include "io/input_error.h"
+#include "io/text_file.h"
 #include "io/phantom_spec.h"
 #include "io/slices_file.h"
 #include "io/staged_output.h"
@@ -88,13 +89,6 @@ std::string configYaml(const PhantomSpec& spec) {
   YAML::Emitter out;
   out << c;
   return std::string(out.c_str()) + "\n";
-}
-
-void writeText(const fs::path& path, const std::string& text) {
-  std::ofstream f(path, std::ios::binary);
-  if (!f) throw std::runtime_error("cannot write " + path.string());
-  f << text;
-  if (!f) throw std::runtime_error("write failed: " + path.string());
 }
 
 }  // namespace
@@ -187,7 +181,7 @@ int phantomCommand(const PhantomOptions& options) {
   writeSlicesFile(out.file("slices.yaml").string(), recorded);
   writeSlicesFile(out.file("true_poses.yaml").string(), truth);
   writeTruthFile(out.file("truth.yaml").string(), shape);
-  writeText(out.file("config.yaml"), configYaml(spec));
+  writeTextFile(out.file("config.yaml").string(), configYaml(spec));
   out.commit();
 
   const int nClipped = int(std::count(clipped.begin(), clipped.end(), 1));

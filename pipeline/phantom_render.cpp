@@ -6,9 +6,9 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "geometry/plane_of_pose.h"
-#include "geometry/random_streams.h"
-#include "geometry/vessel_tree.h"
+#include "geometry/core/plane_of_pose.h"
+#include "geometry/core/random_streams.h"
+#include "geometry/phantoms/vessel_tree.h"
 
 namespace xsect {
 namespace {

@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <opencv2/core.hpp>
 
-#include "geometry/phantom_shape.h"
-#include "geometry/slicing_pattern.h"
+#include "geometry/phantoms/phantom_shape.h"
+#include "geometry/phantoms/slicing_pattern.h"
 #include "io/phantom_spec.h"
 
 namespace xsect {

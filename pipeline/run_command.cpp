@@ -12,21 +12,22 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "geometry/cell_connectivity_check.h"
-#include "geometry/conformal_cut.h"
+#include "geometry/arrangement/cell_connectivity_check.h"
+#include "geometry/meshing/conformal_cut.h"
 #include "pipeline/smooth_stage.h"
 #include "io/level_set_file.h"
-#include "geometry/connectivity_graph.h"
-#include "geometry/digital_topology.h"
-#include "geometry/mesh_topology.h"
-#include "geometry/polygon.h"
-#include "geometry/sampled_reconstruction.h"
-#include "geometry/section_arrangement.h"
-#include "geometry/volume_mesher.h"
-#include "geometry/voxel_labels.h"
+#include "geometry/arrangement/connectivity_graph.h"
+#include "geometry/core/digital_topology.h"
+#include "geometry/meshing/mesh_topology.h"
+#include "geometry/core/polygon.h"
+#include "geometry/reconstruction/sampled_reconstruction.h"
+#include "geometry/arrangement/section_arrangement.h"
+#include "geometry/meshing/volume_mesher.h"
+#include "geometry/reconstruction/voxel_labels.h"
 #include "io/csl_file.h"
 #include "io/file_hash.h"
 #include "io/input_error.h"
+#include "io/text_file.h"
 #include "io/label_volume_file.h"
 #include "io/mesh_io.h"
 #include "io/run_config.h"
@@ -88,21 +89,21 @@ Inputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress) {
   in.input_files.push_back(c.path);
   in.input_files.push_back(c.input_path);
   std::vector<SliceRecord> slices;
-  if (c.input_kind == "slices") {
+  if (c.input_kind == InputKind::slices) {
     slices = mergeRepeatedSlices(readSlicesFile(c.input_path, &in.warnings), &in.warnings);
     for (const auto& s : slices) {
       in.input_files.push_back(s.image_resolved);
       if (s.fov_resolved) in.input_files.push_back(*s.fov_resolved);
     }
-  } else if (c.input_kind == "csl") {
+  } else if (c.input_kind == InputKind::csl) {
     in.planes = readCslFile(c.input_path, &in.warnings);
   } else {
-    throw InputError(c.path, "input." + c.input_kind,
+    throw InputError(c.path, std::string("input.") + nameOf(kInputKinds, c.input_kind),
                      "this input kind is not available in this version (slices | csl)");
   }
   clock.end("load");
   progress.stage("segment");
-  if (c.input_kind == "slices")
+  if (c.input_kind == InputKind::slices)
     in.planes = sectionsFromSlices(slices, c.input_path, c.segmentation, &in.warnings, &in.threshold,
                                    &in.labelled);
   in.slices = int(in.planes.size());
@@ -192,12 +193,6 @@ void requireMeshBoundsSolid(const MeshTopology& mesh, const Betti& solid, const 
                            betti(solid) + "; nothing written (a defect of xsect: please report it with the configuration)");
 }
 
-void writeText(const fs::path& p, const std::string& text) {
-  std::ofstream f(p, std::ios::binary);
-  f << text;
-  if (!f) throw std::runtime_error("cannot write " + p.string());
-}
-
 }  // namespace
 
 int runCommand(const RunOptions& o) {
@@ -279,13 +274,13 @@ int runCommand(const RunOptions& o) {
   clock.end("arrange");
 
   // Stage 6: the smooth surface (optional).
-  const bool smoothing = c.smoothing_method != "none";
+  const bool smoothing = c.smoothing_method != SmoothingMethod::none;
   SmoothStage smooth;
   if (smoothing) {
     progress.stage("smooth");
     smooth = smoothStage(c, in.planes, rec, arrangement, methodEdges, graphCheck, cellCheck,
                          [&](double f) { progress.update(f); });
-    if (c.smoothing_method == "shepard" && !smooth.shepard_keeps_connectivity)
+    if (c.smoothing_method == SmoothingMethod::shepard && !smooth.shepard_keeps_connectivity)
       in.warnings.push_back("Shepard's surface joins the sections differently from the method's graph (" +
                             std::to_string(smooth.shepard_check.pairs_joined_by_graph_only) +
                             " pairs joined by the graph only, " +
@@ -373,7 +368,7 @@ int runCommand(const RunOptions& o) {
   const MeshTopology topo = meshTopology(mesh);
   const Betti smoothVoxelBetti = smoothing ? smooth.voxel_betti : Betti{0, 0, 0};
   requireMeshBoundsSolid(topo, smoothing ? smoothVoxelBetti : rec.voxel_betti,
-                         smoothing ? "the smoothed mesh (" + smooth.method + ")" : std::string("the mesh"));
+                         smoothing ? std::string("the smoothed mesh (") + nameOf(kSmoothingMethods, smooth.method) + ")" : std::string("the mesh"));
   const MeshTopology methodTopo = smoothing ? meshTopology(methodMesh) : topo;
   if (smoothing) requireMeshBoundsSolid(methodTopo, rec.voxel_betti, "the unsmoothed mesh");
   for (Material& m : materials) {
@@ -428,14 +423,14 @@ int runCommand(const RunOptions& o) {
   addEdges(graphs.g, "nearest_plane", "style=dashed");
   if (method2) addEdges(graphs.g_prime, "section_voronoi", "style=solid");
   dot += "}\n";
-  json graph = {{"method", c.reconstruction_method},
+  json graph = {{"method", nameOf(kReconstructionMethods, c.reconstruction_method)},
                 {"cells", arrangement.cells},
                 {"sample_spacing_mm", arrangement.sample_spacing_mm},
                 {"nodes", nodes},
                 {"edges", edges}};
-  writeText(out.file("graph.json"), graph.dump(2) + "\n");
-  writeText(out.file("graph.dot"), dot);
-  writeText(out.file("conformity.json"), in.conformity_details.dump(2) + "\n");
+  writeTextFile(out.file("graph.json").string(), graph.dump(2) + "\n");
+  writeTextFile(out.file("graph.dot").string(), dot);
+  writeTextFile(out.file("conformity.json").string(), in.conformity_details.dump(2) + "\n");
 
   const double total = [&] {
     double t = 0;
@@ -455,9 +450,9 @@ int runCommand(const RunOptions& o) {
                       {"voxels_inside", rec.voxels_inside},
                       {"mesh_vertices", mesh.vertices.size()},
                       {"mesh_triangles", mesh.triangles.size()}};
-  if (c.input_kind == "slices")
-    report["segmentation"] = {{"method", c.segmentation.method}, {"threshold_used", in.threshold}};
-  report["reconstruction"] = {{"method", c.reconstruction_method},
+  if (c.input_kind == InputKind::slices)
+    report["segmentation"] = {{"method", nameOf(kSegmentationMethods, c.segmentation.method)}, {"threshold_used", in.threshold}};
+  report["reconstruction"] = {{"method", nameOf(kReconstructionMethods, c.reconstruction_method)},
                               {"voxel_size_mm", c.voxel_size_mm},
                               {"voxel_size", voxelSizeJson(voxelSize)},
                               {"grid_origin_mm", vec(rec.field.grid.origin)},
@@ -493,7 +488,7 @@ int runCommand(const RunOptions& o) {
                      {"per_cell", cellsJson(cellCheck)}};
   if (smoothing) {
     const MeshTopology& mt = methodTopo;
-    const bool shepard = c.smoothing_method == "shepard";
+    const bool shepard = c.smoothing_method == SmoothingMethod::shepard;
     const auto check = [](const GraphVoxelCheck& g, const CellConnectivityCheck& cells) {
       return json{{"same_partition_as_graph", g.same_partition},
                   {"components", g.voxel_components},
@@ -515,8 +510,8 @@ int runCommand(const RunOptions& o) {
                        {"accepted", r.accepted}});
       return out;
     };
-    report["smoothing"] = {{"method", c.smoothing_method},
-                           {"surface_from", smooth.method},
+    report["smoothing"] = {{"method", nameOf(kSmoothingMethods, c.smoothing_method)},
+                           {"surface_from", nameOf(kSmoothingMethods, smooth.method)},
                            {"exponent", std::isinf(smooth.exponent) ? json("inf") : json(smooth.exponent)},
                            {"cap_mm", smooth.cap_mm},
                            {"cap_auto", smooth.cap_auto},
@@ -575,7 +570,7 @@ int runCommand(const RunOptions& o) {
                           {"method2_evaluate_s", rp.method == ReconstructionMethod::section_voronoi
                                                      ? json(rec.evaluate_seconds) : json(nullptr)}};
   report["warnings"] = in.warnings;
-  writeText(out.file("report.json"), report.dump(2) + "\n");
+  writeTextFile(out.file("report.json").string(), report.dump(2) + "\n");
 
   json manifest;
   manifest["config_path"] = c.path;
@@ -592,7 +587,7 @@ int runCommand(const RunOptions& o) {
     outputs.push_back(e.path().filename().string());
   std::sort(outputs.begin(), outputs.end());
   manifest["outputs"] = outputs;
-  writeText(out.file("manifest.json"), manifest.dump(2) + "\n");
+  writeTextFile(out.file("manifest.json").string(), manifest.dump(2) + "\n");
   out.commit();
   progress.finish();
   for (const auto& w : in.warnings) progress.note("warning: " + w);

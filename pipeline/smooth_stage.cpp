@@ -8,14 +8,14 @@
 #include <chrono>
 #include <cmath>
 
-#include "geometry/cell_refinement.h"
-#include "geometry/digital_topology.h"
-#include "geometry/contour_pinning.h"
-#include "geometry/plane_distance_function.h"
-#include "geometry/level_set_smoothing.h"
-#include "geometry/mesh_topology.h"
-#include "geometry/plane_evidence.h"
-#include "geometry/shepard_interpolant.h"
+#include "geometry/arrangement/cell_refinement.h"
+#include "geometry/core/digital_topology.h"
+#include "geometry/smoothing/contour_pinning.h"
+#include "geometry/smoothing/plane_distance_function.h"
+#include "geometry/smoothing/level_set_smoothing.h"
+#include "geometry/meshing/mesh_topology.h"
+#include "geometry/reconstruction/plane_evidence.h"
+#include "geometry/smoothing/shepard_interpolant.h"
 
 namespace xsect {
 
@@ -78,7 +78,7 @@ SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& rea
   // the grid) do not bias the surface between sections. With the largest section's radius as the
   // value instead, a sphere cut by 16 parallel planes shrank by 0.1 mm between its planes.
   out.empty_value_mm = rec.end_margin_mm;
-  if (c.smoothing_method == "shepard") {
+  if (c.smoothing_method == SmoothingMethod::shepard) {
     std::vector<PlaneDistanceFunction> f(planes.size());
     tbb::parallel_for(std::size_t(0), planes.size(), [&](std::size_t i) {
       f[i] = planeDistanceFunction(rec.fields[i], planes[i].plane, grid,
@@ -123,7 +123,7 @@ SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& rea
       out.shepard_keeps_connectivity = std::all_of(out.refined_cells.begin(), out.refined_cells.end(),
                                                    [](const CellRefinement& r) { return r.accepted; });
     }
-    out.method = "shepard";
+    out.method = SmoothingMethod::shepard;
     out.final_check = out.shepard_check;
     out.final_cells = out.shepard_cells;
   }
@@ -131,7 +131,7 @@ SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& rea
   // The level-set smoothing of the method's solid (asked for, or in place of a Shepard surface
   // that joins the sections differently): curvature flow with the planes' values held, stopped
   // before it changes how the sections are joined.
-  if (c.smoothing_method == "level_set" ||
+  if (c.smoothing_method == SmoothingMethod::level_set ||
       (c.smoothing_keep_connectivity && !out.shepard_keeps_connectivity)) {
     const PlaneEvidence evidence = evidenceOn(planes, rec.fields, rec.field.grid);
     const auto keeps = [&](std::vector<std::uint8_t> inside) {
@@ -148,8 +148,8 @@ SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& rea
     LevelSetSmoothingParams sp;
     sp.iterations = c.smoothing_iterations;
     LevelSetSmoothing ls = smoothSolidLevelSet(rec.field, planes, rec.fields, sp, keeps);
-    out.fell_back = c.smoothing_method == "shepard";
-    out.method = "level_set";
+    out.fell_back = c.smoothing_method == SmoothingMethod::shepard;
+    out.method = SmoothingMethod::level_set;
     out.iterations_applied = ls.iterations_applied;
     out.field = std::move(ls.field);
     std::vector<std::uint8_t> solid = solidOf(out.field);

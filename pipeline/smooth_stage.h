@@ -10,20 +10,20 @@
 #include <string>
 #include <vector>
 
-#include "geometry/cell_connectivity_check.h"
-#include "geometry/cell_refinement.h"
-#include "geometry/connectivity_graph.h"
-#include "geometry/contour_pinning.h"
-#include "geometry/digital_topology.h"
-#include "geometry/sampled_reconstruction.h"
-#include "geometry/section_arrangement.h"
-#include "geometry/volume_mesher.h"
+#include "geometry/arrangement/cell_connectivity_check.h"
+#include "geometry/arrangement/cell_refinement.h"
+#include "geometry/arrangement/connectivity_graph.h"
+#include "geometry/smoothing/contour_pinning.h"
+#include "geometry/core/digital_topology.h"
+#include "geometry/reconstruction/sampled_reconstruction.h"
+#include "geometry/arrangement/section_arrangement.h"
+#include "geometry/meshing/volume_mesher.h"
 #include "io/run_config.h"
 
 namespace xsect {
 
 struct SmoothStage {
-  std::string method;                 ///< what produced the surface: shepard | level_set
+  SmoothingMethod method = SmoothingMethod::none;  ///< what produced the surface: shepard | level_set
   LevelSetSurface surface;            ///< level set (level_set.vdb) and its mesh
   ScalarField field;                  ///< the dense field whose zero set it is (negative inside)
   double exponent = 1;                ///< Shepard's p

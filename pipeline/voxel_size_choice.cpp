@@ -5,8 +5,8 @@
 #include <cmath>
 #include <sstream>
 
-#include "geometry/median.h"
-#include "geometry/section_width.h"
+#include "geometry/core/median.h"
+#include "geometry/reconstruction/section_width.h"
 #include "io/input_error.h"
 
 namespace xsect {
@@ -53,8 +53,7 @@ void checkRepresentable(const RunConfig& c, const std::vector<CuttingPlane>& pla
 ReconstructionParams reconstructionParams(const RunConfig& c) {
   ReconstructionParams p;
   p.voxel_mm = c.voxel_size_mm;
-  p.method = c.reconstruction_method == "section_voronoi" ? ReconstructionMethod::section_voronoi
-                                                          : ReconstructionMethod::nearest_plane;
+  p.method = c.reconstruction_method;
   p.end_margin_mm = c.end_margin_mm;
   return p;
 }

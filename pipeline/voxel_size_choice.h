@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "geometry/automatic_voxel_size.h"
-#include "geometry/types.h"
+#include "geometry/reconstruction/automatic_voxel_size.h"
+#include "geometry/core/types.h"
 #include "io/run_config.h"
 
 namespace xsect {

@@ -6,7 +6,8 @@ and after a restructuring).
   python3 scripts/output_hashes.py --compare before.json after.json
 
 Every output file is hashed as written, except that report.json and manifest.json are hashed
-without what a run cannot repeat: wall times, peak memory, throughput and the thread count.
+without what a run cannot repeat (wall times, peak memory, throughput, the thread count) and with
+the work folder's path replaced by "<work>".
 """
 import argparse
 import hashlib
@@ -32,16 +33,18 @@ def without_unrepeatable(value):
     return value
 
 
-def file_hash(path):
+def file_hash(path, work):
     name = os.path.basename(path)
     if name in ("report.json", "manifest.json"):
-        data = json.dumps(without_unrepeatable(json.load(open(path))), sort_keys=True).encode()
+        # Paths inside are made relative to the work folder, so that two work folders compare.
+        text = json.dumps(without_unrepeatable(json.load(open(path))), sort_keys=True)
+        data = text.replace(os.path.abspath(work), "<work>").encode()
     else:
         data = open(path, "rb").read()
     return hashlib.sha256(data).hexdigest()
 
 
-def run_case(xsect, spec, sets, folder):
+def run_case(xsect, spec, sets, folder, work):
     """Renders the phantom `spec`, runs xsect on it with `sets`; {output name: hash} or an error."""
     subprocess.run([xsect, "phantom", spec, "--out", os.path.join(folder, "phantom"), "--quiet"], check=True)
     out = os.path.join(folder, "result")
@@ -51,7 +54,7 @@ def run_case(xsect, spec, sets, folder):
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         return {"exit": r.returncode, "stderr": r.stderr.strip().splitlines()[-1:]}
-    return {name: file_hash(os.path.join(out, name)) for name in sorted(os.listdir(out))}
+    return {name: file_hash(os.path.join(out, name), work) for name in sorted(os.listdir(out))}
 
 
 def main():
@@ -87,7 +90,7 @@ def main():
     hashes = {}
     for k, (case, (spec, sets)) in enumerate(cases.items()):
         print(f"[{k + 1}/{len(cases)}] {case}", file=sys.stderr)
-        hashes[case] = run_case(a.xsect, spec, sets, os.path.join(a.work, case.replace(" ", "-")))
+        hashes[case] = run_case(a.xsect, spec, sets, os.path.join(a.work, case.replace(" ", "-")), a.work)
     with open(a.out, "w") as f:
         json.dump(hashes, f, indent=1, sort_keys=True)
         f.write("\n")

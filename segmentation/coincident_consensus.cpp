@@ -10,8 +10,8 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "geometry/polygon.h"
-#include "geometry/section_distance_field.h"
+#include "geometry/core/polygon.h"
+#include "geometry/reconstruction/section_distance_field.h"
 #include "segmentation/iso_contours.h"
 
 namespace xsect {
@@ -85,7 +85,7 @@ std::array<Vec2, 4> corners(const PlaneRect& e) {
 }
 
 /// 1 where `member` observed the plane, on the raster: its image rectangle, narrowed by its field
-/// of view (even-odd, as geometry/section_traces.cpp reads it).
+/// of view (even-odd, as geometry/arrangement/section_traces.cpp reads it).
 cv::Mat observedMask(const CuttingPlane& first, const CuttingPlane& member, const Raster& r) {
   if (member.observed_everywhere) return cv::Mat(r.nv, r.nu, CV_8U, cv::Scalar(1));
   cv::Mat mask(r.nv, r.nu, CV_8U, cv::Scalar(0));

@@ -1,11 +1,11 @@
 // One section from several observations of one plane (issue 15, stage 3): the members of a group of
-// coincident planes (geometry/coincident_planes.h) become one cutting plane whose sections are the
+// coincident planes (geometry/arrangement/coincident_planes.h) become one cutting plane whose sections are the
 // consensus of theirs, and the disagreement between them is measured.
 //
 // Consensus. Let d_m be member m's signed distance to its contours (negative inside), taken where
 // m observed the plane (its image rectangle and field of view). Members holding no section do not
 // vote unless none holds one: a plane observed again without its section does not erase it (the
-// same rule as geometry/plane_evidence.h). Then
+// same rule as geometry/reconstruction/plane_evidence.h). Then
 //  - images (slices): the region where the median of the voting d_m is negative. For two members the
 //    median is their mean: the region halfway between their contours; for more it is robust, a
 //    minority that saw the section wrongly does not move it;
@@ -24,8 +24,8 @@
 
 #include <vector>
 
-#include "geometry/coincident_planes.h"
-#include "geometry/types.h"
+#include "geometry/arrangement/coincident_planes.h"
+#include "geometry/core/types.h"
 
 namespace xsect {
 

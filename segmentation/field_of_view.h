@@ -6,7 +6,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
-#include "geometry/types.h"
+#include "geometry/core/types.h"
 
 namespace xsect {
 

@@ -13,7 +13,7 @@
 #include <climits>
 #include <cmath>
 
-#include "geometry/polygon.h"
+#include "geometry/core/polygon.h"
 #include "segmentation/iso_contours.h"
 
 namespace xsect {
@@ -193,7 +193,7 @@ SegmentedSlice segmentSlice(const cv::Mat& image, const cv::Mat& fov, const Vec2
                             const SegmentationParams& p) {
   CV_Assert(image.channels() == 1 && !image.empty());
   CV_Assert(fov.empty() || (fov.size() == image.size() && fov.type() == CV_8U));
-  if (p.method == "labels") return segmentLabels(image, fov, spacing, p);
+  if (p.method == SegmentationMethod::labels) return segmentLabels(image, fov, spacing, p);
   SegmentedSlice out;
 
   // 1. Field whose zero level is the boundary: smoothed image minus threshold.
@@ -202,7 +202,7 @@ SegmentedSlice segmentSlice(const cv::Mat& image, const cv::Mat& fov, const Vec2
   if (p.sigma_px > 0) cv::GaussianBlur(f, f, cv::Size(0, 0), p.sigma_px, p.sigma_px,
                                        cv::BORDER_REPLICATE);
   double t = p.threshold;
-  if (p.method == "otsu") {
+  if (p.method == SegmentationMethod::otsu) {
     const double scale = image.depth() == CV_16U ? 1.0 / 256.0 : 1.0;
     cv::Mat f8;
     f.convertTo(f8, CV_8U, scale);

@@ -12,12 +12,24 @@
 #include <string>
 #include <vector>
 
-#include "geometry/types.h"
+#include "geometry/core/named_choice.h"
+#include "geometry/core/types.h"
 
 namespace xsect {
 
+enum class SegmentationMethod {
+  threshold,  ///< a grey level
+  otsu,       ///< Otsu's threshold (of the series, pipeline/load_sections.cpp; of one image here)
+  labels,     ///< every pixel value a material
+};
+constexpr std::array<NamedChoice<SegmentationMethod>, 3> kSegmentationMethods{{
+    {SegmentationMethod::threshold, "threshold"},
+    {SegmentationMethod::otsu, "otsu"},
+    {SegmentationMethod::labels, "labels"},
+}};
+
 struct SegmentationParams {
-  std::string method = "threshold";  ///< threshold | otsu (this image's own) | labels
+  SegmentationMethod method = SegmentationMethod::threshold;
   double threshold = 128.0;          ///< grey level (threshold method); inside = above
   double sigma_px = 0.0;             ///< Gaussian smoothing, pixels (0 = none)
   int open_radius_px = 0;            ///< morphological opening radius, pixels

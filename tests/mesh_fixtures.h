@@ -8,7 +8,7 @@
 #include <set>
 #include <tuple>
 
-#include "geometry/types.h"
+#include "geometry/core/types.h"
 
 namespace xsect::test {
 

@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "geometry/types.h"
+#include "geometry/core/types.h"
 
 namespace xsect::test {
 

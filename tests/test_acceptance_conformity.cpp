@@ -12,9 +12,9 @@
 
 #include "cli.h"
 #include "phantom_runs.h"
-#include "geometry/polygon.h"
-#include "geometry/conformity_enforcement.h"
-#include "geometry/plane_pair_traces.h"
+#include "geometry/core/polygon.h"
+#include "geometry/conformity/conformity_enforcement.h"
+#include "geometry/arrangement/plane_pair_traces.h"
 #include "io/run_config.h"
 #include "io/slices_file.h"
 

@@ -12,8 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.h"
-#include "geometry/phantom_shape.h"
-#include "geometry/plane_of_pose.h"
+#include "geometry/phantoms/phantom_shape.h"
+#include "geometry/core/plane_of_pose.h"
 #include "io/mesh_io.h"
 #include "io/slices_file.h"
 #include "io/truth_file.h"

@@ -10,8 +10,8 @@
 
 #include "cli.h"
 #include "phantom_runs.h"
-#include "geometry/mesh_distance.h"
-#include "geometry/polygon.h"
+#include "geometry/evaluation/mesh_distance.h"
+#include "geometry/core/polygon.h"
 #include "io/level_set_file.h"
 #include "io/mesh_io.h"
 

@@ -7,8 +7,8 @@
 
 #include <cmath>
 
-#include "geometry/coincident_planes.h"
-#include "geometry/polygon.h"
+#include "geometry/arrangement/coincident_planes.h"
+#include "geometry/core/polygon.h"
 #include "section_fixtures.h"
 #include "segmentation/coincident_consensus.h"
 

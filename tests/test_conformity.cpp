@@ -8,9 +8,9 @@
 
 #include <random>
 
-#include "geometry/conformity_enforcement.h"
-#include "geometry/plane_pair_traces.h"
-#include "geometry/polygon.h"
+#include "geometry/conformity/conformity_enforcement.h"
+#include "geometry/arrangement/plane_pair_traces.h"
+#include "geometry/core/polygon.h"
 #include "section_fixtures.h"
 #include "segmentation/field_of_view.h"
 

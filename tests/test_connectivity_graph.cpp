@@ -6,10 +6,10 @@
 #include <algorithm>
 #include <random>
 
-#include "geometry/connectivity_graph.h"
-#include "geometry/nearest_plane_reconstruction.h"
-#include "geometry/section_arrangement.h"
-#include "geometry/section_voronoi_reconstruction.h"
+#include "geometry/arrangement/connectivity_graph.h"
+#include "geometry/reconstruction/nearest_plane_reconstruction.h"
+#include "geometry/arrangement/section_arrangement.h"
+#include "geometry/reconstruction/section_voronoi_reconstruction.h"
 #include "section_fixtures.h"
 
 using namespace xsect;
@@ -114,7 +114,7 @@ TEST(ConnectivityGraph, GIsASubgraphOfGPrimeAndMatchesTheVoxels) {  // Propositi
 // Method 1's solid joins the discs in both halves, as G does. Cutting the solid in one half keeps
 // the discs in one component (joined through the other half): the global check cannot see it;
 // the per-cell check finds the one cell where G and the solid now differ.
-#include "geometry/cell_connectivity_check.h"
+#include "geometry/arrangement/cell_connectivity_check.h"
 
 namespace {
 
@@ -222,7 +222,7 @@ TEST(ConnectivityGraph, PerCellCheckSeedsEveryPartOfASubSection) {
 // the solid splits the discs that G (and method 1's solid) joins in that cell; on the lattice of
 // half the spacing the axis is a row of voxel centres and the cell agrees with G again. Without
 // the neck the finer lattice confirms the split; with too small a budget nothing is evaluated.
-#include "geometry/cell_refinement.h"
+#include "geometry/arrangement/cell_refinement.h"
 
 TEST(ConnectivityGraph, RefinementResolvesAPassageThinnerThanAVoxel) {
   const Scene scene = sceneOf({diskPlane(2, 0, 3), diskPlane(2, 4, 3)});

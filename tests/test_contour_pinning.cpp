@@ -6,8 +6,8 @@
 #include <cmath>
 #include <limits>
 
-#include "geometry/contour_pinning.h"
-#include "geometry/polygon.h"
+#include "geometry/smoothing/contour_pinning.h"
+#include "geometry/core/polygon.h"
 #include "section_fixtures.h"
 
 using namespace xsect;

@@ -10,10 +10,10 @@
 #include <filesystem>
 #include <fstream>
 
-#include "geometry/mesh_distance.h"
-#include "geometry/mesh_topology.h"
-#include "geometry/phantom_shape.h"
-#include "geometry/plane_cut.h"
+#include "geometry/evaluation/mesh_distance.h"
+#include "geometry/meshing/mesh_topology.h"
+#include "geometry/phantoms/phantom_shape.h"
+#include "geometry/evaluation/plane_cut.h"
 #include "io/mesh_io.h"
 #include "io/truth_file.h"
 #include "cli.h"

@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "geometric_fuzz.h"
-#include "geometry/mesh_topology.h"
+#include "geometry/meshing/mesh_topology.h"
 #include "io/mesh_io.h"
 #include "phantom_runs.h"
 

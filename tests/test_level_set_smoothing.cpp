@@ -10,12 +10,12 @@
 #include <stdexcept>
 #include <vector>
 
-#include "geometry/digital_topology.h"
-#include "geometry/level_set_smoothing.h"
-#include "geometry/mesh_distance.h"
-#include "geometry/mesh_topology.h"
-#include "geometry/sampled_reconstruction.h"
-#include "geometry/volume_mesher.h"
+#include "geometry/core/digital_topology.h"
+#include "geometry/smoothing/level_set_smoothing.h"
+#include "geometry/evaluation/mesh_distance.h"
+#include "geometry/meshing/mesh_topology.h"
+#include "geometry/reconstruction/sampled_reconstruction.h"
+#include "geometry/meshing/volume_mesher.h"
 #include "section_fixtures.h"
 
 using namespace xsect;

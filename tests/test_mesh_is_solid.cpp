@@ -7,13 +7,13 @@
 #include <cmath>
 #include <random>
 
-#include "geometry/automatic_voxel_size.h"
-#include "geometry/digital_topology.h"
-#include "geometry/mesh_topology.h"
-#include "geometry/plane_evidence.h"
-#include "geometry/section_distance_field.h"
-#include "geometry/section_width.h"
-#include "geometry/volume_mesher.h"
+#include "geometry/reconstruction/automatic_voxel_size.h"
+#include "geometry/core/digital_topology.h"
+#include "geometry/meshing/mesh_topology.h"
+#include "geometry/reconstruction/plane_evidence.h"
+#include "geometry/reconstruction/section_distance_field.h"
+#include "geometry/reconstruction/section_width.h"
+#include "geometry/meshing/volume_mesher.h"
 #include "section_fixtures.h"
 
 using namespace xsect;

@@ -2,7 +2,7 @@
 // and enclosed volume.
 #include <gtest/gtest.h>
 
-#include "geometry/mesh_topology.h"
+#include "geometry/meshing/mesh_topology.h"
 #include "mesh_fixtures.h"
 
 using namespace xsect;

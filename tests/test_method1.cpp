@@ -4,12 +4,12 @@
 #include <cmath>
 #include <map>
 
-#include "geometry/conformal_cut.h"
-#include "geometry/mesh_topology.h"
-#include "geometry/plane_cut.h"
-#include "geometry/polygon.h"
-#include "geometry/sampled_reconstruction.h"
-#include "geometry/volume_mesher.h"
+#include "geometry/meshing/conformal_cut.h"
+#include "geometry/meshing/mesh_topology.h"
+#include "geometry/evaluation/plane_cut.h"
+#include "geometry/core/polygon.h"
+#include "geometry/reconstruction/sampled_reconstruction.h"
+#include "geometry/meshing/volume_mesher.h"
 #include "section_fixtures.h"
 
 using namespace xsect;

@@ -5,9 +5,9 @@
 
 #include <random>
 
-#include "geometry/nearest_plane_reconstruction.h"
-#include "geometry/polygon.h"
-#include "geometry/section_voronoi_reconstruction.h"
+#include "geometry/reconstruction/nearest_plane_reconstruction.h"
+#include "geometry/core/polygon.h"
+#include "geometry/reconstruction/section_voronoi_reconstruction.h"
 #include "section_fixtures.h"
 
 using namespace xsect;

@@ -4,7 +4,7 @@
 
 #include <random>
 
-#include "geometry/nearest_plane_reconstruction.h"
+#include "geometry/reconstruction/nearest_plane_reconstruction.h"
 #include "section_fixtures.h"
 
 using namespace xsect;

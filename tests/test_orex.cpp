@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.h"
-#include "geometry/plane_of_pose.h"
+#include "geometry/core/plane_of_pose.h"
 #include "io/csl_file.h"
 
 namespace fs = std::filesystem;
@@ -111,8 +111,8 @@ TEST(OReX, ElephantSmoothedMeshIsTheReportedSolid) {
 // OReX's sections were cut from one mesh, so they agree along every intersection line: the
 // measurement must find no disagreement (no false alarm from the trace computation), and
 // enforcement must leave them as they are.
-#include "geometry/conformity_enforcement.h"
-#include "geometry/plane_pair_traces.h"
+#include "geometry/conformity/conformity_enforcement.h"
+#include "geometry/arrangement/plane_pair_traces.h"
 
 TEST(OReX, ObliqueSectionsCutFromOneMeshAgreeAlongTheirLines) {
   if (!fs::exists(kData / "Elephant.csl")) GTEST_SKIP() << "no " << kData;

@@ -15,13 +15,13 @@
 #include <yaml-cpp/yaml.h>
 #include <opencv2/imgcodecs.hpp>
 
-#include "geometry/plane_of_pose.h"
-#include "geometry/slicing_pattern.h"
+#include "geometry/core/plane_of_pose.h"
+#include "geometry/phantoms/slicing_pattern.h"
 #include "io/input_error.h"
 #include "io/phantom_spec.h"
 #include "io/slices_file.h"
 #include "io/truth_file.h"
-#include "geometry/vessel_tree.h"
+#include "geometry/phantoms/vessel_tree.h"
 #include "pipeline/phantom_render.h"
 
 using namespace xsect;

@@ -1,4 +1,4 @@
-// Phantom shapes and slicing patterns (geometry/phantom_shape.h, geometry/slicing_pattern.h):
+// Phantom shapes and slicing patterns (geometry/phantoms/phantom_shape.h, geometry/phantoms/slicing_pattern.h):
 // exactness of the signed distances, known values (reach interior / exterior), nearest boundary
 // points, bounds, validation, the vessel tree's clearance, its blended junctions (no creases,
 // reach bounds that hold, Betti numbers, blend 0 = the union of capsules), two-label shapes, the
@@ -9,12 +9,12 @@
 #include <cmath>
 #include <random>
 
-#include "geometry/digital_topology.h"
-#include "geometry/ellipsoid_distance.h"
-#include "geometry/phantom_shape.h"
-#include "geometry/plane_of_pose.h"
-#include "geometry/slicing_pattern.h"
-#include "geometry/vessel_tree.h"
+#include "geometry/core/digital_topology.h"
+#include "geometry/phantoms/ellipsoid_distance.h"
+#include "geometry/phantoms/phantom_shape.h"
+#include "geometry/core/plane_of_pose.h"
+#include "geometry/phantoms/slicing_pattern.h"
+#include "geometry/phantoms/vessel_tree.h"
 
 using namespace xsect;
 

@@ -1,4 +1,4 @@
-// Pose smoothing of a tracked sweep (geometry/pose_smoothing.h): a trajectory with constant
+// Pose smoothing of a tracked sweep (geometry/conformity/pose_smoothing.h): a trajectory with constant
 // acceleration and a rotation whose vector is quadratic in time is kept exactly (degree 2 reproduces
 // it, ends included), whatever the reference point of each frame; tracking jitter is reduced
 // toward the true trajectory; a glitch is put back without pulling its neighbours; windows stop
@@ -12,7 +12,7 @@
 #include <random>
 #include <stdexcept>
 
-#include "geometry/pose_smoothing.h"
+#include "geometry/conformity/pose_smoothing.h"
 
 namespace xsect {
 namespace {

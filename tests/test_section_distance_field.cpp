@@ -5,8 +5,8 @@
 
 #include <random>
 
-#include "geometry/polygon.h"
-#include "geometry/section_distance_field.h"
+#include "geometry/core/polygon.h"
+#include "geometry/reconstruction/section_distance_field.h"
 #include "section_fixtures.h"
 
 using namespace xsect;

@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <random>
 
-#include "geometry/polygon.h"
+#include "geometry/core/polygon.h"
 #include "segmentation/segment_slice.h"
 #include "segmentation/series_threshold.h"
 
@@ -88,7 +88,7 @@ TEST(Segmentation, OtsuFindsTheThresholdOfNoisyImages) {
     for (int i = 0; i < 64; ++i)
       img.at<unsigned char>(j, i) = cv::saturate_cast<unsigned char>(img.at<unsigned char>(j, i) + noise(rng));
   SegmentationParams p;
-  p.method = "otsu";
+  p.method = SegmentationMethod::otsu;
   p.sigma_px = 1.5;
   const SegmentedSlice s = segmentSlice(img, cv::Mat(), Vec2(1, 1), p);
   EXPECT_GT(s.threshold_used, 90);
@@ -96,7 +96,7 @@ TEST(Segmentation, OtsuFindsTheThresholdOfNoisyImages) {
   ASSERT_EQ(s.sections.size(), 1u);
   EXPECT_NEAR(sectionArea(s.sections[0]), M_PI * 225, 0.05 * M_PI * 225);
   // a fixed threshold far off the modes gives a different, wrong answer: the test can fail
-  p.method = "threshold";
+  p.method = SegmentationMethod::threshold;
   p.threshold = 185;
   EXPECT_LT(totalArea(segmentSlice(img, cv::Mat(), Vec2(1, 1), p)), 0.8 * M_PI * 225);
 }
@@ -170,7 +170,7 @@ TEST(Segmentation, SixteenBitAndLabelImages) {
   cv::circle(labels, {20, 20}, 8, cv::Scalar(3), cv::FILLED);
   cv::circle(labels, {45, 45}, 8, cv::Scalar(7), cv::FILLED);
   SegmentationParams pl;
-  pl.method = "labels";
+  pl.method = SegmentationMethod::labels;
   EXPECT_EQ(segmentSlice(labels, cv::Mat(), Vec2(1, 1), pl).sections.size(), 2u);
 }
 
@@ -204,7 +204,7 @@ TEST(Segmentation, SeriesOtsuKeepsEmptySlicesEmpty) {
   EXPECT_EQ(segmentSlice(object, cv::Mat(), Vec2(1, 1), p).sections.size(), 1u);
   EXPECT_TRUE(segmentSlice(empty, cv::Mat(), Vec2(1, 1), p).sections.empty());
   // the per-image Otsu of the empty slice splits the noise and invents sections
-  p.method = "otsu";
+  p.method = SegmentationMethod::otsu;
   EXPECT_GT(segmentSlice(empty, cv::Mat(), Vec2(1, 1), p).sections.size(), 5u);
 }
 
@@ -214,7 +214,7 @@ namespace {
 
 SegmentationParams labelParams(double sigma = 0) {
   SegmentationParams p;
-  p.method = "labels";
+  p.method = SegmentationMethod::labels;
   p.sigma_px = sigma;
   return p;
 }
@@ -386,7 +386,7 @@ TEST(Segmentation, LabelCropsGiveTheWholeImageResult) {
   const auto compare = [&](const SegmentationParams& pl) {
     const SegmentedSlice lab = segmentSlice(img, cv::Mat(), Vec2(1, 1), pl);
     SegmentationParams pt = pl;
-    pt.method = "threshold";
+    pt.method = SegmentationMethod::threshold;
     pt.threshold = 0.5;
     double whole = 0;
     bool touches = false;
@@ -438,7 +438,7 @@ TEST(Segmentation, ThresholdAndOtsuKeepLabelOne) {
   ASSERT_EQ(bright.sections.size(), 1u);
   EXPECT_EQ(bright.sections[0].label, 1);
   EXPECT_NEAR(sectionArea(bright.sections[0]), 100, 12);
-  p.method = "otsu";
+  p.method = SegmentationMethod::otsu;
   for (const auto& sec : segmentSlice(img, cv::Mat(), Vec2(1, 1), p).sections) EXPECT_EQ(sec.label, 1);
 }
 

@@ -6,11 +6,11 @@
 
 #include <random>
 
-#include "geometry/end_planes.h"
-#include "geometry/nearest_plane_reconstruction.h"
-#include "geometry/plane_distance_function.h"
-#include "geometry/polygon.h"
-#include "geometry/shepard_interpolant.h"
+#include "geometry/arrangement/end_planes.h"
+#include "geometry/reconstruction/nearest_plane_reconstruction.h"
+#include "geometry/smoothing/plane_distance_function.h"
+#include "geometry/core/polygon.h"
+#include "geometry/smoothing/shepard_interpolant.h"
 #include "section_fixtures.h"
 
 using namespace xsect;

@@ -1,0 +1,70 @@
+// Pairs of planes and their traces (see plane_pair_traces.h).
+#include "geometry/arrangement/plane_pair_traces.h"
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+
+namespace xsect {
+
+PlanePairSearch planePairTraces(const std::vector<CuttingPlane>& planes, double min_angle_deg) {
+  const int n = int(planes.size());
+  struct Row {
+    std::vector<PlanePairTraces> pairs, unmeasured;
+    int near_parallel = 0, empty = 0;
+  };
+  std::vector<Row> rows(std::size_t(std::max(n, 0)));
+  tbb::parallel_for(0, n, [&](int a) {
+    if (planes[a].is_virtual) return;
+    Row& row = rows[std::size_t(a)];
+    for (int b = a + 1; b < n; ++b) {
+      if (planes[b].is_virtual) continue;
+      const auto line = commonLine(planes[a].plane, planes[b].plane);
+      if (!line) continue;
+      const PlaneLine la = lineInPlane(planes[a].plane, *line), lb = lineInPlane(planes[b].plane, *line);
+      const Trace common = intersectTraces(observedTrace(planes[a], la), observedTrace(planes[b], lb));
+      if (common.empty()) continue;
+      PlanePairTraces p;
+      p.a = a;
+      p.b = b;
+      p.line = *line;
+      p.common = common;
+      p.trace_a = sectionsTrace(planes[a].sections, la);
+      p.trace_b = sectionsTrace(planes[b].sections, lb);
+      const bool nearParallel = line->angle_deg < min_angle_deg;
+      const bool empty = intersectTraces(uniteTraces(p.trace_a, p.trace_b), common).empty();
+      if (nearParallel || empty) {
+        (nearParallel ? row.near_parallel : row.empty) += 1;
+        p.disagreement = traceDisagreement(p.trace_a, p.trace_b, common);
+        row.unmeasured.push_back(std::move(p));
+        continue;
+      }
+      p.disagreement = traceDisagreement(p.trace_a, p.trace_b, common);
+      row.pairs.push_back(std::move(p));
+    }
+  });
+  PlanePairSearch s;
+  for (Row& r : rows) {
+    s.pairs.insert(s.pairs.end(), std::make_move_iterator(r.pairs.begin()),
+                   std::make_move_iterator(r.pairs.end()));
+    s.unmeasured.insert(s.unmeasured.end(), std::make_move_iterator(r.unmeasured.begin()),
+                        std::make_move_iterator(r.unmeasured.end()));
+    s.pairs_near_parallel += r.near_parallel;
+    s.pairs_without_sections += r.empty;
+  }
+  return s;
+}
+
+std::vector<PlanePairTraces> retrace(const std::vector<PlanePairTraces>& pairs,
+                                     const std::vector<CuttingPlane>& planes) {
+  std::vector<PlanePairTraces> out = pairs;
+  tbb::parallel_for(std::size_t(0), out.size(), [&](std::size_t k) {
+    PlanePairTraces& p = out[k];
+    p.trace_a = sectionsTrace(planes[std::size_t(p.a)].sections, lineInPlane(planes[std::size_t(p.a)].plane, p.line));
+    p.trace_b = sectionsTrace(planes[std::size_t(p.b)].sections, lineInPlane(planes[std::size_t(p.b)].plane, p.line));
+    p.disagreement = traceDisagreement(p.trace_a, p.trace_b, p.common);
+  });
+  return out;
+}
+
+}  // namespace xsect

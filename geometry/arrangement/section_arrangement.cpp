@@ -1,0 +1,193 @@
+// Sign vectors of section points and the cells they bound (see section_arrangement.h).
+// Cells are keyed by a 128-bit Zobrist hash of the sign vector (two independent 64-bit tables):
+// storing the vectors themselves would take points × planes bytes; a collision between two of the
+// few million vectors met has probability below 1e-25.
+#include "geometry/arrangement/section_arrangement.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <random>
+#include <stdexcept>
+#include <utility>
+
+#include "geometry/core/polygon.h"
+
+namespace xsect {
+
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Key = std::pair<std::uint64_t, std::uint64_t>;
+
+struct Zobrist {
+  std::vector<std::array<std::uint64_t, 3>> a, b;  // per plane, per sign (-1, 0, +1)
+  explicit Zobrist(std::size_t n) : a(n), b(n) {
+    std::mt19937_64 rng(0x5ec7);
+    for (std::size_t i = 0; i < n; ++i)
+      for (int s = 0; s < 3; ++s) {
+        a[i][s] = rng();
+        b[i][s] = rng();
+      }
+  }
+};
+
+/// Exact sign of a.x + b.y + c.z + d for the double coefficients and coordinates: a static
+/// floating-point filter (the evaluation's rounding error is below 8 ulp of the magnitudes summed)
+/// and CGAL's exact predicate when the value is within that bound of zero.
+int sign(const K::Plane_3& P, const Vec3& x) {
+  // GMP raises SIGFPE on converting a non-finite number: a defect upstream, reported as one.
+  if (!x.allFinite()) throw std::logic_error("a non-finite point reached the arrangement's exact predicate");
+  const double a = P.a(), b = P.b(), c = P.c(), d = P.d();
+  const double v = a * x.x() + b * x.y() + c * x.z() + d;
+  const double mag = std::abs(a * x.x()) + std::abs(b * x.y()) + std::abs(c * x.z()) + std::abs(d);
+  const double bound = 8.0 * std::numeric_limits<double>::epsilon() * mag;
+  if (v > bound) return 1;
+  if (v < -bound) return -1;
+  const CGAL::Oriented_side s = P.oriented_side(K::Point_3(x.x(), x.y(), x.z()));
+  return s == CGAL::ON_POSITIVE_SIDE ? 1 : (s == CGAL::ON_NEGATIVE_SIDE ? -1 : 0);
+}
+
+struct PointKeys {
+  Key minus, plus;  // cell keys on the two sides of the own plane
+  Key minusAlt, plusAlt;  // trace points: the same, on the negative side of their trace's plane
+};
+
+}  // namespace
+
+SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, double spacing) {
+  if (!(spacing > 0)) throw std::invalid_argument("arrangement: sample spacing must be positive");
+  const std::size_t k = planes.size();
+  std::vector<K::Plane_3> eq(k);
+  for (std::size_t i = 0; i < k; ++i) {
+    const Vec3 n = planes[i].plane.normal;
+    eq[i] = K::Plane_3(n.x(), n.y(), n.z(), -n.dot(planes[i].plane.origin));
+  }
+  const Zobrist z(k);
+
+  // Points of each plane's sections, and their keys, computed per plane in parallel.
+  std::vector<std::vector<SectionPoint>> pts(k);
+  std::vector<std::vector<PointKeys>> keys(k);
+  tbb::parallel_for(std::size_t(0), k, [&](std::size_t i) {
+    const CuttingPlane& cp = planes[i];
+    auto& P = pts[i];
+    for (std::size_t s = 0; s < cp.sections.size(); ++s) {
+      const Section& sec = cp.sections[s];
+      // Planes that may cross the section: those nearer to its bounding disk's centre than its
+      // radius (with a margin far above rounding).
+      const Eigen::AlignedBox2d box = ringBounds(sec.outer);
+      const Vec2 lo = box.min(), hi = box.max();
+      const Vec3 centre = cp.plane.toWorld(box.center());
+      const double radius = 0.5 * box.diagonal().norm() * (1 + 1e-9) + 1e-9;
+      std::vector<std::size_t> crossing;
+      for (std::size_t j = 0; j < k; ++j)
+        if (j != i && std::abs(planes[j].plane.signedDistance(centre)) <= radius) crossing.push_back(j);
+      const auto addRing = [&](const Ring& r) {
+        double run = spacing;  // contour vertices kept about one spacing apart
+        for (std::size_t v = 0; v < r.size(); ++v) {
+          if (run >= spacing) {
+            P.push_back({int(i), int(s), r[v], SectionPoint::vertex, {-1, -1}});
+            run = 0;
+          }
+          run += (r[(v + 1) % r.size()] - r[v]).norm();
+          // Contour points on the traces of other planes crossed by edge (v, v+1).
+          const Vec3 a = cp.plane.toWorld(r[v]), b = cp.plane.toWorld(r[(v + 1) % r.size()]);
+          for (const std::size_t j : crossing) {
+            const int sa = sign(eq[j], a), sb = sign(eq[j], b);
+            if (sa * sb >= 0) continue;
+            // The exact signs say the edge crosses plane j; the rounded distances may not (both
+            // about 0 when the planes nearly coincide, e.g. a frame listed twice): the crossing is
+            // then taken at the edge's midpoint, never at 0/0.
+            const double da = planes[j].plane.signedDistance(a), db = planes[j].plane.signedDistance(b);
+            const double q = da / (da - db);
+            const double t = std::isfinite(q) ? std::clamp(q, 0.0, 1.0) : 0.5;
+            P.push_back({int(i), int(s), r[v] + t * (r[(v + 1) % r.size()] - r[v]),
+                         SectionPoint::trace, {-1, -1}, int(j)});
+          }
+        }
+      };
+      addRing(sec.outer);
+      for (const Ring& h : sec.holes) addRing(h);
+      // Lattice points inside the section, row by row: between pairs of sorted crossings of the
+      // row with the rings (even-odd rule, half-open in y as in ringContains).
+      std::vector<double> xs;
+      for (double y = std::floor(lo.y() / spacing) * spacing + 0.5 * spacing; y < hi.y(); y += spacing) {
+        xs.clear();
+        const auto cross = [&](const Ring& r) {
+          for (std::size_t v = 0; v < r.size(); ++v) {
+            const Vec2& a = r[v];
+            const Vec2& b = r[(v + 1) % r.size()];
+            if ((a.y() > y) != (b.y() > y)) xs.push_back(a.x() + (y - a.y()) / (b.y() - a.y()) * (b.x() - a.x()));
+          }
+        };
+        cross(sec.outer);
+        for (const Ring& h : sec.holes) cross(h);
+        std::sort(xs.begin(), xs.end());
+        const double x0 = std::floor(lo.x() / spacing) * spacing + 0.5 * spacing;
+        for (std::size_t q = 0; q + 1 < xs.size(); q += 2) {
+          const double first = x0 + std::ceil((xs[q] - x0) / spacing) * spacing;
+          for (double x = first; x < xs[q + 1]; x += spacing)
+            if (x > xs[q]) P.push_back({int(i), int(s), Vec2(x, y), SectionPoint::sample, {-1, -1}});
+        }
+      }
+    }
+    auto& KK = keys[i];
+    KK.resize(P.size());
+    for (std::size_t q = 0; q < P.size(); ++q) {
+      const Vec3 w = cp.plane.toWorld(P[q].p);
+      std::uint64_t ha = 0, hb = 0;
+      for (std::size_t j = 0; j < k; ++j) {
+        if (j == i) continue;
+        // On another plane (trace points by construction, or vertices lying exactly on it): the
+        // point bounds the cells on both sides; keys are made for the positive side (and, for a
+        // trace point, below for the negative one too).
+        int sj = int(j) == P[q].trace_plane ? 1 : sign(eq[j], w);
+        if (sj == 0) sj = 1;
+        ha ^= z.a[j][std::size_t(sj + 1)];
+        hb ^= z.b[j][std::size_t(sj + 1)];
+      }
+      KK[q].minus = {ha ^ z.a[i][0], hb ^ z.b[i][0]};
+      KK[q].plus = {ha ^ z.a[i][2], hb ^ z.b[i][2]};
+      if (P[q].trace_plane >= 0) {  // swap the trace plane's sign from + to -
+        const std::size_t t = std::size_t(P[q].trace_plane);
+        const std::uint64_t da = z.a[t][2] ^ z.a[t][0], db = z.b[t][2] ^ z.b[t][0];
+        KK[q].minusAlt = {KK[q].minus.first ^ da, KK[q].minus.second ^ db};
+        KK[q].plusAlt = {KK[q].plus.first ^ da, KK[q].plus.second ^ db};
+      }
+    }
+  });
+
+  SectionArrangement out;
+  out.sample_spacing_mm = spacing;
+  std::map<Key, int> cellOf;
+  std::map<std::array<int, 4>, int> subOf;  // (plane, section, side, cell) -> sub-section
+  for (std::size_t i = 0; i < k; ++i)
+    for (std::size_t q = 0; q < pts[i].size(); ++q) {
+      SectionPoint sp = pts[i][q];
+      out.trace_points += sp.kind == SectionPoint::trace;
+      for (int variant = 0; variant < (sp.trace_plane >= 0 ? 4 : 2); ++variant) {
+        const int side = variant % 2;
+        const PointKeys& pk = keys[i][q];
+        const Key key = variant == 0 ? pk.minus : variant == 1 ? pk.plus : variant == 2 ? pk.minusAlt : pk.plusAlt;
+        const auto it = cellOf.emplace(key, int(cellOf.size())).first;
+        if (variant < 2) sp.cell[std::size_t(side)] = it->second;
+        const std::array<int, 4> sk{sp.plane, sp.section, side == 0 ? -1 : 1, it->second};
+        const auto sit = subOf.find(sk);
+        if (sit == subOf.end()) {
+          subOf.emplace(sk, int(out.sub_sections.size()));
+          out.sub_sections.push_back({sp.plane, sp.section, sk[2], it->second, 1});
+        } else {
+          ++out.sub_sections[std::size_t(sit->second)].points;
+        }
+      }
+      out.points.push_back(sp);
+    }
+  out.cells = int(cellOf.size());
+  return out;
+}
+
+}  // namespace xsect

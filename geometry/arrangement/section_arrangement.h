@@ -1,0 +1,53 @@
+// Stage 4 (GUIDE.md; thesis ch. 2 §5.1): which cells of the arrangement of the cutting planes the
+// sections bound, without building the arrangement (cells holding no section are never met).
+// Every section point gets its sign vector against all planes (an exact predicate on its double
+// coordinates: CGAL's filtered orientation); the point bounds the cell with that sign vector on
+// either side of its own plane. Contour points are added where contour edges cross another plane
+// (their sign there is 0: they bound the cells on both sides of it), and the sections are sampled
+// on a lattice so that sub-sections without contour vertices (pieces cut out by the traces of
+// other planes) are met too. Sub-sections are the (section, cell) pairs found.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "geometry/core/types.h"
+
+namespace xsect {
+
+/// A point of a section: a contour vertex, a contour point added on another plane's trace, or a
+/// lattice sample inside the section.
+struct SectionPoint {
+  int plane = 0;    ///< index into the planes given
+  int section = 0;  ///< index into that plane's sections
+  Vec2 p = Vec2::Zero();  ///< plane coordinates, mm
+  enum Kind : std::uint8_t { vertex, trace, sample } kind = sample;
+  /// Cells on the negative and positive side of the point's own plane (ids into the cells found).
+  /// A trace point also bounds the cells on the other side of the plane it lies on (the
+  /// thesis' duplication of such vertices); those are counted, the positive one is recorded here.
+  std::array<int, 2> cell{-1, -1};
+  int trace_plane = -1;  ///< trace points: the plane whose trace they lie on
+};
+
+struct SubSection {
+  int plane = 0, section = 0;
+  int side = 1;   ///< +1: the cell lies on the side the plane's normal points to
+  int cell = -1;  ///< id of that cell
+  int points = 0; ///< section points found in it
+};
+
+struct SectionArrangement {
+  int cells = 0;                     ///< cells of the arrangement bounded by at least one section
+  std::vector<SubSection> sub_sections;
+  std::vector<SectionPoint> points;  ///< in plane, section, then point order
+  int trace_points = 0;              ///< contour points added on traces of other planes
+  double sample_spacing_mm = 0;
+};
+
+/// @param planes   all cutting planes (real and virtual: virtual planes bound cells too).
+/// @param spacing  lattice spacing for the samples inside sections, mm (> 0).
+/// Deterministic: cell ids follow the order in which points are listed.
+SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, double spacing);
+
+}  // namespace xsect

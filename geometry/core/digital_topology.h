@@ -1,0 +1,57 @@
+// Topology of R, not of its sampling (issue: method 1, "Topology of R").
+// In a cell C, every point of R lies on a segment [a, lift(a)] from a section point a (thesis ch. 1
+// §1, characterisation of R_C), and every point of the complement lies on a segment from a point of
+// ∂C outside the sections. So each connected component of R contains section points, and each
+// bounded component of the complement contains points of a plane outside its sections (a section
+// hole). A voxelisation adds specks and one-voxel cavities where R is thinner than a voxel, near the
+// Voronoi skeleton and where planes cross. This repair keeps exactly the components that carry that
+// evidence ("anchors": voxels next to a plane, clearly inside / clearly outside its sections),
+// then removes the critical configurations (a 2x2 checkerboard, two voxels meeting at a vertex
+// only) so that the set is well-composed: 6- and 26-connectivity agree and the iso-surface has one
+// well-defined topology, that of the union of closed voxel cubes.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "geometry/core/types.h"
+
+namespace xsect {
+
+struct TopologyRepair {
+  int specks_removed = 0;        ///< components of R without an inside anchor
+  int cavities_filled = 0;       ///< bounded complement components without an outside anchor
+  int critical_voxels_added = 0; ///< voxels added to remove critical configurations
+};
+
+/// @param inside          1 = voxel in R (modified in place).
+/// @param inside_anchor   1 = voxel certainly in R because of a section next to it.
+/// @param outside_anchor  1 = voxel certainly outside R because of a plane next to it.
+TopologyRepair repairSampledTopology(std::vector<std::uint8_t>& inside,
+                                     const std::vector<std::uint8_t>& inside_anchor,
+                                     const std::vector<std::uint8_t>& outside_anchor,
+                                     const GridSpec& grid);
+
+/// Removes every critical configuration (a 2x2 checkerboard in an axis plane, two voxels or two
+/// holes meeting at a vertex only) by adding voxels, until none is left: the set becomes
+/// well-composed, so its 26-connected components, its 6-connected complement and the iso-surface
+/// OpenVDB meshes between its voxel centres (volume_mesher.h) have one topology, that of the union
+/// of its closed voxel cubes (voxelBetti). Voxels are only added, each next to the configuration
+/// it removes. Returns the number of voxels added.
+/// Terminates: every pass that finds a configuration adds a voxel (in practice 1-3 passes).
+int makeWellComposed(std::vector<std::uint8_t>& inside, const GridSpec& grid);
+
+/// Gives a sampled field the solid `inside` (one byte per voxel): voxels of the set whose value is
+/// >= 0 take -nudge_mm, voxels outside it whose value is < 0 take +nudge_mm (nudge > 0: a small
+/// distance), so the zero set meshed bounds exactly that set. Returns the number of values changed.
+std::int64_t imposeSolid(ScalarField& field, const std::vector<std::uint8_t>& inside, float nudge_mm);
+
+/// 26-connected components of the voxel set: label per voxel (-1 outside), count in *count.
+std::vector<int> solidComponents(const std::vector<std::uint8_t>& inside, const GridSpec& grid,
+                                 int* count);
+
+/// Betti numbers of the union of the closed voxel cubes of `inside` (26-connected components,
+/// 6-connected bounded complement components, b1 from the Euler characteristic).
+Betti voxelBetti(const std::vector<std::uint8_t>& inside, const GridSpec& grid);
+
+}  // namespace xsect

@@ -1,0 +1,24 @@
+// The cutting plane of a slice from its image_to_world pose (GUIDE.md conventions): origin is the
+// centre of pixel (0, 0); u and v the normalised first two columns; normal = u x v.
+#pragma once
+
+#include "geometry/core/types.h"
+
+namespace xsect {
+
+/// @param image_to_world 4x4, column vector (i, j, 0, 1) -> mm.
+/// @param spacing        out: mm per pixel along i and j (the column norms).
+/// Assumes a validated pose (finite, non-zero, orthogonal first two columns).
+inline Plane planeOfPose(const Mat4& image_to_world, Vec2* spacing = nullptr) {
+  Plane p;
+  const Vec3 c0 = image_to_world.block<3, 1>(0, 0);
+  const Vec3 c1 = image_to_world.block<3, 1>(0, 1);
+  p.origin = image_to_world.block<3, 1>(0, 3);
+  p.u = c0.normalized();
+  p.normal = c0.cross(c1).normalized();
+  p.v = p.normal.cross(p.u);  // exactly orthonormal, right-handed
+  if (spacing) *spacing = Vec2(c0.norm(), c1.norm());
+  return p;
+}
+
+}  // namespace xsect

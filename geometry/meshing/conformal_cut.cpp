@@ -1,0 +1,288 @@
+// Splitting the mesh along the cutting planes and moving the cut onto the contours
+// (see conformal_cut.h).
+#include "geometry/meshing/conformal_cut.h"
+
+#include <tbb/parallel_for.h>
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+namespace xsect {
+
+namespace {
+
+constexpr int kMaxPlanesPerVertex = 3;
+
+struct PlaneTags {
+  std::array<int, kMaxPlanesPerVertex> id{-1, -1, -1};
+  int count = 0;
+  void add(int p) {
+    for (int k = 0; k < count; ++k)
+      if (id[k] == p) return;
+    if (count < kMaxPlanesPerVertex) id[count++] = p;
+    else count = kMaxPlanesPerVertex + 1;  // on too many planes: never moved
+  }
+};
+
+double fieldAt(const CuttingPlane& cp, const SectionDistanceField& f, const Vec3& x) {
+  const Vec2 q = cp.plane.toPlane(x);
+  return f.sample(q.x(), q.y());
+}
+
+/// Newton steps on g(t) = f_P(x + t d) for a unit direction d; returns the new point or false.
+bool newtonAlong(const CuttingPlane& cp, const SectionDistanceField& f, Vec3 x, const Vec3& d,
+                 double maxMove, Vec3* out) {
+  const double e = 0.25 * f.step;
+  double t = 0;
+  for (int it = 0; it < 6; ++it) {
+    const double v = fieldAt(cp, f, x + t * d);
+    if (std::abs(v) >= f.band) return false;
+    const double g = (fieldAt(cp, f, x + (t + e) * d) - fieldAt(cp, f, x + (t - e) * d)) / (2 * e);
+    if (std::abs(g) < 1e-3) return false;
+    t -= v / g;
+    if (std::abs(t) > maxMove) return false;
+  }
+  if (std::abs(fieldAt(cp, f, x + t * d)) > 1e-3 * f.step) return false;
+  *out = x + t * d;
+  return true;
+}
+
+/// Newton steps within the plane (2D gradient of f_P).
+bool newtonInPlane(const CuttingPlane& cp, const SectionDistanceField& f, const Vec3& x,
+                   double maxMove, Vec3* out) {
+  const Plane& P = cp.plane;
+  const Vec2 start = P.toPlane(x);
+  Vec2 q = start;
+  const double e = 0.25 * f.step;
+  for (int it = 0; it < 6; ++it) {
+    const double v = f.sample(q.x(), q.y());
+    if (std::abs(v) >= f.band) return false;
+    const Vec2 g((f.sample(q.x() + e, q.y()) - f.sample(q.x() - e, q.y())) / (2 * e),
+                 (f.sample(q.x(), q.y() + e) - f.sample(q.x(), q.y() - e)) / (2 * e));
+    const double g2 = g.squaredNorm();
+    if (g2 < 1e-6) return false;
+    q -= v * g / g2;
+  }
+  if ((q - start).norm() > maxMove || std::abs(f.sample(q.x(), q.y())) > 1e-3 * f.step) return false;
+  *out = x + (q.x() - start.x()) * P.u + (q.y() - start.y()) * P.v;
+  return true;
+}
+
+}  // namespace
+
+ConformalCutStats cutAlongSections(TriangleMesh& mesh, const std::vector<CuttingPlane>& planes,
+                                   const std::vector<SectionDistanceField>& fields, double voxel) {
+  ConformalCutStats stats;
+  std::vector<Vec3> V(mesh.vertices.size());
+  for (std::size_t i = 0; i < V.size(); ++i) V[i] = mesh.vertices[i].cast<double>();
+  std::vector<std::array<std::uint32_t, 3>> T = std::move(mesh.triangles);
+  std::vector<PlaneTags> tags(V.size());
+  const double eps = 0.02 * voxel;
+
+  // Triangles bucketed by centroid in cells of 8 voxels (a split triangle's pieces stay in its
+  // cell). For a plane P only the cells whose centre is within `reach` of P can hold a triangle
+  // that touches P: reach = half the cell diagonal + the largest centroid-to-vertex distance.
+  // This keeps the cost per plane proportional to the mesh near it, not to the whole mesh.
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const auto& v : V) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  const double cell = 8 * voxel;
+  std::array<int, 3> dims{1, 1, 1};
+  if (!V.empty())
+    for (int a = 0; a < 3; ++a) dims[a] = int((hi[a] - lo[a]) / cell) + 1;
+  std::vector<std::vector<std::uint32_t>> bucket(std::size_t(dims[0]) * dims[1] * dims[2]);
+  double lmax = 0;
+  for (std::uint32_t t = 0; t < T.size(); ++t) {
+    const Vec3 c = (V[T[t][0]] + V[T[t][1]] + V[T[t][2]]) / 3.0;
+    for (const auto v : T[t]) lmax = std::max(lmax, (V[v] - c).norm());
+    std::array<int, 3> q;
+    for (int a = 0; a < 3; ++a) q[a] = std::min(dims[a] - 1, int((c[a] - lo[a]) / cell));
+    bucket[(std::size_t(q[2]) * dims[1] + q[1]) * dims[0] + q[0]].push_back(t);
+  }
+  const double reach = 0.5 * std::sqrt(3.0) * cell + lmax + 2 * eps;
+
+  std::vector<double> s(V.size());
+  std::vector<int> sign(V.size()), stamp(V.size(), -1);
+  std::unordered_map<std::uint64_t, std::uint32_t> edgeVertex;
+  for (std::size_t p = 0; p < planes.size(); ++p) {
+    const CuttingPlane& cp = planes[p];
+    if (cp.sections.empty()) continue;
+    const Plane& P = cp.plane;
+    const auto prepare = [&](std::uint32_t i) {  // signed distance to P, once per plane
+      if (stamp[i] == int(p)) return;
+      stamp[i] = int(p);
+      s[i] = P.signedDistance(V[i]);
+      if (std::abs(s[i]) < eps) {
+        if (tags[i].count == 0) V[i] -= s[i] * P.normal;  // put it on the plane
+        tags[i].add(int(p));
+        s[i] = 0;
+        sign[i] = 0;
+      } else {
+        sign[i] = s[i] > 0 ? 1 : -1;
+      }
+    };
+    edgeVertex.clear();
+    const auto cut = [&](std::uint32_t a, std::uint32_t b) -> std::uint32_t {
+      const std::uint64_t key = (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
+      const auto it = edgeVertex.find(key);
+      if (it != edgeVertex.end()) return it->second;
+      Vec3 x = V[a] + s[a] / (s[a] - s[b]) * (V[b] - V[a]);
+      x -= P.signedDistance(x) * P.normal;
+      const std::uint32_t id = std::uint32_t(V.size());
+      V.push_back(x);
+      tags.emplace_back();
+      tags.back().add(int(p));
+      s.push_back(0);
+      sign.push_back(0);
+      stamp.push_back(int(p));
+      edgeVertex.emplace(key, id);
+      ++stats.vertices_added;
+      return id;
+    };
+    bool crosses = false;
+    for (int cz = 0; cz < dims[2]; ++cz)
+      for (int cy = 0; cy < dims[1]; ++cy)
+        for (int cx = 0; cx < dims[0]; ++cx) {
+          const Vec3 centre = lo + cell * Vec3(cx + 0.5, cy + 0.5, cz + 0.5);
+          if (std::abs(P.signedDistance(centre)) > reach) continue;
+          auto& list = bucket[(std::size_t(cz) * dims[1] + cy) * dims[0] + cx];
+          const std::size_t n = list.size();  // pieces added below are already split by P
+          for (std::size_t k = 0; k < n; ++k) {
+            const std::uint32_t t = list[k];
+            const auto tri = T[t];
+            for (const auto v : tri) prepare(v);
+            const int sg[3] = {sign[tri[0]], sign[tri[1]], sign[tri[2]]};
+            const int zeros = (sg[0] == 0) + (sg[1] == 0) + (sg[2] == 0);
+            if (zeros == 0) {
+              // one vertex alone on its side: three triangles
+              int lone = -1;
+              for (int q = 0; q < 3; ++q)
+                if (sg[q] != sg[(q + 1) % 3] && sg[q] != sg[(q + 2) % 3]) lone = q;
+              if (lone < 0) continue;
+              const std::uint32_t a = tri[lone], b = tri[(lone + 1) % 3], c = tri[(lone + 2) % 3];
+              const std::uint32_t pab = cut(a, b), pac = cut(a, c);
+              T[t] = {a, pab, pac};
+              list.push_back(std::uint32_t(T.size()));
+              T.push_back({pab, b, c});
+              list.push_back(std::uint32_t(T.size()));
+              T.push_back({pab, c, pac});
+              crosses = true;
+            } else if (zeros == 1) {
+              int z = 0;
+              while (sg[z] != 0) ++z;
+              const std::uint32_t a = tri[z], b = tri[(z + 1) % 3], c = tri[(z + 2) % 3];
+              if (sign[b] == sign[c]) continue;
+              const std::uint32_t pbc = cut(b, c);
+              T[t] = {a, b, pbc};
+              list.push_back(std::uint32_t(T.size()));
+              T.push_back({a, pbc, c});
+              crosses = true;
+            }
+          }
+        }
+    stats.planes_cut += crosses;
+  }
+
+  // Adjacency: triangles around each vertex (CSR).
+  std::vector<std::uint32_t> first(V.size() + 1, 0), incident(3 * T.size());
+  for (const auto& t : T)
+    for (const auto v : t) ++first[v + 1];
+  for (std::size_t v = 0; v < V.size(); ++v) first[v + 1] += first[v];
+  {
+    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
+    for (std::uint32_t t = 0; t < T.size(); ++t)
+      for (const auto v : T[t]) incident[fill[v]++] = t;
+  }
+
+  // Displacements, computed in parallel from the unmoved mesh. A vertex on one plane moves within
+  // it onto the contour; on two planes, along their common line. A vertex off the planes but
+  // within a voxel of a plane that one of its neighbours (two rings) lies on moves within that
+  // plane by the same contour displacement scaled by (1 - t / voxel), t its distance to the plane:
+  // the neighbourhood of the cut follows it smoothly instead of folding under it.
+  std::vector<Vec3> move(V.size(), Vec3::Zero());
+  std::vector<signed char> status(V.size(), 0);  // 1 = move, -1 = on a plane, no contour in reach
+  tbb::parallel_for(std::size_t(0), V.size(), [&](std::size_t i) {
+    const PlaneTags& g = tags[i];
+    Vec3 y;
+    if (g.count == 1 || g.count == 2) {
+      bool ok = false;
+      if (g.count == 1) {
+        ok = newtonInPlane(planes[g.id[0]], fields[g.id[0]], V[i], voxel, &y);
+      } else {
+        const Vec3 d = planes[g.id[0]].plane.normal.cross(planes[g.id[1]].plane.normal);
+        if (d.norm() > 1e-6)
+          ok = newtonAlong(planes[g.id[0]], fields[g.id[0]], V[i], d.normalized(), voxel, &y);
+      }
+      status[i] = ok ? 1 : -1;
+      if (ok) move[i] = y - V[i];
+      return;
+    }
+    if (g.count != 0) return;
+    int best = -1;
+    double bestT = voxel;
+    const auto consider = [&](std::uint32_t v) {
+      if (tags[v].count != 1) return;
+      const int p = tags[v].id[0];
+      const double t = std::abs(planes[p].plane.signedDistance(V[i]));
+      if (t < bestT) bestT = t, best = p;
+    };
+    for (std::uint32_t k = first[i]; k < first[i + 1]; ++k)
+      for (const auto v1 : T[incident[k]]) {
+        consider(v1);
+        for (std::uint32_t k2 = first[v1]; k2 < first[v1 + 1]; ++k2)
+          for (const auto v2 : T[incident[k2]]) consider(v2);
+      }
+    if (best < 0) return;
+    const Plane& P = planes[best].plane;
+    const Vec3 foot = V[i] - P.signedDistance(V[i]) * P.normal;
+    if (!newtonInPlane(planes[best], fields[best], foot, voxel, &y)) return;
+    move[i] = (1.0 - bestT / voxel) * (y - foot);
+    status[i] = 1;
+  });
+
+  // Moves applied in order, off-plane vertices first, then plane vertices (deterministic); each
+  // move is shortened (halved up to 4 times, else dropped) when it would turn an incident triangle
+  // against its original orientation: the surface stays free of folds.
+  const auto normal = [&](const std::array<std::uint32_t, 3>& t) {
+    return (V[t[1]] - V[t[0]]).cross(V[t[2]] - V[t[0]]);
+  };
+  std::vector<Vec3> originalNormal(T.size());
+  for (std::size_t t = 0; t < T.size(); ++t) originalNormal[t] = normal(T[t]);
+  const auto apply = [&](std::size_t i) -> int {  // halvings used, or -1 if no move fits
+    const Vec3 from = V[i];
+    for (int halving = 0; halving <= 4; ++halving) {
+      V[i] = from + std::ldexp(1.0, -halving) * move[i];
+      bool ok = true;
+      for (std::uint32_t k = first[i]; k < first[i + 1] && ok; ++k) {
+        const std::uint32_t t = incident[k];
+        ok = normal(T[t]).dot(originalNormal[t]) > 0.1 * originalNormal[t].squaredNorm();
+      }
+      if (ok) return halving;
+    }
+    V[i] = from;
+    return -1;
+  };
+  for (std::size_t i = 0; i < V.size(); ++i)
+    if (status[i] == 1 && tags[i].count == 0) apply(i);
+  for (std::size_t i = 0; i < V.size(); ++i) {
+    if (tags[i].count == 0) continue;
+    if (status[i] != 1) {
+      ++stats.vertices_unsnapped;
+      continue;
+    }
+    const int halvings = apply(i);
+    if (halvings < 0) {
+      ++stats.vertices_unsnapped;
+      continue;
+    }
+    ++(halvings == 0 ? stats.vertices_snapped : stats.vertices_shortened);
+    stats.max_move_mm = std::max(stats.max_move_mm, std::ldexp(1.0, -halvings) * move[i].norm());
+  }
+  mesh.triangles = std::move(T);
+  mesh.vertices.resize(V.size());
+  for (std::size_t i = 0; i < V.size(); ++i) mesh.vertices[i] = V[i].cast<float>();
+  return stats;
+}
+
+}  // namespace xsect

@@ -1,0 +1,121 @@
+// Topology of a closed triangle mesh taken as the boundary of a solid.
+// Watertight: every undirected edge is used by exactly two triangles, traversed in opposite
+// directions (closed, edge-manifold, consistently oriented), and no triangle repeats a vertex.
+// Surfaces: components of the triangle adjacency through shared edges (two shells touching at a
+// single vertex stay two surfaces). Per surface: chi = V - E + F, genus g = 1 - chi/2, signed
+// volume sum(a . (b x c)) / 6. The solid's Betti numbers follow (Alexander duality): b0 = surfaces
+// with positive volume, b2 = surfaces with negative volume (cavity walls), b1 = sum of genera.
+// The Betti numbers are meaningful only when the mesh is watertight.
+#include "geometry/meshing/mesh_topology.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
+
+#include "geometry/core/disjoint_sets.h"
+
+namespace xsect {
+namespace {
+
+/// One directed edge use: the undirected key (lo, hi), whether it runs lo -> hi, its triangle.
+struct EdgeUse {
+  std::uint32_t lo, hi;
+  bool forward;
+  std::uint32_t triangle;
+  bool operator<(const EdgeUse& o) const {
+    if (lo != o.lo) return lo < o.lo;
+    if (hi != o.hi) return hi < o.hi;
+    if (forward != o.forward) return forward < o.forward;
+    return triangle < o.triangle;
+  }
+};
+
+}  // namespace
+
+MeshTopology meshTopology(const TriangleMesh& mesh) {
+  MeshTopology result;
+  const std::size_t nt = mesh.triangles.size();
+  if (nt == 0) return result;
+
+  bool watertight = true;
+  std::vector<EdgeUse> uses;
+  uses.reserve(3 * nt);
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    const auto& tri = mesh.triangles[t];
+    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0]) watertight = false;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = tri[k], b = tri[(k + 1) % 3];
+      if (a == b) continue;
+      uses.push_back({std::min(a, b), std::max(a, b), a < b, t});
+    }
+  }
+  std::sort(uses.begin(), uses.end());
+
+  // Group uses by undirected edge: connectivity and the closedness test.
+  DisjointSets sets(nt);
+  for (std::size_t i = 0; i < uses.size();) {
+    std::size_t j = i;
+    while (j < uses.size() && uses[j].lo == uses[i].lo && uses[j].hi == uses[i].hi) ++j;
+    if (j - i != 2 || uses[i].forward == uses[i + 1].forward) watertight = false;
+    for (std::size_t k = i + 1; k < j; ++k) sets.unite(uses[i].triangle, uses[k].triangle);
+    i = j;
+  }
+  result.watertight = watertight;
+
+  // Number the surfaces by their smallest triangle (deterministic order).
+  std::vector<int> surfaceOf(nt, -1);
+  std::vector<std::uint32_t> rootToSurface(nt, UINT32_MAX);
+  int surfaces = 0;
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    const std::uint32_t r = std::uint32_t(sets.find(t));
+    if (rootToSurface[r] == UINT32_MAX) rootToSurface[r] = std::uint32_t(surfaces++);
+    surfaceOf[t] = int(rootToSurface[r]);
+  }
+  result.surfaces = surfaces;
+
+  std::vector<long long> faces(surfaces, 0), edges(surfaces, 0), verts(surfaces, 0);
+  std::vector<double> volume(surfaces, 0.0);
+  // Volumes are translation invariant for closed surfaces: measure from a mesh vertex to keep
+  // the products small when the mesh lies far from the origin.
+  const Eigen::Vector3d ref = mesh.vertices[mesh.triangles[0][0]].cast<double>();
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    const auto& tri = mesh.triangles[t];
+    const int s = surfaceOf[t];
+    ++faces[s];
+    const Eigen::Vector3d a = mesh.vertices[tri[0]].cast<double>() - ref;
+    const Eigen::Vector3d b = mesh.vertices[tri[1]].cast<double>() - ref;
+    const Eigen::Vector3d c = mesh.vertices[tri[2]].cast<double>() - ref;
+    volume[s] += a.dot(b.cross(c)) / 6.0;
+  }
+  for (std::size_t i = 0; i < uses.size();) {
+    std::size_t j = i;
+    while (j < uses.size() && uses[j].lo == uses[i].lo && uses[j].hi == uses[i].hi) ++j;
+    ++edges[surfaceOf[uses[i].triangle]];
+    i = j;
+  }
+  // Vertices per surface: a vertex shared by two surfaces (touching shells) counts in both.
+  std::vector<std::pair<std::uint32_t, int>> vertexSurface;
+  vertexSurface.reserve(3 * nt);
+  for (std::uint32_t t = 0; t < nt; ++t)
+    for (std::uint32_t v : mesh.triangles[t]) vertexSurface.emplace_back(v, surfaceOf[t]);
+  std::sort(vertexSurface.begin(), vertexSurface.end());
+  vertexSurface.erase(std::unique(vertexSurface.begin(), vertexSurface.end()), vertexSurface.end());
+  for (const auto& vs : vertexSurface) ++verts[vs.second];
+
+  Betti betti{0, 0, 0};
+  double total = 0.0;
+  for (int s = 0; s < surfaces; ++s) {
+    const long long chi = verts[s] - edges[s] + faces[s];
+    const long long genus = (2 - chi) / 2;
+    if (volume[s] > 0) ++betti[0];
+    if (volume[s] < 0) ++betti[2];
+    betti[1] += int(std::max<long long>(genus, 0));
+    total += volume[s];
+  }
+  result.betti = betti;
+  result.volume_mm3 = total;
+  return result;
+}
+
+}  // namespace xsect

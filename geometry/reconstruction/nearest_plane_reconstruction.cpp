@@ -1,0 +1,181 @@
+// Method 1 with block culling of planes (see nearest_plane_reconstruction.h).
+#include "geometry/reconstruction/nearest_plane_reconstruction.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "geometry/reconstruction/plane_rows.h"
+
+namespace xsect {
+
+namespace {
+
+/// Planes of `from` that may be nearest somewhere in the box [c - e, c + e]: those whose lower
+/// distance bound does not exceed the smallest upper bound. One pass keeps every plane under the
+/// running smallest upper bound; a second pass over the (few) kept ones applies the final bound.
+void cull(const std::vector<PlaneRow>& rows, const std::vector<int>& from, const Vec3& c,
+          const Vec3& e, std::vector<int>& out, std::vector<double>& lo) {
+  double minHi = std::numeric_limits<double>::infinity();
+  out.clear();
+  lo.clear();
+  for (const int k : from) {
+    const PlaneRow& p = rows[k];
+    const double r = p.ax * e.x() + p.ay * e.y() + p.az * e.z();
+    const double a = std::abs(p.s(c));
+    const double l = a - r;
+    if (l > minHi) continue;
+    minHi = std::min(minHi, a + r);
+    out.push_back(k);
+    lo.push_back(l);
+  }
+  std::size_t n = 0;
+  for (std::size_t q = 0; q < out.size(); ++q)
+    if (lo[q] <= minHi) out[n++] = out[q];
+  out.resize(n);
+}
+
+}  // namespace
+
+NearestPlaneField nearestPlaneReconstruction(const std::vector<CuttingPlane>& planes,
+                                             const std::vector<SectionDistanceField>& fields,
+                                             const GridSpec& grid,
+                                             const std::function<void(double)>& progress) {
+  if (planes.empty()) throw std::invalid_argument("method 1: no cutting plane");
+  if (fields.size() != planes.size())
+    throw std::invalid_argument("method 1: one distance raster per plane is required");
+  if (!(grid.voxel > 0)) throw std::invalid_argument("method 1: voxel size must be positive");
+  const std::vector<PlaneRow> rows = planeRows(planes);
+  std::vector<int> all(planes.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = int(i);
+
+  NearestPlaneField out;
+  out.value.grid = grid;
+  const std::size_t n = std::size_t(grid.count());
+  out.value.values.resize(n);
+  out.plane_distance.resize(n);
+  out.nearest_plane.resize(n);
+
+  constexpr int kSuper = 32, kBlock = 8;
+  const auto& D = grid.dims;
+  const int sx = (D[0] + kSuper - 1) / kSuper, sy = (D[1] + kSuper - 1) / kSuper,
+            sz = (D[2] + kSuper - 1) / kSuper;
+  const int supers = sx * sy * sz;
+  const double h = grid.voxel;
+
+  const auto box = [&](int i0, int j0, int k0, int i1, int j1, int k1, Vec3* c, Vec3* e) {
+    const Vec3 a = grid.centre(i0, j0, k0), b = grid.centre(i1 - 1, j1 - 1, k1 - 1);
+    *c = 0.5 * (a + b);
+    *e = 0.5 * (b - a);
+  };
+
+  // Pass 1: planes that may be nearest in each 32³ super-box.
+  std::vector<std::vector<int>> superCand(supers);
+  tbb::parallel_for(0, supers, [&](int s) {
+    const int bi = s % sx, bj = (s / sx) % sy, bk = s / (sx * sy);
+    const int i0 = bi * kSuper, j0 = bj * kSuper, k0 = bk * kSuper;
+    Vec3 c, e;
+    box(i0, j0, k0, std::min(D[0], i0 + kSuper), std::min(D[1], j0 + kSuper),
+        std::min(D[2], k0 + kSuper), &c, &e);
+    std::vector<double> lo;
+    cull(rows, all, c, e, superCand[s], lo);
+  });
+
+  // Pass 2: inside each 8³ box, an octree of boxes (8 -> 4 -> 2) culls the list again at every
+  // level (planes crossing a box shrink with its size: with hundreds of random planes the 8³ list
+  // holds dozens, the 2³ list a handful); voxels scan the survivors, each candidate's distance
+  // updated incrementally from the box corner.
+  const int bx = (D[0] + kBlock - 1) / kBlock, by = (D[1] + kBlock - 1) / kBlock,
+            bz = (D[2] + kBlock - 1) / kBlock;
+  const int blocks = bx * by * bz;
+  struct Scratch {
+    std::vector<int> lists[4];  // candidates at box sizes 8, 4, 2 (index = level)
+    std::vector<double> lo, s0, nx, ny, nz;
+  };
+  const auto evalVoxels = [&](int i0, int j0, int k0, int i1, int j1, int k1,
+                              const std::vector<int>& cand, Scratch& w) {
+    const Vec3 x0 = grid.centre(i0, j0, k0);
+    const std::size_t m = cand.size();
+    w.s0.resize(m);
+    w.nx.resize(m);
+    w.ny.resize(m);
+    w.nz.resize(m);
+    for (std::size_t q = 0; q < m; ++q) {  // contiguous copies: a tight scan per voxel
+      const PlaneRow& r = rows[cand[q]];
+      w.s0[q] = r.s(x0);
+      w.nx[q] = r.nx * h;
+      w.ny[q] = r.ny * h;
+      w.nz[q] = r.nz * h;
+    }
+    const double* s0 = w.s0.data();
+    const double *nx = w.nx.data(), *ny = w.ny.data(), *nz = w.nz.data();
+    for (int k = k0; k < k1; ++k)
+      for (int j = j0; j < j1; ++j)
+        for (int i = i0; i < i1; ++i) {
+          const double di = i - i0, dj = j - j0, dk = k - k0;
+          double best = std::numeric_limits<double>::infinity();
+          int bq = 0;
+          for (std::size_t q = 0; q < m; ++q) {
+            const double d = std::abs(s0[q] + nx[q] * di + ny[q] * dj + nz[q] * dk);
+            if (d < best) {
+              best = d;
+              bq = int(q);
+            }
+          }
+          const int bp = cand[bq];
+          const PlaneRow& r = rows[bp];
+          const Vec3 x = x0 + h * Vec3(di, dj, dk);
+          const double a = r.ux * x.x() + r.uy * x.y() + r.uz * x.z() - r.uo;
+          const double b = r.vx * x.x() + r.vy * x.y() + r.vz * x.z() - r.vo;
+          const std::size_t idx = std::size_t(grid.index(i, j, k));
+          out.value.values[idx] = fields[bp].sample(a, b);
+          out.plane_distance[idx] = float(best);
+          out.nearest_plane[idx] = bp;
+        }
+  };
+  // Box of `size` voxels at (i0, j0, k0), candidates `from`; level 0 = 8³.
+  const std::function<void(int, int, int, int, int, const std::vector<int>&, Scratch&)> visit =
+      [&](int i0, int j0, int k0, int size, int level, const std::vector<int>& from, Scratch& w) {
+        const int i1 = std::min(D[0], i0 + size), j1 = std::min(D[1], j0 + size),
+                  k1 = std::min(D[2], k0 + size);
+        if (i0 >= i1 || j0 >= j1 || k0 >= k1) return;
+        Vec3 c, e;
+        box(i0, j0, k0, i1, j1, k1, &c, &e);
+        if (size <= 2 && from.size() <= 12) {  // short list: a cull would cost as much as it saves
+          evalVoxels(i0, j0, k0, i1, j1, k1, from, w);
+          return;
+        }
+        std::vector<int>& list = w.lists[level];
+        cull(rows, from, c, e, list, w.lo);
+        if (size <= 2 || list.size() <= 2) {
+          evalVoxels(i0, j0, k0, i1, j1, k1, list, w);
+          return;
+        }
+        const int half = size / 2;
+        for (int dz = 0; dz < 2; ++dz)
+          for (int dy = 0; dy < 2; ++dy)
+            for (int dx = 0; dx < 2; ++dx)
+              visit(i0 + dx * half, j0 + dy * half, k0 + dz * half, half, level + 1, list, w);
+      };
+  const auto doBlock = [&](int b, Scratch& w) {
+    const int ib = (b % bx) * kBlock, jb = ((b / bx) % by) * kBlock, kb = (b / (bx * by)) * kBlock;
+    const int s = (ib / kSuper) + sx * ((jb / kSuper) + sy * (kb / kSuper));
+    visit(ib, jb, kb, kBlock, 0, superCand[s], w);
+  };
+  const int chunk = std::max(256, blocks / 16);
+  for (int first = 0; first < blocks; first += chunk) {
+    const int last = std::min(blocks, first + chunk);
+    tbb::parallel_for(tbb::blocked_range<int>(first, last, 16), [&](const tbb::blocked_range<int>& r) {
+      Scratch w;
+      for (int b = r.begin(); b != r.end(); ++b) doBlock(b, w);
+    });
+    if (progress) progress(double(last) / blocks);
+  }
+  return out;
+}
+
+}  // namespace xsect

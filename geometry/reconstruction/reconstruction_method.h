@@ -1,0 +1,17 @@
+// The reconstruction methods of the thesis: `reconstruction.method` of the configuration.
+#pragma once
+
+#include "geometry/core/named_choice.h"
+
+namespace xsect {
+
+enum class ReconstructionMethod {
+  nearest_plane,   ///< method 1 (thesis ch. 1, Def. 16): R
+  section_voronoi  ///< method 2 (thesis ch. 2, Def. 28): R', with thickened planes
+};
+constexpr std::array<NamedChoice<ReconstructionMethod>, 2> kReconstructionMethods{{
+    {ReconstructionMethod::nearest_plane, "nearest_plane"},
+    {ReconstructionMethod::section_voronoi, "section_voronoi"},
+}};
+
+}  // namespace xsect

@@ -1,0 +1,89 @@
+// Method 2 (thesis ch. 2 §2, Def. 27-28) evaluated on a voxel grid.
+// In a cell C of the arrangement, the Voronoi diagram of the sections S_C decides: a point x of the
+// Voronoi cell V_C(A) of section A is in R' when its orthogonal projection on A's plane lies in A.
+// A section point s lies on ∂C, seen from x, exactly when the open segment (x, s) crosses no
+// cutting plane ("s is visible from x"); so, with d(x, S_C) the distance to the nearest visible
+// section point,
+//     x ∈ R'  ⇔  some plane P has a visible projection p of x inside a section of P, with
+//                |x - p| = d(x, S_C)                                 (ties count, Def. 28).
+// A plane crossing (x, s) is nearer to x than |x - s|, so only planes nearer than the distances
+// compared can hide anything: the evaluation walks planes by increasing distance and stops as soon
+// as the nearest visible in-section projection (height H_in) is found, then checks that no visible
+// section point of a nearer plane lies closer than H_in (exactly, by clipping the plane's contours
+// to the visible face, when another plane's trace passes near the projection).
+//
+// Thickened planes (Fig. 2.6): within `slab_mm` of its nearest plane a point belongs to R' exactly
+// when it belongs to R (its projection on that plane lies in a section). Lifts that reach a face of
+// C outside its sections therefore stop just short of it, R' meets the planes only in the sections
+// (conformity), and pieces of neighbouring cells are glued along sections only. R ⊆ R' holds point
+// by point (Theorem 18): a point of R has an in-section projection on its nearest plane.
+//
+// Exactness: visibility is decided with the planes' equations, distances to contours from the
+// polygons; whether a projection lies in a section is read from the f_i rasters (as in method 1),
+// so a decision may differ from the definition only where a projection lies within the rasters'
+// interpolation error of a contour. tests/test_method2.cpp compares with a brute-force
+// evaluation of Def. 27-28 away from such ties (1e-3 mm).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "geometry/reconstruction/section_distance_field.h"
+#include "geometry/core/types.h"
+
+namespace xsect {
+
+struct SectionVoronoiParams {
+  /// Half-thickness of the thickened cutting planes, mm (>= 0). On a grid of spacing h, a value of
+  /// at least h·√3/2 makes every 26-connected path of voxels that crosses a plane meet it.
+  double slab_mm = 0.0;
+};
+
+struct SectionVoronoiField {
+  ScalarField value;                  ///< in-plane signed distance, ±band; negative = in R'
+  std::vector<float> plane_distance;  ///< distance to the nearest cutting plane, mm
+  std::vector<int> nearest_plane;     ///< index of that plane
+  /// For voxels in R': the plane of the section A with x ∈ V_C(A) and proj(x) ∈ A; -1 elsewhere.
+  std::vector<int> section_plane;
+  /// For voxels in R': d(x, np'(x)), the height of x above A's plane (its place on the lift
+  /// segment [a, lift'(a)]); 0 elsewhere. Its maximum bounds the lift lengths used by Thm 20.
+  std::vector<float> lift_height;
+  std::int64_t exact_face_tests = 0;  ///< clipped-face distance evaluations (statistics)
+  std::int64_t search_restarts = 0;   ///< voxels whose search radius had to grow (statistics)
+};
+
+/// @param planes    cutting planes (real and virtual); planes[i] uses fields[i] and its sections.
+/// @param fields    section distance rasters, one per plane (sectionDistanceField).
+/// @param grid      voxel centres to evaluate (mm).
+/// @param params    thickening of the planes.
+/// @param progress  optional, called with the fraction done (from the calling thread).
+/// Deterministic: every voxel is decided from its own position only.
+SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>& planes,
+                                                 const std::vector<SectionDistanceField>& fields,
+                                                 const GridSpec& grid,
+                                                 const SectionVoronoiParams& params,
+                                                 const std::function<void(double)>& progress = {});
+
+/// Method 2 at single points (for the connectivity graph along lifts): the same decision as the
+/// grid evaluation, with every plane considered.
+class SectionVoronoiPoints {
+ public:
+  struct Answer {
+    bool inside = false;     ///< x ∈ R'
+    int section_plane = -1;  ///< plane of the section whose lift holds x (inside only)
+  };
+  SectionVoronoiPoints(const std::vector<CuttingPlane>& planes,
+                       const std::vector<SectionDistanceField>& fields,
+                       const SectionVoronoiParams& params);
+  ~SectionVoronoiPoints();
+  SectionVoronoiPoints(const SectionVoronoiPoints&) = delete;
+  SectionVoronoiPoints& operator=(const SectionVoronoiPoints&) = delete;
+  Answer at(const Vec3& x) const;  ///< thread-safe
+
+ private:
+  struct Impl;
+  Impl* impl_;
+};
+
+}  // namespace xsect

@@ -1,0 +1,362 @@
+// Shepard's interpolant: the O(k²) definition and the block-culled evaluation on a grid
+// (see shepard_interpolant.h).
+#include "geometry/smoothing/shepard_interpolant.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "geometry/reconstruction/plane_rows.h"
+
+namespace xsect {
+
+namespace {
+
+/// (t_min / t)^p without overflow; common exponents without pow.
+inline double weightRatio(double tmin, double t, double p) {
+  const double r = tmin / t;
+  if (p == 1) return r;
+  if (p == 2) return r * r;
+  if (p == 4) return (r * r) * (r * r);
+  return std::pow(r, p);
+}
+
+/// The combination step shared by the definition and the grid: planes that see x, their
+/// distances t and values fv, listed by increasing plane index. Planes with weight factor 0 take
+/// no part (not even on their own plane), unless no other plane sees x: then f is the nearest
+/// plane's value. p = inf is method 1: the nearest plane, factors ignored.
+double combine(const int* plane, const double* t, const double* fv, int m, double p,
+               const std::vector<double>* factor) {
+  const auto weightOf = [&](int k) { return factor ? (*factor)[std::size_t(plane[k])] : 1.0; };
+  double tmin = std::numeric_limits<double>::infinity(), tminWeighted = tmin;
+  int nearest = -1;
+  for (int k = 0; k < m; ++k) {
+    if (t[k] < tmin || (t[k] == tmin && plane[k] < plane[nearest])) {
+      tmin = t[k];
+      nearest = k;
+    }
+    if (weightOf(k) > 0) tminWeighted = std::min(tminWeighted, t[k]);
+  }
+  if (std::isinf(p) || std::isinf(tminWeighted)) return fv[nearest];
+  double sw = 0, swf = 0;
+  if (tminWeighted == 0) {  // on a plane: f = f_i there (Property 3); on several, their mean
+    for (int k = 0; k < m; ++k)
+      if (t[k] == 0 && weightOf(k) > 0) {
+        sw += 1;
+        swf += fv[k];
+      }
+    return swf / sw;
+  }
+  for (int k = 0; k < m; ++k) {
+    const double w = weightRatio(tminWeighted, t[k], p) * weightOf(k);
+    sw += w;
+    swf += w * fv[k];
+  }
+  return swf / sw;
+}
+
+/// Throws unless `data` has one distance function and (if any) one finite, non-negative weight
+/// factor per plane.
+void checkData(const ShepardData& data) {
+  const auto& planes = *data.planes;
+  if (data.near->size() != planes.size() || data.f->size() != planes.size())
+    throw std::invalid_argument("Shepard: one distance function per plane is required");
+  if (data.weight_factor &&
+      (data.weight_factor->size() != planes.size() ||
+       std::any_of(data.weight_factor->begin(), data.weight_factor->end(),
+                   [](double v) { return !(v >= 0 && std::isfinite(v)); })))
+    throw std::invalid_argument("Shepard: one finite, non-negative weight factor per plane is required");
+}
+
+using Row = PlaneRow;
+
+struct Entry {
+  int plane;
+  bool candidate;  ///< may be seen from some voxel of the box (else kept only as a blocker)
+};
+
+struct Scratch {
+  std::vector<Entry> lists[4];
+  std::vector<double> sc, r, lo, hi, s0, dsx, dsy, dsz, cm, tv, fv, sv;
+  std::vector<int> order, cand, vp;
+  std::vector<std::uint8_t> keep, isCand;
+  std::vector<std::pair<double, int>> sortKey;
+};
+
+constexpr double kEps = 1e-9;  // mm: slack on the box-level sign bounds (kept conservative)
+
+/// Planes of `from` that may be seen from a voxel of the box [c - e, c + e], and the planes that
+/// may hide one of them there (see the file comment of shepard_interpolant.h), sorted by lower
+/// distance bound.
+void cullBox(const std::vector<Row>& rows, const std::vector<Entry>& from, const Vec3& c,
+             const Vec3& e, std::vector<Entry>& out, Scratch& w) {
+  const std::size_t m = from.size();
+  w.sc.resize(m);
+  w.r.resize(m);
+  w.lo.resize(m);
+  w.hi.resize(m);
+  w.order.clear();
+  for (std::size_t k = 0; k < m; ++k) {
+    const Row& p = rows[from[k].plane];
+    w.sc[k] = p.s(c);
+    w.r[k] = p.ax * e.x() + p.ay * e.y() + p.az * e.z();
+    w.lo[k] = std::max(0.0, std::abs(w.sc[k]) - w.r[k]);
+    w.hi[k] = std::abs(w.sc[k]) + w.r[k];
+    if (std::abs(w.sc[k]) > w.r[k] + kEps) w.order.push_back(int(k));  // does not cross the box
+  }
+  // g(x) = σ_q (s_q(x) - (n_q·n_i) s_i(x)) = σ_q s_q(x_i): q separates x from x_i where g < 0.
+  const auto gRange = [&](std::size_t q, std::size_t i, double* gmin, double* gmax) {
+    const Row &Q = rows[from[q].plane], &I = rows[from[i].plane];
+    const double cqi = Q.dot(I), sigma = w.sc[q] > 0 ? 1.0 : -1.0;
+    const double g0 = sigma * (w.sc[q] - cqi * w.sc[i]);
+    const double rad = std::abs(Q.nx - cqi * I.nx) * e.x() + std::abs(Q.ny - cqi * I.ny) * e.y() +
+                       std::abs(Q.nz - cqi * I.nz) * e.z();
+    *gmin = g0 - rad;
+    *gmax = g0 + rad;
+  };
+  constexpr std::size_t kBlockers = 10;  // nearest non-crossing planes tried as box-wide blockers
+  const std::size_t nb = std::min(kBlockers, w.order.size());
+  std::partial_sort(w.order.begin(), w.order.begin() + nb, w.order.end(), [&](int a, int b) {
+    return w.hi[a] < w.hi[b] || (w.hi[a] == w.hi[b] && from[a].plane < from[b].plane);
+  });
+  w.isCand.assign(m, 0);
+  w.cand.clear();
+  for (std::size_t i = 0; i < m; ++i) {
+    if (!from[i].candidate) continue;
+    bool seen = true;
+    for (std::size_t b = 0; b < nb && seen; ++b) {
+      const std::size_t q = std::size_t(w.order[b]);
+      if (q == i) continue;
+      double gmin, gmax;
+      gRange(q, i, &gmin, &gmax);
+      if (gmax < -kEps) seen = false;  // q hides x_i from every voxel of the box
+    }
+    if (seen) {
+      w.isCand[i] = 1;
+      w.cand.push_back(int(i));
+    }
+  }
+  w.keep.assign(m, 0);
+  for (std::size_t q = 0; q < m; ++q) {
+    if (w.isCand[q]) {
+      w.keep[q] = 1;
+      continue;
+    }
+    const bool crossing = !(std::abs(w.sc[q]) > w.r[q] + kEps);
+    for (const int i : w.cand) {
+      if (!(w.lo[q] < w.hi[i] + kEps)) continue;  // q is farther than x_i everywhere
+      if (crossing) {
+        w.keep[q] = 1;
+        break;
+      }
+      double gmin, gmax;
+      gRange(q, std::size_t(i), &gmin, &gmax);
+      if (gmin < kEps) {  // q may separate x from x_i somewhere in the box
+        w.keep[q] = 1;
+        break;
+      }
+    }
+  }
+  w.sortKey.clear();
+  for (std::size_t k = 0; k < m; ++k)
+    if (w.keep[k]) w.sortKey.emplace_back(w.lo[k], int(k));
+  std::sort(w.sortKey.begin(), w.sortKey.end(), [&](const auto& a, const auto& b) {
+    return a.first < b.first || (a.first == b.first && from[a.second].plane < from[b.second].plane);
+  });
+  out.clear();
+  for (const auto& [l, k] : w.sortKey) out.push_back({from[k].plane, bool(w.isCand[k])});
+}
+
+}  // namespace
+
+std::vector<double> endPlaneWeightFactors(const std::vector<CuttingPlane>& planes,
+                                          std::size_t first_end_plane) {
+  std::vector<double> factor(planes.size(), 1.0);
+  for (std::size_t e = first_end_plane; e < planes.size(); ++e) {
+    double m = 0;
+    for (std::size_t i = 0; i < first_end_plane && i < planes.size(); ++i)
+      if (!planes[i].sections.empty()) {
+        const double c = planes[i].plane.normal.dot(planes[e].plane.normal);
+        m = std::max(m, c * c);
+      }
+    factor[e] = m;
+  }
+  return factor;
+}
+
+double shepardValue(const ShepardData& data, const Vec3& x, double exponent, int* visible) {
+  checkData(data);
+  const auto& planes = *data.planes;
+  const std::size_t k = planes.size();
+  std::vector<double> s(k);
+  for (std::size_t i = 0; i < k; ++i) s[i] = planes[i].plane.signedDistance(x);
+  std::vector<int> idx;
+  std::vector<double> t, fv;
+  for (std::size_t i = 0; i < k; ++i) {
+    const Plane& P = planes[i].plane;
+    const Vec3 xi = x - s[i] * P.normal;
+    bool seen = true;
+    for (std::size_t q = 0; q < k && seen; ++q)
+      if (q != i && s[q] * planes[q].plane.signedDistance(xi) < 0) seen = false;
+    if (!seen) continue;
+    const Vec2 ab = P.toPlane(x);
+    idx.push_back(int(i));
+    t.push_back(std::abs(s[i]));
+    fv.push_back(planeDistanceValue((*data.near)[i], (*data.f)[i], ab.x(), ab.y()));
+  }
+  if (visible) *visible = int(idx.size());
+  if (idx.empty()) throw std::logic_error("Shepard: no plane sees the point");  // the nearest always does
+  return combine(idx.data(), t.data(), fv.data(), int(idx.size()), exponent, data.weight_factor);
+}
+
+ShepardField shepardInterpolant(const ShepardData& data, const GridSpec& grid, double exponent,
+                                const std::function<void(double)>& progress) {
+  const auto& planes = *data.planes;
+  if (planes.empty()) throw std::invalid_argument("Shepard: no cutting plane");
+  checkData(data);
+  if (!(exponent > 0)) throw std::invalid_argument("Shepard: the exponent must be positive");
+  if (!(grid.voxel > 0)) throw std::invalid_argument("Shepard: voxel size must be positive");
+  const std::vector<Row> rows = planeRows(planes);
+  std::vector<Entry> all(planes.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = {int(i), true};
+
+  ShepardField out;
+  out.value.grid = grid;
+  out.value.values.resize(std::size_t(grid.count()));
+  std::atomic<std::int64_t> visibleTotal{0};
+  std::atomic<int> visibleMax{0};
+
+  constexpr int kSuper = 32, kBlock = 8;
+  const auto& D = grid.dims;
+  const int sx = (D[0] + kSuper - 1) / kSuper, sy = (D[1] + kSuper - 1) / kSuper,
+            sz = (D[2] + kSuper - 1) / kSuper;
+  const double h = grid.voxel;
+  const auto box = [&](int i0, int j0, int k0, int i1, int j1, int k1, Vec3* c, Vec3* e) {
+    const Vec3 a = grid.centre(i0, j0, k0), b = grid.centre(i1 - 1, j1 - 1, k1 - 1);
+    *c = 0.5 * (a + b);
+    *e = 0.5 * (b - a);
+  };
+  std::vector<std::vector<Entry>> superList(std::size_t(sx) * sy * sz);
+  tbb::parallel_for(0, int(superList.size()), [&](int s) {
+    const int i0 = (s % sx) * kSuper, j0 = ((s / sx) % sy) * kSuper, k0 = (s / (sx * sy)) * kSuper;
+    Vec3 c, e;
+    box(i0, j0, k0, std::min(D[0], i0 + kSuper), std::min(D[1], j0 + kSuper),
+        std::min(D[2], k0 + kSuper), &c, &e);
+    Scratch w;
+    cullBox(rows, all, c, e, superList[std::size_t(s)], w);
+  });
+
+  const auto evalVoxels = [&](int i0, int j0, int k0, int i1, int j1, int k1,
+                              const std::vector<Entry>& list, Scratch& w, std::int64_t& vis,
+                              int& vmax) {
+    const std::size_t m = list.size();
+    const Vec3 x0 = grid.centre(i0, j0, k0);
+    w.s0.resize(m);
+    w.dsx.resize(m);
+    w.dsy.resize(m);
+    w.dsz.resize(m);
+    w.cand.clear();
+    for (std::size_t q = 0; q < m; ++q) {
+      const Row& r = rows[list[q].plane];
+      w.s0[q] = r.s(x0);
+      w.dsx[q] = r.nx * h;
+      w.dsy[q] = r.ny * h;
+      w.dsz[q] = r.nz * h;
+      if (list[q].candidate) w.cand.push_back(int(q));
+    }
+    const std::size_t nc = w.cand.size();
+    w.cm.resize(m * nc);  // n_q . n_i for every entry q and candidate i
+    for (std::size_t q = 0; q < m; ++q)
+      for (std::size_t a = 0; a < nc; ++a)
+        w.cm[q * nc + a] = rows[list[q].plane].dot(rows[list[std::size_t(w.cand[a])].plane]);
+    w.sv.resize(m);
+    w.tv.resize(nc);
+    w.fv.resize(nc);
+    w.vp.resize(nc);
+    for (int k = k0; k < k1; ++k)
+      for (int j = j0; j < j1; ++j)
+        for (int i = i0; i < i1; ++i) {
+          const double di = i - i0, dj = j - j0, dk = k - k0;
+          for (std::size_t q = 0; q < m; ++q) w.sv[q] = w.s0[q] + w.dsx[q] * di + w.dsy[q] * dj + w.dsz[q] * dk;
+          const Vec3 x = x0 + h * Vec3(di, dj, dk);
+          int nv = 0;
+          for (std::size_t a = 0; a < nc; ++a) {
+            const std::size_t ia = std::size_t(w.cand[a]);
+            const double si = w.sv[ia], t = std::abs(si);
+            bool seen = true;
+            for (std::size_t q = 0; q < m && seen; ++q) {
+              if (q == ia) continue;
+              const double sq = w.sv[q];
+              if (!(std::abs(sq) < t)) continue;
+              if (sq * (sq - w.cm[q * nc + a] * si) < 0) seen = false;
+            }
+            if (!seen) continue;
+            const int p = list[ia].plane;
+            const Row& r = rows[p];
+            const double ua = r.ux * x.x() + r.uy * x.y() + r.uz * x.z() - r.uo;
+            const double vb = r.vx * x.x() + r.vy * x.y() + r.vz * x.z() - r.vo;
+            w.vp[nv] = p;
+            w.tv[nv] = t;
+            w.fv[nv] = planeDistanceValue((*data.near)[p], (*data.f)[p], ua, vb);
+            ++nv;
+          }
+          vis += nv;
+          vmax = std::max(vmax, nv);
+          out.value.values[std::size_t(grid.index(i, j, k))] =
+              float(combine(w.vp.data(), w.tv.data(), w.fv.data(), nv, exponent, data.weight_factor));
+        }
+  };
+  const std::function<void(int, int, int, int, int, const std::vector<Entry>&, Scratch&,
+                           std::int64_t&, int&)>
+      visit = [&](int i0, int j0, int k0, int size, int level, const std::vector<Entry>& from,
+                  Scratch& w, std::int64_t& vis, int& vmax) {
+        const int i1 = std::min(D[0], i0 + size), j1 = std::min(D[1], j0 + size),
+                  k1 = std::min(D[2], k0 + size);
+        if (i0 >= i1 || j0 >= j1 || k0 >= k1) return;
+        Vec3 c, e;
+        box(i0, j0, k0, i1, j1, k1, &c, &e);
+        std::vector<Entry>& list = w.lists[level];
+        cullBox(rows, from, c, e, list, w);
+        if (size <= 2 || list.size() <= 3) {
+          evalVoxels(i0, j0, k0, i1, j1, k1, list, w, vis, vmax);
+          return;
+        }
+        const int half = size / 2;
+        for (int dz = 0; dz < 2; ++dz)
+          for (int dy = 0; dy < 2; ++dy)
+            for (int dx = 0; dx < 2; ++dx)
+              visit(i0 + dx * half, j0 + dy * half, k0 + dz * half, half, level + 1, list, w, vis, vmax);
+      };
+  const int bx = (D[0] + kBlock - 1) / kBlock, by = (D[1] + kBlock - 1) / kBlock,
+            bz = (D[2] + kBlock - 1) / kBlock;
+  const int blocks = bx * by * bz;
+  const int chunk = std::max(256, blocks / 16);
+  for (int first = 0; first < blocks; first += chunk) {
+    const int last = std::min(blocks, first + chunk);
+    tbb::parallel_for(tbb::blocked_range<int>(first, last, 16), [&](const tbb::blocked_range<int>& r) {
+      Scratch w;
+      std::int64_t vis = 0;
+      int vmax = 0;
+      for (int b = r.begin(); b != r.end(); ++b) {
+        const int ib = (b % bx) * kBlock, jb = ((b / bx) % by) * kBlock, kb = (b / (bx * by)) * kBlock;
+        const int s = (ib / kSuper) + sx * ((jb / kSuper) + sy * (kb / kSuper));
+        visit(ib, jb, kb, kBlock, 0, superList[std::size_t(s)], w, vis, vmax);
+      }
+      visibleTotal += vis;
+      int prev = visibleMax.load();
+      while (vmax > prev && !visibleMax.compare_exchange_weak(prev, vmax)) {
+      }
+    });
+    if (progress) progress(double(last) / blocks);
+  }
+  out.visible_planes = visibleTotal.load();
+  out.max_visible_planes = visibleMax.load();
+  return out;
+}
+
+}  // namespace xsect
