@@ -173,4 +173,21 @@ SmoothStage smoothStage(const RunConfig& c, const std::vector<CuttingPlane>& rea
   return out;
 }
 
+std::string shepardConnectivityWarning(const RunConfig& c, const SmoothStage& smooth) {
+  if (c.smoothing_method != SmoothingMethod::shepard || smooth.shepard_keeps_connectivity) return "";
+  const GraphVoxelCheck& g = smooth.shepard_check;
+  const auto declined = std::count_if(smooth.refined_cells.begin(), smooth.refined_cells.end(),
+                                      [](const CellRefinement& r) { return !r.accepted; });
+  return "Shepard's surface joins the sections differently from the method's graph (" +
+         std::to_string(g.pairs_joined_by_graph_only) + " pairs joined by the graph only, " +
+         std::to_string(g.pairs_joined_by_voxels_only) + " by the surface only" +
+         (g.same_partition ? "; " + std::to_string(declined) +
+                                 " cells where it differs from the graph more than the method's solid "
+                                 "does, on the grid and on finer lattices)"
+                           : std::string(")")) +
+         (smooth.fell_back ? ": the surface written is the level-set smoothing of the method's solid, which "
+                             "keeps the method's connectivity"
+                           : "");
+}
+
 }  // namespace xsect

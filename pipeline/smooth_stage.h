@@ -69,4 +69,8 @@ SmoothStage smoothStage(const RunConfig& config, const std::vector<CuttingPlane>
                         const CellConnectivityCheck& baseCells,
                         const std::function<void(double)>& progress = {});
 
+/// The warning when Shepard's surface joins the sections differently from the method's graph
+/// (what was measured, and what was written instead); empty otherwise.
+std::string shepardConnectivityWarning(const RunConfig& config, const SmoothStage& smooth);
+
 }  // namespace xsect

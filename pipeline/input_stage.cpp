@@ -1,0 +1,52 @@
+// Stages 1-3: load, segment, conform (see input_stage.h).
+#include "pipeline/input_stage.h"
+
+#include "io/csl_file.h"
+#include "io/input_error.h"
+#include "io/slices_file.h"
+#include "pipeline/conform_stage.h"
+#include "pipeline/load_sections.h"
+
+namespace xsect {
+
+RunInputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress) {
+  RunInputs in;
+  progress.stage("load");
+  in.config = readRunConfig(o.config, o.overrides);
+  in.warnings = in.config.warnings;
+  const RunConfig& c = in.config;
+  in.input_files.push_back(c.path);
+  in.input_files.push_back(c.input_path);
+  std::vector<SliceRecord> slices;
+  if (c.input_kind == InputKind::slices) {
+    slices = mergeRepeatedSlices(readSlicesFile(c.input_path, &in.warnings), &in.warnings);
+    for (const auto& s : slices) {
+      in.input_files.push_back(s.image_resolved);
+      if (s.fov_resolved) in.input_files.push_back(*s.fov_resolved);
+    }
+  } else if (c.input_kind == InputKind::csl) {
+    in.planes = readCslFile(c.input_path, &in.warnings);
+  } else {
+    throw InputError(c.path, std::string("input.") + nameOf(kInputKinds, c.input_kind),
+                     "this input kind is not available in this version (slices | csl)");
+  }
+  clock.end("load");
+  progress.stage("segment");
+  if (c.input_kind == InputKind::slices)
+    in.planes = sectionsFromSlices(slices, c.input_path, c.segmentation, &in.warnings, &in.threshold,
+                                   &in.labelled);
+  in.slices = int(in.planes.size());
+  clock.end("segment");
+  progress.stage("conform");
+  ConformStage conform = conformStage(c.conformity, std::move(in.planes), std::move(in.labelled));
+  in.planes = std::move(conform.planes);
+  in.labelled = std::move(conform.labelled);
+  in.conformity = std::move(conform.summary);
+  in.conformity_details = std::move(conform.details);
+  in.warnings.insert(in.warnings.end(), conform.warnings.begin(), conform.warnings.end());
+  clock.end("conform");
+  progress.note(conform.stderr_summary);
+  return in;
+}
+
+}  // namespace xsect

@@ -1,0 +1,35 @@
+// Stages 1-3 of `xsect run` and `xsect check` (GUIDE.md): load the configuration and its input,
+// segment the slices into sections (thesis ch. 1 §1.1: the sections S_i = O ∩ P_i), and conform
+// them along the planes' common lines (Introduction §3.1; pipeline/conform_stage.h).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "geometry/core/types.h"
+#include "io/run_config.h"
+#include "pipeline/commands.h"
+#include "pipeline/progress.h"
+#include "pipeline/stage_clock.h"
+
+namespace xsect {
+
+/// What stages 1-3 produce: the cutting planes with their sections, ready for the arrangement.
+struct RunInputs {
+  RunConfig config;
+  std::vector<CuttingPlane> planes;             ///< conformed; coincident observations merged
+  std::vector<std::string> input_files;         ///< hashed into the manifest
+  std::vector<std::string> warnings;
+  int slices = 0;                               ///< planes read (before stage 3 merged or dropped any)
+  double threshold = 0;                         ///< grey threshold applied (slices input)
+  std::vector<std::vector<Section>> labelled;   ///< segmentation labels: per plane, per label
+  nlohmann::ordered_json conformity;            ///< stage 3's summary (report.json "conformity")
+  nlohmann::ordered_json conformity_details;    ///< conformity.json
+};
+
+/// Reads options.config (with its overrides) and its input (slices.yaml and images, or a .csl),
+/// segments and conforms. Invalid input throws InputError.
+RunInputs loadInputs(const RunOptions& options, StageClock& clock, Progress& progress);
+
+}  // namespace xsect

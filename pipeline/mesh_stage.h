@@ -1,0 +1,52 @@
+// Stage 7 of `xsect run` (GUIDE.md): the meshes and their check. The method's solid (or the smooth
+// surface, stage 6) meshed and cut along the planes onto the section contours (conformal cut); per
+// material, each voxel labelled with the section its lift comes from (thesis remark after Def. 17)
+// and one mesh per label; then every mesh's topology (Betti numbers, watertight) required to be the
+// one of the voxel solid it bounds (issue 14: a difference is a defect, exit 1, nothing written).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "geometry/core/digital_topology.h"
+#include "geometry/meshing/conformal_cut.h"
+#include "geometry/meshing/mesh_topology.h"
+#include "pipeline/reconstruct_stage.h"
+#include "pipeline/smooth_stage.h"
+
+namespace xsect {
+
+/// One label's solid and mesh (written when there are at least two labels).
+struct Material {
+  std::uint16_t label = 0;
+  TriangleMesh mesh;
+  std::int64_t voxels = 0;
+  int critical_voxels_added = 0;   ///< voxels taken from neighbours to make it well-composed
+  Betti voxel_betti{0, 0, 0};
+  MeshTopology topology;           ///< of `mesh`, computed by diagnoseStage
+};
+
+struct MeshStage {
+  TriangleMesh method_mesh;         ///< the method's solid, conformally cut when asked
+  TriangleMesh mesh;                ///< what mesh.<fmt> holds: the smooth surface, or the method's
+  ConformalCutStats cut;            ///< of `mesh`
+  std::vector<std::uint16_t> voxel_label;  ///< labels.nrrd
+  std::vector<Material> materials;
+};
+
+/// @param smooth  stage 6's result, or nullptr without smoothing.
+/// Appends warnings (labels without voxels; suspiciously many labels).
+MeshStage meshStage(const RunInputs& in, const ReconstructStage& reconstruction, const SmoothStage* smooth,
+                    std::vector<std::string>* warnings);
+
+struct DiagnoseStage {
+  MeshTopology topology;         ///< of mesh.<fmt>
+  MeshTopology method_topology;  ///< of the method's mesh (the same as `topology` without smoothing)
+};
+
+/// Every mesh's topology against its solid; throws std::runtime_error naming the mesh otherwise.
+/// Fills the materials' topologies.
+DiagnoseStage diagnoseStage(const ReconstructStage& reconstruction, const SmoothStage* smooth, MeshStage& meshes);
+
+}  // namespace xsect

@@ -1,0 +1,115 @@
+// The output folder of `xsect run` (see run_outputs.h); report.json is built in run_report.cpp.
+#include "pipeline/run_outputs.h"
+
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+
+#include "geometry/core/polygon.h"
+#include "geometry/core/section_ids.h"
+#include "io/file_hash.h"
+#include "io/label_volume_file.h"
+#include "io/level_set_file.h"
+#include "io/mesh_io.h"
+#include "io/staged_output.h"
+#include "io/text_file.h"
+#include "pipeline/library_versions.h"
+
+namespace xsect {
+
+namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
+
+namespace {
+
+json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+/// The graphs' edges as (flat section id a, id b, cell, method, Graphviz style), G then G'.
+template <typename Visit>
+void forEachEdge(const RunResults& r, const Visit& visit) {
+  const SectionIds ids(r.inputs.planes);
+  const auto visitAll = [&](const std::vector<GraphEdge>& es, const char* method, const char* style) {
+    for (const GraphEdge& e : es)
+      visit(ids.of(e.plane_a, e.section_a), ids.of(e.plane_b, e.section_b), e.cell, method, style);
+  };
+  visitAll(r.arrangement.graphs.g, "nearest_plane", "style=dashed");
+  if (r.arrangement.method2) visitAll(r.arrangement.graphs.g_prime, "section_voronoi", "style=solid");
+}
+
+json manifestJson(const RunInputs& in, const RunOptions& o, const fs::path& dir) {
+  const RunConfig& c = in.config;
+  json manifest;
+  manifest["config_path"] = c.path;
+  manifest["config_resolved"] = c.resolved_yaml;
+  manifest["config_sha256"] = sha256Hex(c.resolved_yaml);
+  manifest["overrides"] = o.overrides;
+  json files = json::array();
+  for (const auto& f : in.input_files) files.push_back({{"path", f}, {"sha256", sha256File(f)}});
+  manifest["inputs"] = files;
+  manifest["libraries"] = libraryVersions();
+  manifest["threads"] = tbb::this_task_arena::max_concurrency();
+  json outputs = json::array();
+  for (const auto& e : fs::directory_iterator(dir)) outputs.push_back(e.path().filename().string());
+  std::sort(outputs.begin(), outputs.end());
+  manifest["outputs"] = outputs;
+  return manifest;
+}
+
+}  // namespace
+
+json graphJson(const RunResults& r) {
+  json nodes = json::array();
+  int id = 0;
+  for (const CuttingPlane& p : r.inputs.planes)
+    for (std::size_t s = 0; s < p.sections.size(); ++s) {
+      const Section& sec = p.sections[s];
+      nodes.push_back({{"id", id++}, {"slice", p.slice}, {"section", s}, {"label", sec.label},
+                       {"area_mm2", sectionArea(sec)},
+                       {"centroid_mm", vec(p.plane.toWorld(sectionCentroid(sec)))}});
+    }
+  json edges = json::array();
+  forEachEdge(r, [&](int a, int b, int cell, const char* method, const char*) {
+    edges.push_back({{"a", a}, {"b", b}, {"cell", cell}, {"method", method}});
+  });
+  return {{"method", nameOf(kReconstructionMethods, r.inputs.config.reconstruction_method)},
+          {"cells", r.arrangement.arrangement.cells},
+          {"sample_spacing_mm", r.arrangement.arrangement.sample_spacing_mm},
+          {"nodes", nodes},
+          {"edges", edges}};
+}
+
+std::string graphDot(const RunResults& r) {
+  std::string dot = "graph sections {\n  node [shape=ellipse];\n";
+  int id = 0;
+  for (const CuttingPlane& p : r.inputs.planes)
+    for (std::size_t s = 0; s < p.sections.size(); ++s)
+      dot += "  n" + std::to_string(id++) + " [label=\"" + std::to_string(p.slice) + ":" + std::to_string(s) + "\"];\n";
+  forEachEdge(r, [&](int a, int b, int cell, const char*, const char* style) {
+    dot += "  n" + std::to_string(a) + " -- n" + std::to_string(b) + " [" + style + ", tooltip=\"cell " +
+           std::to_string(cell) + "\"];\n";
+  });
+  return dot + "}\n";
+}
+
+void writeRunOutputs(const RunResults& r, const RunOptions& o, const StageClock& clock, const fs::path& outDir) {
+  const RunConfig& c = r.inputs.config;
+  StagedOutput out(outDir);
+  for (const auto& fmt : c.mesh_formats) writeMesh(out.file("mesh." + fmt).string(), r.meshes.mesh);
+  if (r.smooth) {
+    for (const auto& fmt : c.mesh_formats)
+      writeMesh(out.file("mesh_unsmoothed." + fmt).string(), r.meshes.method_mesh);
+    writeLevelSetVdb(out.file("level_set.vdb").string(), r.smooth->surface.level_set);
+  }
+  for (const Material& m : r.meshes.materials)
+    for (const auto& fmt : c.mesh_formats)
+      writeMesh(out.file("mesh_label_" + std::to_string(m.label) + "." + fmt).string(), m.mesh);
+  writeLabelVolumeNrrd(out.file("labels.nrrd").string(), r.reconstruction.solid.field.grid, r.meshes.voxel_label);
+  writeTextFile(out.file("graph.json").string(), graphJson(r).dump(2) + "\n");
+  writeTextFile(out.file("graph.dot").string(), graphDot(r));
+  writeTextFile(out.file("conformity.json").string(), r.inputs.conformity_details.dump(2) + "\n");
+  writeTextFile(out.file("report.json").string(), reportJson(r, clock).dump(2) + "\n");
+  writeTextFile(out.file("manifest.json").string(), manifestJson(r.inputs, o, out.dir()).dump(2) + "\n");
+  out.commit();
+}
+
+}  // namespace xsect

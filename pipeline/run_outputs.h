@@ -1,0 +1,43 @@
+// The one writer of `xsect run` (GUIDE.md stage 8): the stages' typed results turned into the
+// output folder, which appears complete or not at all (io/staged_output.h): mesh.<fmt> (and
+// mesh_unsmoothed, mesh_label_L), level_set.vdb, labels.nrrd, graph.json and graph.dot,
+// conformity.json, report.json and manifest.json.
+#pragma once
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "pipeline/arrange_stage.h"
+#include "pipeline/commands.h"
+#include "pipeline/input_stage.h"
+#include "pipeline/mesh_stage.h"
+#include "pipeline/reconstruct_stage.h"
+#include "pipeline/smooth_stage.h"
+#include "pipeline/stage_clock.h"
+
+namespace xsect {
+
+/// Everything the stages produced, read by the writer.
+struct RunResults {
+  const RunInputs& inputs;
+  const ReconstructStage& reconstruction;
+  const ArrangeStage& arrangement;
+  const SmoothStage* smooth;  ///< nullptr without smoothing
+  const MeshStage& meshes;
+  const DiagnoseStage& diagnosis;
+};
+
+/// graph.json: the sections (nodes) and the edges of G and, for method 2, G' (thesis Def. 30), each
+/// with the cell of the arrangement where the lifts meet.
+nlohmann::ordered_json graphJson(const RunResults& r);
+/// graph.dot: the same graph for Graphviz.
+std::string graphDot(const RunResults& r);
+/// report.json (pipeline/run_report.cpp).
+nlohmann::ordered_json reportJson(const RunResults& r, const StageClock& clock);
+
+/// Writes every output into `outDir` (replacing an older folder there).
+void writeRunOutputs(const RunResults& r, const RunOptions& options, const StageClock& clock,
+                     const std::filesystem::path& outDir);
+
+}  // namespace xsect

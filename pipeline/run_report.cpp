@@ -1,0 +1,207 @@
+// report.json of `xsect run` (GUIDE.md, "report.json"): the topology of the result, the counts,
+// each stage's parameters and measurements, timings, peak memory and the warnings.
+#include <cmath>
+
+#include "pipeline/run_outputs.h"
+
+namespace xsect {
+
+using json = nlohmann::ordered_json;
+
+namespace {
+
+json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+/// A solid's connectivity against the graph, cell by cell.
+json cellsJson(const CellConnectivityCheck& c) {
+  return {{"cells_compared", c.cells_compared},
+          {"cells_unresolved", c.cells_unresolved},
+          {"cells_differing", c.cells_differing},
+          {"pairs_joined_by_graph_only", c.pairs_joined_by_graph_only},
+          {"pairs_joined_by_solid_only", c.pairs_joined_by_voxels_only},
+          {"differing_cells", c.differing_cells}};
+}
+
+/// A surface's connectivity against the method's graph, globally and cell by cell.
+json surfaceCheckJson(const GraphVoxelCheck& g, const CellConnectivityCheck& cells) {
+  return json{{"same_partition_as_graph", g.same_partition},
+              {"components", g.voxel_components},
+              {"pairs_joined_by_graph_only", g.pairs_joined_by_graph_only},
+              {"pairs_joined_by_surface_only", g.pairs_joined_by_voxels_only},
+              {"sections_not_located", g.sections_unlocated},
+              {"per_cell", cellsJson(cells)}};
+}
+
+json refinedCellsJson(const std::vector<CellRefinement>& cells) {
+  json out = json::array();
+  for (const CellRefinement& r : cells)
+    out.push_back({{"cell", r.cell},
+                   {"pairs_differing", r.pairs},
+                   {"method_pairs_differing", r.reference_pairs},
+                   {"refinement", r.factor},
+                   {"lattice_dims", r.dims},
+                   {"refined_pairs_differing", r.refined_pairs},
+                   {"solid_leaves_box", r.leaves_box},
+                   {"accepted", r.accepted}});
+  return out;
+}
+
+json countsJson(const RunResults& r) {
+  const SampledReconstruction& rec = r.reconstruction.solid;
+  const SectionArrangement& a = r.arrangement.arrangement;
+  return {{"slices", r.inputs.slices}, {"slices_used", r.inputs.planes.size()},
+          {"planes_with_sections", r.reconstruction.counts.planes_with_sections},
+          {"sections", r.reconstruction.counts.sections}, {"end_planes", rec.end_planes.size()},
+          {"cells", a.cells}, {"sub_sections", a.sub_sections.size()},
+          {"voxels", rec.field.grid.count()},
+          {"voxels_inside", rec.voxels_inside},
+          {"mesh_vertices", r.meshes.mesh.vertices.size()},
+          {"mesh_triangles", r.meshes.mesh.triangles.size()}};
+}
+
+json reconstructionJson(const RunResults& r) {
+  const SampledReconstruction& rec = r.reconstruction.solid;
+  const RunConfig& c = r.inputs.config;
+  return {{"method", nameOf(kReconstructionMethods, c.reconstruction_method)},
+          {"voxel_size_mm", c.voxel_size_mm},
+          {"voxel_size", voxelSizeJson(r.reconstruction.voxel_size)},
+          {"grid_origin_mm", vec(rec.field.grid.origin)},
+          {"grid_dims", rec.field.grid.dims},
+          {"end_margin_mm", rec.end_margin_mm},
+          {"end_margin_auto", rec.end_margin_auto},
+          {"max_lift_mm", rec.max_lift_mm},
+          {"exact_face_tests", rec.exact_face_tests},
+          {"search_restarts", rec.search_restarts},
+          {"volume_mm3", r.diagnosis.topology.volume_mm3}};
+}
+
+json materialsJson(const RunResults& r) {
+  json mats = json::array();
+  for (const Material& m : r.meshes.materials) {
+    const MeshTopology& t = m.topology;
+    mats.push_back({{"label", m.label}, {"betti", t.betti}, {"voxel_betti", m.voxel_betti},
+                    {"watertight", t.watertight}, {"voxels", m.voxels},
+                    {"critical_voxels_added", m.critical_voxels_added}, {"volume_mm3", t.volume_mm3},
+                    {"mesh_triangles", m.mesh.triangles.size()}});
+  }
+  return mats;
+}
+
+json graphSummaryJson(const RunResults& r) {
+  const ArrangeStage& a = r.arrangement;
+  const GraphVoxelCheck& g = a.graph_check;
+  return {{"edges_g", a.graphs.g.size()},
+          {"edges_g_prime", a.method2 ? json(a.graphs.g_prime.size()) : json(nullptr)},
+          {"g_subset_of_g_prime", a.method2 ? json(a.g_in_g_prime) : json(nullptr)},
+          {"components", g.graph_components},
+          {"voxel_components_with_sections", g.voxel_components},
+          {"same_partition_as_voxels", g.same_partition},
+          {"pairs_joined_by_graph_only", g.pairs_joined_by_graph_only},
+          {"pairs_joined_by_voxels_only", g.pairs_joined_by_voxels_only},
+          {"sections_not_located", g.sections_unlocated},
+          {"per_cell", cellsJson(a.cell_check)}};
+}
+
+json smoothingJson(const RunResults& r) {
+  const SmoothStage& s = *r.smooth;
+  const RunConfig& c = r.inputs.config;
+  const MeshTopology& mt = r.diagnosis.method_topology;
+  const bool shepard = c.smoothing_method == SmoothingMethod::shepard;
+  const ContourPinning& pin = s.pinning;
+  return {{"method", nameOf(kSmoothingMethods, c.smoothing_method)},
+          {"surface_from", nameOf(kSmoothingMethods, s.method)},
+          {"exponent", std::isinf(s.exponent) ? json("inf") : json(s.exponent)},
+          {"cap_mm", s.cap_mm},
+          {"cap_auto", s.cap_auto},
+          {"empty_plane_value_mm", s.empty_value_mm},
+          {"adaptivity", c.smoothing_adaptivity},
+          {"grid_dims", s.field.grid.dims},
+          {"grid_origin_mm", vec(s.field.grid.origin)},
+          {"evaluate_s", s.evaluate_s},
+          {"voxels_per_s", s.evaluate_s > 0 ? double(s.field.grid.count()) / s.evaluate_s : 0.0},
+          {"mean_visible_planes", s.mean_visible_planes},
+          {"max_visible_planes", s.max_visible_planes},
+          {"end_plane_weights", shepard ? json(s.end_plane_weights) : json(nullptr)},
+          {"contour_pinning", shepard ? json{{"samples", pin.samples},
+                                             {"samples_pinned", pin.samples_pinned},
+                                             {"samples_outside", pin.samples_outside},
+                                             {"samples_crowded", pin.samples_crowded},
+                                             {"voxels_pinned", pin.voxels_pinned},
+                                             {"worst_before_mm", pin.worst_before_mm}}
+                                      : json(nullptr)},
+          {"voxel_betti", s.voxel_betti},
+          {"repair", {{"specks_removed", s.repair.specks_removed},
+                      {"cavities_filled", s.repair.cavities_filled},
+                      {"critical_voxels_added", s.repair.critical_voxels_added}}},
+          {"adaptivity_dropped", s.adaptivity_dropped},
+          {"level_set_active_voxels", s.surface.level_set.coords.size()},
+          {"level_set_half_width_mm", s.surface.level_set.background},
+          {"shepard_connectivity", shepard ? surfaceCheckJson(s.shepard_check, s.shepard_cells) : json(nullptr)},
+          {"shepard_refined_cells", shepard ? refinedCellsJson(s.refined_cells) : json(nullptr)},
+          {"shepard_keeps_connectivity", shepard ? json(s.shepard_keeps_connectivity) : json(nullptr)},
+          {"fell_back_to_level_set", s.fell_back},
+          {"level_set_iterations", s.iterations_applied},
+          {"connectivity", surfaceCheckJson(s.final_check, s.final_cells)},
+          {"unsmoothed", {{"betti", mt.betti}, {"watertight", mt.watertight},
+                          {"volume_mm3", mt.volume_mm3},
+                          {"mesh_triangles", r.meshes.method_mesh.triangles.size()}}}};
+}
+
+json conformityJson(const RunResults& r) {
+  const ConformalCutStats& cut = r.meshes.cut;
+  json j = r.inputs.conformity;
+  j.update(json{{"conformal_mesh", r.inputs.config.conformal_mesh},
+                {"planes_cut", cut.planes_cut},
+                {"cut_vertices", cut.vertices_added},
+                {"cut_vertices_on_contour", cut.vertices_snapped},
+                {"cut_vertices_short_of_contour", cut.vertices_shortened},
+                {"cut_vertices_off_contour", cut.vertices_unsnapped},
+                {"cut_max_move_mm", cut.max_move_mm}});
+  return j;
+}
+
+json throughputJson(const RunResults& r) {
+  const SampledReconstruction& rec = r.reconstruction.solid;
+  const ReconstructionMethod method = r.reconstruction.params.method;
+  return {{"reconstruct_voxels_per_s", rec.evaluate_seconds > 0 ? double(rec.field.grid.count()) / rec.evaluate_seconds : 0.0},
+          {"evaluate_s", rec.evaluate_seconds},
+          {"method1_evaluate_s", method == ReconstructionMethod::nearest_plane ? json(rec.evaluate_seconds) : json(nullptr)},
+          {"method2_evaluate_s", method == ReconstructionMethod::section_voronoi ? json(rec.evaluate_seconds) : json(nullptr)}};
+}
+
+}  // namespace
+
+json reportJson(const RunResults& r, const StageClock& clock) {
+  const RunConfig& c = r.inputs.config;
+  const SampledReconstruction& rec = r.reconstruction.solid;
+  const SectionArrangement& a = r.arrangement.arrangement;
+  json report;
+  report["xsect_version"] = XSECT_VERSION;
+  report["betti"] = r.diagnosis.topology.betti;
+  report["voxel_betti"] = rec.voxel_betti;
+  report["watertight"] = r.diagnosis.topology.watertight;
+  report["counts"] = countsJson(r);
+  if (c.input_kind == InputKind::slices)
+    report["segmentation"] = {{"method", nameOf(kSegmentationMethods, c.segmentation.method)},
+                              {"threshold_used", r.inputs.threshold}};
+  report["reconstruction"] = reconstructionJson(r);
+  report["materials"] = materialsJson(r);
+  report["arrangement"] = {{"cells", a.cells},
+                           {"sub_sections", a.sub_sections.size()},
+                           {"trace_points_added", a.trace_points},
+                           {"sample_spacing_mm", a.sample_spacing_mm}};
+  report["graph"] = graphSummaryJson(r);
+  if (r.smooth) report["smoothing"] = smoothingJson(r);
+  report["topology_repair"] = {{"specks_removed", rec.repair.specks_removed},
+                               {"cavities_filled", rec.repair.cavities_filled},
+                               {"critical_voxels_added", rec.repair.critical_voxels_added}};
+  report["conformity"] = conformityJson(r);
+  report["timings_s"] = clock.timings;
+  report["timings_s"]["total"] = clock.total();
+  report["peak_memory_mb"] = clock.memory;
+  report["throughput"] = throughputJson(r);
+  report["warnings"] = r.inputs.warnings;
+  return report;
+}
+
+}  // namespace xsect
