@@ -154,13 +154,13 @@ int run(const Options& o) {
   const auto tLoad = clock::now();
   const xsect::RunConfig c = xsect::readRunConfig(o.config, o.overrides);
   std::vector<xsect::CuttingPlane> planes;
-  if (c.input_kind == "slices") {
+  if (c.input_kind == xsect::InputKind::slices) {
     const auto slices = xsect::readSlicesFile(c.input_path);
     planes = xsect::sectionsFromSlices(slices, c.input_path, c.segmentation, nullptr);
-  } else if (c.input_kind == "csl") {
+  } else if (c.input_kind == xsect::InputKind::csl) {
     planes = xsect::readCslFile(c.input_path);
   } else {
-    throw xsect::InputError(c.path, "input." + c.input_kind,
+    throw xsect::InputError(c.path, std::string("input.") + xsect::nameOf(xsect::kInputKinds, c.input_kind),
                             "this input kind is not available to the baseline (slices | csl)");
   }
   const double loadSeconds = secondsSince(tLoad);

@@ -61,20 +61,28 @@ ImageHeader tiffHeader(std::ifstream& in, const std::vector<unsigned char>& b) {
   const std::vector<unsigned char> dir = bytesAt(in, ifd + std::uint64_t(countBytes), std::size_t(entries * entryBytes));
   ImageHeader h;
   h.format = "tiff";
+  bool palette = false;
   for (std::uint64_t e = 0; e < entries; ++e) {
     const unsigned char* p = &dir[std::size_t(e * entryBytes)];
     const std::uint64_t tag = unsignedAt(p, 2, big), type = unsignedAt(p + 2, 2, big);
+    const std::uint64_t count = unsignedAt(p + 4, offsetBytes, big);  // the count field: 4 or 8 bytes
     const unsigned char* value = p + 4 + offsetBytes;  // after tag, type and count
-    // SHORT (3) values sit left-justified in the value field; LONG (4) and LONG8 (16) fill it.
-    // LONG8 exists only in BigTIFF, whose value field has room for it.
-    const std::uint64_t v = type == 3 ? unsignedAt(value, 2, big)
-                            : type == 4 ? unsignedAt(value, 4, big)
+    // Values sit left-justified in the value field: BYTE (1), SHORT (3) and LONG (4), and their
+    // signed forms (6, 8, 9: sizes are never negative), and LONG8 (16), which exists only in
+    // BigTIFF, whose value field has room for it.
+    const std::uint64_t v = type == 1 || type == 6 ? value[0]
+                            : type == 3 || type == 8 ? unsignedAt(value, 2, big)
+                            : type == 4 || type == 9 ? unsignedAt(value, 4, big)
                             : type == 16 && bigTiff ? unsignedAt(value, 8, big) : 0;
     if (tag == 256) h.width = v;
     if (tag == 257) h.height = v;
-    if (tag == 258 && type == 3) h.bits_per_sample = int(v);  // the first sample's, when inline
+    // Bits per sample: the first sample's, inline for one sample (for more, the field holds an
+    // offset; the samples are then refused as channels anyway).
+    if (tag == 258 && type == 3 && count == 1) h.bits_per_sample = int(v);
+    if (tag == 262 && v == 3) palette = true;  // PhotometricInterpretation: palette colour
     if (tag == 277) h.channels = int(std::min<std::uint64_t>(v, 1u << 16));
   }
+  if (palette) h.channels = 3;  // decoded as colour
   return h;
 }
 

@@ -11,8 +11,8 @@ struct ImageHeader {
   std::string format;           ///< "png" or "tiff"
   std::uint64_t width = 0;      ///< pixels
   std::uint64_t height = 0;     ///< pixels
-  int channels = 1;             ///< samples per pixel (PNG: from the colour type; palette = 3)
-  int bits_per_sample = 8;
+  int channels = 1;             ///< samples per pixel as decoded (PNG and TIFF palettes: 3)
+  int bits_per_sample = 8;      ///< of the first sample
 
   std::uint64_t pixels() const { return width * height; }
 };

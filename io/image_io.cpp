@@ -22,7 +22,13 @@ std::uint64_t greyImageBytes(const std::string& path, const std::string& listing
     throw InputError(listing_file, key,
                      "image " + path + " is " + std::to_string(h.width) + " x " + std::to_string(h.height) +
                          " pixels, more than the " + std::to_string(kMaxImagePixels) + " a slice may have");
-  return h.pixels() * std::uint64_t(h.bits_per_sample > 8 ? 2 : 1) * std::uint64_t(std::max(h.channels, 1));
+  // Colour and deep images are refused here, before the decoder allocates for them.
+  if (h.channels != 1)
+    throw InputError(listing_file, key,
+                     "image " + path + " has " + std::to_string(h.channels) +
+                         " channels; a single-channel grey image is required");
+  if (h.bits_per_sample > 16) throw InputError(listing_file, key, "image " + path + " is not 8- or 16-bit");
+  return h.pixels() * std::uint64_t(h.bits_per_sample > 8 ? 2 : 1);
 }
 
 cv::Mat readGreyImage(const std::string& path, const std::string& listing_file,

@@ -13,7 +13,8 @@ constexpr std::uint64_t kMaxImagePixels = std::uint64_t(1) << 28;
 
 /// Reads a grey image. Throws InputError(listing_file, key, ...) if it cannot be read, is not a
 /// PNG or TIFF file, its header gives more than kMaxImagePixels, or it is not an 8- or 16-bit
-/// single-channel image (colour images are rejected, not silently converted).
+/// single-channel image (colour images are rejected, not silently converted). Size, channels and
+/// depth are checked from the header, before the image is decoded.
 cv::Mat readGreyImage(const std::string& path, const std::string& listing_file,
                       const std::string& key);
 

@@ -99,6 +99,7 @@ ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<Cut
   for (const CoincidentConsensus& c : merged.consensus) {
     coincident.push_back({{"slices", c.slices},
                           {"kept", c.slices.front()},
+                          {"rule", c.rule},
                           {"max_offset_mm", c.group.max_offset_mm},
                           {"max_angle_deg", c.group.max_angle_deg},
                           {"disagreement_area_mm2", c.disagreement_area_mm2},
@@ -106,10 +107,14 @@ ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<Cut
     std::string list;
     for (std::size_t k = 0; k < c.slices.size(); ++k)
       list += (k == 0 ? "" : k + 1 == c.slices.size() ? " and " : ", ") + std::to_string(c.slices[k]);
-    out.warnings.push_back("slices " + list + " observe one plane (within " + mm(c.group.max_offset_mm) +
-                           "); their sections differ over " + number(c.disagreement_area_mm2) +
-                           " mm² (a contour moves up to " + mm(c.max_correction_mm) +
-                           " to the consensus): one plane with the median of their signed distances is used");
+    const std::string head = "slices " + list + " observe one plane (within " + mm(c.group.max_offset_mm) + ")";
+    if (c.rule == "identical")
+      out.warnings.push_back(head + " with the same contours: merged into one plane");
+    else
+      out.warnings.push_back(head + "; their sections differ over " + number(c.disagreement_area_mm2) +
+                             " mm² (a contour moves up to " + mm(c.max_correction_mm) + " to the consensus): one plane with " +
+                             (c.rule == "union" ? "the union of their contours" : "the median of their signed distances") +
+                             " is used");
   }
   // Tracked sweeps: the poses smoothed along the sweep first (the sections move with their
   // planes), so that everything after, measurement included, sees the smoothed poses.

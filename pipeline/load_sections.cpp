@@ -44,7 +44,8 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
   std::vector<CuttingPlane> planes(n);
   std::vector<char> touches(n, 0);
   // Every frame is held while the series is segmented: its decoded size, from the headers, is
-  // checked against this machine's memory before any image is decoded (issue 15, item 3).
+  // checked against this machine's memory before any image is decoded (issue 15, item 3). Header
+  // errors are therefore reported before decoding errors, each for the first slice that has one.
   double bytes = 0;
   for (int i = 0; i < n; ++i) {
     const std::string key = "slices[" + std::to_string(i) + "]";
@@ -54,9 +55,9 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
   const double memory = physicalMemoryBytes();
   if (memory > 0 && bytes > 0.5 * memory)
     throw InputError(listing_file, "slices",
-                     "the " + std::to_string(n) + " frames take " + std::to_string(int(bytes / 1e9)) +
-                         " GB decoded, more than half of this machine's memory (" +
-                         std::to_string(int(memory / 1e9)) + " GB)");
+                     "the " + std::to_string(n) + " frames take " + std::to_string(std::int64_t(bytes / 1e6)) +
+                         " MB decoded, more than half of this machine's memory (" +
+                         std::to_string(std::int64_t(memory / 1e6)) + " MB)");
   // Read all images first (errors are reported for the first bad slice, deterministically).
   std::vector<cv::Mat> images(n), fovs(n);
   for (int i = 0; i < n; ++i) {

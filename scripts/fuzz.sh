@@ -1,40 +1,57 @@
 #!/usr/bin/env bash
-# Fuzzes xsect for about SECONDS seconds (default 60) on this machine's cores (issue 15, item 2):
+# Fuzzes xsect (issue 15, item 2):
 #  1. every reader (tests/fuzz/reader_harnesses.cpp) with libFuzzer, built with clang,
 #     AddressSanitizer and UndefinedBehaviorSanitizer into ${XSECT_FUZZ_BUILD_DIR:-build-fuzz},
-#     starting from the seed corpora in tests/fuzz/corpus/ (two thirds of the time, two readers at a
-#     time; prints the executions per reader);
+#     starting from the seed corpora in tests/fuzz/corpus/, two readers at a time; prints the
+#     executions per reader;
 #  2. the geometric fuzzer (tests/geometric_fuzz.h): random degenerate plane sets and sections
-#     through `xsect run`, chunks of 50 configurations, two at a time (the last third).
+#     through `xsect run`, chunks of 50 configurations, two at a time.
 # A crash, hang (10 s per input), leak or sanitizer report fails the script; its input is left in
 # build-fuzz/artifacts/: add it to tests/fuzz/corpus/<reader>/ as crash-<what>, where ctest replays it.
-# Usage: scripts/fuzz.sh [--readers-only] [SECONDS]     (building does not count in SECONDS)
+# Usage:
+#   scripts/fuzz.sh [SECONDS]                 about SECONDS (default 60): readers 2/3, geometric 1/3
+#   scripts/fuzz.sh --readers-only [SECONDS]  readers only
+#   scripts/fuzz.sh --ci                      readers only, the same inputs every time: each corpus
+#                                             replayed, then 1,000 mutations from seed 1 (10 s at most)
+# Building does not count in SECONDS.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-readers_only=0
-if [ "${1:-}" = "--readers-only" ]; then readers_only=1; shift; fi
+mode=explore
+case "${1:-}" in
+  --readers-only) mode=readers; shift ;;
+  --ci) mode=ci; shift ;;
+esac
 seconds="${1:-60}"
 build="${XSECT_BUILD_DIR:-$root/build}"
 fuzzbuild="${XSECT_FUZZ_BUILD_DIR:-$root/build-fuzz}"
 "$root/scripts/install-deps.sh"
+mkdir -p "$fuzzbuild/logs" "$fuzzbuild/artifacts"
 configure=(cmake -S "$root" -B "$fuzzbuild" -G Ninja -DXSECT_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo)
-CC=clang CXX=clang++ "${configure[@]}" >/dev/null 2>&1 || CC=clang CXX=clang++ "${configure[@]}"
-cmake --build "$fuzzbuild" --parallel "$(nproc)" >/dev/null
+if ! { CC=clang CXX=clang++ "${configure[@]}" && cmake --build "$fuzzbuild" --parallel "$(nproc)"; } \
+     > "$fuzzbuild/logs/build.log" 2>&1; then
+  tail -40 "$fuzzbuild/logs/build.log"; echo "fuzz: building the harnesses failed" >&2; exit 1
+fi
 
 readers=(csl slices config mesh_ply mesh_stl mesh_obj nrrd truth phantom vdb image)
-reader_seconds=$(( readers_only ? seconds : seconds * 2 / 3 ))
+reader_seconds=$(( mode == explore ? seconds * 2 / 3 : seconds ))
 per_reader=$(( reader_seconds * 2 / ${#readers[@]} ))
 [ "$per_reader" -ge 1 ] || per_reader=1
-mkdir -p "$fuzzbuild/artifacts" "$fuzzbuild/logs"
 export ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=0"
 export LSAN_OPTIONS="suppressions=$root/tests/fuzz/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 failed=0
-fuzz_reader() {  # one reader for $per_reader seconds; its working corpus grows across runs
-  local r="$1" log="$fuzzbuild/logs/$1.log"
-  mkdir -p "$fuzzbuild/corpus/$r"
-  (cd "$fuzzbuild" && "$fuzzbuild/tests/fuzz/fuzz_$r" "$fuzzbuild/corpus/$r" "$root/tests/fuzz/corpus/$r" \
-     -max_total_time="$per_reader" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+fuzz_reader() {  # one reader; exploration keeps a working corpus that grows across runs
+  local r="$1" log="$fuzzbuild/logs/$1.log" work="$fuzzbuild/corpus/$1" limits
+  if [ "$mode" = ci ]; then
+    work="$fuzzbuild/ci-corpus/$r"; rm -rf "$work"
+    limits=(-seed=1 -runs=1000 -max_total_time=10)
+  else
+    limits=(-max_total_time="$per_reader")
+  fi
+  mkdir -p "$work"
+  # `timeout`: libFuzzer's own limit leaves out the replay of the corpus it starts from.
+  (cd "$fuzzbuild" && timeout $(( per_reader * 2 + 300 )) "$fuzzbuild/tests/fuzz/fuzz_$r" "$work" \
+     "$root/tests/fuzz/corpus/$r" "${limits[@]}" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
      -artifact_prefix="$fuzzbuild/artifacts/$r-" -print_final_stats=1) > "$log" 2>&1
 }
 for ((i = 0; i < ${#readers[@]}; i += 2)); do
@@ -44,13 +61,16 @@ for ((i = 0; i < ${#readers[@]}; i += 2)); do
     r="${names[$k]}"; log="$fuzzbuild/logs/$r.log"
     if wait "${pids[$k]}"; then status=ok; else status=FAILED; failed=$((failed + 1)); fi
     runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
-    printf 'reader %-9s %9s executions in %3d s: %s\n' "$r" "${runs:-?}" "$per_reader" "$status"
-    if [ "$status" = FAILED ]; then grep -E "ERROR|SUMMARY|Test unit written" "$log" | head -5; fi
+    took=$(sed -n 's/^Done [0-9]* runs in \([0-9]*\) second.*/\1/p' "$log" | tail -1)
+    printf 'reader %-9s %9s executions in %4s s: %s\n' "$r" "${runs:-?}" "${took:-?}" "$status"
+    if [ "$status" = FAILED ]; then grep -E "ERROR|SUMMARY|Test unit written" "$log" | head -5 || tail -5 "$log"; fi
   done
 done
 
-if [ "$readers_only" -eq 0 ]; then
-  "$root/scripts/build.sh" >/dev/null
+if [ "$mode" = explore ]; then
+  if ! "$root/scripts/build.sh" > "$fuzzbuild/logs/xsect-build.log" 2>&1; then
+    tail -40 "$fuzzbuild/logs/xsect-build.log"; echo "fuzz: building xsect failed" >&2; exit 1
+  fi
   seed=$(( (RANDOM << 15 | RANDOM) * 1000 ))
   end=$(( $(date +%s) + seconds - reader_seconds ))
   chunks=0; failed_chunks=0

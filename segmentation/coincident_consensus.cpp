@@ -64,8 +64,11 @@ Vec2 toFirst(const CuttingPlane& first, const CuttingPlane& member, const Vec2& 
   return first.plane.toPlane(member.plane.toWorld(p));
 }
 
+/// A member's ring in the first member's frame. A member seen from the other side (opposite
+/// normal) maps by a reflection: its rings are reversed to keep outer rings counter-clockwise.
 Ring ringInFirstFrame(const CuttingPlane& first, const CuttingPlane& member, Ring ring) {
   for (Vec2& p : ring) p = toFirst(first, member, p);
+  if (first.plane.normal.dot(member.plane.normal) < 0) std::reverse(ring.begin(), ring.end());
   return ring;
 }
 
@@ -144,14 +147,20 @@ double reduce(std::vector<float>& v, Reduce how) {
   return 0.5 * (double(upper) + double(*std::max_element(v.begin(), v.begin() + std::ptrdiff_t(h))));
 }
 
-/// The consensus field (positive inside, for isoContours) of the members' sections (first frame);
-/// members without sections do not vote unless none has any. Accumulates the disagreement where
-/// every voter observed.
-cv::Mat consensusField(const std::vector<std::vector<Section>>& sections, const std::vector<cv::Mat>& observed,
-                       const Raster& r, Reduce how, CoincidentConsensus* stats) {
+/// The members holding sections: the voters (see the header).
+std::vector<std::size_t> votersOf(const std::vector<std::vector<Section>>& sections) {
   std::vector<std::size_t> voters;
   for (std::size_t m = 0; m < sections.size(); ++m)
     if (!sections[m].empty()) voters.push_back(m);
+  return voters;
+}
+
+/// The consensus field (positive inside, for isoContours) of the voters' sections (first frame; a
+/// voter without sections here, e.g. without this label, votes outside everywhere). Accumulates the
+/// disagreement where every voter observed.
+cv::Mat consensusField(const std::vector<std::vector<Section>>& sections, const std::vector<std::size_t>& voters,
+                       const std::vector<cv::Mat>& observed, const Raster& r, Reduce how,
+                       CoincidentConsensus* stats) {
   const float outside = float(kBandSteps * r.step);
   if (stats) stats->voting = int(voters.empty() ? sections.size() : voters.size());
   if (voters.empty()) return cv::Mat(r.nv, r.nu, CV_32F, cv::Scalar(-outside));
@@ -279,6 +288,7 @@ CuttingPlane mergeGroup(const std::vector<CuttingPlane>& planes, const Coinciden
                         std::vector<std::vector<Section>>* labelled, CoincidentConsensus* stats) {
   const CuttingPlane& first = planes[g.members.front()];
   const Reduce how = first.observed_everywhere ? Reduce::least : Reduce::median;
+  stats->rule = how == Reduce::least ? "union" : "median";
   std::vector<std::vector<Section>> sections;
   Eigen::AlignedBox2d box;
   double pixel = 0.0, tol = 0.0;
@@ -303,6 +313,7 @@ CuttingPlane mergeGroup(const std::vector<CuttingPlane>& planes, const Coinciden
   for (const auto& s : sections) voting += !s.empty();
   if (votersAgree(sections, tol) && !anyLabels) {  // one contour set, seen again: kept as it is
     stats->voting = voting;
+    stats->rule = "identical";
     merged.sections = *std::find_if(sections.begin(), sections.end(), [](const auto& s) { return !s.empty(); });
     return merged;
   }
@@ -316,7 +327,8 @@ CuttingPlane mergeGroup(const std::vector<CuttingPlane>& planes, const Coinciden
   std::vector<cv::Mat> observed;
   for (const std::size_t k : g.members) observed.push_back(observedMask(first, planes[k], r));
   const int label = first.sections.empty() ? 1 : first.sections.front().label;
-  const cv::Mat unionField = consensusField(sections, observed, r, how, stats);
+  const std::vector<std::size_t> voters = votersOf(sections);
+  const cv::Mat unionField = consensusField(sections, voters, observed, r, how, stats);
   merged.sections = sectionsOfRings(isoContours(unionField), r, label);
   if (anyLabels) {
     // Each label's consensus field f_L on the same raster. The labels are traced together so that
@@ -334,7 +346,9 @@ CuttingPlane mergeGroup(const std::vector<CuttingPlane>& planes, const Coinciden
           if (s.label == L) withL.push_back(s);
         ofLabel.push_back(sectionsInFirstFrame(first, planes[k], std::move(withL)));
       }
-      LabelField f{L, cv::Rect(0, 0, r.nu, r.nv), consensusField(ofLabel, observed, r, how, nullptr)};
+      // The union's voters vote on every label: one that saw the region as another label votes
+      // against this one.
+      LabelField f{L, cv::Rect(0, 0, r.nu, r.nv), consensusField(ofLabel, voters, observed, r, how, nullptr)};
       all = cv::max(all, f.field);
       fields.push_back(std::move(f));
     }

@@ -22,6 +22,7 @@
 // plane (labelIsoContours); the union then becomes the merged plane's sections.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "geometry/arrangement/coincident_planes.h"
@@ -33,6 +34,9 @@ struct CoincidentConsensus {
   CoincidentGroup group;
   std::vector<int> slices;            ///< the members' CuttingPlane::slice, in member order
   int voting = 0;                     ///< members holding sections (or all, when none does)
+  /// How the sections were merged: "median" (images), "union" (.csl), "identical" (the voters held
+  /// the same contours, kept as they are).
+  std::string rule = "median";
   double disagreement_area_mm2 = 0;   ///< area where every member observed and the voters differ
   double max_correction_mm = 0;       ///< largest distance from a voter's contour to the consensus'
 };

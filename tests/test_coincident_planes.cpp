@@ -179,3 +179,39 @@ TEST(CoincidentPlanes, AgreeingObservationsKeepTheirSectionAndTheMergedPlaneObse
   EXPECT_FALSE(seen(12, -5));
   EXPECT_FALSE(seen(-5, 12));
 }
+
+TEST(CoincidentPlanes, LabelsAreVotedByEveryObservation) {
+  // Three observations of one square: two say label 2, one says label 3. Label 2 wins everywhere.
+  CuttingPlane a = diskObservation(0, 4, 0, 0, 0, -10, -10);
+  Section square{{Vec2(6, 6), Vec2(14, 6), Vec2(14, 14), Vec2(6, 14)}, {}, 1};
+  a.sections = {square};
+  std::vector<CuttingPlane> planes = {a, a, a};
+  planes[1].slice = 1;
+  planes[2].slice = 2;
+  Section two = square, three = square;
+  two.label = 2;
+  three.label = 3;
+  const CoincidentMerge m = mergeCoincidentPlanes(planes, {{two}, {three}, {two}});
+  ASSERT_EQ(m.labelled.size(), 1u);
+  double area2 = 0, area3 = 0;
+  for (const Section& s : m.labelled[0]) (s.label == 2 ? area2 : area3) += sectionArea(s);
+  EXPECT_NEAR(area2, 64, 0.3);
+  EXPECT_NEAR(area3, 0, 1e-9);
+}
+
+TEST(CoincidentPlanes, AnObservationFromTheOtherSideKeepsItsOrientation) {
+  // The first observation holds nothing; the second, of the same plane seen from the other side
+  // (normal reversed, u and v swapped), holds a disk: kept as it is, counter-clockwise in the
+  // first observation's frame.
+  CuttingPlane empty = diskObservation(0, 3, 0, 0, 0, -10, -10), flipped = diskObservation(1, 3, 0, 0, 0, -10, -10);
+  empty.sections.clear();
+  std::swap(flipped.plane.u, flipped.plane.v);
+  flipped.plane.normal = -flipped.plane.normal;
+  flipped.sections = {Section{test::circle(Vec2(10, 10), 3, 400), {}, 1}};
+  flipped.extent = {Vec2(0, 0), Vec2(20, 20)};
+  const CoincidentMerge m = mergeCoincidentPlanes({empty, flipped}, {});
+  ASSERT_EQ(m.planes[0].sections.size(), 1u);
+  EXPECT_GT(signedArea(m.planes[0].sections[0].outer), 0.0);
+  EXPECT_NEAR(sectionArea(m.planes[0].sections[0]), kPi * 9, 0.01 * kPi * 9);
+  EXPECT_EQ(m.consensus[0].rule, "identical");
+}

@@ -36,8 +36,10 @@ double coincidenceTolerance(const CuttingPlane& a, const CuttingPlane& b) {
   for (const double px : {a.pixel_mm, b.pixel_mm})
     if (px > 0 && (pixel == 0.0 || px < pixel)) pixel = px;
   if (pixel > 0) return 1e-3 * pixel;
-  const double diag = std::max((a.extent.max - a.extent.min).norm(), (b.extent.max - b.extent.min).norm());
-  return 1e-6 * diag;
+  double scale = std::max((a.extent.max - a.extent.min).norm(), (b.extent.max - b.extent.min).norm());
+  for (const CuttingPlane* p : {&a, &b})
+    for (const Vec3& c : extentCorners(*p)) scale = std::max(scale, c.cwiseAbs().maxCoeff());
+  return 1e-6 * scale;
 }
 
 bool planesCoincide(const CuttingPlane& a, const CuttingPlane& b) {

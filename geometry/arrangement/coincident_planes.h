@@ -7,7 +7,8 @@
 // Definition. Planes A and B coincide when their normals make an angle below 1 degree and every
 // corner of each one's observed extent (the image rectangle; the sections' bounds for .csl planes)
 // lies within `tolerance` of the other plane, where tolerance is a thousandth of the finer pixel of
-// the two or, for contours given without pixels, a millionth of the larger extent's diagonal: the
+// the two or, for contours given without pixels, a millionth of the larger of the extents' diagonal
+// and their corners' largest coordinate (the rounding of coordinates written as text): the
 // same plane up to the rounding of a pose, never two frames of a sweep (even a dense sweep's frames
 // are hundredths of a pixel apart at least). A plane that observed nothing (an empty extent)
 // coincides with none.
@@ -22,7 +23,7 @@ namespace xsect {
 
 struct CoincidentGroup {
   std::vector<std::size_t> members;  ///< indices into the planes, ascending (at least two)
-  double max_offset_mm = 0.0;        ///< largest distance of a member's extent corner to the first's plane
+  double max_offset_mm = 0.0;        ///< largest distance of a member's extent corner to the first's plane, or of the first's to the member's
   double max_angle_deg = 0.0;        ///< largest angle between a member's normal and the first's
 };
 

@@ -64,18 +64,31 @@ openvdb::FloatGrid::Ptr gridOfField(const ScalarField& field, float background) 
   return grid;
 }
 
+/// The zero set of the field as OpenVDB polygons (volumeToMesh of the field's grid, whose
+/// background is the field's largest value), with the grid it was taken from.
+struct ZeroSet {
+  openvdb::FloatGrid::Ptr grid;
+  std::vector<openvdb::Vec3s> points;
+  std::vector<openvdb::Vec3I> tris;
+  std::vector<openvdb::Vec4I> quads;
+};
+
+ZeroSet zeroSet(const ScalarField& field, double adaptivity) {
+  float background = 0.0f;
+  for (float v : field.values) background = std::max(background, v);
+  ZeroSet z;
+  z.grid = gridOfField(field, background);
+  openvdb::tools::volumeToMesh(*z.grid, z.points, z.tris, z.quads, 0.0, adaptivity);
+  return z;
+}
+
 }  // namespace
 
 LevelSetSurface levelSetSurface(const ScalarField& field, double half_width_voxels,
                                 double adaptivity) {
   if (!(half_width_voxels >= 1)) throw std::invalid_argument("level-set half-width must be at least 1 voxel");
-  float background = 0.0f;
-  for (float v : field.values) background = std::max(background, v);
-  const openvdb::FloatGrid::Ptr grid = gridOfField(field, background);
-  std::vector<openvdb::Vec3s> points;
-  std::vector<openvdb::Vec3I> tris;
-  std::vector<openvdb::Vec4I> quads;
-  openvdb::tools::volumeToMesh(*grid, points, tris, quads, 0.0, std::clamp(adaptivity, 0.0, 1.0));
+  const ZeroSet z = zeroSet(field, std::clamp(adaptivity, 0.0, 1.0));
+  const auto& [grid, points, tris, quads] = z;
   LevelSetSurface out;
   out.mesh = toTriangles(points, tris, quads);
 
@@ -121,15 +134,8 @@ LevelSetSurface levelSetSurface(const ScalarField& field, double half_width_voxe
 }
 
 TriangleMesh meshZeroLevel(const ScalarField& field, double adaptivity) {
-  float background = 0.0f;
-  for (float v : field.values) background = std::max(background, v);
-  const openvdb::FloatGrid::Ptr grid = gridOfField(field, background);
-  std::vector<openvdb::Vec3s> points;
-  std::vector<openvdb::Vec3I> tris;
-  std::vector<openvdb::Vec4I> quads;
-  openvdb::tools::volumeToMesh(*grid, points, tris, quads, 0.0, adaptivity);
-
-  return toTriangles(points, tris, quads);
+  const ZeroSet z = zeroSet(field, adaptivity);
+  return toTriangles(z.points, z.tris, z.quads);
 }
 
 }  // namespace xsect
