@@ -1,28 +1,88 @@
 // Stage 3 (GUIDE.md), conformity along plane intersections (thesis Introduction §3.1, ch. 2 §5):
-// measures, for every pair of slices whose observed regions meet, how their sections' traces on
-// the common line disagree; flags slices whose disagreement with the others is too large to be
-// segmentation noise (probable tracking or segmentation failures) and optionally drops them;
-// optionally enforces a consensus trace on every line (geometry/conformity/conformity_enforcement.h) and
-// measures again. Its report goes to report.json (summary) and conformity.json (per pair and per
-// slice).
+// observations of one plane merged (segmentation/coincident_consensus.h); a tracked sweep's poses
+// smoothed (geometry/conformity/pose_smoothing.h); then measured, for every pair of slices whose
+// observed regions meet, how their sections' traces on the common line disagree; slices whose
+// disagreement with the others is too large to be segmentation noise flagged (probable tracking or
+// segmentation failures) and optionally dropped; optionally a consensus trace enforced on every
+// line (geometry/conformity/conformity_enforcement.h) and the pairs measured again. The stage
+// returns data; pipeline/conformity_report.cpp writes it (report.json "conformity",
+// conformity.json, the terminal and the warnings).
 #pragma once
 
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "geometry/arrangement/plane_pair_traces.h"
+#include "geometry/conformity/conformity_enforcement.h"
 #include "geometry/core/types.h"
 #include "io/run_config.h"
+#include "segmentation/coincident_consensus.h"
 
 namespace xsect {
 
+/// Disagreement over a set of pairs (mm): the largest endpoint mismatch per pair, summarised.
+struct PairsSummary {
+  int pairs_disagreeing = 0;            ///< symmetric difference above rounding
+  double mean_mismatch_mm = 0, median_mismatch_mm = 0, max_mismatch_mm = 0;
+  double symmetric_difference_mm = 0;   ///< summed over the pairs
+};
+
+/// One slice's pairs, summarised: how many, the median and largest mismatch, the summed
+/// symmetric difference.
+struct SliceDisagreement {
+  int pairs = 0;
+  double median_mismatch_mm = 0, max_mismatch_mm = 0, symmetric_difference_mm = 0;
+};
+
+/// One row per plane that entered the measurement (after coincident merging).
+struct SliceConformity {
+  int slice = -1;
+  std::string name;
+  SliceDisagreement before;
+  bool measured_after = false;          ///< enforcement ran and the slice was kept
+  SliceDisagreement after;
+  double pose_shift_mm = 0, pose_rotation_deg = 0, pose_weight = 1;
+  bool flagged = false, dropped = false;
+};
+
+struct PoseSmoothingSummary {
+  bool applied = false;
+  int half_window_frames = 0;
+  double mean_shift_mm = 0, max_shift_mm = 0, mean_rotation_deg = 0, max_rotation_deg = 0;
+  int sweeps = 1;
+  std::vector<int> outlier_slices;      ///< off the trajectory: put back onto it (weight 0)
+};
+
+struct WorstPair {
+  int slice_a = -1, slice_b = -1;
+  double max_mismatch_mm = 0, symmetric_difference_mm = 0;
+};
+
+struct ConformityResult {
+  std::vector<CoincidentConsensus> coincident;
+  PoseSmoothingSummary pose;
+  std::size_t pairs_measured = 0;       ///< before any slice was dropped
+  PlanePairSearch search;               ///< the pairs of the kept slices
+  PairsSummary before;                  ///< over the pairs measured
+  std::vector<WorstPair> worst;         ///< the five worst pairs, before dropping
+  double typical_mismatch_mm = 0, flagged_above_mm = 0;
+  std::vector<int> flagged_slices, dropped_slices;
+  std::vector<SliceConformity> slices;
+  std::vector<int> slice_of_plane;      ///< CuttingPlane::slice of each kept plane (search's indices)
+  // Enforcement (when conformity.enforce).
+  ConformityEnforcement enforcement;    ///< its planes moved into the stage's planes
+  std::vector<PlanePairTraces> after;   ///< search.pairs traced again after the edits
+  PairsSummary after_summary;
+  int unmeasured_disturbed = 0, pairs_enforced = 0, pairs_over_max = 0, pairs_agreeing = 0,
+      pairs_not_editable = 0;
+  bool labelled = false;                ///< some plane had per-label sections
+};
+
 struct ConformStage {
-  std::vector<CuttingPlane> planes;              ///< dropped slices removed, sections edited
+  std::vector<CuttingPlane> planes;              ///< merged, dropped slices removed, sections edited
   std::vector<std::vector<Section>> labelled;    ///< per-label sections, rows kept in step
-  nlohmann::ordered_json summary;                ///< report.json "conformity" (measurement part)
-  nlohmann::ordered_json details;                ///< conformity.json
-  std::vector<std::string> warnings;
-  std::string stderr_summary;                    ///< one or two lines for the terminal
+  ConformityResult result;
 };
 
 /// @param planes    the segmented slices (non-virtual cutting planes).
@@ -30,5 +90,14 @@ struct ConformStage {
 /// Slice numbers in the outputs are CuttingPlane::slice.
 ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<CuttingPlane> planes,
                           std::vector<std::vector<Section>> labelled);
+
+/// report.json "conformity" (measurement part; also `xsect check`'s).
+nlohmann::ordered_json conformitySummaryJson(const RunConfig::Conformity& settings, const ConformityResult& r);
+/// conformity.json: the summary, per slice and per pair.
+nlohmann::ordered_json conformityDetailsJson(const RunConfig::Conformity& settings, const ConformityResult& r);
+/// One to three lines for the terminal.
+std::string conformityTerminalSummary(const RunConfig::Conformity& settings, const ConformityResult& r);
+/// The stage's warnings, in plain words.
+std::vector<std::string> conformityWarnings(const RunConfig::Conformity& settings, const ConformityResult& r);
 
 }  // namespace xsect

@@ -92,6 +92,52 @@ json conformity(const TriangleMesh& mesh, const std::vector<CuttingPlane>& plane
   return list;
 }
 
+/// Surface distances between the mesh and the truth (a phantom's signed distance) or the reference
+/// mesh; sets the union of their bounds (lo, hi) and the truth's inside test (which may read
+/// referenceQuery, built here), and the truth's keys of `out`.
+SurfaceDistances compareSurfaces(const TriangleMesh& mesh, const MeshDistance& meshQuery,
+                                 const std::optional<PhantomShape>& truth, const std::optional<TriangleMesh>& reference,
+                                 std::optional<MeshDistance>& referenceQuery, Vec3* lo, Vec3* hi,
+                                 InsideFn* truthInside, json& out) {
+  const SamplingParams sampling;
+  meshBounds(mesh, lo, hi);
+  SurfaceDistances dist;
+  if (truth) {
+    const PhantomShape& shape = *truth;
+    const SignedDistanceFn sdf = [&shape](const Vec3& x) { return signedDistance(shape, x); };
+    Vec3 tlo, thi;
+    bounds(shape, &tlo, &thi);
+    const Vec3 pad = 0.05 * (thi - tlo) + Vec3::Constant(1e-3);
+    // The vessel tree's sdf is a lower bound only: mesh -> truth uses numerically found nearest
+    // boundary points (about 11 µs each; the Fig. 1.11 shapes' searches cost 10x more).
+    SignedDistanceFn exact;
+    if (!hasExactDistance(shape) && shape.kind == "vessel_tree")
+      exact = [&shape](const Vec3& x) { return (x - closestBoundaryPoint(shape, x)).norm(); };
+    dist = distancesToImplicit(mesh, meshQuery, sdf, tlo - pad, thi + pad, sampling, exact);
+    *lo = lo->cwiseMin(tlo);
+    *hi = hi->cwiseMax(thi);
+    *truthInside = [&shape](const std::vector<Vec3>& pts) {
+      std::vector<std::uint8_t> in(pts.size());
+      tbb::parallel_for(std::size_t(0), pts.size(),
+                        [&](std::size_t i) { in[i] = signedDistance(shape, pts[i]) < 0; });
+      return in;
+    };
+    out["truth_betti"] = bettiNumbers(shape);
+    out["truth_distance_exact"] = hasExactDistance(shape);
+  } else {
+    referenceQuery.emplace(*reference);
+    dist = distancesToMesh(mesh, meshQuery, *reference, *referenceQuery, sampling);
+    Vec3 rlo, rhi;
+    meshBounds(*reference, &rlo, &rhi);
+    *lo = lo->cwiseMin(rlo);
+    *hi = hi->cwiseMax(rhi);
+    *truthInside = [&referenceQuery](const std::vector<Vec3>& pts) { return referenceQuery->inside(pts); };
+    const MeshTopology refTopo = meshTopology(*reference);
+    if (refTopo.watertight) out["truth_betti"] = refTopo.betti;
+  }
+  return dist;
+}
+
 }  // namespace
 
 int evalCommand(const EvalOptions& options) {
@@ -130,47 +176,11 @@ int evalCommand(const EvalOptions& options) {
   // Surface distances.
   progress.stage("eval: surface distances");
   const MeshDistance meshQuery(mesh);
-  const SamplingParams sampling;
   Vec3 lo, hi;
-  meshBounds(mesh, &lo, &hi);
-  SurfaceDistances dist;
   InsideFn truthInside;
   std::optional<MeshDistance> referenceQuery;
-  if (truth) {
-    const PhantomShape& shape = *truth;
-    const SignedDistanceFn sdf = [&shape](const Vec3& x) { return signedDistance(shape, x); };
-    Vec3 tlo, thi;
-    bounds(shape, &tlo, &thi);
-    const Vec3 pad = 0.05 * (thi - tlo) + Vec3::Constant(1e-3);
-    // The vessel tree's sdf is a lower bound only: mesh -> truth uses numerically found nearest
-    // boundary points (about 11 µs each; the Fig. 1.11 shapes' searches cost 10x more).
-    SignedDistanceFn exact;
-    if (!hasExactDistance(shape) && shape.kind == "vessel_tree")
-      exact = [&shape](const Vec3& x) { return (x - closestBoundaryPoint(shape, x)).norm(); };
-    dist = distancesToImplicit(mesh, meshQuery, sdf, tlo - pad, thi + pad, sampling, exact);
-    lo = lo.cwiseMin(tlo);
-    hi = hi.cwiseMax(thi);
-    truthInside = [&shape](const std::vector<Vec3>& pts) {
-      std::vector<std::uint8_t> in(pts.size());
-      tbb::parallel_for(std::size_t(0), pts.size(),
-                        [&](std::size_t i) { in[i] = signedDistance(shape, pts[i]) < 0; });
-      return in;
-    };
-    out["truth_betti"] = bettiNumbers(shape);
-    out["truth_distance_exact"] = hasExactDistance(shape);
-  } else {
-    referenceQuery.emplace(*reference);
-    dist = distancesToMesh(mesh, meshQuery, *reference, *referenceQuery, sampling);
-    Vec3 rlo, rhi;
-    meshBounds(*reference, &rlo, &rhi);
-    lo = lo.cwiseMin(rlo);
-    hi = hi.cwiseMax(rhi);
-    truthInside = [&referenceQuery](const std::vector<Vec3>& pts) {
-      return referenceQuery->inside(pts);
-    };
-    const MeshTopology refTopo = meshTopology(*reference);
-    if (refTopo.watertight) out["truth_betti"] = refTopo.betti;
-  }
+  const SurfaceDistances dist =
+      compareSurfaces(mesh, meshQuery, truth, reference, referenceQuery, &lo, &hi, &truthInside, out);
   out["hausdorff_mm"] = dist.hausdorffMm();
   out["mean_distance_mm"] = dist.meanMm();
   out["mesh_to_truth_max_mm"] = dist.mesh_to_truth.max_mm;

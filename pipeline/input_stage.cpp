@@ -4,7 +4,6 @@
 #include "io/csl_file.h"
 #include "io/input_error.h"
 #include "io/slices_file.h"
-#include "pipeline/conform_stage.h"
 #include "pipeline/load_sections.h"
 
 namespace xsect {
@@ -41,11 +40,11 @@ RunInputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress)
   ConformStage conform = conformStage(c.conformity, std::move(in.planes), std::move(in.labelled));
   in.planes = std::move(conform.planes);
   in.labelled = std::move(conform.labelled);
-  in.conformity = std::move(conform.summary);
-  in.conformity_details = std::move(conform.details);
-  in.warnings.insert(in.warnings.end(), conform.warnings.begin(), conform.warnings.end());
+  in.conformity = std::move(conform.result);
+  const std::vector<std::string> warnings = conformityWarnings(c.conformity, in.conformity);
+  in.warnings.insert(in.warnings.end(), warnings.begin(), warnings.end());
   clock.end("conform");
-  progress.note(conform.stderr_summary);
+  progress.note(conformityTerminalSummary(c.conformity, in.conformity));
   return in;
 }
 

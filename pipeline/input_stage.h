@@ -3,12 +3,12 @@
 // them along the planes' common lines (Introduction §3.1; pipeline/conform_stage.h).
 #pragma once
 
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "geometry/core/types.h"
 #include "io/run_config.h"
+#include "pipeline/conform_stage.h"
 #include "pipeline/commands.h"
 #include "pipeline/progress.h"
 #include "pipeline/stage_clock.h"
@@ -24,8 +24,7 @@ struct RunInputs {
   int slices = 0;                               ///< planes read (before stage 3 merged or dropped any)
   double threshold = 0;                         ///< grey threshold applied (slices input)
   std::vector<std::vector<Section>> labelled;   ///< segmentation labels: per plane, per label
-  nlohmann::ordered_json conformity;            ///< stage 3's summary (report.json "conformity")
-  nlohmann::ordered_json conformity_details;    ///< conformity.json
+  ConformityResult conformity;                  ///< stage 3's measurements (conform_stage.h)
 };
 
 /// Reads options.config (with its overrides) and its input (slices.yaml and images, or a .csl),

@@ -10,6 +10,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <atomic>
+#include <functional>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -91,14 +92,13 @@ std::string configYaml(const PhantomSpec& spec) {
   return std::string(out.c_str()) + "\n";
 }
 
-}  // namespace
 
-int phantomCommand(const PhantomOptions& options) {
-  const PhantomSpec spec = readPhantomSpec(options.spec);
+/// The pattern's poses, plus the spec's extra planes imaged around the projection of the bounds'
+/// centre, as the patterns do.
+SlicePlan phantomPlan(const PhantomSpec& spec) {
   Vec3 bmin, bmax;
   bounds(spec.shape, &bmin, &bmax);
   SlicePlan plan = planSlices(spec.pattern, spec.image, bmin, bmax, spec.seed);
-  // Extra planes, imaged around the projection of the bounds' centre, as the patterns do.
   for (const PhantomPlane& p : spec.extra_planes) {
     Vec3 u, v;
     planeFrame(p.normal, &u, &v);
@@ -106,6 +106,83 @@ int phantomCommand(const PhantomOptions& options) {
     plan.poses.push_back(
         centredPose(c - (c - p.point).dot(n) * n, u, v, plan.pixel_mm, plan.width, plan.height));
   }
+  return plan;
+}
+
+/// The images rendered into out/images/ (and the sector mask, when the pattern has one).
+struct RenderedSeries {
+  std::vector<char> dropped, clipped;  ///< per pose
+  std::optional<std::string> fov_name;
+  std::function<std::string(int)> image_name;
+};
+
+RenderedSeries renderSeries(const PhantomSpec& spec, const PhantomShape& shape, const SlicePlan& plan,
+                            const StagedOutput& out, bool quiet) {
+  const int n = int(plan.poses.size());
+  RenderedSeries s;
+  fs::create_directories(out.file("images"));
+  cv::Mat fov;
+  if (plan.sector) {
+    fov = sectorMask(*plan.sector, plan.width, plan.height);
+    s.fov_name = "images/fov.png";
+    if (!cv::imwrite(out.file(*s.fov_name).string(), fov))
+      throw std::runtime_error("cannot write " + out.file(*s.fov_name).string());
+  }
+  const int digits = std::max(3, int(std::to_string(std::max(0, n - 1)).size()));
+  s.image_name = [digits](int i) {
+    std::ostringstream os;
+    os << "images/" << std::setw(digits) << std::setfill('0') << i << ".png";
+    return os.str();
+  };
+  s.dropped.resize(std::size_t(n));
+  s.clipped.resize(std::size_t(n));
+  for (int i = 0; i < n; ++i) s.dropped[std::size_t(i)] = dropFrame(spec.degradations.drop_probability, spec.seed, i);
+  std::atomic<int> done{0};
+  std::mutex progress;
+  tbb::parallel_for(0, n, [&](int i) {
+    if (!s.dropped[std::size_t(i)]) {
+      const RenderedSlice r =
+          shape.label_split
+              ? renderLabelSlice(shape, plan.poses[std::size_t(i)], plan.width, plan.height, fov)
+              : renderSlice(shape, plan.poses[std::size_t(i)], plan.width, plan.height, fov, spec.degradations,
+                            spec.seed, i);
+      s.clipped[std::size_t(i)] = r.clipped;
+      const fs::path file = out.file(s.image_name(i));
+      if (!cv::imwrite(file.string(), r.image)) throw std::runtime_error("cannot write " + file.string());
+    }
+    const int k = ++done;
+    if (!quiet && n >= 20 && k % (n / 10) == 0) {
+      std::lock_guard<std::mutex> lock(progress);
+      std::cerr << "phantom: rendered " << k << "/" << n << " slices\n";
+    }
+  });
+  return s;
+}
+
+/// The slices as recorded (poses with the spec's tracking error) and as they truly were.
+void sliceRecords(const PhantomSpec& spec, const SlicePlan& plan, const RenderedSeries& s,
+                  std::vector<SliceRecord>* recorded, std::vector<SliceRecord>* truth) {
+  for (int i = 0; i < int(plan.poses.size()); ++i) {
+    if (s.dropped[std::size_t(i)]) continue;
+    SliceRecord r;
+    r.image = s.image_name(i);
+    r.fov = s.fov_name;
+    // "+ 0.0" turns -0 into 0 so the files never show "-0".
+    r.image_to_world = plan.poses[std::size_t(i)].array() + 0.0;
+    truth->push_back(r);
+    r.image_to_world = jitterPose(plan.poses[std::size_t(i)], plan.width, plan.height,
+                                  spec.degradations.pose_jitter_mm, spec.degradations.pose_jitter_deg, spec.seed, i)
+                           .array() +
+                       0.0;
+    recorded->push_back(r);
+  }
+}
+
+}  // namespace
+
+int phantomCommand(const PhantomOptions& options) {
+  const PhantomSpec spec = readPhantomSpec(options.spec);
+  const SlicePlan plan = phantomPlan(spec);
   PhantomShape shape = spec.shape;
   if (shape.label_split) {
     try {
@@ -121,61 +198,9 @@ int phantomCommand(const PhantomOptions& options) {
               << plan.pixel_mm << " mm\n";
 
   StagedOutput out(options.out);
-  fs::create_directories(out.file("images"));
-  cv::Mat fov;
-  std::optional<std::string> fovName;
-  if (plan.sector) {
-    fov = sectorMask(*plan.sector, plan.width, plan.height);
-    fovName = "images/fov.png";
-    if (!cv::imwrite(out.file(*fovName).string(), fov))
-      throw std::runtime_error("cannot write " + out.file(*fovName).string());
-  }
-  const int digits = std::max(3, int(std::to_string(std::max(0, n - 1)).size()));
-  auto imageName = [&](int i) {
-    std::ostringstream os;
-    os << "images/" << std::setw(digits) << std::setfill('0') << i << ".png";
-    return os.str();
-  };
-  std::vector<char> dropped(n), clipped(n);
-  for (int i = 0; i < n; ++i)
-    dropped[i] = dropFrame(spec.degradations.drop_probability, spec.seed, i);
-
-  std::atomic<int> done{0};
-  std::mutex progress;
-  tbb::parallel_for(0, n, [&](int i) {
-    if (!dropped[i]) {
-      const RenderedSlice r =
-          shape.label_split
-              ? renderLabelSlice(shape, plan.poses[i], plan.width, plan.height, fov)
-              : renderSlice(shape, plan.poses[i], plan.width, plan.height, fov, spec.degradations,
-                            spec.seed, i);
-      clipped[i] = r.clipped;
-      const fs::path file = out.file(imageName(i));
-      if (!cv::imwrite(file.string(), r.image)) throw std::runtime_error("cannot write " + file.string());
-    }
-    const int k = ++done;
-    if (!options.quiet && n >= 20 && k % (n / 10) == 0) {
-      std::lock_guard<std::mutex> lock(progress);
-      std::cerr << "phantom: rendered " << k << "/" << n << " slices\n";
-    }
-  });
-
+  const RenderedSeries series = renderSeries(spec, shape, plan, out, options.quiet);
   std::vector<SliceRecord> recorded, truth;
-  for (int i = 0; i < n; ++i) {
-    if (dropped[i]) continue;
-    SliceRecord r;
-    r.image = imageName(i);
-    r.fov = fovName;
-    // "+ 0.0" turns -0 into 0 so the files never show "-0".
-    r.image_to_world = plan.poses[i].array() + 0.0;
-    truth.push_back(r);
-    r.image_to_world = jitterPose(plan.poses[i], plan.width, plan.height,
-                                  spec.degradations.pose_jitter_mm,
-                                  spec.degradations.pose_jitter_deg, spec.seed, i)
-                           .array() +
-                       0.0;
-    recorded.push_back(r);
-  }
+  sliceRecords(spec, plan, series, &recorded, &truth);
   if (recorded.empty())
     throw InputError(spec.path, "degradations.drop_probability", "every frame was dropped");
   writeSlicesFile(out.file("slices.yaml").string(), recorded);
@@ -184,7 +209,7 @@ int phantomCommand(const PhantomOptions& options) {
   writeTextFile(out.file("config.yaml").string(), configYaml(spec));
   out.commit();
 
-  const int nClipped = int(std::count(clipped.begin(), clipped.end(), 1));
+  const int nClipped = int(std::count(series.clipped.begin(), series.clipped.end(), 1));
   if (!options.quiet) {
     if (nClipped > 0)
       std::cerr << "phantom: warning: in " << nClipped

@@ -75,7 +75,7 @@ int checkCommand(const RunOptions& o) {
   r["config"] = in.config.path;
   r["valid"] = true;
   r["counts"] = {{"slices", in.slices}, {"sections", sections}};
-  r["conformity"] = in.conformity;
+  r["conformity"] = conformitySummaryJson(in.config.conformity, in.conformity);
   if (sections > 0) {
     r["voxel_size"] = voxelSizeJson(resolveVoxelSize(in, true));
     const ReconstructionLayout L = layoutOf(in.planes, in.config);

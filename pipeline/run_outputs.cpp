@@ -106,7 +106,8 @@ void writeRunOutputs(const RunResults& r, const RunOptions& o, const StageClock&
   writeLabelVolumeNrrd(out.file("labels.nrrd").string(), r.reconstruction.solid.field.grid, r.meshes.voxel_label);
   writeTextFile(out.file("graph.json").string(), graphJson(r).dump(2) + "\n");
   writeTextFile(out.file("graph.dot").string(), graphDot(r));
-  writeTextFile(out.file("conformity.json").string(), r.inputs.conformity_details.dump(2) + "\n");
+  writeTextFile(out.file("conformity.json").string(),
+                conformityDetailsJson(c.conformity, r.inputs.conformity).dump(2) + "\n");
   writeTextFile(out.file("report.json").string(), reportJson(r, clock).dump(2) + "\n");
   writeTextFile(out.file("manifest.json").string(), manifestJson(r.inputs, o, out.dir()).dump(2) + "\n");
   out.commit();

@@ -149,7 +149,7 @@ json smoothingJson(const RunResults& r) {
 
 json conformityJson(const RunResults& r) {
   const ConformalCutStats& cut = r.meshes.cut;
-  json j = r.inputs.conformity;
+  json j = conformitySummaryJson(r.inputs.config.conformity, r.inputs.conformity);
   j.update(json{{"conformal_mesh", r.inputs.config.conformal_mesh},
                 {"planes_cut", cut.planes_cut},
                 {"cut_vertices", cut.vertices_added},

@@ -12,7 +12,7 @@
 #   scripts/fuzz.sh [SECONDS]                 about SECONDS (default 60): readers 2/3, geometric 1/3
 #   scripts/fuzz.sh --readers-only [SECONDS]  readers only
 #   scripts/fuzz.sh --ci                      readers only, the same inputs every time: each corpus
-#                                             replayed, then 1,000 mutations from seed 1 (10 s at most)
+#                                             replayed, then 20,000 mutations from seed 1 (10 s at most)
 # Building does not count in SECONDS.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -33,7 +33,7 @@ if ! { CC=clang CXX=clang++ "${configure[@]}" && cmake --build "$fuzzbuild" --pa
 fi
 
 readers=(csl slices config mesh_ply mesh_stl mesh_obj nrrd truth phantom vdb image)
-reader_seconds=$(( mode == explore ? seconds * 2 / 3 : seconds ))
+if [ "$mode" = explore ]; then reader_seconds=$(( seconds * 2 / 3 )); else reader_seconds=$seconds; fi
 per_reader=$(( reader_seconds * 2 / ${#readers[@]} ))
 [ "$per_reader" -ge 1 ] || per_reader=1
 export ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=0"
@@ -44,7 +44,7 @@ fuzz_reader() {  # one reader; exploration keeps a working corpus that grows acr
   local r="$1" log="$fuzzbuild/logs/$1.log" work="$fuzzbuild/corpus/$1" limits
   if [ "$mode" = ci ]; then
     work="$fuzzbuild/ci-corpus/$r"; rm -rf "$work"
-    limits=(-seed=1 -runs=1000 -max_total_time=10)
+    limits=(-seed=1 -runs=20000 -max_total_time=10)
   else
     limits=(-max_total_time="$per_reader")
   fi

@@ -1,0 +1,239 @@
+// Stage 3's report (see conform_stage.h): report.json "conformity", conformity.json, the lines
+// for the terminal and the warnings, from the stage's typed result.
+#include <cmath>
+#include <cstdio>
+
+#include "pipeline/conform_stage.h"
+
+namespace xsect {
+namespace {
+
+using json = nlohmann::ordered_json;
+
+json traceJson(const Trace& t) {
+  json a = json::array();
+  for (const Interval& i : t)  // infinite ends (contours on whole planes) become null
+    a.push_back({std::isfinite(i.t0) ? json(i.t0) : json(nullptr), std::isfinite(i.t1) ? json(i.t1) : json(nullptr)});
+  return a;
+}
+
+json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+std::string number(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3g", v);
+  return b;
+}
+
+std::string mm(double v) { return number(v) + " mm"; }
+
+json summaryJson(const PairsSummary& s) {
+  return {{"pairs_disagreeing", s.pairs_disagreeing},
+          {"mean_mismatch_mm", s.mean_mismatch_mm},
+          {"median_mismatch_mm", s.median_mismatch_mm},
+          {"max_mismatch_mm", s.max_mismatch_mm},
+          {"symmetric_difference_mm", s.symmetric_difference_mm}};
+}
+
+json disagreementJson(const SliceDisagreement& d) {
+  return {{"median_mismatch_mm", d.median_mismatch_mm},
+          {"max_mismatch_mm", d.max_mismatch_mm},
+          {"symmetric_difference_mm", d.symmetric_difference_mm}};
+}
+
+json coincidentJson(const std::vector<CoincidentConsensus>& groups) {
+  json a = json::array();
+  for (const CoincidentConsensus& c : groups)
+    a.push_back({{"slices", c.slices},
+                 {"kept", c.slices.front()},
+                 {"rule", c.rule},
+                 {"max_offset_mm", c.group.max_offset_mm},
+                 {"max_angle_deg", c.group.max_angle_deg},
+                 {"disagreement_area_mm2", c.disagreement_area_mm2},
+                 {"max_correction_mm", c.max_correction_mm}});
+  return a;
+}
+
+json poseJson(const PoseSmoothingSummary& p) {
+  if (!p.applied) return nullptr;
+  return {{"half_window_frames", p.half_window_frames},
+          {"mean_shift_mm", p.mean_shift_mm},
+          {"max_shift_mm", p.max_shift_mm},
+          {"mean_rotation_deg", p.mean_rotation_deg},
+          {"max_rotation_deg", p.max_rotation_deg},
+          {"sweeps", p.sweeps},
+          {"outlier_slices", p.outlier_slices}};
+}
+
+json slicesJson(const ConformityResult& r) {
+  json slices = json::array();
+  for (const SliceConformity& s : r.slices)
+    slices.push_back({{"slice", s.slice},
+                      {"name", s.name},
+                      {"pairs", s.before.pairs},
+                      {"before", disagreementJson(s.before)},
+                      {"after", s.measured_after ? disagreementJson(s.after) : json(nullptr)},
+                      {"pose_shift_mm", s.pose_shift_mm},
+                      {"pose_rotation_deg", s.pose_rotation_deg},
+                      {"pose_weight", s.pose_weight},
+                      {"flagged", s.flagged},
+                      {"dropped", s.dropped}});
+  return slices;
+}
+
+json pairsJson(const RunConfig::Conformity& settings, const ConformityResult& r) {
+  json pairs = json::array();
+  for (std::size_t k = 0; k < r.search.pairs.size(); ++k) {
+    const PlanePairTraces& p = r.search.pairs[k];
+    json j = {{"slice_a", r.slice_of_plane[std::size_t(p.a)]},
+              {"slice_b", r.slice_of_plane[std::size_t(p.b)]},
+              {"angle_deg", p.line.angle_deg},
+              {"line_point_mm", vec(p.line.point)},
+              {"line_direction", vec(p.line.direction)},
+              {"common", traceJson(p.common)},
+              {"trace_a", traceJson(p.trace_a)},
+              {"trace_b", traceJson(p.trace_b)},
+              {"symmetric_difference_mm", p.disagreement.symmetric_difference_mm},
+              {"max_mismatch_mm", p.disagreement.max_endpoint_mismatch_mm}};
+    if (settings.enforce) {
+      const PairCorrection& c = r.enforcement.corrections[k];
+      const PlanePairTraces& a = r.after[k];
+      j["enforced"] = c.applied;
+      j["agrees"] = c.agrees;
+      j["over_max_correction"] = c.over_max;
+      j["not_editable"] = c.not_editable;
+      j["correction_a_mm"] = c.correction_a_mm;
+      j["correction_b_mm"] = c.correction_b_mm;
+      j["consensus"] = traceJson(c.consensus);
+      j["after"] = {{"trace_a", traceJson(a.trace_a)},
+                    {"trace_b", traceJson(a.trace_b)},
+                    {"symmetric_difference_mm", a.disagreement.symmetric_difference_mm},
+                    {"max_mismatch_mm", a.disagreement.max_endpoint_mismatch_mm}};
+    }
+    pairs.push_back(std::move(j));
+  }
+  return pairs;
+}
+
+std::vector<int> slicesNotEditable(const ConformityResult& r) {
+  std::vector<int> s;
+  for (const int i : r.enforcement.planes_not_editable) s.push_back(r.slice_of_plane[std::size_t(i)]);
+  return s;
+}
+
+}  // namespace
+
+json conformitySummaryJson(const RunConfig::Conformity& settings, const ConformityResult& r) {
+  const bool e = settings.enforce;
+  const ConformityEnforcement& en = r.enforcement;
+  json worst = json::array();
+  for (const WorstPair& w : r.worst)
+    worst.push_back({{"slice_a", w.slice_a}, {"slice_b", w.slice_b}, {"max_mismatch_mm", w.max_mismatch_mm},
+                     {"symmetric_difference_mm", w.symmetric_difference_mm}});
+  return {{"enforce", settings.enforce},
+          {"coincident_planes", coincidentJson(r.coincident)},
+          {"mode", nameOf(kConsensusModes, settings.mode)},
+          {"max_correction_mm", settings.max_correction_mm},
+          {"band_mm", settings.band_mm},
+          {"min_angle_deg", settings.min_angle_deg},
+          {"flag_mm", settings.flag_mm},
+          {"pose_smoothing", poseJson(r.pose)},
+          {"typical_slice_mismatch_mm", r.typical_mismatch_mm},
+          {"flagged_above_mm", r.flagged_above_mm},
+          {"drop_flagged", settings.drop_flagged},
+          {"pairs_measured", r.pairs_measured},
+          {"pairs", r.search.pairs.size()},
+          {"pairs_near_parallel", r.search.pairs_near_parallel},
+          {"pairs_without_sections", r.search.pairs_without_sections},
+          {"before", summaryJson(r.before)},
+          {"after", e ? summaryJson(r.after_summary) : json(nullptr)},
+          {"pairs_enforced", e ? json(r.pairs_enforced) : json(nullptr)},
+          {"pairs_agreeing_after", e ? json(r.pairs_agreeing) : json(nullptr)},
+          {"pairs_over_max_correction", e ? json(r.pairs_over_max) : json(nullptr)},
+          {"pairs_not_editable", e ? json(r.pairs_not_editable) : json(nullptr)},
+          {"unmeasured_pairs_disturbed", e ? json(r.unmeasured_disturbed) : json(nullptr)},
+          {"enforcement_rounds", en.rounds},
+          {"slices_edited", en.planes_edited},
+          {"endpoint_moves", en.bumps},
+          {"edits_added", en.rhombi_added},
+          {"edits_removed", en.rhombi_removed},
+          {"vertices_shared", en.vertices_shared},
+          {"max_edit_half_width_mm", en.max_half_width_mm},
+          {"slices_not_editable", slicesNotEditable(r)},
+          {"flagged_slices", r.flagged_slices},
+          {"dropped_slices", r.dropped_slices},
+          {"worst_pairs", worst}};
+}
+
+json conformityDetailsJson(const RunConfig::Conformity& settings, const ConformityResult& r) {
+  return {{"summary", conformitySummaryJson(settings, r)}, {"slices", slicesJson(r)}, {"pairs", pairsJson(settings, r)}};
+}
+
+std::string conformityTerminalSummary(const RunConfig::Conformity& settings, const ConformityResult& r) {
+  std::string s;
+  const PoseSmoothingSummary& p = r.pose;
+  if (p.applied)
+    s += "conformity: poses smoothed over ±" + std::to_string(settings.pose_smoothing_frames) +
+         " frames: corrections mean " + mm(p.mean_shift_mm) + " / " + number(p.mean_rotation_deg) + "°, max " +
+         mm(p.max_shift_mm) + " / " + number(p.max_rotation_deg) + "°" +
+         (p.outlier_slices.empty()
+              ? std::string()
+              : "; " + std::to_string(p.outlier_slices.size()) +
+                    " slice(s) off the trajectory, put back onto it (conformity.json pose_weight 0)") +
+         "\n";
+  s += "conformity: " + std::to_string(r.pairs_measured) + " pairs of slices meet at " +
+       number(settings.min_angle_deg) + "° or more" +
+       (r.search.pairs_near_parallel
+            ? " (" + std::to_string(r.search.pairs_near_parallel) + " nearly parallel pairs not compared)"
+            : "");
+  if (!r.search.pairs.empty()) {
+    s += "; disagreement median " + mm(r.before.median_mismatch_mm) + ", max " + mm(r.before.max_mismatch_mm);
+    if (!r.worst.empty())
+      s += " (slices " + std::to_string(r.worst[0].slice_a) + " and " + std::to_string(r.worst[0].slice_b) + ")";
+  }
+  if (settings.enforce)
+    s += std::string("\nconformity: enforced (") + nameOf(kConsensusModes, settings.mode) + ") on " +
+         std::to_string(r.pairs_enforced) + " pairs; after: max " + mm(r.after_summary.max_mismatch_mm) +
+         (r.pairs_over_max ? "; " + std::to_string(r.pairs_over_max) + " pairs over max_correction_mm left as they were"
+                           : "");
+  return s;
+}
+
+std::vector<std::string> conformityWarnings(const RunConfig::Conformity& settings, const ConformityResult& r) {
+  std::vector<std::string> w;
+  for (const CoincidentConsensus& c : r.coincident) {
+    std::string list;
+    for (std::size_t k = 0; k < c.slices.size(); ++k)
+      list += (k == 0 ? "" : k + 1 == c.slices.size() ? " and " : ", ") + std::to_string(c.slices[k]);
+    const std::string head = "slices " + list + " observe one plane (within " + mm(c.group.max_offset_mm) + ")";
+    if (c.rule == "identical")
+      w.push_back(head + " with the same contours: merged into one plane");
+    else
+      w.push_back(head + "; their sections differ over " + number(c.disagreement_area_mm2) +
+                  " mm² (a contour moves up to " + mm(c.max_correction_mm) + " to the consensus): one plane with " +
+                  (c.rule == "union" ? "the union of their contours" : "the median of their signed distances") +
+                  " is used");
+  }
+  if (!r.flagged_slices.empty()) {
+    std::string list;
+    for (const int f : r.flagged_slices) list += (list.empty() ? "" : ", ") + std::to_string(f);
+    w.push_back(std::to_string(r.flagged_slices.size()) + " slice(s) disagree with the slices they cross by " +
+                mm(r.flagged_above_mm) + " or more (median over their pairs; conformity.flag_mm or " +
+                "3 times the typical slice's): probable tracking or segmentation failures: slice " + list +
+                (settings.drop_flagged ? " (dropped)" : " (set conformity.drop_flagged: true to leave them out)"));
+  }
+  if (r.pairs_over_max)
+    w.push_back(std::to_string(r.pairs_over_max) + " pair(s) of slices disagree by more than conformity.max_correction_mm (" +
+                mm(settings.max_correction_mm) + "): left as they were (conformity.json)");
+  if (r.unmeasured_disturbed)
+    w.push_back(std::to_string(r.unmeasured_disturbed) +
+                " line(s) of slices that were not compared (nearly parallel, or no section on them) changed under the edits");
+  if (!r.enforcement.planes_not_editable.empty())
+    w.push_back(std::to_string(r.enforcement.planes_not_editable.size()) +
+                " slice(s) have sections that are not simple polygons and were not edited");
+  if (settings.enforce && r.labelled)
+    w.push_back("conformity.enforce edits the union of the labels; each material keeps its segmented sections");
+  return w;
+}
+
+}  // namespace xsect
