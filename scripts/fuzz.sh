@@ -36,6 +36,9 @@ readers=(csl slices config mesh_ply mesh_stl mesh_obj nrrd truth phantom vdb ima
 if [ "$mode" = explore ]; then reader_seconds=$(( seconds * 2 / 3 )); else reader_seconds=$seconds; fi
 per_reader=$(( reader_seconds * 2 / ${#readers[@]} ))
 [ "$per_reader" -ge 1 ] || per_reader=1
+# The harnesses' scratch files (one folder per process) stay inside the fuzz build.
+export TMPDIR="$fuzzbuild/tmp"
+rm -rf "$TMPDIR" && mkdir -p "$TMPDIR"
 export ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=0"
 export LSAN_OPTIONS="suppressions=$root/tests/fuzz/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
