@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "pipeline/json_values.h"
 #include "pipeline/conform_stage.h"
 
 namespace xsect {
@@ -16,8 +17,6 @@ json traceJson(const Trace& t) {
     a.push_back({std::isfinite(i.t0) ? json(i.t0) : json(nullptr), std::isfinite(i.t1) ? json(i.t1) : json(nullptr)});
   return a;
 }
-
-json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 
 std::string number(double v) {
   char b[32];
@@ -88,8 +87,8 @@ json pairsJson(const RunConfig::Conformity& settings, const ConformityResult& r)
     json j = {{"slice_a", r.slice_of_plane[std::size_t(p.a)]},
               {"slice_b", r.slice_of_plane[std::size_t(p.b)]},
               {"angle_deg", p.line.angle_deg},
-              {"line_point_mm", vec(p.line.point)},
-              {"line_direction", vec(p.line.direction)},
+              {"line_point_mm", vecJson(p.line.point)},
+              {"line_direction", vecJson(p.line.direction)},
               {"common", traceJson(p.common)},
               {"trace_a", traceJson(p.trace_a)},
               {"trace_b", traceJson(p.trace_b)},

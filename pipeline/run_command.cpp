@@ -13,6 +13,7 @@
 #include "pipeline/arrange_stage.h"
 #include "pipeline/commands.h"
 #include "pipeline/input_stage.h"
+#include "pipeline/json_values.h"
 #include "pipeline/mesh_stage.h"
 #include "pipeline/reconstruct_stage.h"
 #include "pipeline/run_outputs.h"
@@ -79,8 +80,7 @@ int checkCommand(const RunOptions& o) {
   if (sections > 0) {
     r["voxel_size"] = voxelSizeJson(resolveVoxelSize(in, true));
     const ReconstructionLayout L = layoutOf(in.planes, in.config);
-    const auto vec = [](const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); };
-    r["sections_bounds_mm"] = {vec(L.sections_min), vec(L.sections_max)};
+    r["sections_bounds_mm"] = {vecJson(L.sections_min), vecJson(L.sections_max)};
     r["end_margin_mm"] = L.end_margin_mm;
     r["grid_dims"] = L.grid.dims;
     r["estimated_voxels"] = L.grid.count();

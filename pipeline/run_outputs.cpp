@@ -1,4 +1,5 @@
 // The output folder of `xsect run` (see run_outputs.h); report.json is built in run_report.cpp.
+#include "pipeline/json_values.h"
 #include "pipeline/run_outputs.h"
 
 #include <tbb/task_arena.h>
@@ -21,8 +22,6 @@ namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
 
 namespace {
-
-json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 
 /// The graphs' edges as (flat section id a, id b, cell, method, Graphviz style), G then G'.
 template <typename Visit>
@@ -65,7 +64,7 @@ json graphJson(const RunResults& r) {
       const Section& sec = p.sections[s];
       nodes.push_back({{"id", id++}, {"slice", p.slice}, {"section", s}, {"label", sec.label},
                        {"area_mm2", sectionArea(sec)},
-                       {"centroid_mm", vec(p.plane.toWorld(sectionCentroid(sec)))}});
+                       {"centroid_mm", vecJson(p.plane.toWorld(sectionCentroid(sec)))}});
     }
   json edges = json::array();
   forEachEdge(r, [&](int a, int b, int cell, const char* method, const char*) {

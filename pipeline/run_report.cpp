@@ -2,6 +2,7 @@
 // each stage's parameters and measurements, timings, peak memory and the warnings.
 #include <cmath>
 
+#include "pipeline/json_values.h"
 #include "pipeline/run_outputs.h"
 
 namespace xsect {
@@ -9,8 +10,6 @@ namespace xsect {
 using json = nlohmann::ordered_json;
 
 namespace {
-
-json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 
 /// A solid's connectivity against the graph, cell by cell.
 json cellsJson(const CellConnectivityCheck& c) {
@@ -65,7 +64,7 @@ json reconstructionJson(const RunResults& r) {
   return {{"method", nameOf(kReconstructionMethods, c.reconstruction_method)},
           {"voxel_size_mm", c.voxel_size_mm},
           {"voxel_size", voxelSizeJson(r.reconstruction.voxel_size)},
-          {"grid_origin_mm", vec(rec.field.grid.origin)},
+          {"grid_origin_mm", vecJson(rec.field.grid.origin)},
           {"grid_dims", rec.field.grid.dims},
           {"end_margin_mm", rec.end_margin_mm},
           {"end_margin_auto", rec.end_margin_auto},
@@ -116,7 +115,7 @@ json smoothingJson(const RunResults& r) {
           {"empty_plane_value_mm", s.empty_value_mm},
           {"adaptivity", c.smoothing_adaptivity},
           {"grid_dims", s.field.grid.dims},
-          {"grid_origin_mm", vec(s.field.grid.origin)},
+          {"grid_origin_mm", vecJson(s.field.grid.origin)},
           {"evaluate_s", s.evaluate_s},
           {"voxels_per_s", s.evaluate_s > 0 ? double(s.field.grid.count()) / s.evaluate_s : 0.0},
           {"mean_visible_planes", s.mean_visible_planes},

@@ -1,0 +1,13 @@
+// Small values as the outputs' JSON writes them (report.json, conformity.json, graph.json, check).
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include "geometry/core/types.h"
+
+namespace xsect {
+
+/// A point or vector as [x, y, z] (mm).
+inline nlohmann::ordered_json vecJson(const Vec3& v) { return nlohmann::ordered_json::array({v.x(), v.y(), v.z()}); }
+
+}  // namespace xsect
