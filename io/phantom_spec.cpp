@@ -94,10 +94,8 @@ PhantomShape readShape(const Reader& r, const YAML::Node& root) {
   r.keys(sh, "shape.", {"kind", "params", "centre", "rotation_deg", "label_split"});
   PhantomShape s;
   if (!sh["kind"]) throw InputError(r.file, "shape.kind", "missing", lineOf(sh));
-  s.kind = yamlString(sh["kind"], r.file, "shape.kind");
+  s.kind = yamlChoice(sh["kind"], r.file, "shape.kind", kShapeKinds, "shape kind");
   const auto spec = phantomShapeParams(s.kind);
-  if (spec.empty())
-    throw InputError(r.file, "shape.kind", checkPhantomShape(s)->message, lineOf(sh["kind"]));
   const YAML::Node params = r.map(sh, "params", "shape.params", false);
   for (const auto& kv : params) {
     const std::string k = kv.first.Scalar();
@@ -105,7 +103,7 @@ PhantomShape readShape(const Reader& r, const YAML::Node& root) {
       std::string list;
       for (const auto& [name, def] : spec) list += (list.empty() ? "" : ", ") + name;
       throw InputError(r.file, "shape.params." + k,
-                       "unknown parameter for " + s.kind + " (expected: " + list + ")",
+                       "unknown parameter for " + std::string(nameOf(kShapeKinds, s.kind)) + " (expected: " + list + ")",
                        lineOf(kv.first));
     }
     s.params[k] = yamlNumber(kv.second, r.file, "shape.params." + k);
@@ -137,9 +135,9 @@ SlicingPattern readPattern(const Reader& r, const YAML::Node& root) {
   const YAML::Node pn = r.map(root, "pattern", "pattern", true);
   SlicingPattern p;
   if (!pn["kind"]) throw InputError(r.file, "pattern.kind", "missing", lineOf(pn));
-  p.kind = yamlString(pn["kind"], r.file, "pattern.kind");
+  p.kind = yamlChoice(pn["kind"], r.file, "pattern.kind", kPatternKinds, "pattern");
   const int maxCount = 10000;
-  if (p.kind == "parallel") {
+  if (p.kind == PatternKind::parallel) {
     r.keys(pn, "pattern.", {"kind", "extra_planes", "count", "direction", "spacing_mm", "span_mm",
                             "positions_mm", "tilt_deg"});
     p.direction = r.vec3(pn, "direction", "pattern.direction", Vec3::UnitZ(), true);
@@ -164,7 +162,7 @@ SlicingPattern readPattern(const Reader& r, const YAML::Node& root) {
       if (pn["span_mm"]) p.span_mm = r.number(pn, "span_mm", "pattern.span_mm", std::nullopt, 0);
     }
     p.tilt_deg = r.number(pn, "tilt_deg", "pattern.tilt_deg", 0.0, 0, false, 89);
-  } else if (p.kind == "multiaxial") {
+  } else if (p.kind == PatternKind::multiaxial) {
     r.keys(pn, "pattern.", {"kind", "extra_planes", "count", "counts"});
     if (const YAML::Node cs = pn["counts"]) {
       if (pn["count"])
@@ -184,15 +182,15 @@ SlicingPattern readPattern(const Reader& r, const YAML::Node& root) {
       p.count = r.integer(pn, "count", "pattern.count", std::nullopt, 1, maxCount);
       p.counts = {p.count, p.count, p.count};
     }
-  } else if (p.kind == "random") {
+  } else if (p.kind == PatternKind::random) {
     r.keys(pn, "pattern.", {"kind", "extra_planes", "count"});
     p.count = r.integer(pn, "count", "pattern.count", std::nullopt, 1, maxCount);
-  } else if (p.kind == "fan") {
+  } else if (p.kind == PatternKind::fan) {
     r.keys(pn, "pattern.", {"kind", "extra_planes", "count", "axis", "span_deg"});
     p.count = r.integer(pn, "count", "pattern.count", std::nullopt, 1, maxCount);
     p.axis = r.vec3(pn, "axis", "pattern.axis", Vec3::UnitZ(), true);
     p.span_deg = r.number(pn, "span_deg", "pattern.span_deg", 180.0, 0, true, 180);
-  } else if (p.kind == "freehand") {
+  } else if (p.kind == PatternKind::freehand) {
     r.keys(pn, "pattern.", {"kind", "extra_planes", "count", "direction", "span_mm", "tilt_deg",
                             "drift_mm", "sector", "sector_angle_deg", "apex_px"});
     p.count = r.integer(pn, "count", "pattern.count", std::nullopt, 1, maxCount);
@@ -204,11 +202,6 @@ SlicingPattern readPattern(const Reader& r, const YAML::Node& root) {
     p.sector_angle_deg =
         r.number(pn, "sector_angle_deg", "pattern.sector_angle_deg", 0.0, 0, false, 170);
     p.apex_px = r.number(pn, "apex_px", "pattern.apex_px", 0.0, 0);
-  } else {
-    throw InputError(r.file, "pattern.kind",
-                     "unknown pattern '" + p.kind +
-                         "' (expected one of: parallel, multiaxial, random, fan, freehand)",
-                     lineOf(pn["kind"]));
   }
   return p;
 }

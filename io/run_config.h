@@ -8,7 +8,7 @@
 
 #include "geometry/conformity/consensus_mode.h"
 #include "geometry/core/named_choice.h"
-#include "geometry/reconstruction/reconstruction_method.h"
+#include "geometry/core/reconstruction_method.h"
 #include "segmentation/segment_slice.h"
 
 namespace xsect {

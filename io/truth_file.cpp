@@ -84,7 +84,7 @@ void emitBetti(YAML::Emitter& out, const Betti& b) {
 void writeTruthFile(const std::string& path, const PhantomShape& shape) {
   YAML::Emitter out;
   out << YAML::BeginMap << YAML::Key << "shape" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "kind" << YAML::Value << shape.kind;
+  out << YAML::Key << "kind" << YAML::Value << nameOf(kShapeKinds, shape.kind);
   out << YAML::Key << "params" << YAML::Value << YAML::BeginMap;
   for (const auto& [k, v] : shape.params) out << YAML::Key << k << YAML::Value << yamlNumberText(v);
   out << YAML::EndMap;
@@ -144,19 +144,14 @@ PhantomShape readTruthFile(const std::string& path) {
   const YAML::Node sh = required(root, "shape", path, "shape");
   if (!sh.IsMap()) throw InputError(path, "shape", "must be a map", lineOf(sh));
   PhantomShape s;
-  s.kind = yamlString(required(sh, "kind", path, "shape.kind"), path, "shape.kind");
+  s.kind = yamlChoice(required(sh, "kind", path, "shape.kind"), path, "shape.kind", kShapeKinds, "shape kind");
   const auto spec = phantomShapeParams(s.kind);
-  if (spec.empty()) {
-    const auto problem = checkPhantomShape(s);
-    throw InputError(path, "shape.kind", problem ? problem->message : "unknown kind",
-                     lineOf(sh["kind"]));
-  }
   const YAML::Node params = required(sh, "params", path, "shape.params");
   if (!params.IsMap()) throw InputError(path, "shape.params", "must be a map", lineOf(params));
   for (const auto& kv : params) {
     const std::string k = kv.first.Scalar();
-    if (!spec.count(k) && !(s.kind == "vessel_tree" && k == "nominal_reach"))
-      throw InputError(path, "shape.params." + k, "unknown parameter for " + s.kind,
+    if (!spec.count(k) && !(s.kind == ShapeKind::vessel_tree && k == "nominal_reach"))
+      throw InputError(path, "shape.params." + k, "unknown parameter for " + std::string(nameOf(kShapeKinds, s.kind)),
                        lineOf(kv.first));
     s.params[k] = yamlNumber(kv.second, path, "shape.params." + k);
   }
@@ -232,7 +227,7 @@ PhantomShape readTruthFile(const std::string& path) {
   if (const YAML::Node n = root["reach_exterior_mm"])
     s.reach_exterior_mm = readReach(n, path, "reach_exterior_mm");
   yamlBool(required(root, "exact_distance", path, "exact_distance"), path, "exact_distance");
-  if (s.kind == "vessel_tree") {
+  if (s.kind == ShapeKind::vessel_tree) {
     // Files written before blending existed describe the plain union of the capsules.
     if (!s.params.count("blend_mm")) s.params["blend_mm"] = 0.0;
     try {

@@ -111,7 +111,7 @@ SurfaceDistances compareSurfaces(const TriangleMesh& mesh, const MeshDistance& m
     // The vessel tree's sdf is a lower bound only: mesh -> truth uses numerically found nearest
     // boundary points (about 11 µs each; the Fig. 1.11 shapes' searches cost 10x more).
     SignedDistanceFn exact;
-    if (!hasExactDistance(shape) && shape.kind == "vessel_tree")
+    if (!hasExactDistance(shape) && shape.kind == ShapeKind::vessel_tree)
       exact = [&shape](const Vec3& x) { return (x - closestBoundaryPoint(shape, x)).norm(); };
     dist = distancesToImplicit(mesh, meshQuery, sdf, tlo - pad, thi + pad, sampling, exact);
     *lo = lo->cwiseMin(tlo);

@@ -59,18 +59,18 @@ void requireMeshBoundsSolid(const MeshTopology& mesh, const Betti& solid, const 
 
 }  // namespace
 
-MeshStage meshStage(const RunInputs& in, const ReconstructStage& reconstruction, const SmoothStage* smooth,
-                    std::vector<std::string>* warnings) {
+MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const ReconstructStage& reconstruction,
+                    const SmoothStage* smooth, std::vector<std::string>* warnings) {
   const RunConfig& c = in.config;
   const SampledReconstruction& rec = reconstruction.solid;
   MeshStage m;
   m.method_mesh = meshZeroLevel(rec.field);
   const ConformalCutStats methodCut = c.conformal_mesh
-                                          ? cutAlongSections(m.method_mesh, in.planes, rec.fields, c.voxel_size_mm)
+                                          ? cutAlongSections(m.method_mesh, scene.planes, scene.fields, c.voxel_size_mm)
                                           : ConformalCutStats{};
   m.mesh = smooth ? smooth->surface.mesh : m.method_mesh;
   m.cut = !smooth ? methodCut
-                  : c.conformal_mesh ? cutAlongSections(m.mesh, in.planes, rec.fields, c.voxel_size_mm)
+                  : c.conformal_mesh ? cutAlongSections(m.mesh, scene.planes, scene.fields, c.voxel_size_mm)
                                      : ConformalCutStats{};
 
   // Several materials: each voxel takes the label of the section its lift comes from; one mesh
@@ -78,7 +78,7 @@ MeshStage meshStage(const RunInputs& in, const ReconstructStage& reconstruction,
   bool anyLabelled = false;  // segmentation labels gave per-label sections
   for (const auto& l : in.labelled) anyLabelled = anyLabelled || !l.empty();
   const std::vector<std::vector<Section>> ownSections;  // empty: the planes' own sections
-  m.voxel_label = voxelLabels(rec.inside, rec.section_plane, in.planes, anyLabelled ? in.labelled : ownSections,
+  m.voxel_label = voxelLabels(rec.inside, rec.section_plane, scene.planes, anyLabelled ? in.labelled : ownSections,
                               rec.field.grid);
   const std::vector<std::uint16_t> labels = labelValues(in, anyLabelled);
   if (labels.size() >= 2)

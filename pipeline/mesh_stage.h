@@ -37,8 +37,8 @@ struct MeshStage {
 
 /// @param smooth  stage 6's result, or nullptr without smoothing.
 /// Appends warnings (labels without voxels; suspiciously many labels).
-MeshStage meshStage(const RunInputs& in, const ReconstructStage& reconstruction, const SmoothStage* smooth,
-                    std::vector<std::string>* warnings);
+MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const ReconstructStage& reconstruction,
+                    const SmoothStage* smooth, std::vector<std::string>* warnings);
 
 struct DiagnoseStage {
   MeshTopology topology;         ///< of mesh.<fmt>

@@ -193,7 +193,7 @@ int phantomCommand(const PhantomOptions& options) {
   }
   const int n = int(plan.poses.size());
   if (!options.quiet)
-    std::cerr << "phantom: " << spec.shape.kind << ", " << spec.pattern.kind << " pattern, " << n
+    std::cerr << "phantom: " << nameOf(kShapeKinds, spec.shape.kind) << ", " << nameOf(kPatternKinds, spec.pattern.kind) << " pattern, " << n
               << " slices of " << plan.width << "x" << plan.height << " px at "
               << plan.pixel_mm << " mm\n";
 

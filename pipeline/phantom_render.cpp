@@ -56,7 +56,7 @@ RenderedSlice renderSlice(const PhantomShape& shape, const Mat4& pose, int width
   const double px = pose.block<3, 1>(0, 0).norm();
   const PhantomShape local = cullTubes(shape, planeOfPose(pose), px);
   const bool noTubes =
-      local.kind == "vessel_tree" &&
+      local.kind == ShapeKind::vessel_tree &&
       (local.tubes.empty() || (!shape.junctions.empty() && local.junctions.empty()));
   cv::Mat img(height, width, CV_32F, cv::Scalar(0));
   std::vector<char> rowClipped(height, 0);
@@ -107,7 +107,7 @@ RenderedSlice renderLabelSlice(const PhantomShape& shape, const Mat4& pose, int 
   const double px = pose.block<3, 1>(0, 0).norm();
   const PhantomShape local = cullTubes(shape, planeOfPose(pose), px);
   const bool noTubes =
-      local.kind == "vessel_tree" &&
+      local.kind == ShapeKind::vessel_tree &&
       (local.tubes.empty() || (!shape.junctions.empty() && local.junctions.empty()));
   RenderedSlice out;
   out.image = cv::Mat(height, width, CV_8U, cv::Scalar(0));

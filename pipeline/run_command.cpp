@@ -1,8 +1,9 @@
 // `xsect run` and `xsect check` (GUIDE.md, command-line contract): the stages in the order they
 // run, each a function of the results before it (pipeline/*_stage.h), and the one writer.
 //   load -> segment -> conform   (input_stage.h, stages 1-3)
-//   reconstruct                  (reconstruct_stage.h, stage 5: makes the end planes and rasters)
-//   arrange                      (arrange_stage.h, stage 4: cells, graphs, their check)
+//   the scene                    (scene_stage.h: planes and end planes, rasters, grid; built once)
+//   arrange                      (arrange_stage.h, stage 4: cells, sub-sections, graphs G / G')
+//   reconstruct                  (reconstruct_stage.h, stage 5: the solid, checked against the graph)
 //   smooth                       (smooth_stage.h, stage 6, optional)
 //   mesh -> diagnose             (mesh_stage.h, stage 7)
 //   write                        (run_outputs.h, stage 8)
@@ -17,6 +18,7 @@
 #include "pipeline/mesh_stage.h"
 #include "pipeline/reconstruct_stage.h"
 #include "pipeline/run_outputs.h"
+#include "pipeline/scene_stage.h"
 #include "pipeline/smooth_stage.h"
 
 namespace xsect {
@@ -31,24 +33,30 @@ int runCommand(const RunOptions& o) {
   const RunConfig& c = in.config;
   const fs::path outDir = o.out.empty() ? fs::path(c.output_dir) : fs::absolute(o.out);
 
-  const ReconstructStage reconstruction = reconstructStage(in, o.quiet, clock, progress);
+  progress.stage("scene");
+  const SceneStage built = sceneStage(in, o.quiet);
+  const SectionScene& scene = built.scene;
+  clock.end("scene");
 
   progress.stage("arrange");
-  const ArrangeStage arrangement = arrangeStage(c, in.planes, reconstruction, &in.warnings);
+  const ArrangeStage arrangement = arrangeStage(c, scene);
   clock.end("arrange");
+
+  progress.stage("reconstruct");
+  const ReconstructStage reconstruction = reconstructStage(c, built, arrangement, progress, &in.warnings);
+  clock.end("reconstruct");
 
   std::optional<SmoothStage> smooth;
   if (c.smoothing_method != SmoothingMethod::none) {
     progress.stage("smooth");
-    smooth = smoothStage(c, in.planes, reconstruction.solid, arrangement.arrangement, arrangement.methodEdges(),
-                         arrangement.graph_check, arrangement.cell_check, [&](double f) { progress.update(f); });
+    smooth = smoothStage(c, scene, arrangement, reconstruction, [&](double f) { progress.update(f); });
     if (const std::string w = shepardConnectivityWarning(c, *smooth); !w.empty()) in.warnings.push_back(w);
     clock.end("smooth");
   }
   const SmoothStage* smoothed = smooth ? &*smooth : nullptr;
 
   progress.stage("mesh");
-  MeshStage meshes = meshStage(in, reconstruction, smoothed, &in.warnings);
+  MeshStage meshes = meshStage(in, scene, reconstruction, smoothed, &in.warnings);
   clock.end("mesh");
 
   progress.stage("diagnose");
@@ -56,7 +64,7 @@ int runCommand(const RunOptions& o) {
   clock.end("diagnose");
 
   progress.stage("write");
-  writeRunOutputs({in, reconstruction, arrangement, smoothed, meshes, diagnosis}, o, clock, outDir);
+  writeRunOutputs({in, built, arrangement, reconstruction, smoothed, meshes, diagnosis}, o, clock, outDir);
   progress.finish();
   for (const auto& w : in.warnings) progress.note("warning: " + w);
   const Betti& betti = diagnosis.topology.betti;

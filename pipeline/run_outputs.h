@@ -13,6 +13,7 @@
 #include "pipeline/input_stage.h"
 #include "pipeline/mesh_stage.h"
 #include "pipeline/reconstruct_stage.h"
+#include "pipeline/scene_stage.h"
 #include "pipeline/smooth_stage.h"
 #include "pipeline/stage_clock.h"
 
@@ -21,8 +22,9 @@ namespace xsect {
 /// Everything the stages produced, read by the writer.
 struct RunResults {
   const RunInputs& inputs;
-  const ReconstructStage& reconstruction;
+  const SceneStage& scene_stage;
   const ArrangeStage& arrangement;
+  const ReconstructStage& reconstruction;
   const SmoothStage* smooth;  ///< nullptr without smoothing
   const MeshStage& meshes;
   const DiagnoseStage& diagnosis;

@@ -49,8 +49,8 @@ json countsJson(const RunResults& r) {
   const SampledReconstruction& rec = r.reconstruction.solid;
   const SectionArrangement& a = r.arrangement.arrangement;
   return {{"slices", r.inputs.slices}, {"slices_used", r.inputs.planes.size()},
-          {"planes_with_sections", r.reconstruction.counts.planes_with_sections},
-          {"sections", r.reconstruction.counts.sections}, {"end_planes", rec.end_planes.size()},
+          {"planes_with_sections", r.scene_stage.counts.planes_with_sections},
+          {"sections", r.scene_stage.counts.sections}, {"end_planes", r.scene_stage.scene.end_planes()},
           {"cells", a.cells}, {"sub_sections", a.sub_sections.size()},
           {"voxels", rec.field.grid.count()},
           {"voxels_inside", rec.voxels_inside},
@@ -60,14 +60,15 @@ json countsJson(const RunResults& r) {
 
 json reconstructionJson(const RunResults& r) {
   const SampledReconstruction& rec = r.reconstruction.solid;
+  const ReconstructionLayout& layout = r.scene_stage.scene.layout;
   const RunConfig& c = r.inputs.config;
   return {{"method", nameOf(kReconstructionMethods, c.reconstruction_method)},
           {"voxel_size_mm", c.voxel_size_mm},
-          {"voxel_size", voxelSizeJson(r.reconstruction.voxel_size)},
+          {"voxel_size", voxelSizeJson(r.scene_stage.voxel_size)},
           {"grid_origin_mm", vecJson(rec.field.grid.origin)},
           {"grid_dims", rec.field.grid.dims},
-          {"end_margin_mm", rec.end_margin_mm},
-          {"end_margin_auto", rec.end_margin_auto},
+          {"end_margin_mm", layout.end_margin_mm},
+          {"end_margin_auto", layout.end_margin_auto},
           {"max_lift_mm", rec.max_lift_mm},
           {"exact_face_tests", rec.exact_face_tests},
           {"search_restarts", rec.search_restarts},
@@ -88,7 +89,7 @@ json materialsJson(const RunResults& r) {
 
 json graphSummaryJson(const RunResults& r) {
   const ArrangeStage& a = r.arrangement;
-  const GraphVoxelCheck& g = a.graph_check;
+  const GraphVoxelCheck& g = r.reconstruction.graph_check;
   return {{"edges_g", a.graphs.g.size()},
           {"edges_g_prime", a.method2 ? json(a.graphs.g_prime.size()) : json(nullptr)},
           {"g_subset_of_g_prime", a.method2 ? json(a.g_in_g_prime) : json(nullptr)},
@@ -98,7 +99,7 @@ json graphSummaryJson(const RunResults& r) {
           {"pairs_joined_by_graph_only", g.pairs_joined_by_graph_only},
           {"pairs_joined_by_voxels_only", g.pairs_joined_by_voxels_only},
           {"sections_not_located", g.sections_unlocated},
-          {"per_cell", cellsJson(a.cell_check)}};
+          {"per_cell", cellsJson(r.reconstruction.cell_check)}};
 }
 
 json smoothingJson(const RunResults& r) {
@@ -161,7 +162,7 @@ json conformityJson(const RunResults& r) {
 
 json throughputJson(const RunResults& r) {
   const SampledReconstruction& rec = r.reconstruction.solid;
-  const ReconstructionMethod method = r.reconstruction.params.method;
+  const ReconstructionMethod method = r.scene_stage.scene.params.method;
   return {{"reconstruct_voxels_per_s", rec.evaluate_seconds > 0 ? double(rec.field.grid.count()) / rec.evaluate_seconds : 0.0},
           {"evaluate_s", rec.evaluate_seconds},
           {"method1_evaluate_s", method == ReconstructionMethod::nearest_plane ? json(rec.evaluate_seconds) : json(nullptr)},

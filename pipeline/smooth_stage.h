@@ -19,6 +19,8 @@
 #include "geometry/arrangement/section_arrangement.h"
 #include "geometry/meshing/volume_mesher.h"
 #include "io/run_config.h"
+#include "pipeline/arrange_stage.h"
+#include "pipeline/reconstruct_stage.h"
 
 namespace xsect {
 
@@ -52,22 +54,18 @@ struct SmoothStage {
   CellConnectivityCheck final_cells;  ///< the same, cell by cell
 };
 
-/// @param realPlanes  the input planes with their sections.
-/// @param rec         the method's reconstruction (rasters, end planes, solid).
-/// @param edges       the method's graph (G for method 1, G' for method 2).
-/// @param base        that graph against the method's own voxel solid (compareWithVoxels): the
-///                    level-set smoothing must keep this comparison unchanged.
-/// @param baseCells   the same, cell by cell (compareCellsWithVoxels): Shepard keeps the
-///                    method's connectivity when it joins the sections as the graph does overall
-///                    and, in every cell both resolve, differs from the graph in no more section
-///                    pairs than the method's own voxel solid does, on the grid or, where not, on
-///                    the first finer lattice that resolves the cell (cell_refinement.h). The
-///                    level-set smoothing stops before the first step that breaks either rule.
-SmoothStage smoothStage(const RunConfig& config, const std::vector<CuttingPlane>& realPlanes,
-                        const SampledReconstruction& rec, const SectionArrangement& arrangement,
-                        const std::vector<GraphEdge>& edges, const GraphVoxelCheck& base,
-                        const CellConnectivityCheck& baseCells,
-                        const std::function<void(double)>& progress = {});
+/// @param scene           the planes (real and end), their rasters and the grid (stage 4's input).
+/// @param arrangement     stage 4: the cells and the method's graph (G for method 1, G' for method 2).
+/// @param reconstruction  stage 5: the method's solid, and the graph against it (compareWithVoxels)
+///                        which the level-set smoothing must keep unchanged, and the same cell by
+///                        cell (compareCellsWithVoxels): Shepard keeps the method's connectivity
+///                        when it joins the sections as the graph does overall and, in every cell
+///                        both resolve, differs from the graph in no more section pairs than the
+///                        method's own voxel solid does, on the grid or, where not, on the first
+///                        finer lattice that resolves the cell (cell_refinement.h). The level-set
+///                        smoothing stops before the first step that breaks either rule.
+SmoothStage smoothStage(const RunConfig& config, const SectionScene& scene, const ArrangeStage& arrangement,
+                        const ReconstructStage& reconstruction, const std::function<void(double)>& progress = {});
 
 /// The warning when Shepard's surface joins the sections differently from the method's graph
 /// (what was measured, and what was written instead); empty otherwise.

@@ -11,7 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "geometry/core/polygon.h"
-#include "geometry/reconstruction/section_distance_field.h"
+#include "geometry/scene/section_distance_field.h"
 #include "segmentation/iso_contours.h"
 
 namespace xsect {

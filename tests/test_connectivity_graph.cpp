@@ -27,6 +27,15 @@ CuttingPlane diskPlane(int axis, double offset, double radius) {
   return cp;
 }
 
+/// The scene of planes whose rasters were made by hand (every plane counted as given).
+SectionScene sceneOf(const std::vector<CuttingPlane>& planes, const std::vector<SectionDistanceField>& fields) {
+  SectionScene s;
+  s.planes = planes;
+  s.real_planes = planes.size();
+  s.fields = fields;
+  return s;
+}
+
 std::vector<CuttingPlane> boxAround(double half) {
   std::vector<CuttingPlane> out;
   for (int axis = 0; axis < 3; ++axis) {
@@ -68,7 +77,8 @@ TEST(ConnectivityGraph, GIsASubgraphOfGPrimeAndMatchesTheVoxels) {  // Propositi
     const SectionArrangement arr = arrangeSections(planes, 0.2);
     SectionVoronoiParams vp;
     vp.slab_mm = 0.17;
-    const ConnectivityGraphs graphs = connectivityGraphs(planes, fields, arr, vp, true);
+    const SectionScene scene = sceneOf(planes, fields);
+    const ConnectivityGraphs graphs = connectivityGraphs(scene, arr, vp, true);
     // Edge by edge, in the same cell. The lift point of method 1 lies on lift'(A) ∩ lift'(B)
     // exactly (proof of Theorem 18); G' finds it with the rasters, which may disagree with the
     // exact polygon test when it projects within their tolerance of a contour: at most 1% of the
@@ -99,8 +109,8 @@ TEST(ConnectivityGraph, GIsASubgraphOfGPrimeAndMatchesTheVoxels) {  // Propositi
       in1[q] = m1.value.values[q] < 0;
       in2[q] = m2.value.values[q] < 0;
     }
-    const GraphVoxelCheck c1 = compareWithVoxels(graphs.g, planes, arr, fields, in1, grid);
-    const GraphVoxelCheck c2 = compareWithVoxels(graphs.g_prime, planes, arr, fields, in2, grid);
+    const GraphVoxelCheck c1 = compareWithVoxels(graphs.g, scene, arr, in1, grid);
+    const GraphVoxelCheck c2 = compareWithVoxels(graphs.g_prime, scene, arr, in2, grid);
     EXPECT_TRUE(c1.same_partition) << c1.pairs_joined_by_graph_only << " " << c1.pairs_joined_by_voxels_only;
     EXPECT_TRUE(c2.same_partition) << c2.pairs_joined_by_graph_only << " " << c2.pairs_joined_by_voxels_only;
     EXPECT_LE(c2.graph_components, c1.graph_components);
@@ -128,19 +138,19 @@ std::vector<std::uint8_t> method1Solid(const std::vector<CuttingPlane>& planes,
 
 /// Planes inside a box of half-width 8 with their rasters, cells and graph G.
 struct Scene {
-  std::vector<CuttingPlane> planes;
-  std::vector<SectionDistanceField> fields;
+  SectionScene sections;
   SectionArrangement arr;
   ConnectivityGraphs graphs;
 };
 
-Scene sceneOf(std::vector<CuttingPlane> planes) {
+Scene sceneInBox(std::vector<CuttingPlane> planes) {
   Scene s;
   for (auto& p : boxAround(8)) planes.push_back(p);
-  for (const auto& p : planes) s.fields.push_back(sectionDistanceField(p.sections, 0.05, 0.6));
+  std::vector<SectionDistanceField> fields;
+  for (const auto& p : planes) fields.push_back(sectionDistanceField(p.sections, 0.05, 0.6));
+  s.sections = sceneOf(planes, fields);
   s.arr = arrangeSections(planes, 0.2);
-  s.graphs = connectivityGraphs(planes, s.fields, s.arr, {}, false);
-  s.planes = std::move(planes);
+  s.graphs = connectivityGraphs(s.sections, s.arr, {}, false);
   return s;
 }
 
@@ -155,13 +165,15 @@ GridSpec offPlanesGrid() {  // voxel centres off every plane of these tests
 }  // namespace
 
 TEST(ConnectivityGraph, PerCellCheckSeesAConnectionLostInOneCell) {
-  const Scene scene = sceneOf({diskPlane(2, 0, 3), diskPlane(2, 4, 3), diskPlane(0, 0.3, 0)});
-  const auto& [planes, fields, arr, graphs] = scene;
+  const Scene scene = sceneInBox({diskPlane(2, 0, 3), diskPlane(2, 4, 3), diskPlane(0, 0.3, 0)});
+  const auto& [sections, arr, graphs] = scene;
+  const auto& planes = sections.planes;
+  const auto& fields = sections.fields;
   const GridSpec grid = offPlanesGrid();
   std::vector<std::uint8_t> inside = method1Solid(planes, fields, grid);
 
   // Between the discs, on either side of x = 0.3: the two cells bounded by two sections.
-  const CellConnectivityCheck before = compareCellsWithVoxels(graphs.g, planes, arr, fields, inside, grid);
+  const CellConnectivityCheck before = compareCellsWithVoxels(graphs.g, sections, arr, inside, grid);
   EXPECT_EQ(arr.cells, 6);
   EXPECT_EQ(before.cells_compared, 2);
   EXPECT_EQ(before.cells_unresolved, 0);
@@ -176,7 +188,7 @@ TEST(ConnectivityGraph, PerCellCheckSeesAConnectionLostInOneCell) {
   for (const GraphEdge& e : graphs.g)
     if (e.cell != between) fewer.push_back(e);
   ASSERT_LT(fewer.size(), graphs.g.size());
-  const CellConnectivityCheck missing = compareCellsWithVoxels(fewer, planes, arr, fields, inside, grid);
+  const CellConnectivityCheck missing = compareCellsWithVoxels(fewer, sections, arr, inside, grid);
   EXPECT_EQ(missing.differing_cells, std::vector<int>{between});
   EXPECT_EQ(missing.pairs_joined_by_voxels_only, 1);
   EXPECT_EQ(missing.pairs_joined_by_graph_only, 0);
@@ -188,9 +200,9 @@ TEST(ConnectivityGraph, PerCellCheckSeesAConnectionLostInOneCell) {
         const Vec3 x = grid.centre(i, j, k);
         if (x.x() > 0.3 && std::abs(x.z() - 2.0) < 0.3) inside[std::size_t(grid.index(i, j, k))] = 0;
       }
-  const GraphVoxelCheck global = compareWithVoxels(graphs.g, planes, arr, fields, inside, grid);
+  const GraphVoxelCheck global = compareWithVoxels(graphs.g, sections, arr, inside, grid);
   EXPECT_TRUE(global.same_partition) << "still one component, through the other half";
-  const CellConnectivityCheck after = compareCellsWithVoxels(graphs.g, planes, arr, fields, inside, grid);
+  const CellConnectivityCheck after = compareCellsWithVoxels(graphs.g, sections, arr, inside, grid);
   EXPECT_EQ(after.differing_cells, std::vector<int>{between});
   EXPECT_EQ(after.pairs_joined_by_graph_only, 1);
   EXPECT_EQ(after.pairs_joined_by_voxels_only, 0);
@@ -208,10 +220,12 @@ TEST(ConnectivityGraph, PerCellCheckSeedsEveryPartOfASubSection) {
   top.plane = test::axisPlane(2, 4);
   top.sections.push_back(Section{test::circle(Vec2(-2, 2.5), 0.9, 64), {}, 1});
   top.sections.push_back(Section{test::circle(Vec2(2, 2.5), 0.9, 64), {}, 1});
-  const Scene scene = sceneOf({u, top, diskPlane(1, -0.5, 0)});
-  const auto& [planes, fields, arr, graphs] = scene;
+  const Scene scene = sceneInBox({u, top, diskPlane(1, -0.5, 0)});
+  const auto& [sections, arr, graphs] = scene;
+  const auto& planes = sections.planes;
+  const auto& fields = sections.fields;
   const GridSpec grid = offPlanesGrid();
-  const CellConnectivityCheck c = compareCellsWithVoxels(graphs.g, planes, arr, fields, method1Solid(planes, fields, grid), grid);
+  const CellConnectivityCheck c = compareCellsWithVoxels(graphs.g, sections, arr, method1Solid(planes, fields, grid), grid);
   EXPECT_GT(c.cells_compared, 0);
   EXPECT_EQ(c.cells_differing, 0) << c.pairs_joined_by_graph_only << " " << c.pairs_joined_by_voxels_only;
 }
@@ -225,8 +239,10 @@ TEST(ConnectivityGraph, PerCellCheckSeedsEveryPartOfASubSection) {
 #include "geometry/arrangement/cell_refinement.h"
 
 TEST(ConnectivityGraph, RefinementResolvesAPassageThinnerThanAVoxel) {
-  const Scene scene = sceneOf({diskPlane(2, 0, 3), diskPlane(2, 4, 3)});
-  const auto& [planes, fields, arr, graphs] = scene;
+  const Scene scene = sceneInBox({diskPlane(2, 0, 3), diskPlane(2, 4, 3)});
+  const auto& [sections, arr, graphs] = scene;
+  const auto& planes = sections.planes;
+  const auto& fields = sections.fields;
   const GridSpec grid = offPlanesGrid();  // centres at x, y = ... 0.07, 0.27 ...
   const auto solidOn = [](bool neck) {
     return [neck](const GridSpec& g) {
@@ -243,8 +259,8 @@ TEST(ConnectivityGraph, RefinementResolvesAPassageThinnerThanAVoxel) {
     };
   };
   const CellConnectivityCheck reference =
-      compareCellsWithVoxels(graphs.g, planes, arr, fields, method1Solid(planes, fields, grid), grid);
-  const CellConnectivityCheck coarse = compareCellsWithVoxels(graphs.g, planes, arr, fields, solidOn(true)(grid), grid);
+      compareCellsWithVoxels(graphs.g, sections, arr, method1Solid(planes, fields, grid), grid);
+  const CellConnectivityCheck coarse = compareCellsWithVoxels(graphs.g, sections, arr, solidOn(true)(grid), grid);
   const std::vector<int> disputed = cellsDifferingMore(coarse, reference);
   ASSERT_EQ(disputed.size(), 1u) << "the neck is invisible on the grid";
   const int cell = disputed[0];
@@ -252,11 +268,11 @@ TEST(ConnectivityGraph, RefinementResolvesAPassageThinnerThanAVoxel) {
   EXPECT_EQ(coarse.pairs_by_cell[std::size_t(cell)], 1);
   // Restricted to that cell, the comparison is the same.
   const CellConnectivityCheck only =
-      compareCellsWithVoxels(graphs.g, planes, arr, fields, solidOn(true)(grid), grid, {cell});
+      compareCellsWithVoxels(graphs.g, sections, arr, solidOn(true)(grid), grid, {cell});
   EXPECT_EQ(only.cells_compared, 1);
   EXPECT_EQ(only.pairs_by_cell[std::size_t(cell)], 1);
 
-  const auto withNeck = refineCellComparison(disputed, coarse, reference, graphs.g, planes, arr, fields, grid, solidOn(true));
+  const auto withNeck = refineCellComparison(disputed, coarse, reference, graphs.g, sections, arr, grid, solidOn(true));
   ASSERT_EQ(withNeck.size(), 1u);
   EXPECT_EQ(withNeck[0].cell, cell);
   EXPECT_EQ(withNeck[0].factor, 2);
@@ -266,12 +282,12 @@ TEST(ConnectivityGraph, RefinementResolvesAPassageThinnerThanAVoxel) {
   // half-width 8, indices 0..79) and two voxels more on each side: 2·(79 + 4) + 1 lattice points.
   EXPECT_EQ(withNeck[0].dims[0], 167);
 
-  const auto noNeck = refineCellComparison(disputed, coarse, reference, graphs.g, planes, arr, fields, grid, solidOn(false));
+  const auto noNeck = refineCellComparison(disputed, coarse, reference, graphs.g, sections, arr, grid, solidOn(false));
   EXPECT_EQ(noNeck[0].factor, 2);
   EXPECT_EQ(noNeck[0].refined_pairs, 1);
   EXPECT_FALSE(noNeck[0].accepted);
 
-  const auto tooBig = refineCellComparison(disputed, coarse, reference, graphs.g, planes, arr, fields, grid,
+  const auto tooBig = refineCellComparison(disputed, coarse, reference, graphs.g, sections, arr, grid,
                                            solidOn(true), 8, 1000);
   EXPECT_EQ(tooBig[0].factor, 0);
   EXPECT_FALSE(tooBig[0].accepted);

@@ -295,7 +295,7 @@ TEST(Eval, CommandAgainstTruthWritesTheContractKeys) {
   const fs::path d = tempDir();
   writeMesh((d / "mesh.ply").string(), test::icosphere(10.5, 4));
   PhantomShape sphere;
-  sphere.kind = "sphere";
+  sphere.kind = ShapeKind::sphere;
   sphere.params["radius"] = 10;
   writeTruthFile((d / "truth.yaml").string(), sphere);
   ASSERT_EQ(runXsect("eval --mesh " + (d / "mesh.ply").string() + " --truth " +

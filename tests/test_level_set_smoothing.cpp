@@ -47,8 +47,9 @@ Staircase staircase(double voxel = 0.5) {
   }
   ReconstructionParams p;
   p.voxel_mm = voxel;
-  s.rec = reconstructOnGrid(s.planes, p);
-  s.near.assign(s.rec.fields.begin(), s.rec.fields.begin() + s.planes.size());
+  const SectionScene scene = sectionScene(s.planes, p);
+  s.rec = reconstructOnGrid(scene);
+  s.near.assign(scene.fields.begin(), scene.fields.begin() + std::ptrdiff_t(s.planes.size()));
   return s;
 }
 

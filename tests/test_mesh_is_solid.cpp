@@ -11,7 +11,7 @@
 #include "geometry/core/digital_topology.h"
 #include "geometry/meshing/mesh_topology.h"
 #include "geometry/reconstruction/plane_evidence.h"
-#include "geometry/reconstruction/section_distance_field.h"
+#include "geometry/scene/section_distance_field.h"
 #include "geometry/reconstruction/section_width.h"
 #include "geometry/meshing/volume_mesher.h"
 #include "section_fixtures.h"

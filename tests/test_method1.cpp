@@ -26,7 +26,7 @@ Result run(const std::vector<CuttingPlane>& planes, double voxel) {
   Result r;
   ReconstructionParams p;
   p.voxel_mm = voxel;
-  r.rec = reconstructOnGrid(planes, p);
+  r.rec = reconstructOnGrid(sectionScene(planes, p));
   r.mesh = meshZeroLevel(r.rec.field);
   r.topo = meshTopology(r.mesh);
   return r;
@@ -82,7 +82,7 @@ TEST(Method1, OpenStackEndsWithinTheMargin) {
   ReconstructionParams p;
   p.voxel_mm = 0.25;
   p.end_margin_mm = margin;
-  const auto rec = reconstructOnGrid(planes, p);
+  const auto rec = reconstructOnGrid(sectionScene(planes, p));
   const TriangleMesh mesh = meshZeroLevel(rec.field);
   const MeshTopology topo = meshTopology(mesh);
   EXPECT_TRUE(topo.watertight);
@@ -95,10 +95,11 @@ TEST(Method1, ConformalCutPutsTheCutOnTheContoursWithoutFolding) {
   const auto planes = test::multiaxialShell(Vec3(0.2, -0.1, 0.3), R, 0, 2.0, 12);
   ReconstructionParams p;
   p.voxel_mm = 0.3;
-  const auto rec = reconstructOnGrid(planes, p);
+  const SectionScene scene = sectionScene(planes, p);
+  const auto rec = reconstructOnGrid(scene);
   TriangleMesh mesh = meshZeroLevel(rec.field);
   const MeshTopology before = meshTopology(mesh);
-  const ConformalCutStats stats = cutAlongSections(mesh, planes, rec.fields, p.voxel_mm);
+  const ConformalCutStats stats = cutAlongSections(mesh, planes, scene.fields, p.voxel_mm);
   const MeshTopology after = meshTopology(mesh);
   EXPECT_TRUE(after.watertight);
   EXPECT_EQ(after.betti, before.betti);

@@ -6,6 +6,8 @@
 #include <set>
 
 #include "cli.h"
+#include "geometry/phantoms/phantom_shape.h"
+#include "geometry/phantoms/slicing_pattern.h"
 #include "io/run_config.h"
 
 using namespace xsect;
@@ -33,6 +35,8 @@ TEST(NamedChoices, EveryTableRoundTrips) {
   expectRoundTrip(kReconstructionMethods);
   expectRoundTrip(kConsensusModes);
   expectRoundTrip(kSegmentationMethods);
+  expectRoundTrip(kShapeKinds);
+  expectRoundTrip(kPatternKinds);
   EXPECT_EQ(choiceNames(kSmoothingMethods), "none | shepard | level_set");
 }
 

@@ -65,7 +65,7 @@ RunResult runXsect(const std::string& args, const fs::path& errFile) {
 
 PhantomShape sphere(double r, const Vec3& c) {
   PhantomShape s;
-  s.kind = "sphere";
+  s.kind = ShapeKind::sphere;
   s.params["radius"] = r;
   s.centre = c;
   return s;
@@ -141,7 +141,7 @@ TEST(PhantomRender, BlendedVesselTreeCullingKeepsEveryPixel) {
   // The renderer skips junctions far from the plane: every pixel must equal the one computed
   // from the whole tree.
   PhantomShape s;
-  s.kind = "vessel_tree";
+  s.kind = ShapeKind::vessel_tree;
   s.params = {{"length", 10}, {"radius", 1}, {"levels", 3}, {"blend_mm", 0.5}};
   s.rotation = rotationFromEulerXyzDeg(Vec3(10, 20, 0));
   s = completePhantomShape(s);
@@ -192,7 +192,7 @@ TEST(PhantomCommand, WritesACompleteRunnableFolder) {
     EXPECT_NEAR(area, M_PI * (36 - d * d), 0.03 * M_PI * 36) << i;
   }
   const PhantomShape t = readTruthFile((out / "truth.yaml").string());
-  EXPECT_EQ(t.kind, "sphere");
+  EXPECT_EQ(t.kind, ShapeKind::sphere);
   EXPECT_EQ(t.params.at("radius"), 6);
   EXPECT_EQ(t.centre, Vec3(1, 2, 3));
   const YAML::Node truth = YAML::LoadFile((out / "truth.yaml").string());
@@ -350,7 +350,7 @@ TEST(PhantomCommand, MalformedSpecsNameTheKeyAndLeaveNoFolder) {
 TEST(PhantomCommand, TruthFileRoundTripsAndRejectsBadInput) {
   TempDir tmp;
   PhantomShape s;
-  s.kind = "genus2";
+  s.kind = ShapeKind::genus2;
   s.params = {{"disk_radius", 20}, {"hole_radius", 5}, {"hole_offset", 8}, {"offset_radius", 2.5}};
   s.centre = Vec3(0.1, -2, 3.5);
   s.rotation = rotationFromEulerXyzDeg(Vec3(10, 20, 30));
@@ -398,7 +398,7 @@ TEST(PhantomCommand, TruthFileRoundTripsAndRejectsBadInput) {
 TEST(PhantomCommand, TruthFileOfATwoLabelPhantomRoundTrips) {
   TempDir tmp;
   PhantomShape s;
-  s.kind = "torus";
+  s.kind = ShapeKind::torus;
   s.params = {{"major_radius", 8}, {"minor_radius", 2}};
   s.rotation = rotationFromEulerXyzDeg(Vec3(0, 30, 0));
   s.label_split = PhantomShape::LabelSplit{Vec3(0, 0, 0.5), Vec3(0, 1, 0)};
@@ -441,7 +441,7 @@ TEST(PhantomCommand, OldVesselTreeTruthFilesAreUnionsOfCapsules) {
   // describe the union of their capsules.
   TempDir tmp;
   PhantomShape s;
-  s.kind = "vessel_tree";
+  s.kind = ShapeKind::vessel_tree;
   s.params = {{"length", 10}, {"radius", 1}, {"levels", 2}};
   s = completePhantomShape(s);
   ASSERT_GT(s.params.at("blend_mm"), 0.0);

@@ -6,7 +6,7 @@
 #include <random>
 
 #include "geometry/core/polygon.h"
-#include "geometry/reconstruction/section_distance_field.h"
+#include "geometry/scene/section_distance_field.h"
 #include "section_fixtures.h"
 
 using namespace xsect;

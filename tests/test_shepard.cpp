@@ -6,7 +6,7 @@
 
 #include <random>
 
-#include "geometry/arrangement/end_planes.h"
+#include "geometry/scene/end_planes.h"
 #include "geometry/reconstruction/nearest_plane_reconstruction.h"
 #include "geometry/smoothing/plane_distance_function.h"
 #include "geometry/core/polygon.h"

@@ -29,13 +29,12 @@ struct CellWork {
 
 }  // namespace
 
-CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges,
-                                             const std::vector<CuttingPlane>& planes,
+CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges, const SectionScene& scene,
                                              const SectionArrangement& arr,
-                                             const std::vector<SectionDistanceField>& fields,
-                                             const std::vector<std::uint8_t>& inside,
-                                             const GridSpec& grid,
+                                             const std::vector<std::uint8_t>& inside, const GridSpec& grid,
                                              const std::vector<int>& only_cells, double seed_mm) {
+  const std::vector<CuttingPlane>& planes = scene.planes;
+  const std::vector<SectionDistanceField>& fields = scene.fields;
   const std::size_t P = planes.size();
   const auto wanted = [&](int cell) {
     return cell >= 0 && (only_cells.empty() || std::binary_search(only_cells.begin(), only_cells.end(), cell));

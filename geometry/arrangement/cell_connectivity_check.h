@@ -11,7 +11,7 @@
 
 #include "geometry/arrangement/connectivity_graph.h"
 #include "geometry/arrangement/section_arrangement.h"
-#include "geometry/reconstruction/section_distance_field.h"
+#include "geometry/scene/section_scene.h"
 #include "geometry/core/types.h"
 
 namespace xsect {
@@ -30,9 +30,9 @@ struct CellConnectivityCheck {
 };
 
 /// @param edges        the graph (GraphEdge::cell says in which cell two lifts meet).
-/// @param planes       all planes the arrangement was built on (real and virtual), same order.
-/// @param arrangement  arrangeSections(planes, ...).
-/// @param fields       per plane, its sections' distance raster (to choose deep seed points).
+/// @param scene        all planes the arrangement was built on (real and virtual), same order, and
+///                     per plane its sections' distance raster (to choose deep seed points).
+/// @param arrangement  arrangeSections(scene.planes, ...).
 /// @param inside       the solid, one byte per voxel of `grid`.
 /// A voxel belongs to the cell whose sign vector its centre has. Components are 6-connected
 /// inside one cell. Seeds: beside every sample point of a sub-section at least a voxel deep in
@@ -47,12 +47,9 @@ struct CellConnectivityCheck {
 ///                     for. On a finer lattice, the coarse grid's voxel keeps the same seeds (what
 ///                     "a section touches a component" means) while the solid between them is
 ///                     resolved finer.
-CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges,
-                                             const std::vector<CuttingPlane>& planes,
+CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges, const SectionScene& scene,
                                              const SectionArrangement& arrangement,
-                                             const std::vector<SectionDistanceField>& fields,
-                                             const std::vector<std::uint8_t>& inside,
-                                             const GridSpec& grid,
+                                             const std::vector<std::uint8_t>& inside, const GridSpec& grid,
                                              const std::vector<int>& only_cells = {},
                                              double seed_mm = 0);
 

@@ -118,10 +118,10 @@ bool reachesOuterLayer(const std::vector<std::uint8_t>& inside, const GridSpec& 
 std::vector<CellRefinement> refineCellComparison(
     const std::vector<int>& cells, const CellConnectivityCheck& solid,
     const CellConnectivityCheck& reference, const std::vector<GraphEdge>& edges,
-    const std::vector<CuttingPlane>& planes, const SectionArrangement& arrangement,
-    const std::vector<SectionDistanceField>& fields, const GridSpec& grid,
+    const SectionScene& scene, const SectionArrangement& arrangement, const GridSpec& grid,
     const std::function<std::vector<std::uint8_t>(const GridSpec&)>& evaluate, int max_factor,
     std::int64_t max_voxels) {
+  const std::vector<CuttingPlane>& planes = scene.planes;
   std::vector<CellRefinement> out;
   // The coarsest lattice (factor 2) has 2·(width + 4) + 1 points per axis: boxes wider than
   // max_voxels allows on all three axes are not searched to the end.
@@ -154,7 +154,7 @@ std::vector<CellRefinement> refineCellComparison(
         break;
       }
       const CellConnectivityCheck check =
-          compareCellsWithVoxels(edges, planes, arrangement, fields, inside, fine, {cell}, grid.voxel);
+          compareCellsWithVoxels(edges, scene, arrangement, inside, fine, {cell}, grid.voxel);
       const int pairs = pairsIn(check, cell);
       if (pairs < 0) continue;  // not resolved on this lattice: try a finer one
       r.factor = factor;

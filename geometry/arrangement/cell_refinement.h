@@ -45,7 +45,7 @@ struct CellRefinement {
 /// @param cells       the cells to re-decide, e.g. cellsDifferingMore(solid, reference).
 /// @param solid       the smooth surface's solid compared on `grid`.
 /// @param reference   the method's own solid compared on the same grid's lattice.
-/// @param edges, planes, arrangement, fields  as for compareCellsWithVoxels.
+/// @param edges, scene, arrangement  as for compareCellsWithVoxels.
 /// @param grid        the grid `solid` was compared on (its lattice and spacing).
 /// @param evaluate    the surface's solid on a given grid (one byte per voxel, 1 = inside).
 /// @param max_factor  the finest lattice tried is grid.voxel / max_factor (a power of 2, >= 2).
@@ -54,8 +54,7 @@ struct CellRefinement {
 std::vector<CellRefinement> refineCellComparison(
     const std::vector<int>& cells, const CellConnectivityCheck& solid,
     const CellConnectivityCheck& reference, const std::vector<GraphEdge>& edges,
-    const std::vector<CuttingPlane>& planes, const SectionArrangement& arrangement,
-    const std::vector<SectionDistanceField>& fields, const GridSpec& grid,
+    const SectionScene& scene, const SectionArrangement& arrangement, const GridSpec& grid,
     const std::function<std::vector<std::uint8_t>(const GridSpec&)>& evaluate, int max_factor = 8,
     std::int64_t max_voxels = std::int64_t(1) << 23);
 

@@ -64,10 +64,10 @@ GraphEdge edge(int pa, int sa, int pb, int sb, int cell) {
 
 }  // namespace
 
-ConnectivityGraphs connectivityGraphs(const std::vector<CuttingPlane>& planes,
-                                      const std::vector<SectionDistanceField>& fields,
-                                      const SectionArrangement& arr,
+ConnectivityGraphs connectivityGraphs(const SectionScene& scene, const SectionArrangement& arr,
                                       const SectionVoronoiParams& method2, bool withGPrime) {
+  const std::vector<CuttingPlane>& planes = scene.planes;
+  const std::vector<SectionDistanceField>& fields = scene.fields;
   std::unique_ptr<SectionVoronoiPoints> query;
   if (withGPrime) query = std::make_unique<SectionVoronoiPoints>(planes, fields, method2);
   const double step = arr.sample_spacing_mm;
@@ -151,11 +151,11 @@ ConnectivityGraphs connectivityGraphs(const std::vector<CuttingPlane>& planes,
   return all;
 }
 
-GraphVoxelCheck compareWithVoxels(const std::vector<GraphEdge>& edges,
-                                  const std::vector<CuttingPlane>& planes,
-                                  const SectionArrangement& arr,
-                                  const std::vector<SectionDistanceField>& fields,
-                                  const std::vector<std::uint8_t>& inside, const GridSpec& grid) {
+GraphVoxelCheck compareWithVoxels(const std::vector<GraphEdge>& edges, const SectionScene& scene,
+                                  const SectionArrangement& arr, const std::vector<std::uint8_t>& inside,
+                                  const GridSpec& grid) {
+  const std::vector<CuttingPlane>& planes = scene.planes;
+  const std::vector<SectionDistanceField>& fields = scene.fields;
   const SectionIds ids(planes);
   const int n = ids.count();
   DisjointSets components{std::size_t(n)};

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "geometry/arrangement/section_arrangement.h"
-#include "geometry/reconstruction/section_distance_field.h"
+#include "geometry/scene/section_scene.h"
 #include "geometry/reconstruction/section_voronoi_reconstruction.h"
 #include "geometry/core/types.h"
 
@@ -34,14 +34,12 @@ struct ConnectivityGraphs {
   std::vector<GraphEdge> g_prime;  ///< method 2, sorted, unique
 };
 
-/// @param planes       all cutting planes (real and virtual), as given to arrangeSections.
-/// @param fields       their section distance rasters.
+/// @param scene        the cutting planes (real and virtual, as given to arrangeSections) and
+///                     their section distance rasters.
 /// @param arrangement  the section points and their cells.
 /// @param method2      the thickening used by method 2.
 /// @param withGPrime   compute G' too (costs a method-2 decision per ray step).
-ConnectivityGraphs connectivityGraphs(const std::vector<CuttingPlane>& planes,
-                                      const std::vector<SectionDistanceField>& fields,
-                                      const SectionArrangement& arrangement,
+ConnectivityGraphs connectivityGraphs(const SectionScene& scene, const SectionArrangement& arrangement,
                                       const SectionVoronoiParams& method2, bool withGPrime);
 
 /// How a graph's components compare with the connected components of a voxel solid: each section
@@ -54,10 +52,10 @@ struct GraphVoxelCheck {
   int pairs_joined_by_voxels_only = 0;  ///< section pairs together in voxels, apart in the graph
   bool same_partition = false;      ///< no pair disagrees (unlocated sections aside)
 };
-GraphVoxelCheck compareWithVoxels(const std::vector<GraphEdge>& edges,
-                                  const std::vector<CuttingPlane>& planes,
-                                  const SectionArrangement& arrangement,
-                                  const std::vector<SectionDistanceField>& fields,
-                                  const std::vector<std::uint8_t>& inside, const GridSpec& grid);
+/// @param scene   the planes the arrangement was built on, and their rasters.
+/// @param inside  the solid, one byte per voxel of `grid` (the scene's grid or a finer lattice).
+GraphVoxelCheck compareWithVoxels(const std::vector<GraphEdge>& edges, const SectionScene& scene,
+                                  const SectionArrangement& arrangement, const std::vector<std::uint8_t>& inside,
+                                  const GridSpec& grid);
 
 }  // namespace xsect

@@ -77,14 +77,14 @@ double extrude(double d2, double z, double z0, double z1) {
 double annulusSdf(double rho, double ri, double ro) { return std::max(rho - ro, ri - rho); }
 
 double shapeFrameSdf(const PhantomShape& s, const Vec3& q) {
-  const std::string& k = s.kind;
-  if (k == "sphere") return q.norm() - P(s, "radius");
-  if (k == "ellipsoid") return ellipsoidSignedDistance(Vec3(P(s, "a"), P(s, "b"), P(s, "c")), q);
-  if (k == "torus") {
+  const ShapeKind k = s.kind;
+  if (k == ShapeKind::sphere) return q.norm() - P(s, "radius");
+  if (k == ShapeKind::ellipsoid) return ellipsoidSignedDistance(Vec3(P(s, "a"), P(s, "b"), P(s, "c")), q);
+  if (k == ShapeKind::torus) {
     const double a = std::hypot(q.x(), q.y()) - P(s, "major_radius");
     return std::hypot(a, q.z()) - P(s, "minor_radius");
   }
-  if (k == "genus2") {
+  if (k == ShapeKind::genus2) {
     const double rho = std::hypot(q.x(), q.y());
     double d2 = 0.0;
     if (rho > P(s, "disk_radius")) {
@@ -98,22 +98,22 @@ double shapeFrameSdf(const PhantomShape& s, const Vec3& q) {
     }
     return std::hypot(q.z(), d2) - P(s, "offset_radius");
   }
-  if (k == "hollow_sphere") {
+  if (k == ShapeKind::hollow_sphere) {
     const double r = q.norm();
     return std::max(r - P(s, "outer_radius"), P(s, "inner_radius") - r);
   }
-  if (k == "two_spheres") {
+  if (k == ShapeKind::two_spheres) {
     const double h = 0.5 * P(s, "separation");
     return std::min((q - Vec3(-h, 0, 0)).norm(), (q - Vec3(h, 0, 0)).norm()) - P(s, "radius");
   }
-  if (k == "vessel_tree") return vesselTreeSdf(s, q);
-  if (k == "twisted_cylinder" || k == "notched_torus") {
+  if (k == ShapeKind::vessel_tree) return vesselTreeSdf(s, q);
+  if (k == ShapeKind::twisted_cylinder || k == ShapeKind::notched_torus) {
     const double ri = P(s, "inner_radius"), ro = P(s, "outer_radius");
     const double H = P(s, "height"), e = P(s, "extension");
     const double half = 0.5 * P(s, "gap_deg") * M_PI / 180.0;
     const double rho = std::hypot(q.x(), q.y()), phi = std::atan2(q.y(), q.x());
     const double body = extrude(annulusSdf(rho, ri, ro), q.z(), -e, H + e);
-    if (k == "twisted_cylinder") {
+    if (k == ShapeKind::twisted_cylinder) {
       // Twisted gap: angle of its axis pi z / H. The in-plane wedge distance is rescaled so the
       // 3D function stays 1-Lipschitz: with rho capped at ro its gradient is at most
       // sqrt(1 + (k ro)^2), k = pi / H (the twist rate).
@@ -128,35 +128,35 @@ double shapeFrameSdf(const PhantomShape& s, const Vec3& q) {
         extrude(rho * wedgeProfile(wrapAngle(phi - M_PI), half), q.z(), H - notch, H + e + 1.0);
     return std::max({body, -cut0, -cutH});
   }
-  throw std::invalid_argument("unknown phantom shape kind '" + k + "'");
+  throw std::invalid_argument(std::string("no signed distance for shape kind ") + nameOf(kShapeKinds, k));
 }
 
 void shapeFrameBox(const PhantomShape& s, Vec3* lo, Vec3* hi) {
-  const std::string& k = s.kind;
+  const ShapeKind k = s.kind;
   Vec3 h;
   *lo = Vec3::Zero();
-  if (k == "sphere") {
+  if (k == ShapeKind::sphere) {
     h.setConstant(P(s, "radius"));
-  } else if (k == "ellipsoid") {
+  } else if (k == ShapeKind::ellipsoid) {
     h = Vec3(P(s, "a"), P(s, "b"), P(s, "c"));
-  } else if (k == "torus") {
+  } else if (k == ShapeKind::torus) {
     const double o = P(s, "major_radius") + P(s, "minor_radius");
     h = Vec3(o, o, P(s, "minor_radius"));
-  } else if (k == "genus2") {
+  } else if (k == ShapeKind::genus2) {
     const double o = P(s, "disk_radius") + P(s, "offset_radius");
     h = Vec3(o, o, P(s, "offset_radius"));
-  } else if (k == "hollow_sphere") {
+  } else if (k == ShapeKind::hollow_sphere) {
     h.setConstant(P(s, "outer_radius"));
-  } else if (k == "two_spheres") {
+  } else if (k == ShapeKind::two_spheres) {
     const double r = P(s, "radius");
     h = Vec3(0.5 * P(s, "separation") + r, r, r);
-  } else if (k == "twisted_cylinder" || k == "notched_torus") {
+  } else if (k == ShapeKind::twisted_cylinder || k == ShapeKind::notched_torus) {
     const double ro = P(s, "outer_radius"), e = P(s, "extension"), H = P(s, "height");
     *lo = Vec3(-ro, -ro, -e);
     *hi = Vec3(ro, ro, H + e);
     return;
   } else {
-    throw std::invalid_argument("shapeFrameBox: unsupported kind '" + k + "'");
+    throw std::invalid_argument(std::string("shapeFrameBox: unsupported kind ") + nameOf(kShapeKinds, k));
   }
   *lo = -h;
   *hi = h;
@@ -164,32 +164,25 @@ void shapeFrameBox(const PhantomShape& s, Vec3* lo, Vec3* hi) {
 
 }  // namespace
 
-const std::vector<std::string>& phantomShapeKinds() {
-  static const std::vector<std::string> kinds{
-      "sphere",      "ellipsoid",   "torus",           "genus2",       "hollow_sphere",
-      "two_spheres", "vessel_tree", "twisted_cylinder", "notched_torus"};
-  return kinds;
-}
-
-std::map<std::string, std::optional<double>> phantomShapeParams(const std::string& k) {
+std::map<std::string, std::optional<double>> phantomShapeParams(ShapeKind k) {
   using M = std::map<std::string, std::optional<double>>;
   const std::optional<double> req;
-  if (k == "sphere") return M{{"radius", req}};
-  if (k == "ellipsoid") return M{{"a", req}, {"b", req}, {"c", req}};
-  if (k == "torus") return M{{"major_radius", req}, {"minor_radius", req}};
-  if (k == "genus2")
+  if (k == ShapeKind::sphere) return M{{"radius", req}};
+  if (k == ShapeKind::ellipsoid) return M{{"a", req}, {"b", req}, {"c", req}};
+  if (k == ShapeKind::torus) return M{{"major_radius", req}, {"minor_radius", req}};
+  if (k == ShapeKind::genus2)
     return M{{"disk_radius", req}, {"hole_radius", req}, {"hole_offset", req},
              {"offset_radius", req}};
-  if (k == "hollow_sphere") return M{{"outer_radius", req}, {"inner_radius", req}};
-  if (k == "two_spheres") return M{{"radius", req}, {"separation", req}};
-  if (k == "vessel_tree")
+  if (k == ShapeKind::hollow_sphere) return M{{"outer_radius", req}, {"inner_radius", req}};
+  if (k == ShapeKind::two_spheres) return M{{"radius", req}, {"separation", req}};
+  if (k == ShapeKind::vessel_tree)
     return M{{"length", req},         {"radius", req},         {"levels", 3.0},
              {"branch_angle_deg", 30.0}, {"length_ratio", 0.8}, {"radius_ratio", 0.85},
              {"seed", 1.0},         {"blend_mm", 0.5}};
-  if (k == "twisted_cylinder")
+  if (k == ShapeKind::twisted_cylinder)
     return M{{"inner_radius", req}, {"outer_radius", req}, {"gap_deg", 60.0},
              {"height", req},       {"extension", 3.0}};
-  if (k == "notched_torus")
+  if (k == ShapeKind::notched_torus)
     return M{{"inner_radius", req}, {"outer_radius", req}, {"gap_deg", 60.0},
              {"height", req},       {"extension", 3.0},    {"notch", 1.0}};
   return {};
@@ -197,17 +190,12 @@ std::map<std::string, std::optional<double>> phantomShapeParams(const std::strin
 
 std::optional<ShapeProblem> checkPhantomShape(const PhantomShape& s) {
   const auto spec = phantomShapeParams(s.kind);
-  if (spec.empty()) {
-    std::string list;
-    for (const auto& k : phantomShapeKinds()) list += (list.empty() ? "" : ", ") + k;
-    return ShapeProblem{"", "unknown shape kind '" + s.kind + "' (expected one of: " + list + ")"};
-  }
   auto value = [&](const std::string& key) {
     const auto it = s.params.find(key);
     return it != s.params.end() ? it->second : spec.at(key).value_or(0.0);
   };
   for (const auto& [key, def] : spec) {
-    if (!def && !s.params.count(key)) return ShapeProblem{key, "missing (required for " + s.kind + ")"};
+    if (!def && !s.params.count(key)) return ShapeProblem{key, "missing (required for " + std::string(nameOf(kShapeKinds, s.kind)) + ")"};
     if (!std::isfinite(value(key))) return ShapeProblem{key, "must be a finite number"};
   }
   auto positive = [&](std::initializer_list<const char*> keys) -> std::optional<ShapeProblem> {
@@ -219,17 +207,17 @@ std::optional<ShapeProblem> checkPhantomShape(const PhantomShape& s) {
       }
     return std::nullopt;
   };
-  const std::string& k = s.kind;
+  const ShapeKind k = s.kind;
   std::optional<ShapeProblem> p;
-  if (k == "sphere") return positive({"radius"});
-  if (k == "ellipsoid") return positive({"a", "b", "c"});
-  if (k == "torus") {
+  if (k == ShapeKind::sphere) return positive({"radius"});
+  if (k == ShapeKind::ellipsoid) return positive({"a", "b", "c"});
+  if (k == ShapeKind::torus) {
     if ((p = positive({"major_radius", "minor_radius"}))) return p;
     if (value("minor_radius") >= value("major_radius"))
       return ShapeProblem{"minor_radius", "must be smaller than major_radius"};
     return std::nullopt;
   }
-  if (k == "genus2") {
+  if (k == ShapeKind::genus2) {
     if ((p = positive({"disk_radius", "hole_radius", "hole_offset", "offset_radius"}))) return p;
     const double r = value("offset_radius"), rh = value("hole_radius"), c = value("hole_offset");
     if (rh <= r) return ShapeProblem{"hole_radius", "must exceed offset_radius (else the holes close)"};
@@ -243,19 +231,19 @@ std::optional<ShapeProblem> checkPhantomShape(const PhantomShape& s) {
                           "must exceed 2*offset_radius"};
     return std::nullopt;
   }
-  if (k == "hollow_sphere") {
+  if (k == ShapeKind::hollow_sphere) {
     if ((p = positive({"outer_radius", "inner_radius"}))) return p;
     if (value("inner_radius") >= value("outer_radius"))
       return ShapeProblem{"inner_radius", "must be smaller than outer_radius"};
     return std::nullopt;
   }
-  if (k == "two_spheres") {
+  if (k == ShapeKind::two_spheres) {
     if ((p = positive({"radius", "separation"}))) return p;
     if (value("separation") <= 2 * value("radius"))
       return ShapeProblem{"separation", "must exceed 2*radius (the spheres must be disjoint)"};
     return std::nullopt;
   }
-  if (k == "vessel_tree") {
+  if (k == ShapeKind::vessel_tree) {
     if ((p = positive({"length", "radius", "length_ratio", "radius_ratio"}))) return p;
     const double levels = value("levels");
     if (levels != std::floor(levels) || levels < 0 || levels > 8)
@@ -275,12 +263,12 @@ std::optional<ShapeProblem> checkPhantomShape(const PhantomShape& s) {
       return ShapeProblem{"blend_mm", "must not exceed length"};
     return std::nullopt;
   }
-  if (k == "twisted_cylinder" || k == "notched_torus") {
+  if (k == ShapeKind::twisted_cylinder || k == ShapeKind::notched_torus) {
     if ((p = positive({"inner_radius", "outer_radius", "gap_deg", "height", "extension"}))) return p;
     if (value("inner_radius") >= value("outer_radius"))
       return ShapeProblem{"inner_radius", "must be smaller than outer_radius"};
     if (value("gap_deg") >= 180) return ShapeProblem{"gap_deg", "must be in (0, 180)"};
-    if (k == "notched_torus") {
+    if (k == ShapeKind::notched_torus) {
       if ((p = positive({"notch"}))) return p;
       if (value("notch") >= 0.5 * value("height"))
         return ShapeProblem{"notch", "must be smaller than height / 2"};
@@ -293,7 +281,7 @@ std::optional<ShapeProblem> checkPhantomShape(const PhantomShape& s) {
 PhantomShape completePhantomShape(PhantomShape s) {
   for (const auto& [key, def] : phantomShapeParams(s.kind))
     if (def && !s.params.count(key)) s.params[key] = *def;
-  if (s.kind == "vessel_tree") {
+  if (s.kind == ShapeKind::vessel_tree) {
     if (s.tubes.empty()) {
       VesselTreeParams v;
       v.length = P(s, "length");
@@ -324,52 +312,52 @@ double signedDistance(const PhantomShape& shape, const Vec3& x) {
 }
 
 bool hasExactDistance(const PhantomShape& shape) {
-  return shape.kind != "vessel_tree" && shape.kind != "twisted_cylinder" &&
-         shape.kind != "notched_torus";
+  return shape.kind != ShapeKind::vessel_tree && shape.kind != ShapeKind::twisted_cylinder &&
+         shape.kind != ShapeKind::notched_torus;
 }
 
 Betti bettiNumbers(const PhantomShape& s) {
-  if (s.kind == "torus" || s.kind == "notched_torus") return {1, 1, 0};
-  if (s.kind == "genus2") return {1, 2, 0};
-  if (s.kind == "hollow_sphere") return {1, 0, 1};
-  if (s.kind == "two_spheres") return {2, 0, 0};
+  if (s.kind == ShapeKind::torus || s.kind == ShapeKind::notched_torus) return {1, 1, 0};
+  if (s.kind == ShapeKind::genus2) return {1, 2, 0};
+  if (s.kind == ShapeKind::hollow_sphere) return {1, 0, 1};
+  if (s.kind == ShapeKind::two_spheres) return {2, 0, 0};
   return {1, 0, 0};
 }
 
 double reachInterior(const PhantomShape& s) {
   if (s.reach_interior_mm) return *s.reach_interior_mm;
-  const std::string& k = s.kind;
-  if (k == "sphere") return P(s, "radius");
-  if (k == "ellipsoid") {
+  const ShapeKind k = s.kind;
+  if (k == ShapeKind::sphere) return P(s, "radius");
+  if (k == ShapeKind::ellipsoid) {
     // Smallest radius of curvature: c^2 / a at the end of the longest axis (a >= b >= c).
     const double lo = std::min({P(s, "a"), P(s, "b"), P(s, "c")});
     const double hi = std::max({P(s, "a"), P(s, "b"), P(s, "c")});
     return lo * lo / hi;
   }
-  if (k == "torus") return P(s, "minor_radius");
-  if (k == "genus2") return P(s, "offset_radius");
-  if (k == "hollow_sphere") return 0.5 * (P(s, "outer_radius") - P(s, "inner_radius"));
-  if (k == "two_spheres") return P(s, "radius");
-  if (k == "vessel_tree") return vesselTreeReach(s).interior;
+  if (k == ShapeKind::torus) return P(s, "minor_radius");
+  if (k == ShapeKind::genus2) return P(s, "offset_radius");
+  if (k == ShapeKind::hollow_sphere) return 0.5 * (P(s, "outer_radius") - P(s, "inner_radius"));
+  if (k == ShapeKind::two_spheres) return P(s, "radius");
+  if (k == ShapeKind::vessel_tree) return vesselTreeReach(s).interior;
   return 0.0;  // twisted_cylinder, notched_torus: convex edges
 }
 
 double reachExterior(const PhantomShape& s) {
   if (s.reach_exterior_mm) return *s.reach_exterior_mm;
-  const std::string& k = s.kind;
-  if (k == "sphere" || k == "ellipsoid") return std::numeric_limits<double>::infinity();
-  if (k == "torus") return P(s, "major_radius") - P(s, "minor_radius");
-  if (k == "genus2") return P(s, "hole_radius") - P(s, "offset_radius");
-  if (k == "hollow_sphere") return P(s, "inner_radius");
-  if (k == "two_spheres") return 0.5 * (P(s, "separation") - 2 * P(s, "radius"));
-  if (k == "vessel_tree") return vesselTreeReach(s).exterior;
+  const ShapeKind k = s.kind;
+  if (k == ShapeKind::sphere || k == ShapeKind::ellipsoid) return std::numeric_limits<double>::infinity();
+  if (k == ShapeKind::torus) return P(s, "major_radius") - P(s, "minor_radius");
+  if (k == ShapeKind::genus2) return P(s, "hole_radius") - P(s, "offset_radius");
+  if (k == ShapeKind::hollow_sphere) return P(s, "inner_radius");
+  if (k == ShapeKind::two_spheres) return 0.5 * (P(s, "separation") - 2 * P(s, "radius"));
+  if (k == ShapeKind::vessel_tree) return vesselTreeReach(s).exterior;
   return 0.0;  // twisted_cylinder, notched_torus: not derived (the notched torus has creases)
 }
 
 double reach(const PhantomShape& s) { return std::min(reachInterior(s), reachExterior(s)); }
 
 void bounds(const PhantomShape& s, Vec3* min, Vec3* max) {
-  if (s.kind == "vessel_tree") {
+  if (s.kind == ShapeKind::vessel_tree) {
     // The blended surface lies within vesselBlendOffset of the capsules.
     const double grow = vesselBlendOffset(s);
     min->setConstant(std::numeric_limits<double>::infinity());
@@ -385,7 +373,7 @@ void bounds(const PhantomShape& s, Vec3* min, Vec3* max) {
   }
   Vec3 lo, hi;
   shapeFrameBox(s, &lo, &hi);
-  if (s.kind == "sphere" || s.kind == "hollow_sphere") {  // rotation-invariant: tight
+  if (s.kind == ShapeKind::sphere || s.kind == ShapeKind::hollow_sphere) {  // rotation-invariant: tight
     *min = s.centre + lo;
     *max = s.centre + hi;
     return;
@@ -434,9 +422,9 @@ Vec3 descendOnto(const PhantomShape& s, const Vec3& q, const Vec3& p) {
 Vec3 closestBoundaryPoint(const PhantomShape& s, const Vec3& x) {
   const Vec3 q = s.rotation.transpose() * (x - s.centre);
   Vec3 p = q;
-  if (s.kind == "vessel_tree") {
+  if (s.kind == ShapeKind::vessel_tree) {
     p = vesselTreeClosestPoint(s, q);
-  } else if (s.kind == "ellipsoid") {
+  } else if (s.kind == ShapeKind::ellipsoid) {
     ellipsoidSignedDistance(Vec3(P(s, "a"), P(s, "b"), P(s, "c")), q, &p);
   } else if (hasExactDistance(s)) {
     // An exact distance: the foot is q - f grad f (off the medial axis), polished by Newton.

@@ -7,17 +7,41 @@
 #include <string>
 #include <vector>
 
+#include "geometry/core/named_choice.h"
 #include "geometry/core/types.h"
 
 namespace xsect {
 
+/// The kinds of phantom shape (`shape.kind` of a phantom specification or truth file).
+enum class ShapeKind {
+  sphere,
+  ellipsoid,
+  torus,
+  genus2,
+  hollow_sphere,
+  two_spheres,
+  vessel_tree,
+  twisted_cylinder,
+  notched_torus
+};
+constexpr std::array<NamedChoice<ShapeKind>, 9> kShapeKinds{{
+    {ShapeKind::sphere, "sphere"},
+    {ShapeKind::ellipsoid, "ellipsoid"},
+    {ShapeKind::torus, "torus"},
+    {ShapeKind::genus2, "genus2"},
+    {ShapeKind::hollow_sphere, "hollow_sphere"},
+    {ShapeKind::two_spheres, "two_spheres"},
+    {ShapeKind::vessel_tree, "vessel_tree"},
+    {ShapeKind::twisted_cylinder, "twisted_cylinder"},
+    {ShapeKind::notched_torus, "notched_torus"},
+}};
+
 /// A shape in its own frame, placed in the world by `centre` and `rotation` (world <- shape):
 /// world = centre + rotation * shape_point.
-/// `kind` is one of: sphere, ellipsoid, torus, genus2, hollow_sphere, two_spheres, vessel_tree,
-/// twisted_cylinder, notched_torus. `params` holds its named dimensions in mm (see
-/// phantomShapeParams() and phantom_shape.cpp for each kind's keys).
+/// `params` holds the kind's named dimensions in mm (see phantomShapeParams() and
+/// phantom_shape.cpp for each kind's keys).
 struct PhantomShape {
-  std::string kind;
+  ShapeKind kind = ShapeKind::sphere;
   std::map<std::string, double> params;
   Vec3 centre = Vec3::Zero();
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
@@ -83,20 +107,16 @@ std::map<int, Betti> labelBettiNumbers(const PhantomShape& shape);
 /// Axis-aligned world bounds of the solid (conservative: may be slightly larger than tight).
 void bounds(const PhantomShape& shape, Vec3* min, Vec3* max);
 
-/// The kinds known to signedDistance(), in a fixed order.
-const std::vector<std::string>& phantomShapeKinds();
-
 /// For a kind: its parameter names, each with its default value (nullopt = required).
-/// Returns an empty map for an unknown kind.
-std::map<std::string, std::optional<double>> phantomShapeParams(const std::string& kind);
+std::map<std::string, std::optional<double>> phantomShapeParams(ShapeKind kind);
 
-/// What is wrong with a shape's parameters: the parameter name ("" for the kind) and why.
+/// What is wrong with a shape's parameters: the parameter name and why.
 struct ShapeProblem {
   std::string param;
   std::string message;
 };
 
-/// Checks kind and parameter values (positivity, non-overlap constraints of each kind).
+/// Checks the parameter values (positivity, non-overlap constraints of each kind).
 std::optional<ShapeProblem> checkPhantomShape(const PhantomShape& shape);
 
 /// Fills defaults of missing optional params and derived data (vessel_tree: tubes, grown from the

@@ -153,7 +153,7 @@ SlicePlan planSlices(const SlicingPattern& p, const ImageSpec& image, const Vec3
     const Vec3 centre = c - (c - point).dot(nn) * nn;
     plan.poses.push_back(centredPose(centre, u, v, plan.pixel_mm, plan.width, plan.height));
   };
-  if (p.kind == "parallel") {
+  if (p.kind == PatternKind::parallel) {
     const Vec3 n = p.direction.normalized();
     std::vector<double> offsets = p.positions_mm;  // n . x = offset
     if (offsets.empty()) {
@@ -179,21 +179,21 @@ SlicePlan planSlices(const SlicingPattern& p, const ImageSpec& image, const Vec3
       }
       addPlane(normal, c + (o - n.dot(c)) * n);
     }
-  } else if (p.kind == "multiaxial") {
+  } else if (p.kind == PatternKind::multiaxial) {
     for (int axis = 0; axis < 3; ++axis) {
       const int k = p.counts[axis] > 0 ? p.counts[axis] : p.count;
       const Vec3 n = Vec3::Unit(axis);
       for (const double o : cellCentres(bmin[axis], bmax[axis] - bmin[axis], k))
         addPlane(n, c + (o - c[axis]) * n);
     }
-  } else if (p.kind == "random") {
+  } else if (p.kind == PatternKind::random) {
     std::mt19937_64 rng = makeStream(seed, kPatternStream, 2);
     for (int i = 0; i < p.count; ++i) {
       const Vec3 n = randomUnitVector(rng);
       const double t = uniform(rng, -radius, radius);
       addPlane(n, c + t * n);
     }
-  } else if (p.kind == "fan") {
+  } else if (p.kind == PatternKind::fan) {
     const Vec3 a = p.axis.normalized();
     Vec3 e1, e2;
     planeFrame(a, &e1, &e2);
@@ -204,10 +204,10 @@ SlicePlan planSlices(const SlicingPattern& p, const ImageSpec& image, const Vec3
       const Vec3 u = a.cross(n);
       plan.poses.push_back(centredPose(c, u, a, plan.pixel_mm, plan.width, plan.height));
     }
-  } else if (p.kind == "freehand") {
+  } else if (p.kind == PatternKind::freehand) {
     return freehandPlan(p, std::move(plan), c, radius, bmin, bmax, seed);
   } else {
-    throw std::invalid_argument("unknown slicing pattern '" + p.kind + "'");
+    throw std::invalid_argument(std::string("unknown slicing pattern ") + nameOf(kPatternKinds, p.kind));
   }
   return plan;
 }

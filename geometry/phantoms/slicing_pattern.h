@@ -10,12 +10,23 @@
 #include <string>
 #include <vector>
 
+#include "geometry/core/named_choice.h"
 #include "geometry/core/types.h"
 
 namespace xsect {
 
+/// The slicing patterns (`pattern.kind` of a phantom specification).
+enum class PatternKind { parallel, multiaxial, random, fan, freehand };
+constexpr std::array<NamedChoice<PatternKind>, 5> kPatternKinds{{
+    {PatternKind::parallel, "parallel"},
+    {PatternKind::multiaxial, "multiaxial"},
+    {PatternKind::random, "random"},
+    {PatternKind::fan, "fan"},
+    {PatternKind::freehand, "freehand"},
+}};
+
 struct SlicingPattern {
-  std::string kind = "parallel";     ///< parallel | multiaxial | random | fan | freehand
+  PatternKind kind = PatternKind::parallel;
   int count = 0;                     ///< number of planes (multiaxial: per axis unless counts set)
   std::array<int, 3> counts{0, 0, 0};///< multiaxial: planes normal to world x, y, z
   Vec3 direction = Vec3::UnitZ();    ///< parallel: plane normal; freehand: sweep direction (unit)

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "geometry/arrangement/end_planes.h"
+#include "geometry/scene/end_planes.h"
 #include "geometry/core/median.h"
 
 namespace xsect {

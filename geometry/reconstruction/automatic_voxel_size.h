@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/reconstruction/sampled_reconstruction.h"
+#include "geometry/scene/section_scene.h"
 #include "geometry/core/types.h"
 
 namespace xsect {

@@ -19,7 +19,7 @@
 #include <functional>
 #include <vector>
 
-#include "geometry/reconstruction/section_distance_field.h"
+#include "geometry/scene/section_distance_field.h"
 #include "geometry/core/types.h"
 
 namespace xsect {

@@ -1,4 +1,4 @@
-// Method 1 on a grid, with open ends closed and the sampled topology repaired
+// Method 1 or 2 on the scene's grid, with the sampled topology repaired
 // (see sampled_reconstruction.h).
 #include "geometry/reconstruction/sampled_reconstruction.h"
 
@@ -6,68 +6,19 @@
 
 #include <chrono>
 #include <cmath>
-#include <stdexcept>
 
-#include "geometry/arrangement/end_planes.h"
 #include "geometry/reconstruction/nearest_plane_reconstruction.h"
 #include "geometry/reconstruction/section_voronoi_reconstruction.h"
-#include "geometry/reconstruction/section_distance_field.h"
 
 namespace xsect {
 
-ReconstructionLayout reconstructionLayout(const std::vector<CuttingPlane>& planes,
-                                          const ReconstructionParams& params) {
-  if (!(params.voxel_mm > 0)) throw std::invalid_argument("voxel size must be positive");
-  ReconstructionLayout L;
-  if (!sectionBounds(planes, &L.sections_min, &L.sections_max))
-    throw std::invalid_argument("no section in any slice: nothing to reconstruct");
+SampledReconstruction reconstructOnGrid(const SectionScene& scene, const std::function<void(double)>& progress) {
+  const ReconstructionParams& params = scene.params;
   const double h = params.voxel_mm;
-  L.end_margin_auto = !params.end_margin_mm;
-  L.end_margin_mm = params.end_margin_mm ? *params.end_margin_mm
-                                         : std::max(2.0 * h, automaticEndMargin(planes, 10.0 * h));
-  // Grid: R lies within half the end margin of the sections' bounds. A point of R at distance t
-  // beyond the bounds (along an axis) projects onto a section inside them, so its nearest plane is
-  // at least t away, while the end plane beyond it is m - t away (Def. 15-16): t <= m / 2.
-  // R' may reach the end planes themselves (a lift ends on ∂C): t <= m.
-  // Two layers of outside voxels close the surface.
-  L.grid.voxel = h;
-  const double reachOut =
-      (params.method == ReconstructionMethod::section_voronoi ? 1.0 : 0.5) * L.end_margin_mm + h;
-  const Vec3 boxLo = L.sections_min - Vec3::Constant(reachOut),
-             boxHi = L.sections_max + Vec3::Constant(reachOut);
-  L.grid.origin = boxLo - Vec3::Constant(2 * h);
-  double count = 1;
-  for (int a = 0; a < 3; ++a) {
-    const double n = std::ceil((boxHi[a] - boxLo[a]) / h) + 5;
-    count *= n;
-    L.grid.dims[a] = n < 2147483647.0 ? int(n) : 0;
-  }
-  if (count > 2147483647.0)
-    throw std::invalid_argument("grid of " + std::to_string(std::int64_t(count)) +
-                                " voxels is too large: increase reconstruction.voxel_size_mm");
-  return L;
-}
-
-SampledReconstruction reconstructOnGrid(const std::vector<CuttingPlane>& realPlanes,
-                                              const ReconstructionParams& params,
-                                              const std::function<void(double)>& progress) {
-  const ReconstructionLayout layout = reconstructionLayout(realPlanes, params);
-  const double h = params.voxel_mm;
-  const GridSpec& grid = layout.grid;
+  const GridSpec& grid = scene.grid();
+  const std::vector<CuttingPlane>& planes = scene.planes;
+  const std::vector<SectionDistanceField>& fields = scene.fields;
   SampledReconstruction out;
-  out.end_margin_auto = layout.end_margin_auto;
-  out.end_margin_mm = layout.end_margin_mm;
-  out.end_planes = endPlanes(layout.sections_min, layout.sections_max, out.end_margin_mm);
-  std::vector<CuttingPlane> planes = realPlanes;
-  planes.insert(planes.end(), out.end_planes.begin(), out.end_planes.end());
-
-  // f_i rasters, one per plane (virtual planes hold no section).
-  const double band = params.band_voxels * h;
-  std::vector<SectionDistanceField> fields(planes.size());
-  tbb::parallel_for(std::size_t(0), planes.size(), [&](std::size_t i) {
-    const double step = planes[i].pixel_mm > 0 ? std::min(planes[i].pixel_mm, 0.5 * h) : 0.5 * h;
-    fields[i] = sectionDistanceField(planes[i].sections, step, std::max(band, 3 * step));
-  });
 
   const auto t0 = std::chrono::steady_clock::now();
   const std::size_t n = std::size_t(grid.count());
@@ -126,11 +77,10 @@ SampledReconstruction reconstructOnGrid(const std::vector<CuttingPlane>& realPla
   imposeSolid(out.field, out.inside, float(0.05 * h));
   std::int64_t inside = 0;
   for (std::size_t q = 0; q < n; ++q) {
-    if (out.section_plane[q] >= int(realPlanes.size())) out.section_plane[q] = -1;
+    if (out.section_plane[q] >= int(scene.real_planes)) out.section_plane[q] = -1;
     inside += out.inside[q];
   }
   out.voxels_inside = inside;
-  out.fields = std::move(fields);
   out.voxel_betti = voxelBetti(out.inside, grid);
   return out;
 }

@@ -49,7 +49,7 @@
 #include <optional>
 #include <vector>
 
-#include "geometry/reconstruction/section_distance_field.h"
+#include "geometry/scene/section_distance_field.h"
 #include "geometry/core/types.h"
 
 namespace xsect {

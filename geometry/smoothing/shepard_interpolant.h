@@ -32,7 +32,7 @@
 #include <vector>
 
 #include "geometry/smoothing/plane_distance_function.h"
-#include "geometry/reconstruction/section_distance_field.h"
+#include "geometry/scene/section_distance_field.h"
 #include "geometry/core/types.h"
 
 namespace xsect {

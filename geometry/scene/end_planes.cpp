@@ -1,5 +1,5 @@
 // Virtual end planes and the automatic end margin (see end_planes.h).
-#include "geometry/arrangement/end_planes.h"
+#include "geometry/scene/end_planes.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 // Section distance raster (see section_distance_field.h). Distances: each contour edge updates the
 // nodes within `band` of it (O(edges * (band/step)^2)). Signs: even-odd crossings of the contour
 // edges with each raster row, edges bucketed by the rows they span.
-#include "geometry/reconstruction/section_distance_field.h"
+#include "geometry/scene/section_distance_field.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,0 +1,68 @@
+// The section scene: layout, end planes and distance rasters (see section_scene.h).
+#include "geometry/scene/section_scene.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "geometry/scene/end_planes.h"
+
+namespace xsect {
+
+ReconstructionLayout reconstructionLayout(const std::vector<CuttingPlane>& planes,
+                                          const ReconstructionParams& params) {
+  if (!(params.voxel_mm > 0)) throw std::invalid_argument("voxel size must be positive");
+  ReconstructionLayout L;
+  if (!sectionBounds(planes, &L.sections_min, &L.sections_max))
+    throw std::invalid_argument("no section in any slice: nothing to reconstruct");
+  const double h = params.voxel_mm;
+  L.end_margin_auto = !params.end_margin_mm;
+  L.end_margin_mm = params.end_margin_mm ? *params.end_margin_mm
+                                         : std::max(2.0 * h, automaticEndMargin(planes, 10.0 * h));
+  // Grid: R lies within half the end margin of the sections' bounds. A point of R at distance t
+  // beyond the bounds (along an axis) projects onto a section inside them, so its nearest plane is
+  // at least t away, while the end plane beyond it is m - t away (Def. 15-16): t <= m / 2.
+  // R' may reach the end planes themselves (a lift ends on ∂C): t <= m.
+  // Two layers of outside voxels close the surface.
+  L.grid.voxel = h;
+  const double reachOut =
+      (params.method == ReconstructionMethod::section_voronoi ? 1.0 : 0.5) * L.end_margin_mm + h;
+  const Vec3 boxLo = L.sections_min - Vec3::Constant(reachOut),
+             boxHi = L.sections_max + Vec3::Constant(reachOut);
+  L.grid.origin = boxLo - Vec3::Constant(2 * h);
+  double count = 1;
+  for (int a = 0; a < 3; ++a) {
+    const double n = std::ceil((boxHi[a] - boxLo[a]) / h) + 5;
+    count *= n;
+    L.grid.dims[a] = n < 2147483647.0 ? int(n) : 0;
+  }
+  if (count > 2147483647.0)
+    throw std::invalid_argument("grid of " + std::to_string(std::int64_t(count)) +
+                                " voxels is too large: increase reconstruction.voxel_size_mm");
+  return L;
+}
+
+SectionScene sectionScene(const std::vector<CuttingPlane>& realPlanes, const ReconstructionParams& params) {
+  SectionScene s;
+  s.params = params;
+  s.layout = reconstructionLayout(realPlanes, params);
+  s.planes = realPlanes;
+  s.real_planes = realPlanes.size();
+  const std::vector<CuttingPlane> ends =
+      endPlanes(s.layout.sections_min, s.layout.sections_max, s.layout.end_margin_mm);
+  s.planes.insert(s.planes.end(), ends.begin(), ends.end());
+
+  const double h = params.voxel_mm, band = params.band_voxels * h;
+  s.fields.resize(s.planes.size());
+  tbb::parallel_for(std::size_t(0), s.planes.size(), [&](std::size_t i) {
+    const CuttingPlane& P = s.planes[i];
+    const double step = P.pixel_mm > 0 ? std::min(P.pixel_mm, 0.5 * h) : 0.5 * h;
+    s.fields[i] = sectionDistanceField(P.sections, step, std::max(band, 3 * step));
+  });
+  return s;
+}
+
+}  // namespace xsect

@@ -1,0 +1,43 @@
+// After stage 3 of `xsect run` (GUIDE.md), the scene every later stage reads, built once
+// (geometry/scene/section_scene.h): the voxel size resolved (automatic_voxel_size.h) and checked
+// against the sections' widths and this machine's memory, the grid and end margin, the six virtual
+// end planes that close the arrangement's open cells (thesis ch. 1 §1.2), and each plane's f_P
+// raster (ch. 1 §1.1).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "geometry/scene/section_scene.h"
+#include "pipeline/input_stage.h"
+#include "pipeline/voxel_size_choice.h"
+
+namespace xsect {
+
+struct SectionCounts {
+  int sections = 0;             ///< sections on all planes
+  int planes_with_sections = 0;
+};
+
+struct SceneStage {
+  SectionCounts counts;
+  VoxelSizeReport voxel_size;
+  SectionScene scene;
+};
+
+/// Reads the stage-3 planes; resolves in.config.voxel_size_mm and appends the scene's warnings
+/// (the end planes; a single plane holding sections) to in.warnings. Throws InputError when no
+/// plane holds a section or the grid would not fit in memory.
+SceneStage sceneStage(RunInputs& in, bool quiet);
+
+/// The voxel size for the run (auto resolved; a too coarse explicit size is a warning printed even
+/// with --quiet), as `xsect check` also reports it.
+VoxelSizeReport resolveVoxelSize(RunInputs& in, bool quiet);
+
+/// The grid the reconstruction will use; configuration problems become InputError.
+ReconstructionLayout layoutOf(const std::vector<CuttingPlane>& planes, const RunConfig& c);
+
+/// report.json "reconstruction.voxel_size" and `xsect check`'s "voxel_size".
+nlohmann::ordered_json voxelSizeJson(const VoxelSizeReport& r);
+
+}  // namespace xsect
