@@ -170,7 +170,12 @@ ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<Cut
   planes = std::move(merged.planes);
   labelled = std::move(merged.labelled);
   r.coincident = std::move(merged.consensus);
-  for (const CuttingPlane& p : planes) r.slices.push_back({p.slice, p.name});
+  for (const CuttingPlane& p : planes) {
+    SliceConformity s;
+    s.slice = p.slice;
+    s.name = p.name;
+    r.slices.push_back(s);
+  }
   r.pose = smoothPoses(settings.pose_smoothing_frames, planes, r.slices);
 
   r.search = planePairTraces(planes, settings.min_angle_deg);

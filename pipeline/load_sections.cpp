@@ -3,13 +3,13 @@
 
 #include <tbb/parallel_for.h>
 
+#include <exception>
 #include <map>
 
 #include "geometry/core/plane_of_pose.h"
 #include "io/file_hash.h"
 #include "io/image_io.h"
 #include "io/input_error.h"
-#include "pipeline/machine_memory.h"
 #include "segmentation/field_of_view.h"
 #include "segmentation/series_threshold.h"
 
@@ -34,6 +34,47 @@ std::vector<SliceRecord> mergeRepeatedSlices(std::vector<SliceRecord> slices, st
   return kept;
 }
 
+namespace {
+
+/// One frame decoded: its image and its field-of-view mask (empty: the whole image is observed).
+struct Frame {
+  cv::Mat image, fov;
+};
+
+Frame readFrame(const SliceRecord& slice, int i, const std::string& listing_file) {
+  const std::string key = "slices[" + std::to_string(i) + "]";
+  Frame f;
+  f.image = readGreyImage(slice.image_resolved, listing_file, key + ".image");
+  if (slice.fov_resolved) {
+    cv::Mat m = readGreyImage(*slice.fov_resolved, listing_file, key + ".fov");
+    if (m.size() != f.image.size())
+      throw InputError(listing_file, key + ".fov", "field-of-view mask size differs from the image");
+    if (m.depth() != CV_8U) m.convertTo(m, CV_8U, 1.0 / 256.0);
+    f.fov = m != 0;
+  }
+  return f;
+}
+
+/// Runs work(i, frame) for every frame, in parallel; each task decodes its frame and releases it
+/// when done, so that at most one frame per thread is held. A failure is reported for the first
+/// failing frame (the lowest index), as a sequential reading would.
+template <typename Work>
+void forEachFrame(const std::vector<SliceRecord>& slices, const std::string& listing_file, const Work& work) {
+  const int n = int(slices.size());
+  std::vector<std::exception_ptr> failed(static_cast<std::size_t>(n));
+  tbb::parallel_for(0, n, [&](int i) {
+    try {
+      work(i, readFrame(slices[std::size_t(i)], i, listing_file));
+    } catch (...) {
+      failed[std::size_t(i)] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& e : failed)
+    if (e) std::rethrow_exception(e);
+}
+
+}  // namespace
+
 std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& slices,
                                              const std::string& listing_file,
                                              const SegmentationParams& params,
@@ -43,45 +84,35 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
   const int n = int(slices.size());
   std::vector<CuttingPlane> planes(n);
   std::vector<char> touches(n, 0);
-  // Every frame is held while the series is segmented: its decoded size, from the headers, is
-  // checked against this machine's memory before any image is decoded (issue 15, item 3). Header
-  // errors are therefore reported before decoding errors, each for the first slice that has one.
-  double bytes = 0;
+  // Every header is read before any image is decoded (issue 15, item 3): header errors are
+  // reported before decoding errors, each for the first slice that has one. The frames are then
+  // read and segmented as a stream (issue 17): each is decoded, segmented and released by one
+  // task, so that loading holds the sections, not the series' images.
   for (int i = 0; i < n; ++i) {
     const std::string key = "slices[" + std::to_string(i) + "]";
-    bytes += double(greyImageBytes(slices[i].image_resolved, listing_file, key + ".image"));
-    if (slices[i].fov_resolved) bytes += double(greyImageBytes(*slices[i].fov_resolved, listing_file, key + ".fov"));
+    greyImageBytes(slices[i].image_resolved, listing_file, key + ".image");
+    if (slices[i].fov_resolved) greyImageBytes(*slices[i].fov_resolved, listing_file, key + ".fov");
   }
-  const double memory = physicalMemoryBytes();
-  if (memory > 0 && bytes > 0.5 * memory)
-    throw InputError(listing_file, "slices",
-                     "the " + std::to_string(n) + " frames take " + std::to_string(std::int64_t(bytes / 1e6)) +
-                         " MB decoded, more than half of this machine's memory (" +
-                         std::to_string(std::int64_t(memory / 1e6)) + " MB)");
-  // Read all images first (errors are reported for the first bad slice, deterministically).
-  std::vector<cv::Mat> images(n), fovs(n);
-  for (int i = 0; i < n; ++i) {
-    const std::string key = "slices[" + std::to_string(i) + "]";
-    images[i] = readGreyImage(slices[i].image_resolved, listing_file, key + ".image");
-    if (slices[i].fov_resolved) {
-      cv::Mat f = readGreyImage(*slices[i].fov_resolved, listing_file, key + ".fov");
-      if (f.size() != images[i].size())
-        throw InputError(listing_file, key + ".fov", "field-of-view mask size differs from the image");
-      if (f.depth() != CV_8U) f.convertTo(f, CV_8U, 1.0 / 256.0);
-      fovs[i] = f != 0;
-    }
-  }
-  // Otsu: one threshold for the series, from the pooled histogram (series_threshold.h).
+  // Otsu: one threshold for the series, from the pooled histogram (series_threshold.h), pooled
+  // over a first reading of the stream (integer counts: the same whatever the order).
   SegmentationParams perSlice = params;
-  if (params.method == SegmentationMethod::otsu) {
+  if (params.method == SegmentationMethod::otsu && n > 0) {
+    const double scale = seriesGreyScale(readFrame(slices[0], 0, listing_file).image);
+    std::vector<GreyHistogram> histograms(static_cast<std::size_t>(n));
+    forEachFrame(slices, listing_file, [&](int i, const Frame& f) {
+      histograms[std::size_t(i)] = observedHistogram(f.image, f.fov, params.sigma_px, scale);
+    });
+    GreyHistogram pooled{};
+    for (const GreyHistogram& h : histograms)
+      for (std::size_t b = 0; b < pooled.size(); ++b) pooled[b] += h[b];
     perSlice.method = SegmentationMethod::threshold;
-    perSlice.threshold = otsuThresholdOfSeries(images, fovs, params.sigma_px);
+    perSlice.threshold = otsuThresholdOfPooled(pooled, scale);
     if (thresholdUsed) *thresholdUsed = perSlice.threshold;
   } else if (thresholdUsed) {
     *thresholdUsed = params.method == SegmentationMethod::labels ? 0.5 : params.threshold;
   }
   if (labelled) labelled->assign(std::size_t(n), {});
-  tbb::parallel_for(0, n, [&](int i) {
+  forEachFrame(slices, listing_file, [&](int i, const Frame& frame) {
     Vec2 spacing;
     CuttingPlane& cp = planes[i];
     cp.slice = i;
@@ -89,19 +120,19 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
     cp.plane = planeOfPose(slices[i].image_to_world, &spacing);
     cp.pixel_mm = std::min(spacing.x(), spacing.y());
     cp.extent.min = Vec2::Zero();
-    cp.extent.max = Vec2((images[i].cols - 1) * spacing.x(), (images[i].rows - 1) * spacing.y());
-    cp.field_of_view = fieldOfViewRings(fovs[i], spacing);
-    if (!fovs[i].empty() && cv::countNonZero(fovs[i]) == 0) cp.extent = PlaneRect{};  // observed nowhere
+    cp.extent.max = Vec2((frame.image.cols - 1) * spacing.x(), (frame.image.rows - 1) * spacing.y());
+    cp.field_of_view = fieldOfViewRings(frame.fov, spacing);
+    if (!frame.fov.empty() && cv::countNonZero(frame.fov) == 0) cp.extent = PlaneRect{};  // observed nowhere
     const bool perLabel = perSlice.method == SegmentationMethod::labels && labelled;
     if (perLabel && !perSlice.merge_labels)
-      (*labelled)[std::size_t(i)] = segmentSlice(images[i], fovs[i], spacing, perSlice).sections;
-    cv::Mat input = images[i];
+      (*labelled)[std::size_t(i)] = segmentSlice(frame.image, frame.fov, spacing, perSlice).sections;
+    cv::Mat input = frame.image;
     if (perSlice.method == SegmentationMethod::labels) {  // the union of the labels: the geometry reconstructed
-      input = cv::Mat(images[i].size(), CV_8U);
+      input = cv::Mat(frame.image.size(), CV_8U);
       input.setTo(0);
-      input.setTo(1, images[i] != 0);
+      input.setTo(1, frame.image != 0);
     }
-    SegmentedSlice seg = segmentSlice(input, fovs[i], spacing, perSlice);
+    SegmentedSlice seg = segmentSlice(input, frame.fov, spacing, perSlice);
     cp.sections = std::move(seg.sections);
     touches[i] = seg.touches_fov_edge;
   });

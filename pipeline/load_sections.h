@@ -1,5 +1,7 @@
 // Stages 1-2 (GUIDE.md): slice records -> cutting planes with their sections (segmentation of each
-// image in its plane's (u, v) mm frame), in parallel, deterministically.
+// image in its plane's (u, v) mm frame), deterministically. The frames are read as a stream, in
+// parallel: each decoded, segmented and released by one task (issue 17: loading holds the
+// sections, not the series' images).
 #pragma once
 
 #include <string>

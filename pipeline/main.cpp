@@ -6,10 +6,12 @@
 #include <tbb/global_control.h>
 
 #include "io/input_error.h"
+#include "pipeline/allocator_tuning.h"
 #include "pipeline/commands.h"
 
 int main(int argc, char** argv) {
   using namespace xsect;
+  keepFreedMemoryForReuse();
   CLI::App app{"xsect: 3D shapes from pose-tagged 2D slices, with topological guarantees"};
   app.require_subcommand(1);
   int threads = 0;

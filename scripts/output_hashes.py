@@ -69,12 +69,16 @@ def main():
         differ = 0
         for case in sorted(set(before) | set(after)):
             b, c = before.get(case), after.get(case)
+            if b is None or c is None:  # a case only one side ran: listed, not compared
+                print(f"{'new' if b is None else 'gone'}: {case}")
+                continue
             for name in sorted(set(b or {}) | set(c or {})):
                 if (b or {}).get(name) != (c or {}).get(name):
                     differ += 1
                     print(f"differs: {case} {name}")
-        total = sum(len(v) for v in after.values())
-        print(f"{len(after)} cases, {total} outputs, {differ} differ")
+        common = set(before) & set(after)
+        total = sum(len(after[c]) for c in common)
+        print(f"{len(common)} cases in both, {total} outputs, {differ} differ")
         sys.exit(1 if differ else 0)
     if not a.out:
         ap.error("--out is required unless --compare is given")

@@ -26,7 +26,7 @@ TEST(SectionDistanceField, EqualsTheExactDistanceToThePolygons) {
     for (int i = 0; i < f.nu; i += 3) {
       const Vec2 p = f.origin + step * Vec2(i, j);
       const double exact = signedDistanceToSections(sections, p);
-      const float got = f.values[std::size_t(j) * f.nu + i];
+      const float got = f.node(i, j);
       if (std::abs(exact) < band) {
         EXPECT_NEAR(got, exact, 1e-5) << p.transpose();
         ++checkedNodes;

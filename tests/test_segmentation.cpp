@@ -208,6 +208,31 @@ TEST(Segmentation, SeriesOtsuKeepsEmptySlicesEmpty) {
   EXPECT_GT(segmentSlice(empty, cv::Mat(), Vec2(1, 1), p).sections.size(), 5u);
 }
 
+// The pooled histogram's threshold is OpenCV's Otsu on the pooled pixels (what the series
+// threshold computed before it was read as a stream), on random bimodal, unimodal, sparse and
+// constant histograms.
+TEST(Segmentation, HistogramOtsuIsOpenCvsOtsu) {
+  std::mt19937 rng(11);
+  int differing = 0, cases = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    std::uniform_int_distribution<int> size(1, 3000), level(0, 255), kind(0, 3);
+    cv::Mat row(1, size(rng), CV_8U);
+    const int k = kind(rng), a = level(rng), b = level(rng);
+    std::normal_distribution<double> na(a, 1 + trial % 40), nb(b, 1 + trial % 17);
+    for (int i = 0; i < row.cols; ++i) {
+      double v = k == 0 ? (i % 3 ? na(rng) : nb(rng)) : k == 1 ? na(rng) : k == 2 ? (i % 97 ? a : b) : a;
+      row.at<unsigned char>(0, i) = cv::saturate_cast<unsigned char>(v);
+    }
+    GreyHistogram h{};
+    for (int i = 0; i < row.cols; ++i) ++h[row.at<unsigned char>(0, i)];
+    cv::Mat out;
+    const double expected = cv::threshold(row, out, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
+    ++cases;
+    differing += otsuThresholdOfHistogram(h) != expected;
+  }
+  EXPECT_EQ(differing, 0) << "of " << cases;
+}
+
 // ---- several materials (method labels) ------------------------------------------------------
 
 namespace {

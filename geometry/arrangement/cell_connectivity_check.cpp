@@ -7,9 +7,11 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <unordered_map>
 #include <numeric>
 
 #include "geometry/core/disjoint_sets.h"
+#include "geometry/core/polygon.h"
 #include "geometry/core/section_ids.h"
 
 namespace xsect {
@@ -25,6 +27,91 @@ struct CellWork {
   std::vector<Seed> seeds;
   std::vector<int> nodes;          ///< the sections bounding the cell
   bool unresolved = false;
+};
+
+/// The planes around blocks of kBlock³ voxels of a grid. A point belongs to the block of the voxel
+/// nearest to it, so it lies within half a diagonal of B voxels (B = kBlock) of the block's
+/// centre. Per block prepared: the planes passing within `reach` of some point of it (within reach
+/// plus that half-diagonal of its centre, with a margin far above rounding), in increasing index;
+/// and, when asked, every plane's side of the centre. A plane not listed has every point of the
+/// block, and every point within `reach` of one, on the side it has the centre on, never on it:
+/// a test at such points reads the block's planes, not all of them, and costs what the planes
+/// crossing the neighbourhood cost, not points x planes.
+class PlaneBlocks {
+ public:
+  static constexpr int kBlock = 8;
+  PlaneBlocks(const std::vector<CuttingPlane>& planes, const GridSpec& grid, double reach, bool withSides)
+      : grid_(grid), withSides_(withSides), planeCount_(planes.size()) {
+    for (int a = 0; a < 3; ++a) dims_[std::size_t(a)] = (grid.dims[a] + kBlock - 1) / kBlock;
+    slot_.assign(std::size_t(dims_[0]) * std::size_t(dims_[1]) * std::size_t(dims_[2]), -1);
+    within_ = (reach + 0.5 * std::sqrt(3.0) * kBlock * grid.voxel) * (1 + 1e-9) + 1e-9;
+    planes_ = &planes;
+  }
+  /// Marks the block of voxel (i, j, k) (inside the grid) to be prepared.
+  void want(int i, int j, int k) {
+    const std::size_t b = blockOf(i, j, k);
+    if (slot_[b] < 0) {
+      slot_[b] = int(blocks_.size());
+      blocks_.push_back(b);
+    }
+  }
+  /// The block of the voxel nearest to x, or -1 off the grid.
+  std::int64_t blockAt(const Vec3& x) const {
+    int v[3];
+    for (int a = 0; a < 3; ++a) {
+      v[a] = int(std::lround((x[a] - grid_.origin[a]) / grid_.voxel));
+      if (v[a] < 0 || v[a] >= grid_.dims[a]) return -1;
+    }
+    return std::int64_t(blockOf(v[0], v[1], v[2]));
+  }
+  void want(const Vec3& x) {
+    const std::int64_t b = blockAt(x);
+    if (b >= 0 && slot_[std::size_t(b)] < 0) {
+      slot_[std::size_t(b)] = int(blocks_.size());
+      blocks_.push_back(std::size_t(b));
+    }
+  }
+  /// Computes the marked blocks' planes (parallel over blocks).
+  void prepare() {
+    const std::vector<CuttingPlane>& planes = *planes_;
+    near_.resize(blocks_.size());
+    if (withSides_) sides_.resize(blocks_.size() * planeCount_);
+    tbb::parallel_for(std::size_t(0), blocks_.size(), [&](std::size_t n) {
+      const Vec3 c = centre(blocks_[n]);
+      for (std::size_t p = 0; p < planes.size(); ++p) {
+        const double d = planes[p].plane.signedDistance(c);
+        if (withSides_) sides_[n * planeCount_ + p] = d > 0 ? 1 : (d < 0 ? -1 : 0);
+        if (std::abs(d) <= within_) near_[n].push_back(p);
+      }
+    });
+  }
+  /// The prepared slot of a block (-1: not prepared).
+  int slot(std::int64_t block) const { return block < 0 ? -1 : slot_[std::size_t(block)]; }
+  int slotOfVoxel(int i, int j, int k) const { return slot_[blockOf(i, j, k)]; }
+  const std::vector<std::size_t>& near(int slot) const { return near_[std::size_t(slot)]; }
+  /// Every plane's side of the block's centre (withSides).
+  const std::int8_t* sides(int slot) const { return &sides_[std::size_t(slot) * planeCount_]; }
+
+ private:
+  std::size_t blockOf(int i, int j, int k) const {
+    return (std::size_t(k / kBlock) * std::size_t(dims_[1]) + std::size_t(j / kBlock)) * std::size_t(dims_[0]) +
+           std::size_t(i / kBlock);
+  }
+  Vec3 centre(std::size_t b) const {
+    const int bi = int(b % std::size_t(dims_[0])), bj = int((b / std::size_t(dims_[0])) % std::size_t(dims_[1])),
+              bk = int(b / (std::size_t(dims_[0]) * std::size_t(dims_[1])));
+    return grid_.centre(bi * kBlock, bj * kBlock, bk * kBlock) + Vec3::Constant(0.5 * (kBlock - 1) * grid_.voxel);
+  }
+  GridSpec grid_;
+  bool withSides_ = false;
+  std::size_t planeCount_ = 0;
+  const std::vector<CuttingPlane>* planes_ = nullptr;
+  double within_ = 0;
+  std::array<int, 3> dims_{0, 0, 0};
+  std::vector<int> slot_;
+  std::vector<std::size_t> blocks_;
+  std::vector<std::vector<std::size_t>> near_;
+  std::vector<std::int8_t> sides_;
 };
 
 }  // namespace
@@ -46,16 +133,27 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
     const double s = planes[j].plane.signedDistance(x);
     return s > 0 ? 1 : (s < 0 ? -1 : 0);
   };
-  const auto inCell = [&](const std::vector<std::int8_t>& signs, const Vec3& x) {
-    for (std::size_t j = 0; j < P; ++j)
-      if (signOf(j, x) != signs[j]) return false;
-    return true;
-  };
+  // Around the sample points: the planes within `reach` of them (a seed's voxel centre lies at
+  // most hs + √3/2 h from its point), and every plane's side (PlaneBlocks).
+  const double reach = hs + h;
+  PlaneBlocks around(planes, grid, reach, true);
+  for (const SectionPoint& sp : arr.points)
+    if (sp.kind == SectionPoint::sample && (wanted(sp.cell[0]) || wanted(sp.cell[1])))
+      around.want(planes[std::size_t(sp.plane)].plane.toWorld(sp.p));
+  around.prepare();
   /// Depth of a section point in its sub-section: into the section and away from the other
-  /// planes (whose traces bound the sub-section); negative inside, mm.
+  /// planes (whose traces bound the sub-section); negative inside, mm. Values below -reach are
+  /// returned as -reach when a plane the point's block does not list could decide them: they only
+  /// ever need to be known below -hs (a seed), and such a plane is farther than reach.
   const auto depthOf = [&](const SectionPoint& sp, float contour) {
     float f = contour;
     const Vec3 x = planes[std::size_t(sp.plane)].plane.toWorld(sp.p);
+    const int slot = around.slot(around.blockAt(x));
+    if (slot >= 0) {
+      for (const std::size_t j : around.near(slot))
+        if (j != std::size_t(sp.plane)) f = std::max(f, -float(std::abs(planes[j].plane.signedDistance(x))));
+      return std::max(f, -float(reach));
+    }
     for (std::size_t j = 0; j < P; ++j)
       if (j != std::size_t(sp.plane)) f = std::max(f, -float(std::abs(planes[j].plane.signedDistance(x))));
     return f;
@@ -68,7 +166,14 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
     const SectionPoint* deepest = nullptr;
     std::vector<const SectionPoint*> deep;
   };
-  std::map<std::array<int, 3>, Points> points;
+  struct KeyHash {
+    std::size_t operator()(const std::array<int, 3>& a) const {
+      std::uint64_t k = 0x9e3779b97f4a7c15ULL;
+      for (const int v : a) k = (k ^ std::uint64_t(std::uint32_t(v))) * 0xff51afd7ed558ccdULL;
+      return std::size_t(k ^ (k >> 29));
+    }
+  };
+  std::unordered_map<std::array<int, 3>, Points, KeyHash> points;
   for (const SectionPoint& sp : arr.points) {
     if (sp.kind != SectionPoint::sample || std::size_t(sp.plane) >= fields.size()) continue;
     if (!wanted(sp.cell[0]) && !wanted(sp.cell[1])) continue;
@@ -90,6 +195,7 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
   }
 
   std::vector<CellWork> cells(std::size_t(std::max(arr.cells, 0)));
+  std::vector<std::int8_t> signs(P);
   for (const SubSection& ss : arr.sub_sections) {
     if (!wanted(ss.cell) || std::size_t(ss.cell) >= cells.size()) continue;
     CellWork& c = cells[std::size_t(ss.cell)];
@@ -105,18 +211,43 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
     if (from.empty()) from.push_back(found->second.deepest);
     for (const SectionPoint* sp : from) {
       const Vec3 x0 = own.plane.toWorld(sp->p);
+      // The planes that can pass through x0 or between it and its seed voxel: the block's, or
+      // all of them off the prepared blocks; every other plane has both on the block centre's side.
+      const int slot = around.slot(around.blockAt(x0));
+      const std::vector<std::size_t>* near = slot >= 0 ? &around.near(slot) : nullptr;
+      const auto forNear = [&](const auto& visit) {
+        if (near)
+          for (const std::size_t j : *near) visit(j);
+        else
+          for (std::size_t j = 0; j < P; ++j) visit(j);
+      };
       // The point's side of every other plane, its own plane's side the sub-section's.
-      std::vector<std::int8_t> signs(P);
+      if (slot >= 0) std::copy(around.sides(slot), around.sides(slot) + P, signs.begin());
       bool onTrace = false;
-      for (std::size_t j = 0; j < P; ++j) {
+      forNear([&](std::size_t j) {
         signs[j] = j == std::size_t(ss.plane) ? std::int8_t(ss.side) : signOf(j, x0);
         onTrace = onTrace || signs[j] == 0;
-      }
+      });
       if (onTrace) {
         c.unresolved = true;
         break;
       }
       if (c.signs.empty()) c.signs = signs;
+      // The planes the block does not list keep the point's side at its seed voxel: the voxel is
+      // in the cell when those agree with the cell (counted over all planes, less the listed
+      // ones) and the listed ones do at the voxel's centre.
+      bool farAgree = true;
+      if (near) {
+        std::size_t differ = 0;
+        for (std::size_t j = 0; j < P; ++j) differ += signs[j] != c.signs[j];
+        for (const std::size_t j : *near) differ -= signs[j] != c.signs[j];
+        farAgree = differ == 0;
+      }
+      const auto inThisCell = [&](const Vec3& y) {
+        bool in = farAgree;
+        forNear([&](std::size_t j) { in = in && signOf(j, y) == c.signs[j]; });
+        return in;
+      };
       // A voxel of the solid, in the cell, just off the section on the cell's side.
       std::int64_t voxel = -1;
       for (const double t : {0.6, 1.0}) {
@@ -124,7 +255,7 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
         const int i = int(std::lround(g.x())), j = int(std::lround(g.y())), k = int(std::lround(g.z()));
         if (i < 0 || j < 0 || k < 0 || i >= grid.dims[0] || j >= grid.dims[1] || k >= grid.dims[2]) continue;
         const std::int64_t v = grid.index(i, j, k);
-        if (!inside[std::size_t(v)] || !inCell(c.signs, grid.centre(i, j, k))) continue;
+        if (!inside[std::size_t(v)] || !inThisCell(grid.centre(i, j, k))) continue;
         voxel = v;
         break;
       }
@@ -142,6 +273,15 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
   // (with a margin for rounding), and those are tested exactly. So no two cells touch the same
   // label.
   std::vector<int> component(inside.size(), -1);
+  const double step = h * (1 + 1e-6) + 1e-9;  // a neighbour's centre is h away
+  PlaneBlocks stepping(planes, grid, step, false);
+  for (std::size_t q = 0; q < inside.size(); ++q)
+    if (inside[q]) {
+      const std::int64_t v = std::int64_t(q);
+      stepping.want(int(v % grid.dims[0]), int((v / grid.dims[0]) % grid.dims[1]),
+                    int(v / (std::int64_t(grid.dims[0]) * grid.dims[1])));
+    }
+  stepping.prepare();
   struct Result {
     bool compared = false;
     int graphOnly = 0, voxelsOnly = 0;
@@ -169,8 +309,8 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
                   k = int(v / (std::int64_t(grid.dims[0]) * grid.dims[1]));
         const Vec3 x = grid.centre(i, j, k);
         near.clear();
-        for (std::size_t p = 0; p < P; ++p)
-          if (std::abs(planes[p].plane.signedDistance(x)) <= h * (1 + 1e-6) + 1e-9) near.push_back(p);
+        for (const std::size_t p : stepping.near(stepping.slotOfVoxel(i, j, k)))
+          if (std::abs(planes[p].plane.signedDistance(x)) <= step) near.push_back(p);
         const std::array<std::array<int, 3>, 6> steps{{{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}}};
         for (const auto& d : steps) {
           const int a = i + d[0], b = j + d[1], e = k + d[2];

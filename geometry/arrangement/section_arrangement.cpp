@@ -10,7 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
+#include <unordered_map>
 #include <random>
 #include <stdexcept>
 #include <utility>
@@ -75,6 +75,12 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
   tbb::parallel_for(std::size_t(0), k, [&](std::size_t i) {
     const CuttingPlane& cp = planes[i];
     auto& P = pts[i];
+    // Per section: the planes that may cross it, and the key over all the others, whose sign is
+    // the same at every point of the section (the sign at its bounding disk's centre). Each point
+    // then tests only the crossing planes: the cost follows the sub-sections' boundaries, not
+    // points x planes.
+    std::vector<std::vector<std::size_t>> crossingOf(cp.sections.size());
+    std::vector<Key> baseOf(cp.sections.size(), Key{0, 0});
     for (std::size_t s = 0; s < cp.sections.size(); ++s) {
       const Section& sec = cp.sections[s];
       // Planes that may cross the section: those nearer to its bounding disk's centre than its
@@ -83,9 +89,18 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
       const Vec2 lo = box.min(), hi = box.max();
       const Vec3 centre = cp.plane.toWorld(box.center());
       const double radius = 0.5 * box.diagonal().norm() * (1 + 1e-9) + 1e-9;
-      std::vector<std::size_t> crossing;
-      for (std::size_t j = 0; j < k; ++j)
-        if (j != i && std::abs(planes[j].plane.signedDistance(centre)) <= radius) crossing.push_back(j);
+      std::vector<std::size_t>& crossing = crossingOf[s];
+      Key& base = baseOf[s];
+      for (std::size_t j = 0; j < k; ++j) {
+        if (j == i) continue;
+        if (std::abs(planes[j].plane.signedDistance(centre)) <= radius) {
+          crossing.push_back(j);
+          continue;
+        }
+        const int sj = sign(eq[j], centre);
+        base.first ^= z.a[j][std::size_t(sj + 1)];
+        base.second ^= z.b[j][std::size_t(sj + 1)];
+      }
       const auto addRing = [&](const Ring& r) {
         double run = spacing;  // contour vertices kept about one spacing apart
         for (std::size_t v = 0; v < r.size(); ++v) {
@@ -139,9 +154,9 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
     KK.resize(P.size());
     for (std::size_t q = 0; q < P.size(); ++q) {
       const Vec3 w = cp.plane.toWorld(P[q].p);
-      std::uint64_t ha = 0, hb = 0;
-      for (std::size_t j = 0; j < k; ++j) {
-        if (j == i) continue;
+      const std::size_t sec = std::size_t(P[q].section);
+      std::uint64_t ha = baseOf[sec].first, hb = baseOf[sec].second;
+      for (const std::size_t j : crossingOf[sec]) {
         // On another plane (trace points by construction, or vertices lying exactly on it): the
         // point bounds the cells on both sides; keys are made for the positive side (and, for a
         // trace point, below for the negative one too).
@@ -163,8 +178,19 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
 
   SectionArrangement out;
   out.sample_spacing_mm = spacing;
-  std::map<Key, int> cellOf;
-  std::map<std::array<int, 4>, int> subOf;  // (plane, section, side, cell) -> sub-section
+  // Ids in the order points meet them (hash maps: lookups do not grow with the cells met).
+  struct KeyHash {
+    std::size_t operator()(const Key& k) const { return std::size_t(k.first); }  // already random bits
+  };
+  struct SubHash {
+    std::size_t operator()(const std::array<int, 4>& a) const {
+      std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+      for (const int v : a) h = (h ^ std::uint64_t(std::uint32_t(v))) * 0xff51afd7ed558ccdULL;
+      return std::size_t(h ^ (h >> 29));
+    }
+  };
+  std::unordered_map<Key, int, KeyHash> cellOf;
+  std::unordered_map<std::array<int, 4>, int, SubHash> subOf;  // (plane, section, side, cell) -> sub-section
   for (std::size_t i = 0; i < k; ++i)
     for (std::size_t q = 0; q < pts[i].size(); ++q) {
       SectionPoint sp = pts[i][q];

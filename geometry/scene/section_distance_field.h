@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "geometry/core/types.h"
@@ -17,7 +18,18 @@ struct SectionDistanceField {
   double step = 1.0;           ///< node spacing, mm
   int nu = 0, nv = 0;          ///< nodes along u and v (0 when the plane has no section)
   float band = 1.0f;           ///< clamp, mm
-  std::vector<float> values;   ///< nu * nv, u fastest
+
+  /// Nodes are stored by tiles of kTile x kTile: a tile no contour comes within the band of holds
+  /// one value (+band outside, -band inside the sections), not its nodes, so that the memory
+  /// follows the contours' length, not the sections' area (issue 17).
+  static constexpr int kTile = 8;
+
+  /// The value at node (i, j), 0 <= i < nu, 0 <= j < nv.
+  float node(int i, int j) const {
+    const std::int32_t t = tiles_[std::size_t(j / kTile) * std::size_t(tilesU_) + std::size_t(i / kTile)];
+    if (t < 0) return t == kOutside ? band : -band;
+    return pool_[std::size_t(t) * kTileNodes + std::size_t(j % kTile) * kTile + std::size_t(i % kTile)];
+  }
 
   /// Bilinear value at plane coordinates (a, b) in mm.
   float sample(double a, double b) const {
@@ -26,10 +38,10 @@ struct SectionDistanceField {
     int i = int(x), j = int(y);
     if (i >= nu - 1) i = nu - 2;
     if (j >= nv - 1) j = nv - 2;
+    float r00, r01, r10, r11;
+    corners(i, j, &r00, &r01, &r10, &r11);
     const float fx = float(x - i), fy = float(y - j);
-    const float* r0 = &values[std::size_t(j) * nu + i];
-    const float* r1 = r0 + nu;
-    return (1 - fy) * ((1 - fx) * r0[0] + fx * r0[1]) + fy * ((1 - fx) * r1[0] + fx * r1[1]);
+    return (1 - fy) * ((1 - fx) * r00 + fx * r01) + fy * ((1 - fx) * r10 + fx * r11);
   }
 
   /// Bilinear value at (a, b) when the four nodes around it all hold exact distances (within the
@@ -40,16 +52,57 @@ struct SectionDistanceField {
     int i = int(x), j = int(y);
     if (i >= nu - 1) i = nu - 2;
     if (j >= nv - 1) j = nv - 2;
-    const float* r0 = &values[std::size_t(j) * nu + i];
-    const float* r1 = r0 + nu;
+    float r00, r01, r10, r11;
+    corners(i, j, &r00, &r01, &r10, &r11);
     const float lim = band;
-    if (!(std::abs(r0[0]) < lim && std::abs(r0[1]) < lim && std::abs(r1[0]) < lim &&
-          std::abs(r1[1]) < lim))
+    if (!(std::abs(r00) < lim && std::abs(r01) < lim && std::abs(r10) < lim && std::abs(r11) < lim))
       return false;
     const float fx = float(x - i), fy = float(y - j);
-    *v = (1 - fy) * ((1 - fx) * r0[0] + fx * r0[1]) + fy * ((1 - fx) * r1[0] + fx * r1[1]);
+    *v = (1 - fy) * ((1 - fx) * r00 + fx * r01) + fy * ((1 - fx) * r10 + fx * r11);
     return true;
   }
+
+  /// Bytes held by the node values (the stored tiles).
+  std::size_t storedBytes() const { return pool_.size() * sizeof(float) + tiles_.size() * sizeof(std::int32_t); }
+
+  /// A raster of nu x nv nodes (row by row, u fastest) whose tiles of values all equal to +band or
+  /// all to -band are kept as one value.
+  static SectionDistanceField fromNodes(const Vec2& origin, double step, int nu, int nv, float band,
+                                        const std::vector<float>& values);
+
+ private:
+  friend SectionDistanceField sectionDistanceField(const std::vector<Section>&, double, double);
+  static constexpr std::int32_t kOutside = -1, kInside = -2;
+  static constexpr std::size_t kTileNodes = std::size_t(kTile) * kTile;
+
+  /// The four nodes (i, j), (i+1, j), (i, j+1), (i+1, j+1).
+  void corners(int i, int j, float* r00, float* r01, float* r10, float* r11) const {
+    if (i % kTile != kTile - 1 && j % kTile != kTile - 1) {  // one tile holds all four
+      const std::int32_t t = tiles_[std::size_t(j / kTile) * std::size_t(tilesU_) + std::size_t(i / kTile)];
+      if (t < 0) {
+        *r00 = *r01 = *r10 = *r11 = t == kOutside ? band : -band;
+        return;
+      }
+      const float* p = &pool_[std::size_t(t) * kTileNodes + std::size_t(j % kTile) * kTile + std::size_t(i % kTile)];
+      *r00 = p[0];
+      *r01 = p[1];
+      *r10 = p[kTile];
+      *r11 = p[kTile + 1];
+      return;
+    }
+    *r00 = node(i, j);
+    *r01 = node(i + 1, j);
+    *r10 = node(i, j + 1);
+    *r11 = node(i + 1, j + 1);
+  }
+  /// Mutable node of a stored tile (building).
+  float& stored(int i, int j) {
+    const std::int32_t t = tiles_[std::size_t(j / kTile) * std::size_t(tilesU_) + std::size_t(i / kTile)];
+    return pool_[std::size_t(t) * kTileNodes + std::size_t(j % kTile) * kTile + std::size_t(i % kTile)];
+  }
+  int tilesU_ = 0, tilesV_ = 0;
+  std::vector<std::int32_t> tiles_;  ///< per tile: index of its values in pool_, or kOutside / kInside
+  std::vector<float> pool_;          ///< kTile² values per stored tile, row by row
 };
 
 /// @param sections  polygons with holes in plane coordinates (mm).

@@ -83,7 +83,7 @@ PlaneDistanceFunction planeDistanceFunction(const SectionDistanceField& near, co
       const int i = i0 + 2 * I, j = j0 + 2 * J;
       std::uint8_t seed = 255;
       if (i >= 0 && j >= 0 && i < near.nu && j < near.nv) {
-        const float v = near.values[std::size_t(j) * near.nu + i];
+        const float v = near.node(i, j);
         sign[std::size_t(J) * NU + I] = v < 0 ? -1 : 1;
         if (std::abs(v) < b) {
           seed = 0;
@@ -99,7 +99,7 @@ PlaneDistanceFunction planeDistanceFunction(const SectionDistanceField& near, co
   }
   cv::Mat dist;
   cv::distanceTransform(seeds, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
-  f.far.values.resize(nodeValue.size());
+  std::vector<float> values(nodeValue.size());
   const double half = S / std::sqrt(2.0);
   for (int J = 0; J < NV; ++J)
     for (int I = 0; I < NU; ++I) {
@@ -110,8 +110,9 @@ PlaneDistanceFunction planeDistanceFunction(const SectionDistanceField& near, co
       } else {
         d = sign[q] * std::max(double(b), b + S * double(dist.at<float>(J, I)) - half);
       }
-      f.far.values[q] = float(std::min(d, cap));
+      values[q] = float(std::min(d, cap));
     }
+  f.far = SectionDistanceField::fromNodes(f.far.origin, f.far.step, NU, NV, f.far.band, values);
   return f;
 }
 
