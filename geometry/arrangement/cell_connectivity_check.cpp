@@ -59,8 +59,9 @@ class PlaneBlocks {
   std::int64_t blockAt(const Vec3& x) const {
     int v[3];
     for (int a = 0; a < 3; ++a) {
-      v[a] = int(std::lround((x[a] - grid_.origin[a]) / grid_.voxel));
-      if (v[a] < 0 || v[a] >= grid_.dims[a]) return -1;
+      const double u = std::round((x[a] - grid_.origin[a]) / grid_.voxel);
+      if (!(u >= 0 && u < grid_.dims[a])) return -1;  // off the grid (and never cast out of range)
+      v[a] = int(u);
     }
     return std::int64_t(blockOf(v[0], v[1], v[2]));
   }
@@ -88,7 +89,8 @@ class PlaneBlocks {
   /// The prepared slot of a block (-1: not prepared).
   int slot(std::int64_t block) const { return block < 0 ? -1 : slot_[std::size_t(block)]; }
   int slotOfVoxel(int i, int j, int k) const { return slot_[blockOf(i, j, k)]; }
-  const std::vector<std::size_t>& near(int slot) const { return near_[std::size_t(slot)]; }
+  /// The listed planes of a prepared block (slot >= 0).
+  const std::vector<std::size_t>& near(int slot) const { return near_.at(std::size_t(slot)); }
   /// Every plane's side of the block's centre (withSides).
   const std::int8_t* sides(int slot) const { return &sides_[std::size_t(slot) * planeCount_]; }
 
@@ -142,9 +144,10 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
       around.want(planes[std::size_t(sp.plane)].plane.toWorld(sp.p));
   around.prepare();
   /// Depth of a section point in its sub-section: into the section and away from the other
-  /// planes (whose traces bound the sub-section); negative inside, mm. Values below -reach are
-  /// returned as -reach when a plane the point's block does not list could decide them: they only
-  /// ever need to be known below -hs (a seed), and such a plane is farther than reach.
+  /// planes (whose traces bound the sub-section); negative inside, mm. Where the point's block is
+  /// prepared, only its listed planes are read and values below -reach are returned as -reach (a
+  /// plane not listed is farther than reach): such a point is a seed (-reach < -hs) either way,
+  /// and the deepest point is only read in sub-sections without seeds.
   const auto depthOf = [&](const SectionPoint& sp, float contour) {
     float f = contour;
     const Vec3 x = planes[std::size_t(sp.plane)].plane.toWorld(sp.p);

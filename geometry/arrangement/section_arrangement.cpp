@@ -85,7 +85,9 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
       const Section& sec = cp.sections[s];
       // Planes that may cross the section: those nearer to its bounding disk's centre than its
       // radius (with a margin far above rounding).
-      const Eigen::AlignedBox2d box = ringBounds(sec.outer);
+      // Bounds of every ring (a hole is not trusted to lie inside its outer ring: .csl input).
+      Eigen::AlignedBox2d box = ringBounds(sec.outer);
+      for (const Ring& hole : sec.holes) box.extend(ringBounds(hole));
       const Vec2 lo = box.min(), hi = box.max();
       const Vec3 centre = cp.plane.toWorld(box.center());
       const double radius = 0.5 * box.diagonal().norm() * (1 + 1e-9) + 1e-9;
