@@ -5,6 +5,7 @@
 // value is +band: the plane holds no section there.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -33,37 +34,28 @@ struct SectionDistanceField {
 
   /// Bilinear value at plane coordinates (a, b) in mm.
   float sample(double a, double b) const {
-    const double x = (a - origin.x()) / step, y = (b - origin.y()) / step;
-    if (!(x >= 0.0 && y >= 0.0 && x <= nu - 1.0 && y <= nv - 1.0)) return band;
-    int i = int(x), j = int(y);
-    if (i >= nu - 1) i = nu - 2;
-    if (j >= nv - 1) j = nv - 2;
+    int i, j;
+    float fx, fy;
+    if (!locate(a, b, &i, &j, &fx, &fy)) return band;
     float r00, r01, r10, r11;
     corners(i, j, &r00, &r01, &r10, &r11);
-    const float fx = float(x - i), fy = float(y - j);
     return (1 - fy) * ((1 - fx) * r00 + fx * r01) + fy * ((1 - fx) * r10 + fx * r11);
   }
 
   /// Bilinear value at (a, b) when the four nodes around it all hold exact distances (within the
   /// band): returns false, leaving *v alone, where a node is clamped or (a, b) is off the raster.
   bool sampleWithinBand(double a, double b, float* v) const {
-    const double x = (a - origin.x()) / step, y = (b - origin.y()) / step;
-    if (!(x >= 0.0 && y >= 0.0 && x <= nu - 1.0 && y <= nv - 1.0)) return false;
-    int i = int(x), j = int(y);
-    if (i >= nu - 1) i = nu - 2;
-    if (j >= nv - 1) j = nv - 2;
+    int i, j;
+    float fx, fy;
+    if (!locate(a, b, &i, &j, &fx, &fy)) return false;
     float r00, r01, r10, r11;
     corners(i, j, &r00, &r01, &r10, &r11);
     const float lim = band;
     if (!(std::abs(r00) < lim && std::abs(r01) < lim && std::abs(r10) < lim && std::abs(r11) < lim))
       return false;
-    const float fx = float(x - i), fy = float(y - j);
     *v = (1 - fy) * ((1 - fx) * r00 + fx * r01) + fy * ((1 - fx) * r10 + fx * r11);
     return true;
   }
-
-  /// Bytes held by the node values (the stored tiles).
-  std::size_t storedBytes() const { return pool_.size() * sizeof(float) + tiles_.size() * sizeof(std::int32_t); }
 
   /// A raster of nu x nv nodes (row by row, u fastest) whose tiles of values all equal to +band or
   /// all to -band are kept as one value.
@@ -75,6 +67,17 @@ struct SectionDistanceField {
   static constexpr std::int32_t kOutside = -1, kInside = -2;
   static constexpr std::size_t kTileNodes = std::size_t(kTile) * kTile;
 
+  /// The raster square holding plane point (a, b): its lower node (i, j) and the fractions
+  /// (fx, fy) across it; false off the raster.
+  bool locate(double a, double b, int* i, int* j, float* fx, float* fy) const {
+    const double x = (a - origin.x()) / step, y = (b - origin.y()) / step;
+    if (!(x >= 0.0 && y >= 0.0 && x <= nu - 1.0 && y <= nv - 1.0)) return false;
+    *i = std::min(int(x), nu - 2);
+    *j = std::min(int(y), nv - 2);
+    *fx = float(x - *i);
+    *fy = float(y - *j);
+    return true;
+  }
   /// The four nodes (i, j), (i+1, j), (i, j+1), (i+1, j+1).
   void corners(int i, int j, float* r00, float* r01, float* r10, float* r11) const {
     if (i % kTile != kTile - 1 && j % kTile != kTile - 1) {  // one tile holds all four
