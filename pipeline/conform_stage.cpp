@@ -178,7 +178,7 @@ ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<Cut
   }
   r.pose = smoothPoses(settings.pose_smoothing_frames, planes, r.slices);
 
-  r.search = planePairTraces(planes, settings.min_angle_deg);
+  r.search = planePairTraces(planes, settings.min_angle_deg, settings.enforce);
   const std::vector<SliceDisagreement> before = sliceStats(r.search.pairs, planes.size());
   for (std::size_t i = 0; i < planes.size(); ++i) r.slices[i].before = before[i];
   r.before = pairsSummary(r.search.pairs);
@@ -204,7 +204,7 @@ ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<Cut
     planes = std::move(kept);
     if (!labelled.empty()) labelled = std::move(keptLabelled);
     rowOfPlane = std::move(keptRows);
-    r.search = planePairTraces(planes, settings.min_angle_deg);
+    r.search = planePairTraces(planes, settings.min_angle_deg, settings.enforce);
   }
   if (settings.enforce) enforce(settings, planes, r, rowOfPlane);
   for (const CuttingPlane& p : planes) r.slice_of_plane.push_back(p.slice);

@@ -450,3 +450,31 @@ TEST(Conformity, EnforcementIsTheSameWhateverTheThreadCount) {
 
 }  // namespace
 }  // namespace xsect
+
+// Issue 17: without enforcement the unmeasured pairs are only counted, never traced; the measured
+// pairs and every count are those of the full search.
+namespace xsect {
+TEST(Conformity, CountingUnmeasuredPairsChangesNoMeasuredPair) {
+  std::mt19937_64 rng(8);
+  std::vector<CuttingPlane> planes = test::randomShellPlanes(30, rng, Vec3(0.1, -0.2, 0.3), 5.0, 6.0, 3.0);
+  for (CuttingPlane& p : planes) p.observed_everywhere = true;
+  for (const double minAngle : {5.0, 40.0, 70.0}) {
+    const PlanePairSearch full = planePairTraces(planes, minAngle, true);
+    const PlanePairSearch counted = planePairTraces(planes, minAngle, false);
+    EXPECT_GT(full.pairs_near_parallel, 0) << minAngle;
+    EXPECT_GT(full.pairs.size(), 0u) << minAngle;
+    EXPECT_EQ(counted.pairs_near_parallel, full.pairs_near_parallel);
+    EXPECT_EQ(counted.pairs_without_sections, full.pairs_without_sections);
+    ASSERT_EQ(counted.pairs.size(), full.pairs.size());
+    for (std::size_t k = 0; k < full.pairs.size(); ++k) {
+      EXPECT_EQ(counted.pairs[k].a, full.pairs[k].a);
+      EXPECT_EQ(counted.pairs[k].b, full.pairs[k].b);
+      EXPECT_EQ(counted.pairs[k].disagreement.symmetric_difference_mm, full.pairs[k].disagreement.symmetric_difference_mm);
+    }
+    int unmeasuredNearParallel = 0;
+    for (const PlanePairTraces& p : full.unmeasured) unmeasuredNearParallel += p.line.angle_deg < minAngle;
+    EXPECT_EQ(unmeasuredNearParallel, full.pairs_near_parallel);
+    EXPECT_EQ(int(counted.unmeasured.size()), full.pairs_without_sections);
+  }
+}
+}  // namespace xsect

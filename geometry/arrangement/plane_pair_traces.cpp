@@ -7,7 +7,8 @@
 
 namespace xsect {
 
-PlanePairSearch planePairTraces(const std::vector<CuttingPlane>& planes, double min_angle_deg) {
+PlanePairSearch planePairTraces(const std::vector<CuttingPlane>& planes, double min_angle_deg,
+                                bool keep_unmeasured) {
   const int n = int(planes.size());
   struct Row {
     std::vector<PlanePairTraces> pairs, unmeasured;
@@ -22,8 +23,16 @@ PlanePairSearch planePairTraces(const std::vector<CuttingPlane>& planes, double 
       const auto line = commonLine(planes[a].plane, planes[b].plane);
       if (!line) continue;
       const PlaneLine la = lineInPlane(planes[a].plane, *line), lb = lineInPlane(planes[b].plane, *line);
+      // The image rectangles first (the fields of view lie inside them): most pairs of a sweep
+      // end there.
+      if (intersectTraces(imageTrace(planes[a], la), imageTrace(planes[b], lb)).empty()) continue;
       const Trace common = intersectTraces(observedTrace(planes[a], la), observedTrace(planes[b], lb));
       if (common.empty()) continue;
+      const bool nearParallel = line->angle_deg < min_angle_deg;
+      if (nearParallel && !keep_unmeasured) {
+        ++row.near_parallel;
+        continue;
+      }
       PlanePairTraces p;
       p.a = a;
       p.b = b;
@@ -31,7 +40,6 @@ PlanePairSearch planePairTraces(const std::vector<CuttingPlane>& planes, double 
       p.common = common;
       p.trace_a = sectionsTrace(planes[a].sections, la);
       p.trace_b = sectionsTrace(planes[b].sections, lb);
-      const bool nearParallel = line->angle_deg < min_angle_deg;
       const bool empty = intersectTraces(uniteTraces(p.trace_a, p.trace_b), common).empty();
       if (nearParallel || empty) {
         (nearParallel ? row.near_parallel : row.empty) += 1;

@@ -33,8 +33,13 @@ struct PlanePairSearch {
 /// @param min_angle_deg  pairs at a smaller angle are counted, not measured: at an angle θ a
 ///                       pose error of δ mm moves the common line by δ / sin θ, so nearly
 ///                       parallel planes' disagreement says little about either section.
+/// @param keep_unmeasured  list the unmeasured pairs with their traces (what conformity
+///                       enforcement must leave alone); false: only count them. A sweep's frames
+///                       are nearly parallel pair after pair, and tracing them all is most of the
+///                       search (issue 17).
 /// Deterministic; parallel over the planes.
-PlanePairSearch planePairTraces(const std::vector<CuttingPlane>& planes, double min_angle_deg);
+PlanePairSearch planePairTraces(const std::vector<CuttingPlane>& planes, double min_angle_deg,
+                                bool keep_unmeasured = true);
 
 /// The traces of `pairs` (their lines and common regions kept) re-read from `planes` (edited
 /// sections), with their disagreement.

@@ -110,7 +110,7 @@ Trace sectionsTrace(const std::vector<Section>& sections, const PlaneLine& line)
   return ringsTrace(rings, line);
 }
 
-Trace observedTrace(const CuttingPlane& plane, const PlaneLine& line) {
+Trace imageTrace(const CuttingPlane& plane, const PlaneLine& line) {
   if (plane.observed_everywhere) return {{-kInf, kInf}};
   // The extent rectangle (Liang-Barsky).
   double lo = -kInf, hi = kInf;
@@ -126,8 +126,12 @@ Trace observedTrace(const CuttingPlane& plane, const PlaneLine& line) {
     lo = std::max(lo, a);
     hi = std::min(hi, b);
   }
-  Trace rect = normalised({{lo, hi}});
-  if (plane.field_of_view.empty()) return rect;
+  return normalised({{lo, hi}});
+}
+
+Trace observedTrace(const CuttingPlane& plane, const PlaneLine& line) {
+  const Trace rect = imageTrace(plane, line);
+  if (plane.observed_everywhere || rect.empty() || plane.field_of_view.empty()) return rect;
   std::vector<const Ring*> rings;
   for (const Ring& r : plane.field_of_view) rings.push_back(&r);
   return intersectTraces(rect, ringsTrace(rings, line));

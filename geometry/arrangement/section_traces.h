@@ -50,6 +50,8 @@ Trace sectionsTrace(const std::vector<Section>& sections, const PlaneLine& line)
 /// Where the plane was observed along the line: its extent rectangle ∩ its field of view, or the
 /// whole line (−inf, +inf) when observed_everywhere.
 Trace observedTrace(const CuttingPlane& plane, const PlaneLine& line);
+/// The extent rectangle's part of it alone (contains observedTrace; cheaper, no field of view).
+Trace imageTrace(const CuttingPlane& plane, const PlaneLine& line);
 
 // Interval algebra (results are normalised: sorted, disjoint; pieces shorter than 1e-12 mm drop,
 // gaps narrower than 1e-9 mm close: rounding, not geometry).
