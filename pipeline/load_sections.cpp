@@ -8,6 +8,7 @@
 
 #include "geometry/core/plane_of_pose.h"
 #include "io/file_hash.h"
+#include "io/image_header.h"
 #include "io/image_io.h"
 #include "io/input_error.h"
 #include "segmentation/field_of_view.h"
@@ -97,7 +98,8 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
   // over a first reading of the stream (integer counts: the same whatever the order).
   SegmentationParams perSlice = params;
   if (params.method == SegmentationMethod::otsu && n > 0) {
-    const double scale = seriesGreyScale(readFrame(slices[0], 0, listing_file).image);
+    // The first frame's depth, from its header (checked above), sets the series' 8-bit scale.
+    const double scale = seriesGreyScale(readImageHeader(slices[0].image_resolved).bits_per_sample);
     std::vector<GreyHistogram> histograms(static_cast<std::size_t>(n));
     forEachFrame(slices, listing_file, [&](int i, const Frame& f) {
       histograms[std::size_t(i)] = observedHistogram(f.image, f.fov, params.sigma_px, scale);

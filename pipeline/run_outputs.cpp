@@ -26,7 +26,7 @@ namespace {
 /// The graphs' edges as (flat section id a, id b, cell, method, Graphviz style), G then G'.
 template <typename Visit>
 void forEachEdge(const RunResults& r, const Visit& visit) {
-  const SectionIds ids(r.inputs.planes);
+  const SectionIds ids = r.scene_stage.scene.ids();  // the real planes' sections
   const auto visitAll = [&](const std::vector<GraphEdge>& es, const char* method, const char* style) {
     for (const GraphEdge& e : es)
       visit(ids.of(e.plane_a, e.section_a), ids.of(e.plane_b, e.section_b), e.cell, method, style);

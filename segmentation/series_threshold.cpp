@@ -7,7 +7,7 @@
 
 namespace xsect {
 
-double seriesGreyScale(const cv::Mat& first) { return first.depth() == CV_16U ? 1.0 / 256.0 : 1.0; }
+double seriesGreyScale(int bits_per_sample) { return bits_per_sample > 8 ? 1.0 / 256.0 : 1.0; }
 
 GreyHistogram observedHistogram(const cv::Mat& image, const cv::Mat& fov, double sigma_px, double scale) {
   GreyHistogram h{};
@@ -62,7 +62,7 @@ double otsuThresholdOfPooled(const GreyHistogram& pooled, double scale) {
 double otsuThresholdOfSeries(const std::vector<cv::Mat>& images, const std::vector<cv::Mat>& fovs,
                              double sigma_px) {
   CV_Assert(!images.empty() && fovs.size() == images.size());
-  const double scale = seriesGreyScale(images.front());
+  const double scale = seriesGreyScale(images.front().depth() == CV_16U ? 16 : 8);
   GreyHistogram pooled{};
   for (std::size_t k = 0; k < images.size(); ++k) {
     const GreyHistogram h = observedHistogram(images[k], fovs[k], sigma_px, scale);

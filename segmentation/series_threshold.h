@@ -23,8 +23,8 @@ using GreyHistogram = std::array<std::int64_t, 256>;
 /// @param scale     grey value -> 8 bits: 1 for an 8-bit series, 1/256 for a 16-bit one.
 GreyHistogram observedHistogram(const cv::Mat& image, const cv::Mat& fov, double sigma_px, double scale);
 
-/// The scale of a series whose first image is `first` (8 bits: 1; 16 bits: 1/256).
-double seriesGreyScale(const cv::Mat& first);
+/// The scale of a series whose first image has `bits_per_sample` (up to 8 bits: 1; 16: 1/256).
+double seriesGreyScale(int bits_per_sample);
 
 /// Otsu's threshold of a histogram in its 8-bit units: the bin t maximising the between-class
 /// variance of {<= t} and {> t}, the first of equal maxima, classes holding less than FLT_EPSILON

@@ -48,13 +48,7 @@ class PlaneBlocks {
     planes_ = &planes;
   }
   /// Marks the block of voxel (i, j, k) (inside the grid) to be prepared.
-  void want(int i, int j, int k) {
-    const std::size_t b = blockOf(i, j, k);
-    if (slot_[b] < 0) {
-      slot_[b] = int(blocks_.size());
-      blocks_.push_back(b);
-    }
-  }
+  void want(int i, int j, int k) { mark(blockOf(i, j, k)); }
   /// The block of the voxel nearest to x, or -1 off the grid.
   std::int64_t blockAt(const Vec3& x) const {
     int v[3];
@@ -65,12 +59,10 @@ class PlaneBlocks {
     }
     return std::int64_t(blockOf(v[0], v[1], v[2]));
   }
+  /// Marks the block of the voxel nearest to x, if x is on the grid.
   void want(const Vec3& x) {
     const std::int64_t b = blockAt(x);
-    if (b >= 0 && slot_[std::size_t(b)] < 0) {
-      slot_[std::size_t(b)] = int(blocks_.size());
-      blocks_.push_back(std::size_t(b));
-    }
+    if (b >= 0) mark(std::size_t(b));
   }
   /// Computes the marked blocks' planes (parallel over blocks).
   void prepare() {
@@ -95,6 +87,12 @@ class PlaneBlocks {
   const std::int8_t* sides(int slot) const { return &sides_[std::size_t(slot) * planeCount_]; }
 
  private:
+  void mark(std::size_t b) {
+    if (slot_[b] < 0) {
+      slot_[b] = int(blocks_.size());
+      blocks_.push_back(b);
+    }
+  }
   std::size_t blockOf(int i, int j, int k) const {
     return (std::size_t(k / kBlock) * std::size_t(dims_[1]) + std::size_t(j / kBlock)) * std::size_t(dims_[0]) +
            std::size_t(i / kBlock);
@@ -130,7 +128,7 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
   };
   const double h = grid.voxel;
   const double hs = seed_mm > 0 ? seed_mm : h;  // seeds: how deep, and how far off the section
-  const SectionIds ids(planes);
+  const SectionIds ids = scene.ids();
   const auto signOf = [&](std::size_t j, const Vec3& x) -> std::int8_t {
     const double s = planes[j].plane.signedDistance(x);
     return s > 0 ? 1 : (s < 0 ? -1 : 0);

@@ -75,7 +75,7 @@ ConnectivityGraphs connectivityGraphs(const SectionScene& scene, const SectionAr
   // Per section: the other planes by distance to its bounding disk. A plane at distance >= 2t
   // from a section point cannot end the lift of length t (|h + t c| = t needs |h| <= 2t), nor
   // bound the ray's exit below |h|: the scan stops at the first plane too far for both.
-  const SectionIds ids(planes);
+  const SectionIds ids = scene.ids();
   std::vector<std::vector<std::pair<double, int>>> nearPlanes(std::size_t(ids.count()));
   tbb::parallel_for(std::size_t(0), planes.size(), [&](std::size_t i) {
     for (std::size_t s = 0; s < planes[i].sections.size(); ++s) {
@@ -156,7 +156,7 @@ GraphVoxelCheck compareWithVoxels(const std::vector<GraphEdge>& edges, const Sec
                                   const GridSpec& grid) {
   const std::vector<CuttingPlane>& planes = scene.planes;
   const std::vector<SectionDistanceField>& fields = scene.fields;
-  const SectionIds ids(planes);
+  const SectionIds ids = scene.ids();
   const int n = ids.count();
   DisjointSets components{std::size_t(n)};
   for (const GraphEdge& e : edges)
