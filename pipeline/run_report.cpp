@@ -52,7 +52,7 @@ json countsJson(const RunResults& r) {
           {"planes_with_sections", r.scene_stage.counts.planes_with_sections},
           {"sections", r.scene_stage.counts.sections}, {"end_planes", r.scene_stage.scene.end_planes()},
           {"cells", a.cells}, {"sub_sections", a.sub_sections.size()},
-          {"voxels", rec.field.grid.count()},
+          {"voxels", rec.field.grid().count()},
           {"voxels_inside", rec.voxels_inside},
           {"mesh_vertices", r.meshes.mesh.vertices.size()},
           {"mesh_triangles", r.meshes.mesh.triangles.size()}};
@@ -65,8 +65,8 @@ json reconstructionJson(const RunResults& r) {
   return {{"method", nameOf(kReconstructionMethods, c.reconstruction_method)},
           {"voxel_size_mm", c.voxel_size_mm},
           {"voxel_size", voxelSizeJson(r.scene_stage.voxel_size)},
-          {"grid_origin_mm", vecJson(rec.field.grid.origin)},
-          {"grid_dims", rec.field.grid.dims},
+          {"grid_origin_mm", vecJson(rec.field.grid().origin)},
+          {"grid_dims", rec.field.grid().dims},
           {"end_margin_mm", layout.end_margin_mm},
           {"end_margin_auto", layout.end_margin_auto},
           {"max_lift_mm", rec.max_lift_mm},
@@ -163,7 +163,7 @@ json conformityJson(const RunResults& r) {
 json throughputJson(const RunResults& r) {
   const SampledReconstruction& rec = r.reconstruction.solid;
   const ReconstructionMethod method = r.scene_stage.scene.params.method;
-  return {{"reconstruct_voxels_per_s", rec.evaluate_seconds > 0 ? double(rec.field.grid.count()) / rec.evaluate_seconds : 0.0},
+  return {{"reconstruct_voxels_per_s", rec.evaluate_seconds > 0 ? double(rec.field.grid().count()) / rec.evaluate_seconds : 0.0},
           {"evaluate_s", rec.evaluate_seconds},
           {"method1_evaluate_s", method == ReconstructionMethod::nearest_plane ? json(rec.evaluate_seconds) : json(nullptr)},
           {"method2_evaluate_s", method == ReconstructionMethod::section_voronoi ? json(rec.evaluate_seconds) : json(nullptr)}};

@@ -65,8 +65,8 @@ SmoothStage smoothStage(const RunConfig& c, const SectionScene& scene, const Arr
   // connectivity differences.
   GridSpec grid = reconstructionLayout(planes, lp).grid;
   for (int a = 0; a < 3; ++a) {
-    const int shift = std::max(0, int(std::ceil((rec.field.grid.origin[a] - grid.origin[a]) / h - 1e-9)));
-    const double lower = rec.field.grid.origin[a] - shift * h;
+    const int shift = std::max(0, int(std::ceil((rec.field.grid().origin[a] - grid.origin[a]) / h - 1e-9)));
+    const double lower = rec.field.grid().origin[a] - shift * h;
     grid.dims[a] += grid.origin[a] - lower > 1e-9 * h ? 1 : 0;
     grid.origin[a] = lower;
   }
@@ -135,20 +135,20 @@ SmoothStage smoothStage(const RunConfig& c, const SectionScene& scene, const Arr
   // before it changes how the sections are joined.
   if (c.smoothing_method == SmoothingMethod::level_set ||
       (c.smoothing_keep_connectivity && !out.shepard_keeps_connectivity)) {
-    const PlaneEvidence evidence = evidenceOn(planes, fields, rec.field.grid);
+    const PlaneEvidence evidence = evidenceOn(planes, fields, rec.field.grid());
     const auto keeps = [&](std::vector<std::uint8_t> inside) {
-      repairSolid(inside, evidence, rec.field.grid);  // the solid that would be meshed
+      repairSolid(inside, evidence, rec.field.grid());  // the solid that would be meshed
       const GraphVoxelCheck k =
-          compareWithVoxels(edges, scene, arrangement, inside, rec.field.grid);
+          compareWithVoxels(edges, scene, arrangement, inside, rec.field.grid());
       return k.pairs_joined_by_graph_only == base.pairs_joined_by_graph_only &&
              k.pairs_joined_by_voxels_only == base.pairs_joined_by_voxels_only &&
              k.voxel_components == base.voxel_components &&
-             keepsCellConnectivity(compareCellsWithVoxels(edges, scene, arrangement, inside, rec.field.grid),
+             keepsCellConnectivity(compareCellsWithVoxels(edges, scene, arrangement, inside, rec.field.grid()),
                                    baseCells);
     };
     LevelSetSmoothingParams sp;
     sp.iterations = c.smoothing_iterations;
-    LevelSetSmoothing ls = smoothSolidLevelSet(rec.field, planes, fields, sp, keeps);
+    LevelSetSmoothing ls = smoothSolidLevelSet(denseField(rec.field), planes, fields, sp, keeps);
     out.fell_back = c.smoothing_method == SmoothingMethod::shepard;
     out.method = SmoothingMethod::level_set;
     out.iterations_applied = ls.iterations_applied;

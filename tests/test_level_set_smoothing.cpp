@@ -28,6 +28,7 @@ struct Staircase {
   std::vector<CuttingPlane> planes;
   std::vector<double> z, radius;
   SampledReconstruction rec;
+  ScalarField field;                       // rec.field, dense
   std::vector<SectionDistanceField> near;  // one per real plane
 };
 
@@ -49,6 +50,7 @@ Staircase staircase(double voxel = 0.5) {
   p.voxel_mm = voxel;
   const SectionScene scene = sectionScene(s.planes, p);
   s.rec = reconstructOnGrid(scene);
+  s.field = denseField(s.rec.field);
   s.near.assign(scene.fields.begin(), scene.fields.begin() + std::ptrdiff_t(s.planes.size()));
   return s;
 }
@@ -134,16 +136,16 @@ ScalarField dumbbell(double tube) {
 
 TEST(LevelSetSmoothing, SurfaceStillPassesThroughTheContours) {
   const Staircase s = staircase();
-  const double h = s.rec.field.grid.voxel;
+  const double h = s.field.grid.voxel;
   LevelSetSmoothingParams p;
   p.iterations = 0;
-  const LevelSetSmoothing r0 = smoothSolidLevelSet(s.rec.field, s.planes, s.near, p);
+  const LevelSetSmoothing r0 = smoothSolidLevelSet(s.field, s.planes, s.near, p);
   p.iterations = 8;
-  const LevelSetSmoothing r8 = smoothSolidLevelSet(s.rec.field, s.planes, s.near, p);
+  const LevelSetSmoothing r8 = smoothSolidLevelSet(s.field, s.planes, s.near, p);
   p.iterations = 20;
-  const LevelSetSmoothing r20 = smoothSolidLevelSet(s.rec.field, s.planes, s.near, p);
+  const LevelSetSmoothing r20 = smoothSolidLevelSet(s.field, s.planes, s.near, p);
   // Nothing held (no planes given): the flow is free to move the contours.
-  const LevelSetSmoothing f20 = smoothSolidLevelSet(s.rec.field, {}, {}, p);
+  const LevelSetSmoothing f20 = smoothSolidLevelSet(s.field, {}, {}, p);
   const double e0 = contourResidual(r0.field, s), e8 = contourResidual(r8.field, s),
                e20 = contourResidual(r20.field, s), free20 = contourResidual(f20.field, s);
   std::printf("contour residual (mm): 0 steps %.4f, 8 steps %.4f, 20 steps %.4f, 20 free %.4f; "
@@ -160,16 +162,16 @@ TEST(LevelSetSmoothing, SurfaceStillPassesThroughTheContours) {
 
 TEST(LevelSetSmoothing, SmoothsTheStaircase) {
   const Staircase s = staircase();
-  const float band = float(3 * s.rec.field.grid.voxel);
+  const float band = float(3 * s.field.grid.voxel);
   LevelSetSmoothingParams p;
   p.iterations = 0;
-  const LevelSetSmoothing r0 = smoothSolidLevelSet(s.rec.field, s.planes, s.near, p);
+  const LevelSetSmoothing r0 = smoothSolidLevelSet(s.field, s.planes, s.near, p);
   p.iterations = 8;
-  const LevelSetSmoothing r8 = smoothSolidLevelSet(s.rec.field, s.planes, s.near, p);
+  const LevelSetSmoothing r8 = smoothSolidLevelSet(s.field, s.planes, s.near, p);
   // Step 0 is the input re-distanced: the same voxel solid.
-  ASSERT_EQ(r0.field.values.size(), s.rec.field.values.size());
+  ASSERT_EQ(r0.field.values.size(), s.field.values.size());
   for (std::size_t q = 0; q < r0.field.values.size(); ++q)
-    ASSERT_EQ(r0.field.values[q] < 0, s.rec.field.values[q] < 0) << q;
+    ASSERT_EQ(r0.field.values[q] < 0, s.field.values[q] < 0) << q;
   // Values: distances within the band, ±band beyond, the right sign deep inside and outside.
   for (const LevelSetSmoothing* r : {&r0, &r8}) {
     const auto [lo, hi] = std::minmax_element(r->field.values.begin(), r->field.values.end());
@@ -180,9 +182,9 @@ TEST(LevelSetSmoothing, SmoothsTheStaircase) {
     EXPECT_EQ(r->field.at(int(std::lround(u.x())), int(std::lround(u.y())), int(std::lround(u.z()))), -band);
     EXPECT_EQ(r->field.at(0, 0, 0), band);
   }
-  const double a_in = surfaceArea(meshZeroLevel(s.rec.field)), a0 = surfaceArea(meshZeroLevel(r0.field)),
+  const double a_in = surfaceArea(meshZeroLevel(s.field)), a0 = surfaceArea(meshZeroLevel(r0.field)),
                a8 = surfaceArea(meshZeroLevel(r8.field));
-  const double g_in = profileRoughness(s.rec.field, s.z.front(), s.z.back()),
+  const double g_in = profileRoughness(s.field, s.z.front(), s.z.back()),
                g0 = profileRoughness(r0.field, s.z.front(), s.z.back()),
                g8 = profileRoughness(r8.field, s.z.front(), s.z.back());
   std::printf("area (mm2): input %.2f, 0 steps %.2f, 8 steps %.2f; roughness (mm2): input %.3f, "
@@ -246,11 +248,11 @@ TEST(LevelSetSmoothing, SameBytesForAnyThreadCount) {
   LevelSetSmoothing one, two;
   {
     tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-    one = smoothSolidLevelSet(s.rec.field, s.planes, s.near, p);
+    one = smoothSolidLevelSet(s.field, s.planes, s.near, p);
   }
   {
     tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
-    two = smoothSolidLevelSet(s.rec.field, s.planes, s.near, p);
+    two = smoothSolidLevelSet(s.field, s.planes, s.near, p);
   }
   ASSERT_EQ(one.field.values.size(), two.field.values.size());
   EXPECT_EQ(std::memcmp(one.field.values.data(), two.field.values.data(),

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "geometry/core/block_grid.h"
 #include "geometry/core/types.h"
 
 namespace xsect {
@@ -45,6 +46,8 @@ int makeWellComposed(std::vector<std::uint8_t>& inside, const GridSpec& grid);
 /// >= 0 take -nudge_mm, voxels outside it whose value is < 0 take +nudge_mm (nudge > 0: a small
 /// distance), so the zero set meshed bounds exactly that set. Returns the number of values changed.
 std::int64_t imposeSolid(ScalarField& field, const std::vector<std::uint8_t>& inside, float nudge_mm);
+/// The same on a field stored by blocks; a tile is expanded into a leaf only where a voxel changes.
+std::int64_t imposeSolid(BlockGrid<float>& field, const std::vector<std::uint8_t>& inside, float nudge_mm);
 
 /// 26-connected components of the voxel set: label per voxel (-1 outside), count in *count.
 std::vector<int> solidComponents(const std::vector<std::uint8_t>& inside, const GridSpec& grid,

@@ -4,9 +4,14 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Dense.h>
 #include <openvdb/tools/MeshToVolume.h>
+#include <openvdb/tools/Prune.h>
 #include <openvdb/tools/VolumeToMesh.h>
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <limits>
+#include <memory>
 #include <stdexcept>
 #include <tuple>
 
@@ -59,6 +64,75 @@ openvdb::FloatGrid::Ptr gridOfField(const ScalarField& field, float background) 
     openvdb::tools::Dense<const float, openvdb::tools::LayoutXYZ> dense(bbox, field.values.data());
     openvdb::tools::copyFromDense(dense, *grid, 0.0f);
   }
+  grid->setTransform(openvdb::math::Transform::createLinearTransform(g.voxel));
+  grid->transform().postTranslate(openvdb::Vec3d(g.origin.x(), g.origin.y(), g.origin.z()));
+  return grid;
+}
+
+/// The grid copyFromDense(dense, grid, tolerance 0) builds from the field's dense values, built
+/// block by block (volume_mesher.h): voxels equal to the background are inactive, a block whose
+/// voxels inside the grid all hold one value and state is a tile (none for the background), tiles
+/// merged upwards by pruneTiles.
+openvdb::FloatGrid::Ptr gridOfBlocks(const BlockGrid<float>& field, float* backgroundOut) {
+  openvdb::initialize();  // idempotent
+  const GridSpec& g = field.grid();
+  const auto& D = g.dims;
+  const std::int64_t blocks = field.blockCount();
+  const auto inGrid = [&](const std::array<int, 3>& o) {
+    return o[0] + 8 <= D[0] && o[1] + 8 <= D[1] && o[2] + 8 <= D[2];
+  };
+  // The dense field's largest value: over the voxels inside the grid.
+  std::vector<float> blockMax(std::size_t(blocks), -std::numeric_limits<float>::infinity());
+  tbb::parallel_for(std::int64_t(0), blocks, [&](std::int64_t b) {
+    const auto o = field.blockOrigin(b);
+    float m = -std::numeric_limits<float>::infinity();
+    if (!field.isLeaf(b)) {
+      m = field.tile(b);
+    } else {
+      for (int k = o[2]; k < std::min(D[2], o[2] + 8); ++k)
+        for (int j = o[1]; j < std::min(D[1], o[1] + 8); ++j)
+          for (int i = o[0]; i < std::min(D[0], o[0] + 8); ++i) m = std::max(m, field.at(i, j, k));
+    }
+    blockMax[std::size_t(b)] = m;
+  });
+  float background = 0.0f;
+  for (const float m : blockMax) background = std::max(background, m);
+  *backgroundOut = background;
+  background = std::max(background, 1e-3f);
+
+  using Leaf = openvdb::FloatTree::LeafNodeType;
+  std::vector<Leaf*> leaves(std::size_t(blocks), nullptr);
+  std::vector<char> activeTile(std::size_t(blocks), 0);
+  tbb::parallel_for(std::int64_t(0), blocks, [&](std::int64_t b) {
+    const auto o = field.blockOrigin(b);
+    if (!field.isLeaf(b) && inGrid(o)) {
+      activeTile[std::size_t(b)] = field.tile(b) != background;
+      return;
+    }
+    auto leaf = std::make_unique<Leaf>(openvdb::Coord(o[0], o[1], o[2]), background, false);
+    for (int k = o[2]; k < std::min(D[2], o[2] + 8); ++k)
+      for (int j = o[1]; j < std::min(D[1], o[1] + 8); ++j)
+        for (int i = o[0]; i < std::min(D[0], o[0] + 8); ++i) {
+          const float v = field.at(i, j, k);
+          if (v != background) leaf->setValueOn(openvdb::Coord(i, j, k), v);
+        }
+    float value;
+    bool state;
+    if (leaf->isConstant(value, state, 0.0f)) {
+      activeTile[std::size_t(b)] = state;
+      return;
+    }
+    leaves[std::size_t(b)] = leaf.release();
+  });
+  openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(background);
+  openvdb::tree::ValueAccessor<openvdb::FloatTree> acc(grid->tree());
+  for (std::int64_t b = 0; b < blocks; ++b) {
+    const auto o = field.blockOrigin(b);
+    if (leaves[std::size_t(b)]) acc.addLeaf(leaves[std::size_t(b)]);
+    else if (activeTile[std::size_t(b)])
+      acc.addTile(1, openvdb::Coord(o[0], o[1], o[2]), field.isLeaf(b) ? field.at(o[0], o[1], o[2]) : field.tile(b), true);
+  }
+  openvdb::tools::pruneTiles(grid->tree(), 0.0f);
   grid->setTransform(openvdb::math::Transform::createLinearTransform(g.voxel));
   grid->transform().postTranslate(openvdb::Vec3d(g.origin.x(), g.origin.y(), g.origin.z()));
   return grid;
@@ -131,6 +205,16 @@ LevelSetSurface levelSetSurface(const ScalarField& field, double half_width_voxe
   }
   out.level_set = std::move(sorted);
   return out;
+}
+
+TriangleMesh meshZeroLevel(const BlockGrid<float>& field, double adaptivity) {
+  float background;
+  const openvdb::FloatGrid::Ptr grid = gridOfBlocks(field, &background);
+  std::vector<openvdb::Vec3s> points;
+  std::vector<openvdb::Vec3I> tris;
+  std::vector<openvdb::Vec4I> quads;
+  openvdb::tools::volumeToMesh(*grid, points, tris, quads, 0.0, std::clamp(adaptivity, 0.0, 1.0));
+  return toTriangles(points, tris, quads);
 }
 
 TriangleMesh meshZeroLevel(const ScalarField& field, double adaptivity) {

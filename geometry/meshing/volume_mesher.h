@@ -3,6 +3,7 @@
 // grid border.
 #pragma once
 
+#include "geometry/core/block_grid.h"
 #include "geometry/core/types.h"
 
 namespace xsect {
@@ -13,6 +14,9 @@ namespace xsect {
 /// Quads are split along their shorter diagonal; faces oriented so that the enclosed volume is
 /// positive (outward normals).
 TriangleMesh meshZeroLevel(const ScalarField& field, double adaptivity = 0.0);
+/// The same for a field stored by blocks: its tiles become OpenVDB tiles, its leaves leaves, so
+/// the cost follows the leaves. The mesh is the one the dense field with these values gives.
+TriangleMesh meshZeroLevel(const BlockGrid<float>& field, double adaptivity = 0.0);
 
 /// A smooth field's zero set as an OpenVDB narrow-band level set and its mesh.
 struct LevelSetSurface {

@@ -41,10 +41,10 @@ void cull(const std::vector<PlaneRow>& rows, const std::vector<int>& from, const
 
 }  // namespace
 
-NearestPlaneField nearestPlaneReconstruction(const std::vector<CuttingPlane>& planes,
-                                             const std::vector<SectionDistanceField>& fields,
-                                             const GridSpec& grid,
-                                             const std::function<void(double)>& progress) {
+void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
+                              const std::vector<SectionDistanceField>& fields, const GridSpec& grid,
+                              const std::function<void(std::int64_t, const NearestPlaneBlock&)>& visitBlock,
+                              const std::function<void(double)>& progress) {
   if (planes.empty()) throw std::invalid_argument("method 1: no cutting plane");
   if (fields.size() != planes.size())
     throw std::invalid_argument("method 1: one distance raster per plane is required");
@@ -53,14 +53,7 @@ NearestPlaneField nearestPlaneReconstruction(const std::vector<CuttingPlane>& pl
   std::vector<int> all(planes.size());
   for (std::size_t i = 0; i < all.size(); ++i) all[i] = int(i);
 
-  NearestPlaneField out;
-  out.value.grid = grid;
-  const std::size_t n = std::size_t(grid.count());
-  out.value.values.resize(n);
-  out.plane_distance.resize(n);
-  out.nearest_plane.resize(n);
-
-  constexpr int kSuper = 32, kBlock = 8;
+  constexpr int kSuper = 32, kBlock = BlockGrid<float>::kSide;
   const auto& D = grid.dims;
   const int sx = (D[0] + kSuper - 1) / kSuper, sy = (D[1] + kSuper - 1) / kSuper,
             sz = (D[2] + kSuper - 1) / kSuper;
@@ -95,6 +88,7 @@ NearestPlaneField nearestPlaneReconstruction(const std::vector<CuttingPlane>& pl
   struct Scratch {
     std::vector<int> lists[4];  // candidates at box sizes 8, 4, 2 (index = level)
     std::vector<double> lo, s0, nx, ny, nz;
+    NearestPlaneBlock block;
   };
   const auto evalVoxels = [&](int i0, int j0, int k0, int i1, int j1, int k1,
                               const std::vector<int>& cand, Scratch& w) {
@@ -131,10 +125,10 @@ NearestPlaneField nearestPlaneReconstruction(const std::vector<CuttingPlane>& pl
           const Vec3 x = x0 + h * Vec3(di, dj, dk);
           const double a = r.ux * x.x() + r.uy * x.y() + r.uz * x.z() - r.uo;
           const double b = r.vx * x.x() + r.vy * x.y() + r.vz * x.z() - r.vo;
-          const std::size_t idx = std::size_t(grid.index(i, j, k));
-          out.value.values[idx] = fields[bp].sample(a, b);
-          out.plane_distance[idx] = float(best);
-          out.nearest_plane[idx] = bp;
+          const std::size_t o = std::size_t(BlockGrid<float>::offset(i, j, k));
+          w.block.value[o] = fields[bp].sample(a, b);
+          w.block.plane_distance[o] = float(best);
+          w.block.nearest_plane[o] = bp;
         }
   };
   // Box of `size` voxels at (i0, j0, k0), candidates `from`; level 0 = 8³.
@@ -165,6 +159,18 @@ NearestPlaneField nearestPlaneReconstruction(const std::vector<CuttingPlane>& pl
     const int ib = (b % bx) * kBlock, jb = ((b / bx) % by) * kBlock, kb = (b / (bx * by)) * kBlock;
     const int s = (ib / kSuper) + sx * ((jb / kSuper) + sy * (kb / kSuper));
     visit(ib, jb, kb, kBlock, 0, superCand[s], w);
+    NearestPlaneBlock& v = w.block;
+    if (ib + kBlock > D[0] || jb + kBlock > D[1] || kb + kBlock > D[2])
+      for (int k = 0; k < kBlock; ++k)
+        for (int j = 0; j < kBlock; ++j)
+          for (int i = 0; i < kBlock; ++i)
+            if (ib + i >= D[0] || jb + j >= D[1] || kb + k >= D[2]) {
+              const std::size_t o = std::size_t(BlockGrid<float>::offset(i, j, k));
+              v.value[o] = v.value[0];
+              v.plane_distance[o] = v.plane_distance[0];
+              v.nearest_plane[o] = v.nearest_plane[0];
+            }
+    visitBlock(b, v);
   };
   const int chunk = std::max(256, blocks / 16);
   for (int first = 0; first < blocks; first += chunk) {
@@ -175,6 +181,31 @@ NearestPlaneField nearestPlaneReconstruction(const std::vector<CuttingPlane>& pl
     });
     if (progress) progress(double(last) / blocks);
   }
+}
+
+NearestPlaneField nearestPlaneReconstruction(const std::vector<CuttingPlane>& planes,
+                                             const std::vector<SectionDistanceField>& fields,
+                                             const GridSpec& grid,
+                                             const std::function<void(double)>& progress) {
+  NearestPlaneField out;
+  out.value.grid = grid;
+  const std::size_t n = std::size_t(grid.count());
+  out.value.values.resize(n);
+  out.plane_distance.resize(n);
+  out.nearest_plane.resize(n);
+  const BlockGrid<float> blocks(grid, 0.f);  // the numbering of the blocks
+  const auto& D = grid.dims;
+  forEachNearestPlaneBlock(planes, fields, grid, [&](std::int64_t b, const NearestPlaneBlock& v) {
+    const auto o = blocks.blockOrigin(b);
+    for (int k = o[2]; k < std::min(D[2], o[2] + 8); ++k)
+      for (int j = o[1]; j < std::min(D[1], o[1] + 8); ++j)
+        for (int i = o[0]; i < std::min(D[0], o[0] + 8); ++i) {
+          const std::size_t idx = std::size_t(grid.index(i, j, k)), q = std::size_t(BlockGrid<float>::offset(i, j, k));
+          out.value.values[idx] = v.value[q];
+          out.plane_distance[idx] = v.plane_distance[q];
+          out.nearest_plane[idx] = v.nearest_plane[q];
+        }
+  }, progress);
   return out;
 }
 

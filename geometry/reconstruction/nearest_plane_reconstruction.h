@@ -16,9 +16,12 @@
 // grid).
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
+#include "geometry/core/block_grid.h"
 #include "geometry/scene/section_distance_field.h"
 #include "geometry/core/types.h"
 
@@ -30,6 +33,25 @@ struct NearestPlaneField {
   std::vector<int> nearest_plane;     ///< index of P in the planes given
 };
 
+/// Method 1 on one block of 8³ voxels (block_grid.h), by BlockGrid's offset(); voxels of the
+/// block beyond the grid repeat the block's first voxel, so that a block uniform within the grid
+/// is uniform.
+struct NearestPlaneBlock {
+  static constexpr int kVoxels = BlockGrid<float>::kVoxels;
+  std::array<float, kVoxels> value;           ///< f_P(proj_P(x)), mm, clamped to ±band
+  std::array<float, kVoxels> plane_distance;  ///< d(x, P), mm
+  std::array<int, kVoxels> nearest_plane;     ///< P
+};
+
+/// Method 1 block by block: visit(b, values) for every block b of BlockGrid's numbering on `grid`,
+/// from several threads at once (each block once), so that no per-voxel array of the whole grid is
+/// needed (issue 17). Parameters and ties as nearestPlaneReconstruction's.
+void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
+                              const std::vector<SectionDistanceField>& fields, const GridSpec& grid,
+                              const std::function<void(std::int64_t, const NearestPlaneBlock&)>& visit,
+                              const std::function<void(double)>& progress = {});
+
+/// The same on dense arrays (small grids, tests).
 /// @param planes    cutting planes (real and virtual); planes[i] uses fields[i].
 /// @param fields    section distance rasters, one per plane.
 /// @param grid      voxel centres to evaluate (mm).

@@ -4,6 +4,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 
@@ -12,74 +14,145 @@
 
 namespace xsect {
 
-SampledReconstruction reconstructOnGrid(const SectionScene& scene, const std::function<void(double)>& progress) {
-  const ReconstructionParams& params = scene.params;
-  const double h = params.voxel_mm;
-  const GridSpec& grid = scene.grid();
-  const std::vector<CuttingPlane>& planes = scene.planes;
-  const std::vector<SectionDistanceField>& fields = scene.fields;
-  SampledReconstruction out;
+namespace {
 
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::size_t n = std::size_t(grid.count());
-  ScalarField value;
-  std::vector<float> planeDistance;
-  std::vector<int> nearestPlane;
-  out.section_plane.assign(n, -1);
-  if (params.method == ReconstructionMethod::nearest_plane) {
-    NearestPlaneField npf = nearestPlaneReconstruction(planes, fields, grid, progress);
-    value = std::move(npf.value);
-    planeDistance = std::move(npf.plane_distance);
-    nearestPlane = std::move(npf.nearest_plane);
-    for (std::size_t q = 0; q < n; ++q)
-      if (value.values[q] < 0) {
-        out.section_plane[q] = nearestPlane[q];
-        out.max_lift_mm = std::max(out.max_lift_mm, double(planeDistance[q]));
-      }
-  } else {
-    SectionVoronoiParams vp;
-    vp.slab_mm = params.slab_voxels * h;
-    SectionVoronoiField svf = sectionVoronoiReconstruction(planes, fields, grid, vp, progress);
-    value = std::move(svf.value);
-    planeDistance = std::move(svf.plane_distance);
-    nearestPlane = std::move(svf.nearest_plane);
-    out.section_plane = std::move(svf.section_plane);
-    for (std::size_t q = 0; q < n; ++q)
-      if (value.values[q] < 0) out.max_lift_mm = std::max(out.max_lift_mm, double(svf.lift_height[q]));
-    out.exact_face_tests = svf.exact_face_tests;
-    out.search_restarts = svf.search_restarts;
+/// The method's values on one block of 8³ voxels (BlockGrid's offsets), as both methods give them.
+struct EvaluatedBlock {
+  static constexpr int kVoxels = BlockGrid<float>::kVoxels;
+  const float* value;           ///< in-plane signed distance, negative in the method's set
+  const float* plane_distance;  ///< distance to the nearest plane, mm
+  const int* nearest_plane;     ///< that plane (-1: none, method 2 far from every section)
+  const int* section_plane;     ///< plane whose section decided an inside voxel (-1 otherwise)
+  const float* lift;            ///< height of an inside voxel above that section's plane, mm
+};
+
+/// Turns evaluated blocks into the solid's parts: the field and section planes by block, the
+/// voxel set and the repair's evidence by voxel, the longest lift.
+class SolidAssembly {
+ public:
+  SolidAssembly(const SectionScene& scene, SampledReconstruction& out)
+      : scene_(scene), out_(out), grid_(scene.grid()) {
+    const std::size_t n = std::size_t(grid_.count());
+    out.field = BlockGrid<float>(grid_, 0.f);
+    out.section_plane = BlockGrid<int>(grid_, -1);
+    out.inside.assign(n, 0);
+    in_anchor.assign(n, 0);
+    out_anchor.assign(n, 0);
+    block_lift_.assign(std::size_t(out.field.blockCount()), 0.f);
   }
-  out.evaluate_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   // Evidence for the repair: voxels next to a plane (within half a voxel diagonal), clearly inside
   // or clearly outside its sections (by half a voxel). Method 2 marks voxels that no plane's
   // sections can reach by projection (nearest_plane -1) as outside evidence too.
-  const float near = float(0.5 * std::sqrt(3.0) * h), margin = float(0.5 * h);
-  std::vector<std::uint8_t> inAnchor(n), outAnchor(n);
-  out.inside.resize(n);
-  tbb::parallel_for(std::size_t(0), n, [&](std::size_t q) {
-    const float v = value.values[q];
-    out.inside[q] = v < 0;
-    if (nearestPlane[q] < 0) {
-      outAnchor[q] = 1;
-      return;
+  void add(std::int64_t b, const EvaluatedBlock& e) {
+    const double h = grid_.voxel;
+    const float near = float(0.5 * std::sqrt(3.0) * h), margin = float(0.5 * h);
+    const auto o = out_.field.blockOrigin(b);
+    const auto& D = grid_.dims;
+    std::array<int, EvaluatedBlock::kVoxels> plane;
+    float lift = 0;
+    for (int q = 0; q < EvaluatedBlock::kVoxels; ++q) {
+      const int sp = e.value[q] < 0 ? e.section_plane[q] : -1;
+      plane[std::size_t(q)] = sp >= int(scene_.real_planes) ? -1 : sp;
     }
-    const bool next = planeDistance[q] <= near;
-    inAnchor[q] = next && v <= -margin && !planes[std::size_t(nearestPlane[q])].is_virtual;
-    outAnchor[q] = next && v >= margin;
+    for (int k = o[2]; k < std::min(D[2], o[2] + 8); ++k)
+      for (int j = o[1]; j < std::min(D[1], o[1] + 8); ++j)
+        for (int i = o[0]; i < std::min(D[0], o[0] + 8); ++i) {
+          const int q = BlockGrid<float>::offset(i, j, k);
+          const std::size_t idx = std::size_t(grid_.index(i, j, k));
+          const float v = e.value[q];
+          out_.inside[idx] = v < 0;
+          if (v < 0) lift = std::max(lift, e.lift[q]);
+          const int p = e.nearest_plane[q];
+          if (p < 0) {
+            out_anchor[idx] = 1;
+            continue;
+          }
+          const bool next = e.plane_distance[q] <= near;
+          in_anchor[idx] = next && v <= -margin && !scene_.planes[std::size_t(p)].is_virtual;
+          out_anchor[idx] = next && v >= margin;
+        }
+    out_.field.setBlock(b, e.value);
+    out_.section_plane.setBlock(b, plane.data());
+    block_lift_[std::size_t(b)] = lift;
+  }
+
+  double maxLift() const {
+    float m = 0;
+    for (const float l : block_lift_) m = std::max(m, l);
+    return m;
+  }
+
+  std::vector<std::uint8_t> in_anchor, out_anchor;
+
+ private:
+  const SectionScene& scene_;
+  SampledReconstruction& out_;
+  const GridSpec& grid_;
+  std::vector<float> block_lift_;
+};
+
+/// Method 2's dense arrays, block by block (voxels beyond the grid repeat the block's first).
+void addSectionVoronoiField(const SectionVoronoiField& svf, const GridSpec& grid, SolidAssembly& assembly) {
+  const BlockGrid<float> numbering(grid, 0.f);
+  tbb::parallel_for(std::int64_t(0), numbering.blockCount(), [&](std::int64_t b) {
+    constexpr int kN = EvaluatedBlock::kVoxels;
+    std::array<float, kN> value, distance, lift;
+    std::array<int, kN> nearest, section;
+    const auto o = numbering.blockOrigin(b);
+    for (int k = 0; k < 8; ++k)
+      for (int j = 0; j < 8; ++j)
+        for (int i = 0; i < 8; ++i) {
+          const bool beyond = o[0] + i >= grid.dims[0] || o[1] + j >= grid.dims[1] || o[2] + k >= grid.dims[2];
+          const std::size_t idx = std::size_t(beyond ? grid.index(o[0], o[1], o[2]) : grid.index(o[0] + i, o[1] + j, o[2] + k));
+          const std::size_t q = std::size_t(BlockGrid<float>::offset(i, j, k));
+          value[q] = svf.value.values[idx];
+          distance[q] = svf.plane_distance[idx];
+          nearest[q] = svf.nearest_plane[idx];
+          section[q] = svf.section_plane[idx];
+          lift[q] = svf.lift_height[idx];
+        }
+    assembly.add(b, {value.data(), distance.data(), nearest.data(), section.data(), lift.data()});
   });
+}
+
+}  // namespace
+
+SampledReconstruction reconstructOnGrid(const SectionScene& scene, const std::function<void(double)>& progress) {
+  const ReconstructionParams& params = scene.params;
+  const double h = params.voxel_mm;
+  const GridSpec& grid = scene.grid();
+  SampledReconstruction out;
+
+  const auto t0 = std::chrono::steady_clock::now();
+  SolidAssembly assembly(scene, out);
+  if (params.method == ReconstructionMethod::nearest_plane) {
+    // Method 1 straight into blocks: no per-voxel value, distance or plane of the whole grid.
+    forEachNearestPlaneBlock(scene.planes, scene.fields, grid, [&](std::int64_t b, const NearestPlaneBlock& v) {
+      assembly.add(b, {v.value.data(), v.plane_distance.data(), v.nearest_plane.data(), v.nearest_plane.data(),
+                       v.plane_distance.data()});
+    }, progress);
+  } else {
+    SectionVoronoiParams vp;
+    vp.slab_mm = params.slab_voxels * h;
+    const SectionVoronoiField svf = sectionVoronoiReconstruction(scene.planes, scene.fields, grid, vp, progress);
+    addSectionVoronoiField(svf, grid, assembly);
+    out.exact_face_tests = svf.exact_face_tests;
+    out.search_restarts = svf.search_restarts;
+  }
+  out.max_lift_mm = assembly.maxLift();
+  out.evaluate_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
   out.raw_inside = out.inside;
-  out.repair = repairSampledTopology(out.inside, inAnchor, outAnchor, grid);
+  out.repair = repairSampledTopology(out.inside, assembly.in_anchor, assembly.out_anchor, grid);
+  assembly.in_anchor = {};
+  assembly.out_anchor = {};
 
   // The field for meshing: the evaluated values, with their sign forced to the repaired set.
-  out.field = std::move(value);
   imposeSolid(out.field, out.inside, float(0.05 * h));
   std::int64_t inside = 0;
-  for (std::size_t q = 0; q < n; ++q) {
-    if (out.section_plane[q] >= int(scene.real_planes)) out.section_plane[q] = -1;
-    inside += out.inside[q];
-  }
+  for (const std::uint8_t v : out.inside) inside += v;
   out.voxels_inside = inside;
   out.voxel_betti = voxelBetti(out.inside, grid);
   return out;

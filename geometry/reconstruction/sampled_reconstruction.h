@@ -9,6 +9,7 @@
 #include <optional>
 #include <vector>
 
+#include "geometry/core/block_grid.h"
 #include "geometry/core/digital_topology.h"
 #include "geometry/scene/section_scene.h"
 #include "geometry/core/types.h"
@@ -16,7 +17,9 @@
 namespace xsect {
 
 struct SampledReconstruction {
-  ScalarField field;                   ///< negative inside the repaired solid, |value| <= band
+  /// Negative inside the repaired solid, |value| <= band; by blocks of 8³ voxels (block_grid.h):
+  /// blocks where the method's value is clamped to one ±band throughout are tiles.
+  BlockGrid<float> field;
   std::vector<std::uint8_t> inside;    ///< repaired voxel set of R
   TopologyRepair repair;
   Betti voxel_betti{0, 0, 0};
@@ -26,8 +29,9 @@ struct SampledReconstruction {
   /// statements (Theorem 18) are about, before the sampled topology is repaired.
   std::vector<std::uint8_t> raw_inside;
   /// Method 2: for voxels of R', the plane (index into the real planes, or -1) of the section
-  /// whose Voronoi cell holds the voxel; method 1: the nearest plane for voxels of R.
-  std::vector<int> section_plane;
+  /// whose Voronoi cell holds the voxel; method 1: the nearest plane for voxels of R. Blocks
+  /// without a voxel of R are tiles of -1.
+  BlockGrid<int> section_plane;
   /// Largest d(x, np'(x)) over the voxels of R' (method 2) or d(x, np(x)) over R (method 1), mm:
   /// the longest lift segment [a, lift(a)] realised (bounds the heights used by Theorem 20).
   double max_lift_mm = 0;

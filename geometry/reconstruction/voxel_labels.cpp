@@ -11,20 +11,21 @@
 namespace xsect {
 
 std::vector<std::uint16_t> voxelLabels(const std::vector<std::uint8_t>& inside,
-                                       const std::vector<int>& section_plane,
+                                       const BlockGrid<int>& section_plane,
                                        const std::vector<CuttingPlane>& planes,
-                                       const std::vector<std::vector<Section>>& labelled,
-                                       const GridSpec& grid) {
+                                       const std::vector<std::vector<Section>>& labelled) {
+  const GridSpec& grid = section_plane.grid();
   const std::size_t n = inside.size();
-  if (section_plane.size() != n || std::int64_t(n) != grid.count())
-    throw std::invalid_argument("voxel labels: sizes differ");
+  if (std::int64_t(n) != grid.count()) throw std::invalid_argument("voxel labels: sizes differ");
   std::vector<std::uint16_t> label(n, 0);
   const int nx = grid.dims[0], ny = grid.dims[1];
   tbb::parallel_for(std::size_t(0), n, [&](std::size_t q) {
-    const int p = section_plane[q];
-    if (!inside[q] || p < 0 || std::size_t(p) >= planes.size()) return;
+    if (!inside[q]) return;
     const std::int64_t id = std::int64_t(q);
-    const Vec3 x = grid.centre(int(id % nx), int((id / nx) % ny), int(id / (std::int64_t(nx) * ny)));
+    const int i = int(id % nx), j = int((id / nx) % ny), k = int(id / (std::int64_t(nx) * ny));
+    const int p = section_plane.at(i, j, k);
+    if (p < 0 || std::size_t(p) >= planes.size()) return;
+    const Vec3 x = grid.centre(i, j, k);
     const Vec2 a = planes[std::size_t(p)].plane.toPlane(x);
     for (const Section& s : labelled.empty() ? planes[std::size_t(p)].sections : labelled[std::size_t(p)])
       if (sectionContains(s, a)) {

@@ -8,12 +8,14 @@
 #include <cstdint>
 #include <vector>
 
+#include "geometry/core/block_grid.h"
 #include "geometry/core/types.h"
 
 namespace xsect {
 
 /// @param inside         the (repaired) solid, one byte per voxel.
-/// @param section_plane  per voxel, the plane that decided it (-1: none, e.g. added by the repair).
+/// @param section_plane  per voxel, the plane that decided it (-1: none, e.g. added by the repair),
+///                       on the grid of the labels.
 /// @param planes         the planes (their frames), in the indices section_plane refers to.
 /// @param labelled       per plane, its sections with their labels; empty: the planes' own
 ///                       sections (and their labels).
@@ -21,10 +23,9 @@ namespace xsect {
 ///          falls on no labelled section (within rounding of a contour), take the label of the
 ///          nearest labelled voxel of the solid (breadth-first, 26-neighbours; ties by scan order).
 std::vector<std::uint16_t> voxelLabels(const std::vector<std::uint8_t>& inside,
-                                       const std::vector<int>& section_plane,
+                                       const BlockGrid<int>& section_plane,
                                        const std::vector<CuttingPlane>& planes,
-                                       const std::vector<std::vector<Section>>& labelled,
-                                       const GridSpec& grid);
+                                       const std::vector<std::vector<Section>>& labelled);
 
 /// The field of one label for meshing: the solid's field where the voxel has that label, and the
 /// mirror value (|v|, at least `nudge`) inside other labels, so that neighbouring labels share

@@ -1,0 +1,141 @@
+// Values on the voxels of a GridSpec, stored by blocks of 8³ voxels (issue 17): a block whose
+// voxels all hold one value is a tile (that value, once); any other block is a leaf (its 512
+// values). Memory follows the blocks where the values vary (for a reconstruction: the blocks the
+// boundary passes through), not the grid's volume. The layout is OpenVDB's lowest level (8³
+// leaves, tiles in their parent nodes), so a grid of these blocks converts to an OpenVDB tree leaf
+// for leaf and tile for tile (meshing/volume_mesher.cpp), without OpenVDB's headers here.
+//
+// Blocks on the grid's upper faces may extend beyond the grid; their voxels outside it are never
+// read and hold the block's tile value. Distinct blocks may be written from different threads.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+#include "geometry/core/types.h"
+
+namespace xsect {
+
+template <typename T>
+class BlockGrid {
+ public:
+  static constexpr int kSide = 8;                          ///< voxels per block edge
+  static constexpr int kVoxels = kSide * kSide * kSide;    ///< voxels per block
+
+  BlockGrid() = default;
+  /// Every voxel of `grid` holds `fill` (one tile per block).
+  BlockGrid(const GridSpec& grid, T fill) : grid_(grid) {
+    for (int a = 0; a < 3; ++a) {
+      if (grid.dims[a] < 0) throw std::invalid_argument("block grid: negative dimension");
+      blocks_[a] = (grid.dims[a] + kSide - 1) / kSide;
+    }
+    const std::size_t n = std::size_t(blocks_[0]) * std::size_t(blocks_[1]) * std::size_t(blocks_[2]);
+    tile_.assign(n, fill);
+    leaf_.resize(n);
+  }
+  BlockGrid(const BlockGrid& o) : grid_(o.grid_), blocks_(o.blocks_), tile_(o.tile_), leaf_(o.leaf_.size()) {
+    for (std::size_t b = 0; b < leaf_.size(); ++b)
+      if (o.leaf_[b]) leaf_[b] = std::make_unique<Leaf>(*o.leaf_[b]);
+  }
+  BlockGrid(BlockGrid&&) noexcept = default;
+  BlockGrid& operator=(BlockGrid o) noexcept {
+    grid_ = o.grid_;
+    blocks_ = o.blocks_;
+    tile_.swap(o.tile_);
+    leaf_.swap(o.leaf_);
+    return *this;
+  }
+
+  const GridSpec& grid() const { return grid_; }
+  /// Blocks along x, y, z.
+  const std::array<int, 3>& blockDims() const { return blocks_; }
+  std::int64_t blockCount() const { return std::int64_t(tile_.size()); }
+  /// Block (bi, bj, bk) -> its index, x fastest.
+  std::int64_t block(int bi, int bj, int bk) const {
+    return (std::int64_t(bk) * blocks_[1] + bj) * blocks_[0] + bi;
+  }
+  /// First voxel (i, j, k) of block b.
+  std::array<int, 3> blockOrigin(std::int64_t b) const {
+    return {int(b % blocks_[0]) * kSide, int((b / blocks_[0]) % blocks_[1]) * kSide,
+            int(b / (std::int64_t(blocks_[0]) * blocks_[1])) * kSide};
+  }
+  /// Place of voxel (i, j, k) inside its block, x fastest.
+  static int offset(int i, int j, int k) { return (i & 7) + kSide * ((j & 7) + kSide * (k & 7)); }
+
+  T at(int i, int j, int k) const {
+    const std::size_t b = std::size_t(block(i >> 3, j >> 3, k >> 3));
+    return leaf_[b] ? (*leaf_[b])[std::size_t(offset(i, j, k))] : tile_[b];
+  }
+  bool isLeaf(std::int64_t b) const { return bool(leaf_[std::size_t(b)]); }
+  /// The tile value of block b (meaningful when it is not a leaf).
+  T tile(std::int64_t b) const { return tile_[std::size_t(b)]; }
+  /// The 512 values of a leaf, indexed by offset(); nullptr for a tile.
+  const T* leaf(std::int64_t b) const { return leaf_[std::size_t(b)] ? leaf_[std::size_t(b)]->data() : nullptr; }
+
+  /// Block b's values, by offset(): stored as a tile when they are all equal, as a leaf otherwise.
+  void setBlock(std::int64_t b, const T* values) {
+    bool uniform = true;
+    for (int q = 1; q < kVoxels && uniform; ++q) uniform = values[q] == values[0];
+    if (uniform) {
+      setTile(b, values[0]);
+      return;
+    }
+    auto& l = leaf_[std::size_t(b)];
+    if (!l) l = std::make_unique<Leaf>();
+    for (int q = 0; q < kVoxels; ++q) (*l)[std::size_t(q)] = values[q];
+  }
+  void setTile(std::int64_t b, T value) {
+    tile_[std::size_t(b)] = value;
+    leaf_[std::size_t(b)].reset();
+  }
+  /// Block b as a leaf (a tile is expanded into one), for voxel writes.
+  T* leafForWriting(std::int64_t b) {
+    auto& l = leaf_[std::size_t(b)];
+    if (!l) {
+      l = std::make_unique<Leaf>();
+      l->fill(tile_[std::size_t(b)]);
+    }
+    return l->data();
+  }
+  void set(int i, int j, int k, T value) {
+    leafForWriting(block(i >> 3, j >> 3, k >> 3))[offset(i, j, k)] = value;
+  }
+
+  /// Number of leaves (blocks holding voxel values).
+  std::int64_t leafCount() const {
+    std::int64_t n = 0;
+    for (const auto& l : leaf_) n += bool(l);
+    return n;
+  }
+  /// Bytes held: the per-block table plus the leaves.
+  std::int64_t bytes() const {
+    return std::int64_t(tile_.size()) * std::int64_t(sizeof(T) + sizeof(void*)) +
+           leafCount() * std::int64_t(sizeof(Leaf));
+  }
+
+ private:
+  using Leaf = std::array<T, std::size_t(kVoxels)>;
+  GridSpec grid_;
+  std::array<int, 3> blocks_{0, 0, 0};
+  std::vector<T> tile_;
+  std::vector<std::unique_ptr<Leaf>> leaf_;
+};
+
+/// The values of a block grid as a dense field (x fastest), for small grids and for the stages
+/// that still read whole volumes.
+inline ScalarField denseField(const BlockGrid<float>& g) {
+  ScalarField f;
+  f.grid = g.grid();
+  const auto& D = f.grid.dims;
+  f.values.resize(std::size_t(f.grid.count()));
+  std::size_t q = 0;
+  for (int k = 0; k < D[2]; ++k)
+    for (int j = 0; j < D[1]; ++j)
+      for (int i = 0; i < D[0]; ++i) f.values[q++] = g.at(i, j, k);
+  return f;
+}
+
+}  // namespace xsect
