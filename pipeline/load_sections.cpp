@@ -42,16 +42,66 @@ struct Frame {
   cv::Mat image, fov;
 };
 
-Frame readFrame(const SliceRecord& slice, int i, const std::string& listing_file) {
+cv::Mat readFieldOfView(const std::string& path, const std::string& listing_file, const std::string& key) {
+  cv::Mat m = readGreyImage(path, listing_file, key);
+  if (m.depth() != CV_8U) m.convertTo(m, CV_8U, 1.0 / 256.0);
+  return m != 0;
+}
+
+/// A field-of-view mask file that several frames name (a probe's sector): decoded and traced once
+/// instead of once per frame (issue 17: 2000 frames, one mask, traced in 40% of segmentation).
+struct SharedFieldOfView {
+  cv::Mat mask;               ///< non-zero where observed
+  std::exception_ptr error;   ///< decoding failed (the message names the first slice using it)
+  std::map<std::pair<double, double>, std::vector<Ring>> rings;  ///< per pixel spacing (x, y)
+};
+
+Vec2 pixelSpacing(const SliceRecord& slice) {
+  Vec2 spacing;
+  planeOfPose(slice.image_to_world, &spacing);
+  return spacing;
+}
+
+std::map<std::string, SharedFieldOfView> sharedFieldsOfView(const std::vector<SliceRecord>& slices,
+                                                            const std::string& listing_file) {
+  std::map<std::string, int> users, first;
+  for (std::size_t i = 0; i < slices.size(); ++i)
+    if (slices[i].fov_resolved) {
+      ++users[*slices[i].fov_resolved];
+      first.emplace(*slices[i].fov_resolved, int(i));
+    }
+  std::map<std::string, SharedFieldOfView> shared;
+  for (const auto& [path, count] : users) {
+    if (count < 2) continue;
+    SharedFieldOfView& s = shared[path];
+    try {
+      s.mask = readFieldOfView(path, listing_file, "slices[" + std::to_string(first[path]) + "].fov");
+    } catch (...) {
+      s.error = std::current_exception();
+    }
+  }
+  for (const SliceRecord& slice : slices) {
+    if (!slice.fov_resolved) continue;
+    const auto it = shared.find(*slice.fov_resolved);
+    if (it == shared.end() || it->second.error) continue;
+    const Vec2 spacing = pixelSpacing(slice);
+    const std::pair<double, double> key(spacing.x(), spacing.y());
+    if (!it->second.rings.count(key)) it->second.rings[key] = fieldOfViewRings(it->second.mask, spacing);
+  }
+  return shared;
+}
+
+Frame readFrame(const SliceRecord& slice, int i, const std::string& listing_file,
+                const std::map<std::string, SharedFieldOfView>& shared) {
   const std::string key = "slices[" + std::to_string(i) + "]";
   Frame f;
   f.image = readGreyImage(slice.image_resolved, listing_file, key + ".image");
   if (slice.fov_resolved) {
-    cv::Mat m = readGreyImage(*slice.fov_resolved, listing_file, key + ".fov");
-    if (m.size() != f.image.size())
+    const auto it = shared.find(*slice.fov_resolved);
+    if (it != shared.end() && it->second.error) std::rethrow_exception(it->second.error);
+    f.fov = it != shared.end() ? it->second.mask : readFieldOfView(*slice.fov_resolved, listing_file, key + ".fov");
+    if (f.fov.size() != f.image.size())
       throw InputError(listing_file, key + ".fov", "field-of-view mask size differs from the image");
-    if (m.depth() != CV_8U) m.convertTo(m, CV_8U, 1.0 / 256.0);
-    f.fov = m != 0;
   }
   return f;
 }
@@ -60,12 +110,13 @@ Frame readFrame(const SliceRecord& slice, int i, const std::string& listing_file
 /// when done, so that at most one frame per thread is held. A failure is reported for the first
 /// failing frame (the lowest index), as a sequential reading would.
 template <typename Work>
-void forEachFrame(const std::vector<SliceRecord>& slices, const std::string& listing_file, const Work& work) {
+void forEachFrame(const std::vector<SliceRecord>& slices, const std::string& listing_file,
+                  const std::map<std::string, SharedFieldOfView>& shared, const Work& work) {
   const int n = int(slices.size());
   std::vector<std::exception_ptr> failed(static_cast<std::size_t>(n));
   tbb::parallel_for(0, n, [&](int i) {
     try {
-      work(i, readFrame(slices[std::size_t(i)], i, listing_file));
+      work(i, readFrame(slices[std::size_t(i)], i, listing_file, shared));
     } catch (...) {
       failed[std::size_t(i)] = std::current_exception();
     }
@@ -94,6 +145,7 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
     greyImageBytes(slices[i].image_resolved, listing_file, key + ".image");
     if (slices[i].fov_resolved) greyImageBytes(*slices[i].fov_resolved, listing_file, key + ".fov");
   }
+  const std::map<std::string, SharedFieldOfView> shared = sharedFieldsOfView(slices, listing_file);
   // Otsu: one threshold for the series, from the pooled histogram (series_threshold.h), pooled
   // over a first reading of the stream (integer counts: the same whatever the order).
   SegmentationParams perSlice = params;
@@ -101,7 +153,7 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
     // The first frame's depth, from its header (checked above), sets the series' 8-bit scale.
     const double scale = seriesGreyScale(readImageHeader(slices[0].image_resolved).bits_per_sample);
     std::vector<GreyHistogram> histograms(static_cast<std::size_t>(n));
-    forEachFrame(slices, listing_file, [&](int i, const Frame& f) {
+    forEachFrame(slices, listing_file, shared, [&](int i, const Frame& f) {
       histograms[std::size_t(i)] = observedHistogram(f.image, f.fov, params.sigma_px, scale);
     });
     GreyHistogram pooled{};
@@ -114,7 +166,7 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
     *thresholdUsed = params.method == SegmentationMethod::labels ? 0.5 : params.threshold;
   }
   if (labelled) labelled->assign(std::size_t(n), {});
-  forEachFrame(slices, listing_file, [&](int i, const Frame& frame) {
+  forEachFrame(slices, listing_file, shared, [&](int i, const Frame& frame) {
     Vec2 spacing;
     CuttingPlane& cp = planes[i];
     cp.slice = i;
@@ -123,7 +175,9 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
     cp.pixel_mm = std::min(spacing.x(), spacing.y());
     cp.extent.min = Vec2::Zero();
     cp.extent.max = Vec2((frame.image.cols - 1) * spacing.x(), (frame.image.rows - 1) * spacing.y());
-    cp.field_of_view = fieldOfViewRings(frame.fov, spacing);
+    const auto sharedFov = slices[i].fov_resolved ? shared.find(*slices[i].fov_resolved) : shared.end();
+    cp.field_of_view = sharedFov != shared.end() ? sharedFov->second.rings.at({spacing.x(), spacing.y()})
+                                                 : fieldOfViewRings(frame.fov, spacing);
     if (!frame.fov.empty() && cv::countNonZero(frame.fov) == 0) cp.extent = PlaneRect{};  // observed nowhere
     const bool perLabel = perSlice.method == SegmentationMethod::labels && labelled;
     if (perLabel && !perSlice.merge_labels)

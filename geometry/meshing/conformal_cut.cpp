@@ -91,16 +91,41 @@ ConformalCutStats cutAlongSections(TriangleMesh& mesh, const std::vector<Cutting
   std::array<int, 3> dims{1, 1, 1};
   if (!V.empty())
     for (int a = 0; a < 3; ++a) dims[a] = int((hi[a] - lo[a]) / cell) + 1;
-  std::vector<std::vector<std::uint32_t>> bucket(std::size_t(dims[0]) * dims[1] * dims[2]);
+  // Each entry also holds the triangle's bounding sphere, relative to its cell's centre (small
+  // numbers: float is exact enough), so that a plane skips the triangles of a cell it does not
+  // meet with one distance instead of three (issue 17: 6.5 M triangles and 2000 planes).
+  struct Entry {
+    std::uint32_t t;
+    float cx, cy, cz, r;
+  };
+  std::vector<std::vector<Entry>> bucket(std::size_t(dims[0]) * dims[1] * dims[2]);
+  const auto cellCentre = [&](std::size_t b) {
+    const std::size_t cx = b % std::size_t(dims[0]), cy = (b / std::size_t(dims[0])) % std::size_t(dims[1]),
+                      cz = b / (std::size_t(dims[0]) * std::size_t(dims[1]));
+    return Vec3(lo + cell * Vec3(double(cx) + 0.5, double(cy) + 0.5, double(cz) + 0.5));
+  };
+  const auto entry = [&](std::uint32_t t, const Vec3& centre) {
+    const Vec3 c = (V[T[t][0]] + V[T[t][1]] + V[T[t][2]]) / 3.0;
+    double r = 0;
+    for (const auto v : T[t]) r = std::max(r, (V[v] - c).norm());
+    const Vec3 d = c - centre;
+    return Entry{t, float(d.x()), float(d.y()), float(d.z()), float(r)};
+  };
   double lmax = 0;
   for (std::uint32_t t = 0; t < T.size(); ++t) {
     const Vec3 c = (V[T[t][0]] + V[T[t][1]] + V[T[t][2]]) / 3.0;
     for (const auto v : T[t]) lmax = std::max(lmax, (V[v] - c).norm());
     std::array<int, 3> q;
     for (int a = 0; a < 3; ++a) q[a] = std::min(dims[a] - 1, int((c[a] - lo[a]) / cell));
-    bucket[(std::size_t(q[2]) * dims[1] + q[1]) * dims[0] + q[0]].push_back(t);
+    const std::size_t b = (std::size_t(q[2]) * dims[1] + q[1]) * dims[0] + q[0];
+    bucket[b].push_back(entry(t, cellCentre(b)));
   }
   const double reach = 0.5 * std::sqrt(3.0) * cell + lmax + 2 * eps;
+  // A triangle whose centre is farther from P than its radius plus 2 eps has no vertex within eps
+  // of P (where vertices are snapped onto it, each once, by less than eps) and no vertex on the
+  // other side: it is neither cut nor snapped, and is skipped. The float rounding of the entry
+  // (relative 1e-7 of a cell) is covered by the margin's third eps.
+  const double skip = 3 * eps;
 
   std::vector<double> s(V.size());
   std::vector<int> sign(V.size()), stamp(V.size(), -1);
@@ -141,15 +166,30 @@ ConformalCutStats cutAlongSections(TriangleMesh& mesh, const std::vector<Cutting
       return id;
     };
     bool crosses = false;
+    const double step = cell * P.normal.x();  // change of the distance from one cell to the next along x
     for (int cz = 0; cz < dims[2]; ++cz)
-      for (int cy = 0; cy < dims[1]; ++cy)
-        for (int cx = 0; cx < dims[0]; ++cx) {
+      for (int cy = 0; cy < dims[1]; ++cy) {
+        // The cells of the row within reach lie in one run of cx (the distance is linear in cx):
+        // that run, widened by a cell against rounding, is tested cell by cell below.
+        int first = 0, last = dims[0] - 1;
+        const double s0 = P.signedDistance(lo + cell * Vec3(0.5, cy + 0.5, cz + 0.5));
+        if (std::abs(step) > 1e-12 * cell) {
+          const double u = (-reach - s0) / step, w = (reach - s0) / step;
+          first = int(std::max<double>(first, std::floor(std::min(u, w)) - 1));
+          last = int(std::min<double>(last, std::ceil(std::max(u, w)) + 1));
+        }
+        for (int cx = first; cx <= last; ++cx) {
+          const std::size_t b = (std::size_t(cz) * dims[1] + cy) * dims[0] + cx;
           const Vec3 centre = lo + cell * Vec3(cx + 0.5, cy + 0.5, cz + 0.5);
-          if (std::abs(P.signedDistance(centre)) > reach) continue;
-          auto& list = bucket[(std::size_t(cz) * dims[1] + cy) * dims[0] + cx];
+          const double sc = P.signedDistance(centre);
+          if (std::abs(sc) > reach) continue;
+          auto& list = bucket[b];
           const std::size_t n = list.size();  // pieces added below are already split by P
+          const float nx = float(P.normal.x()), ny = float(P.normal.y()), nz = float(P.normal.z());
           for (std::size_t k = 0; k < n; ++k) {
-            const std::uint32_t t = list[k];
+            const Entry& en = list[k];
+            if (std::abs(sc + double(nx * en.cx + ny * en.cy + nz * en.cz)) > double(en.r) + skip) continue;
+            const std::uint32_t t = en.t;
             const auto tri = T[t];
             for (const auto v : tri) prepare(v);
             const int sg[3] = {sign[tri[0]], sign[tri[1]], sign[tri[2]]};
@@ -163,10 +203,11 @@ ConformalCutStats cutAlongSections(TriangleMesh& mesh, const std::vector<Cutting
               const std::uint32_t a = tri[lone], b = tri[(lone + 1) % 3], c = tri[(lone + 2) % 3];
               const std::uint32_t pab = cut(a, b), pac = cut(a, c);
               T[t] = {a, pab, pac};
-              list.push_back(std::uint32_t(T.size()));
+              list[k] = entry(t, centre);
               T.push_back({pab, b, c});
-              list.push_back(std::uint32_t(T.size()));
+              list.push_back(entry(std::uint32_t(T.size() - 1), centre));
               T.push_back({pab, c, pac});
+              list.push_back(entry(std::uint32_t(T.size() - 1), centre));
               crosses = true;
             } else if (zeros == 1) {
               int z = 0;
@@ -175,12 +216,14 @@ ConformalCutStats cutAlongSections(TriangleMesh& mesh, const std::vector<Cutting
               if (sign[b] == sign[c]) continue;
               const std::uint32_t pbc = cut(b, c);
               T[t] = {a, b, pbc};
-              list.push_back(std::uint32_t(T.size()));
+              list[k] = entry(t, centre);
               T.push_back({a, pbc, c});
+              list.push_back(entry(std::uint32_t(T.size() - 1), centre));
               crosses = true;
             }
           }
         }
+      }
     stats.planes_cut += crosses;
   }
 

@@ -8,6 +8,8 @@
 // The Betti numbers are meaningful only when the mesh is watertight.
 #include "geometry/meshing/mesh_topology.h"
 
+#include <tbb/parallel_for.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cstdint>
@@ -39,18 +41,34 @@ MeshTopology meshTopology(const TriangleMesh& mesh) {
   if (nt == 0) return result;
 
   bool watertight = true;
-  std::vector<EdgeUse> uses;
-  uses.reserve(3 * nt);
+  // The uses in (lo, hi, forward, triangle) order: counted into buckets by lo (linear in the mesh;
+  // a comparison sort of all uses took most of the diagnose stage on large meshes, issue 17), each
+  // bucket (the few edges at one vertex) then sorted.
+  const std::size_t nv = mesh.vertices.size();
+  std::vector<std::uint32_t> start(nv + 1, 0);
   for (std::uint32_t t = 0; t < nt; ++t) {
     const auto& tri = mesh.triangles[t];
     if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0]) watertight = false;
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t a = tri[k], b = tri[(k + 1) % 3];
-      if (a == b) continue;
-      uses.push_back({std::min(a, b), std::max(a, b), a < b, t});
+      if (a != b) ++start[std::min(a, b) + 1];
     }
   }
-  std::sort(uses.begin(), uses.end());
+  for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<EdgeUse> uses(start[nv]);
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::uint32_t t = 0; t < nt; ++t) {
+      const auto& tri = mesh.triangles[t];
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t a = tri[k], b = tri[(k + 1) % 3];
+        if (a != b) uses[fill[std::min(a, b)]++] = {std::min(a, b), std::max(a, b), a < b, t};
+      }
+    }
+  }
+  tbb::parallel_for(std::size_t(0), nv, [&](std::size_t v) {
+    std::sort(uses.begin() + start[v], uses.begin() + start[v + 1]);
+  });
 
   // Group uses by undirected edge: connectivity and the closedness test.
   DisjointSets sets(nt);
@@ -94,14 +112,23 @@ MeshTopology meshTopology(const TriangleMesh& mesh) {
     ++edges[surfaceOf[uses[i].triangle]];
     i = j;
   }
-  // Vertices per surface: a vertex shared by two surfaces (touching shells) counts in both.
-  std::vector<std::pair<std::uint32_t, int>> vertexSurface;
-  vertexSurface.reserve(3 * nt);
+  // Vertices per surface: a vertex shared by two surfaces (touching shells) counts in both. The
+  // first surface met at each vertex, and the (rare) further (vertex, surface) pairs apart.
+  std::vector<int> firstSurface(nv, -1);
+  std::vector<std::pair<std::uint32_t, int>> further;
   for (std::uint32_t t = 0; t < nt; ++t)
-    for (std::uint32_t v : mesh.triangles[t]) vertexSurface.emplace_back(v, surfaceOf[t]);
-  std::sort(vertexSurface.begin(), vertexSurface.end());
-  vertexSurface.erase(std::unique(vertexSurface.begin(), vertexSurface.end()), vertexSurface.end());
-  for (const auto& vs : vertexSurface) ++verts[vs.second];
+    for (const std::uint32_t v : mesh.triangles[t]) {
+      const int s = surfaceOf[t];
+      if (firstSurface[v] < 0) {
+        firstSurface[v] = s;
+        ++verts[std::size_t(s)];
+      } else if (firstSurface[v] != s) {
+        further.emplace_back(v, s);
+      }
+    }
+  std::sort(further.begin(), further.end());
+  further.erase(std::unique(further.begin(), further.end()), further.end());
+  for (const auto& vs : further) ++verts[std::size_t(vs.second)];
 
   Betti betti{0, 0, 0};
   double total = 0.0;
