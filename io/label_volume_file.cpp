@@ -54,7 +54,7 @@ std::array<double, 3> segmentColour(int n) {
   return rgb;
 }
 
-std::string header(const GridSpec& grid, const std::vector<std::uint16_t>& labels) {
+std::string header(const GridSpec& grid, const LabelRows& rowOf) {
   const double v = grid.voxel;
   std::string h =
       "NRRD0004\n"
@@ -77,16 +77,18 @@ std::string header(const GridSpec& grid, const std::vector<std::uint16_t>& label
   // Slicer segmentation metadata: one segment per label present, with its voxel extent.
   struct Extent { int lo[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, hi[3] = {-1, -1, -1}; };
   std::map<int, Extent> present;
-  std::int64_t at = 0;
+  std::vector<std::uint16_t> row(std::size_t(grid.dims[0]));
   for (int k = 0; k < grid.dims[2]; ++k)
-    for (int j = 0; j < grid.dims[1]; ++j)
-      for (int i = 0; i < grid.dims[0]; ++i, ++at) {
-        const int l = labels[std::size_t(at)];
+    for (int j = 0; j < grid.dims[1]; ++j) {
+      rowOf(j, k, row.data());
+      for (int i = 0; i < grid.dims[0]; ++i) {
+        const int l = row[std::size_t(i)];
         if (!l) continue;
         Extent& e = present[l];
         const int ijk[3] = {i, j, k};
         for (int c = 0; c < 3; ++c) e.lo[c] = std::min(e.lo[c], ijk[c]), e.hi[c] = std::max(e.hi[c], ijk[c]);
       }
+    }
   h += "Segmentation_ContainedRepresentationNames:=Binary labelmap|\n"
        "Segmentation_MasterRepresentation:=Binary labelmap\n"
        "Segmentation_SourceRepresentation:=Binary labelmap\n"
@@ -388,53 +390,67 @@ class Reader {
   bool bigEndian_ = false;
 };
 
-}  // namespace
 
-void writeLabelVolumeNrrd(const std::string& path, const GridSpec& grid,
-                          const std::vector<std::uint16_t>& labels) {
+void requireWritableGrid(const GridSpec& grid) {
   for (int c = 0; c < 3; ++c)
     if (grid.dims[c] < 1) throw std::invalid_argument("writeLabelVolumeNrrd: grid dims must be positive");
   if (!(grid.voxel > 0.0) || !std::isfinite(grid.voxel))
     throw std::invalid_argument("writeLabelVolumeNrrd: voxel size must be positive and finite");
   if (!grid.origin.allFinite())
     throw std::invalid_argument("writeLabelVolumeNrrd: grid origin must be finite");
+}
+
+}  // namespace
+
+void writeLabelVolumeNrrd(const std::string& path, const GridSpec& grid,
+                          const std::vector<std::uint16_t>& labels) {
+  requireWritableGrid(grid);
   if (std::int64_t(labels.size()) != grid.count())
     throw std::invalid_argument("writeLabelVolumeNrrd: " + std::to_string(labels.size()) +
                                 " labels for a grid of " + std::to_string(grid.count()) + " voxels");
+  writeLabelVolumeNrrd(path, grid, [&](int j, int k, std::uint16_t* row) {
+    const std::uint16_t* from = labels.data() + grid.index(0, j, k);
+    std::copy(from, from + grid.dims[0], row);
+  });
+}
+
+void writeLabelVolumeNrrd(const std::string& path, const GridSpec& grid, const LabelRows& rowOf) {
+  requireWritableGrid(grid);
 
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   if (!out) throw std::runtime_error("cannot write " + path);
-  const std::string h = header(grid, labels);
+  const std::string h = header(grid, rowOf);
   out.write(h.data(), std::streamsize(h.size()));
 
-  // gzip wrapper (windowBits 15 + 16): zlib writes no name and mtime 0, so the bytes repeat.
+  // gzip wrapper (windowBits 15 + 16): zlib writes no name and mtime 0, so the bytes repeat. The
+  // rows go in as they come (deflate's output does not depend on how its input is cut up).
   z_stream zs;
   std::memset(&zs, 0, sizeof zs);
   if (deflateInit2(&zs, Z_DEFAULT_COMPRESSION, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
     throw std::runtime_error("zlib: deflateInit2 failed");
   struct Guard { z_stream* z; ~Guard() { deflateEnd(z); } } guard{&zs};
-  constexpr std::size_t voxelsPerChunk = std::size_t(1) << 16;
-  std::vector<unsigned char> in(2 * voxelsPerChunk), buf(1 << 17);
-  for (std::size_t at = 0;;) {
-    const std::size_t n = std::min(voxelsPerChunk, labels.size() - at);
-    for (std::size_t k = 0; k < n; ++k) {  // little-endian whatever the host
-      in[2 * k] = static_cast<unsigned char>(labels[at + k] & 0xff);
-      in[2 * k + 1] = static_cast<unsigned char>(labels[at + k] >> 8);
+  const int nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
+  std::vector<std::uint16_t> row(static_cast<std::size_t>(nx));
+  std::vector<unsigned char> in(2 * std::size_t(nx)), buf(1 << 17);
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) {
+      rowOf(j, k, row.data());
+      for (int i = 0; i < nx; ++i) {  // little-endian whatever the host
+        in[2 * std::size_t(i)] = static_cast<unsigned char>(row[std::size_t(i)] & 0xff);
+        in[2 * std::size_t(i) + 1] = static_cast<unsigned char>(row[std::size_t(i)] >> 8);
+      }
+      const int flush = k == nz - 1 && j == ny - 1 ? Z_FINISH : Z_NO_FLUSH;
+      zs.next_in = in.data();
+      zs.avail_in = uInt(in.size());
+      int rc;
+      do {
+        zs.next_out = buf.data();
+        zs.avail_out = uInt(buf.size());
+        rc = deflate(&zs, flush);
+        if (rc == Z_STREAM_ERROR) throw std::runtime_error("zlib: deflate failed");
+        out.write(reinterpret_cast<const char*>(buf.data()), std::streamsize(buf.size() - zs.avail_out));
+      } while (zs.avail_out == 0 || (flush == Z_FINISH && rc != Z_STREAM_END));
     }
-    at += n;
-    const int flush = at == labels.size() ? Z_FINISH : Z_NO_FLUSH;
-    zs.next_in = in.data();
-    zs.avail_in = uInt(2 * n);
-    int rc;
-    do {
-      zs.next_out = buf.data();
-      zs.avail_out = uInt(buf.size());
-      rc = deflate(&zs, flush);
-      if (rc == Z_STREAM_ERROR) throw std::runtime_error("zlib: deflate failed");
-      out.write(reinterpret_cast<const char*>(buf.data()), std::streamsize(buf.size() - zs.avail_out));
-    } while (zs.avail_out == 0 || (flush == Z_FINISH && rc != Z_STREAM_END));
-    if (flush == Z_FINISH) break;
-  }
   out.flush();
   if (!out) throw std::runtime_error("error while writing " + path);
 }

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,12 @@ struct LabelVolume {
 /// std::runtime_error if the file cannot be written.
 void writeLabelVolumeNrrd(const std::string& path, const GridSpec& grid,
                           const std::vector<std::uint16_t>& labels);
+
+/// Row (0 .. dims[0]-1, j, k) of a label volume into row[0 .. dims[0]-1].
+using LabelRows = std::function<void(int j, int k, std::uint16_t* row)>;
+/// The same, the labels given row by row (read twice: the header's segment extents, then the
+/// data), so that no array of the whole volume is needed. The same bytes as the dense version.
+void writeLabelVolumeNrrd(const std::string& path, const GridSpec& grid, const LabelRows& rows);
 
 /// Reads a label volume written by writeLabelVolumeNrrd, or any attached-header NRRD of the same
 /// kind: type unsigned short, dimension 3, encoding gzip or raw, little or big endian, space LPS,

@@ -80,10 +80,12 @@ MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const Recons
   const std::vector<std::vector<Section>> ownSections;  // empty: the planes' own sections
   m.voxel_label = voxelLabels(rec.inside, rec.section_plane, scene.planes, anyLabelled ? in.labelled : ownSections);
   const std::vector<std::uint16_t> labels = labelValues(in, anyLabelled);
+  // Several materials: their solids and meshes from dense copies (not yet by blocks).
   const ScalarField field = labels.size() >= 2 ? denseField(rec.field) : ScalarField{};
+  const std::vector<std::uint16_t> voxelLabel = labels.size() >= 2 ? denseValues(m.voxel_label) : std::vector<std::uint16_t>{};
   if (labels.size() >= 2)
     for (const std::uint16_t L : labels) {
-      Material mat = materialOf(L, m.voxel_label, field, c.voxel_size_mm);
+      Material mat = materialOf(L, voxelLabel, field, c.voxel_size_mm);
       if (mat.voxels == 0) {  // a label too small for the grid (a few pixels in one slice)
         warnings->push_back("label " + std::to_string(L) + " has sections but no voxel at " +
                             std::to_string(c.voxel_size_mm) + " mm: no mesh for it");

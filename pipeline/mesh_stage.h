@@ -31,7 +31,7 @@ struct MeshStage {
   TriangleMesh method_mesh;         ///< the method's solid, conformally cut when asked
   TriangleMesh mesh;                ///< what mesh.<fmt> holds: the smooth surface, or the method's
   ConformalCutStats cut;            ///< of `mesh`
-  std::vector<std::uint16_t> voxel_label;  ///< labels.nrrd
+  BlockGrid<std::uint16_t> voxel_label;  ///< labels.nrrd
   std::vector<Material> materials;
 };
 

@@ -21,8 +21,8 @@ ReconstructStage reconstructStage(const RunConfig& c, const SceneStage& built, c
       throw InputError(c.path, "reconstruction.voxel_budget", emptySolidMessage(v, built.counts.sections));
     throw std::runtime_error(emptySolidMessage(v, built.counts.sections));
   }
-  r.graph_check = compareWithVoxels(a.methodEdges(), scene, a.arrangement, rec.inside, scene.grid());
-  r.cell_check = compareCellsWithVoxels(a.methodEdges(), scene, a.arrangement, rec.inside, scene.grid());
+  r.graph_check = compareWithVoxels(a.methodEdges(), scene, a.arrangement, rec.inside);
+  r.cell_check = compareCellsWithVoxels(a.methodEdges(), scene, a.arrangement, rec.inside);
   const GraphVoxelCheck& g = r.graph_check;
   if (!g.same_partition)
     warnings->push_back("the connectivity graph and the voxel solid group the sections differently (" +

@@ -102,7 +102,9 @@ void writeRunOutputs(const RunResults& r, const RunOptions& o, const StageClock&
   for (const Material& m : r.meshes.materials)
     for (const auto& fmt : c.mesh_formats)
       writeMesh(out.file("mesh_label_" + std::to_string(m.label) + "." + fmt).string(), m.mesh);
-  writeLabelVolumeNrrd(out.file("labels.nrrd").string(), r.reconstruction.solid.field.grid(), r.meshes.voxel_label);
+  const BlockGrid<std::uint16_t>& labels = r.meshes.voxel_label;
+  writeLabelVolumeNrrd(out.file("labels.nrrd").string(), labels.grid(),
+                       [&](int j, int k, std::uint16_t* row) { labels.readRow(j, k, row); });
   writeTextFile(out.file("graph.json").string(), graphJson(r).dump(2) + "\n");
   writeTextFile(out.file("graph.dot").string(), graphDot(r));
   writeTextFile(out.file("conformity.json").string(),

@@ -114,12 +114,43 @@ class PlaneBlocks {
   std::vector<std::int8_t> sides_;
 };
 
-}  // namespace
+/// A voxel set read voxel by voxel: dense bytes, or blocks (block_grid.h).
+struct DenseSolid {
+  const std::vector<std::uint8_t>& in;
+  const GridSpec& grid;
+  bool at(int i, int j, int k) const { return in[std::size_t(grid.index(i, j, k))]; }
+  template <typename F>
+  void forEachIn(const F& f) const {
+    const auto& D = grid.dims;
+    std::size_t q = 0;
+    for (int k = 0; k < D[2]; ++k)
+      for (int j = 0; j < D[1]; ++j)
+        for (int i = 0; i < D[0]; ++i, ++q)
+          if (in[q]) f(i, j, k);
+  }
+};
 
-CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges, const SectionScene& scene,
-                                             const SectionArrangement& arr,
-                                             const std::vector<std::uint8_t>& inside, const GridSpec& grid,
-                                             const std::vector<int>& only_cells, double seed_mm) {
+struct BlockSolid {
+  const BlockGrid<std::uint8_t>& in;
+  bool at(int i, int j, int k) const { return in.at(i, j, k); }
+  template <typename F>
+  void forEachIn(const F& f) const {
+    const auto& D = in.grid().dims;
+    for (std::int64_t b = 0; b < in.blockCount(); ++b) {
+      if (!in.isLeaf(b) && !in.tile(b)) continue;
+      const auto o = in.blockOrigin(b);
+      for (int k = o[2]; k < std::min(D[2], o[2] + 8); ++k)
+        for (int j = o[1]; j < std::min(D[1], o[1] + 8); ++j)
+          for (int i = o[0]; i < std::min(D[0], o[0] + 8); ++i)
+            if (in.at(i, j, k)) f(i, j, k);
+    }
+  }
+};
+
+template <typename Solid>
+CellConnectivityCheck compareCells(const std::vector<GraphEdge>& edges, const SectionScene& scene,
+                                   const SectionArrangement& arr, const Solid& inside, const GridSpec& grid,
+                                   const std::vector<int>& only_cells, double seed_mm) {
   const std::vector<CuttingPlane>& planes = scene.planes;
   const std::vector<SectionDistanceField>& fields = scene.fields;
   const std::size_t P = planes.size();
@@ -256,7 +287,7 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
         const int i = int(std::lround(g.x())), j = int(std::lround(g.y())), k = int(std::lround(g.z()));
         if (i < 0 || j < 0 || k < 0 || i >= grid.dims[0] || j >= grid.dims[1] || k >= grid.dims[2]) continue;
         const std::int64_t v = grid.index(i, j, k);
-        if (!inside[std::size_t(v)] || !inThisCell(grid.centre(i, j, k))) continue;
+        if (!inside.at(i, j, k) || !inThisCell(grid.centre(i, j, k))) continue;
         voxel = v;
         break;
       }
@@ -273,15 +304,15 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
   // voxel away can be on the other side only of the planes within a voxel of the current centre
   // (with a margin for rounding), and those are tested exactly. So no two cells touch the same
   // label.
-  std::vector<int> component(inside.size(), -1);
+  // A component per voxel of the solid, by blocks: the leaves are made here, before the fills
+  // write them from several threads.
+  BlockGrid<int> component(grid, -1);
   const double step = h * (1 + 1e-6) + 1e-9;  // a neighbour's centre is h away
   PlaneBlocks stepping(planes, grid, step, false);
-  for (std::size_t q = 0; q < inside.size(); ++q)
-    if (inside[q]) {
-      const std::int64_t v = std::int64_t(q);
-      stepping.want(int(v % grid.dims[0]), int((v / grid.dims[0]) % grid.dims[1]),
-                    int(v / (std::int64_t(grid.dims[0]) * grid.dims[1])));
-    }
+  inside.forEachIn([&](int i, int j, int k) {
+    stepping.want(i, j, k);
+    component.leafForWriting(component.block(i >> 3, j >> 3, k >> 3));
+  });
   stepping.prepare();
   struct Result {
     bool compared = false;
@@ -300,8 +331,13 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
     std::vector<std::size_t> near;
     for (std::size_t s = 0; s < c.seeds.size(); ++s) {
       const std::int64_t start = c.seeds[s].voxel;
-      if (component[std::size_t(start)] >= 0) continue;
-      component[std::size_t(start)] = int(s);
+      const auto voxelOf = [&](std::int64_t v) {
+        return std::array<int, 3>{int(v % grid.dims[0]), int((v / grid.dims[0]) % grid.dims[1]),
+                                  int(v / (std::int64_t(grid.dims[0]) * grid.dims[1]))};
+      };
+      const auto sv = voxelOf(start);
+      if (component.at(sv[0], sv[1], sv[2]) >= 0) continue;
+      component.set(sv[0], sv[1], sv[2], int(s));
       queue.assign(1, start);
       while (!queue.empty()) {
         const std::int64_t v = queue.back();
@@ -316,14 +352,13 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
         for (const auto& d : steps) {
           const int a = i + d[0], b = j + d[1], e = k + d[2];
           if (a < 0 || b < 0 || e < 0 || a >= grid.dims[0] || b >= grid.dims[1] || e >= grid.dims[2]) continue;
-          const std::int64_t w = grid.index(a, b, e);
-          if (!inside[std::size_t(w)]) continue;
+          if (!inside.at(a, b, e)) continue;
           const Vec3 y = grid.centre(a, b, e);
           bool same = true;
           for (const std::size_t p : near) same = same && signOf(p, y) == c.signs[p];
-          if (!same || component[std::size_t(w)] >= 0) continue;
-          component[std::size_t(w)] = int(s);
-          queue.push_back(w);
+          if (!same || component.at(a, b, e) >= 0) continue;
+          component.set(a, b, e, int(s));
+          queue.push_back(grid.index(a, b, e));
         }
       }
     }
@@ -335,7 +370,10 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
     DisjointSets solid(c.nodes.size()), graph(c.nodes.size());
     std::map<int, int> ownerOf;  // component -> a section touching it
     for (const Seed& s : c.seeds) {
-      const auto [it, fresh] = ownerOf.try_emplace(component[std::size_t(s.voxel)], s.node);
+      const std::int64_t v = s.voxel;
+      const int cv = component.at(int(v % grid.dims[0]), int((v / grid.dims[0]) % grid.dims[1]),
+                                  int(v / (std::int64_t(grid.dims[0]) * grid.dims[1])));
+      const auto [it, fresh] = ownerOf.try_emplace(cv, s.node);
       if (!fresh) solid.unite(place(s.node), place(it->second));
     }
     for (const GraphEdge* e : edgesOf[ci]) {
@@ -371,6 +409,22 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
     }
   }
   return out;
+}
+
+}  // namespace
+
+CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges, const SectionScene& scene,
+                                             const SectionArrangement& arrangement,
+                                             const std::vector<std::uint8_t>& inside, const GridSpec& grid,
+                                             const std::vector<int>& only_cells, double seed_mm) {
+  return compareCells(edges, scene, arrangement, DenseSolid{inside, grid}, grid, only_cells, seed_mm);
+}
+
+CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges, const SectionScene& scene,
+                                             const SectionArrangement& arrangement,
+                                             const BlockGrid<std::uint8_t>& inside, const std::vector<int>& only_cells,
+                                             double seed_mm) {
+  return compareCells(edges, scene, arrangement, BlockSolid{inside}, inside.grid(), only_cells, seed_mm);
 }
 
 std::vector<int> cellsDifferingMore(const CellConnectivityCheck& solid, const CellConnectivityCheck& reference) {

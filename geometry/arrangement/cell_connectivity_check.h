@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "geometry/arrangement/connectivity_graph.h"
+#include "geometry/core/block_grid.h"
 #include "geometry/arrangement/section_arrangement.h"
 #include "geometry/scene/section_scene.h"
 #include "geometry/core/types.h"
@@ -51,6 +52,11 @@ CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges
                                              const SectionArrangement& arrangement,
                                              const std::vector<std::uint8_t>& inside, const GridSpec& grid,
                                              const std::vector<int>& only_cells = {},
+                                             double seed_mm = 0);
+/// The same for a solid stored by blocks (block_grid.h), on its grid.
+CellConnectivityCheck compareCellsWithVoxels(const std::vector<GraphEdge>& edges, const SectionScene& scene,
+                                             const SectionArrangement& arrangement,
+                                             const BlockGrid<std::uint8_t>& inside, const std::vector<int>& only_cells = {},
                                              double seed_mm = 0);
 
 /// Whether `solid` differs from the graph, in every cell both compared, in no more section pairs

@@ -152,8 +152,19 @@ ConnectivityGraphs connectivityGraphs(const SectionScene& scene, const SectionAr
 }
 
 GraphVoxelCheck compareWithVoxels(const std::vector<GraphEdge>& edges, const SectionScene& scene,
-                                  const SectionArrangement& arr, const std::vector<std::uint8_t>& inside,
+                                  const SectionArrangement& arrangement, const std::vector<std::uint8_t>& inside,
                                   const GridSpec& grid) {
+  return compareWithVoxels(edges, scene, arrangement, solidComponentIndex(inside, grid));
+}
+
+GraphVoxelCheck compareWithVoxels(const std::vector<GraphEdge>& edges, const SectionScene& scene,
+                                  const SectionArrangement& arrangement, const BlockGrid<std::uint8_t>& inside) {
+  return compareWithVoxels(edges, scene, arrangement, solidComponentIndex(inside));
+}
+
+GraphVoxelCheck compareWithVoxels(const std::vector<GraphEdge>& edges, const SectionScene& scene,
+                                  const SectionArrangement& arr, const SolidComponentIndex& solid) {
+  const GridSpec& grid = solid.grid;
   const std::vector<CuttingPlane>& planes = scene.planes;
   const std::vector<SectionDistanceField>& fields = scene.fields;
   const SectionIds ids = scene.ids();
@@ -174,8 +185,6 @@ GraphVoxelCheck compareWithVoxels(const std::vector<GraphEdge>& edges, const Sec
       where[std::size_t(id)] = planes[std::size_t(sp.plane)].plane.toWorld(sp.p);
     }
   }
-  int count = 0;
-  const std::vector<int> label = solidComponents(inside, grid, &count);
   std::vector<int> voxel(std::size_t(n), -1);
   GraphVoxelCheck r;
   for (int s = 0; s < n; ++s) {
@@ -186,11 +195,11 @@ GraphVoxelCheck compareWithVoxels(const std::vector<GraphEdge>& edges, const Sec
     const Vec3 g = (where[std::size_t(s)] - grid.origin) / grid.voxel;
     const int i = int(std::lround(g.x())), j = int(std::lround(g.y())), k = int(std::lround(g.z()));
     if (i < 0 || j < 0 || k < 0 || i >= grid.dims[0] || j >= grid.dims[1] || k >= grid.dims[2] ||
-        label[std::size_t(grid.index(i, j, k))] < 0) {
+        solid.at(i, j, k) < 0) {
       ++r.sections_unlocated;
       continue;
     }
-    voxel[std::size_t(s)] = label[std::size_t(grid.index(i, j, k))];
+    voxel[std::size_t(s)] = solid.at(i, j, k);
   }
   std::vector<int> roots, labels;
   for (int s = 0; s < n; ++s) {

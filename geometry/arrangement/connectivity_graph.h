@@ -15,6 +15,8 @@
 #include <vector>
 
 #include "geometry/arrangement/section_arrangement.h"
+#include "geometry/core/block_grid.h"
+#include "geometry/core/digital_topology.h"
 #include "geometry/scene/section_scene.h"
 #include "geometry/reconstruction/section_voronoi_reconstruction.h"
 #include "geometry/core/types.h"
@@ -57,5 +59,11 @@ struct GraphVoxelCheck {
 GraphVoxelCheck compareWithVoxels(const std::vector<GraphEdge>& edges, const SectionScene& scene,
                                   const SectionArrangement& arrangement, const std::vector<std::uint8_t>& inside,
                                   const GridSpec& grid);
+/// The same for a solid stored by blocks (block_grid.h), on its grid.
+GraphVoxelCheck compareWithVoxels(const std::vector<GraphEdge>& edges, const SectionScene& scene,
+                                  const SectionArrangement& arrangement, const BlockGrid<std::uint8_t>& inside);
+/// The same for a solid's components (digital_topology.h), on their grid.
+GraphVoxelCheck compareWithVoxels(const std::vector<GraphEdge>& edges, const SectionScene& scene,
+                                  const SectionArrangement& arrangement, const SolidComponentIndex& solid);
 
 }  // namespace xsect

@@ -9,6 +9,7 @@
 // read and hold the block's tile value. Distinct blocks may be written from different threads.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -104,6 +105,56 @@ class BlockGrid {
     leafForWriting(block(i >> 3, j >> 3, k >> 3))[offset(i, j, k)] = value;
   }
 
+  /// Voxels (0 .. dims[0]-1, j, k) into out[0 .. dims[0]-1]: per block, 8 bytes copied from a
+  /// leaf or filled from a tile.
+  void readRow(int j, int k, T* out) const {
+    const std::int64_t b0 = block(0, j >> 3, k >> 3);
+    const int o = offset(0, j, k), nx = grid_.dims[0];
+    for (int bi = 0; bi < blocks_[0]; ++bi) {
+      const int n = std::min(kSide, nx - bi * kSide);
+      const auto& l = leaf_[std::size_t(b0 + bi)];
+      T* dst = out + bi * kSide;
+      if (l) std::copy(l->data() + o, l->data() + o + n, dst);
+      else std::fill(dst, dst + n, tile_[std::size_t(b0 + bi)]);
+    }
+  }
+  /// Whether every block of the row of blocks (bj, bk) is a tile holding `value`.
+  bool blockRowIs(int bj, int bk, T value) const {
+    const std::int64_t b0 = block(0, bj, bk);
+    for (int bi = 0; bi < blocks_[0]; ++bi)
+      if (leaf_[std::size_t(b0 + bi)] || tile_[std::size_t(b0 + bi)] != value) return false;
+    return true;
+  }
+  /// Leaves whose values are all equal become tiles again.
+  void compact() {
+    for (std::size_t b = 0; b < leaf_.size(); ++b) {
+      if (!leaf_[b]) continue;
+      const Leaf& l = *leaf_[b];
+      if (std::all_of(l.begin(), l.end(), [&](T v) { return v == l[0]; })) {
+        tile_[b] = l[0];
+        leaf_[b].reset();
+      }
+    }
+  }
+
+  /// Number of voxels of the grid holding `value`.
+  std::int64_t count(T value) const {
+    std::int64_t n = 0;
+    const auto& D = grid_.dims;
+    for (std::int64_t b = 0; b < blockCount(); ++b) {
+      const auto o = blockOrigin(b);
+      const int ex = std::min(kSide, D[0] - o[0]), ey = std::min(kSide, D[1] - o[1]), ez = std::min(kSide, D[2] - o[2]);
+      if (!leaf_[std::size_t(b)]) {
+        if (tile_[std::size_t(b)] == value) n += std::int64_t(ex) * ey * ez;
+        continue;
+      }
+      for (int k = 0; k < ez; ++k)
+        for (int j = 0; j < ey; ++j)
+          for (int i = 0; i < ex; ++i) n += (*leaf_[std::size_t(b)])[std::size_t(offset(i, j, k))] == value;
+    }
+    return n;
+  }
+
   /// Number of leaves (blocks holding voxel values).
   std::int64_t leafCount() const {
     std::int64_t n = 0;
@@ -124,17 +175,21 @@ class BlockGrid {
   std::vector<std::unique_ptr<Leaf>> leaf_;
 };
 
-/// The values of a block grid as a dense field (x fastest), for small grids and for the stages
+/// The values of a block grid as a dense array (x fastest), for small grids and for the stages
 /// that still read whole volumes.
+template <typename T>
+std::vector<T> denseValues(const BlockGrid<T>& g) {
+  const auto& D = g.grid().dims;
+  std::vector<T> values(std::size_t(g.grid().count()));
+  for (int k = 0; k < D[2]; ++k)
+    for (int j = 0; j < D[1]; ++j) g.readRow(j, k, values.data() + std::size_t(g.grid().index(0, j, k)));
+  return values;
+}
+
 inline ScalarField denseField(const BlockGrid<float>& g) {
   ScalarField f;
   f.grid = g.grid();
-  const auto& D = f.grid.dims;
-  f.values.resize(std::size_t(f.grid.count()));
-  std::size_t q = 0;
-  for (int k = 0; k < D[2]; ++k)
-    for (int j = 0; j < D[1]; ++j)
-      for (int i = 0; i < D[0]; ++i) f.values[q++] = g.at(i, j, k);
+  f.values = denseValues(g);
   return f;
 }
 

@@ -33,6 +33,13 @@ TopologyRepair repairSampledTopology(std::vector<std::uint8_t>& inside,
                                      const std::vector<std::uint8_t>& outside_anchor,
                                      const GridSpec& grid);
 
+/// The same on a voxel set stored by blocks (block_grid.h: tiles of 0 or 1, leaves of bytes), on
+/// the anchors' grid: rows whose blocks are all tiles of one value are never read voxel by voxel,
+/// so the cost and memory follow the blocks the boundary passes through (issue 17). The result
+/// is the dense version's, voxel for voxel.
+TopologyRepair repairSampledTopology(BlockGrid<std::uint8_t>& inside, const BlockGrid<std::uint8_t>& inside_anchor,
+                                     const BlockGrid<std::uint8_t>& outside_anchor);
+
 /// Removes every critical configuration (a 2x2 checkerboard in an axis plane, two voxels or two
 /// holes meeting at a vertex only) by adding voxels, until none is left: the set becomes
 /// well-composed, so its 26-connected components, its 6-connected complement and the iso-surface
@@ -41,13 +48,29 @@ TopologyRepair repairSampledTopology(std::vector<std::uint8_t>& inside,
 /// it removes. Returns the number of voxels added.
 /// Terminates: every pass that finds a configuration adds a voxel (in practice 1-3 passes).
 int makeWellComposed(std::vector<std::uint8_t>& inside, const GridSpec& grid);
+int makeWellComposed(BlockGrid<std::uint8_t>& inside);
 
 /// Gives a sampled field the solid `inside` (one byte per voxel): voxels of the set whose value is
 /// >= 0 take -nudge_mm, voxels outside it whose value is < 0 take +nudge_mm (nudge > 0: a small
 /// distance), so the zero set meshed bounds exactly that set. Returns the number of values changed.
 std::int64_t imposeSolid(ScalarField& field, const std::vector<std::uint8_t>& inside, float nudge_mm);
-/// The same on a field stored by blocks; a tile is expanded into a leaf only where a voxel changes.
-std::int64_t imposeSolid(BlockGrid<float>& field, const std::vector<std::uint8_t>& inside, float nudge_mm);
+/// The same on a field and a set stored by blocks (one grid); a tile of the field is expanded into
+/// a leaf only where a voxel changes.
+std::int64_t imposeSolid(BlockGrid<float>& field, const BlockGrid<std::uint8_t>& inside, float nudge_mm);
+
+/// The 26-connected components of a voxel set, kept as its runs along x (no label per voxel):
+/// at(i, j, k) is the component of a voxel of the set, -1 outside it. Components are numbered by
+/// their first voxel in scan order.
+struct SolidComponentIndex {
+  GridSpec grid;
+  int count = 0;
+  std::vector<std::int32_t> x0, x1;      ///< runs: first and last voxel along x
+  std::vector<std::int64_t> first;       ///< per row j + ny k: its first run; one more at the end
+  std::vector<std::int32_t> component;   ///< per run
+  int at(int i, int j, int k) const;
+};
+SolidComponentIndex solidComponentIndex(const std::vector<std::uint8_t>& inside, const GridSpec& grid);
+SolidComponentIndex solidComponentIndex(const BlockGrid<std::uint8_t>& inside);
 
 /// 26-connected components of the voxel set: label per voxel (-1 outside), count in *count.
 std::vector<int> solidComponents(const std::vector<std::uint8_t>& inside, const GridSpec& grid,
@@ -56,5 +79,6 @@ std::vector<int> solidComponents(const std::vector<std::uint8_t>& inside, const 
 /// Betti numbers of the union of the closed voxel cubes of `inside` (26-connected components,
 /// 6-connected bounded complement components, b1 from the Euler characteristic).
 Betti voxelBetti(const std::vector<std::uint8_t>& inside, const GridSpec& grid);
+Betti voxelBetti(const BlockGrid<std::uint8_t>& inside);
 
 }  // namespace xsect

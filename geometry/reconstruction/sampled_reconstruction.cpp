@@ -32,48 +32,41 @@ class SolidAssembly {
  public:
   SolidAssembly(const SectionScene& scene, SampledReconstruction& out)
       : scene_(scene), out_(out), grid_(scene.grid()) {
-    const std::size_t n = std::size_t(grid_.count());
     out.field = BlockGrid<float>(grid_, 0.f);
     out.section_plane = BlockGrid<int>(grid_, -1);
-    out.inside.assign(n, 0);
-    in_anchor.assign(n, 0);
-    out_anchor.assign(n, 0);
+    out.inside = BlockGrid<std::uint8_t>(grid_, 0);
+    in_anchor = BlockGrid<std::uint8_t>(grid_, 0);
+    out_anchor = BlockGrid<std::uint8_t>(grid_, 0);
     block_lift_.assign(std::size_t(out.field.blockCount()), 0.f);
   }
 
   // Evidence for the repair: voxels next to a plane (within half a voxel diagonal), clearly inside
   // or clearly outside its sections (by half a voxel). Method 2 marks voxels that no plane's
-  // sections can reach by projection (nearest_plane -1) as outside evidence too.
+  // sections can reach by projection (nearest_plane -1) as outside evidence too. Voxels of the
+  // block beyond the grid repeat its first voxel, so they keep a uniform block a tile.
   void add(std::int64_t b, const EvaluatedBlock& e) {
     const double h = grid_.voxel;
     const float near = float(0.5 * std::sqrt(3.0) * h), margin = float(0.5 * h);
-    const auto o = out_.field.blockOrigin(b);
-    const auto& D = grid_.dims;
-    std::array<int, EvaluatedBlock::kVoxels> plane;
+    constexpr int kN = EvaluatedBlock::kVoxels;
+    std::array<int, kN> plane;
+    std::array<std::uint8_t, kN> in, inAnchor, outAnchor;
     float lift = 0;
-    for (int q = 0; q < EvaluatedBlock::kVoxels; ++q) {
-      const int sp = e.value[q] < 0 ? e.section_plane[q] : -1;
+    for (int q = 0; q < kN; ++q) {
+      const float v = e.value[q];
+      const int sp = v < 0 ? e.section_plane[q] : -1;
       plane[std::size_t(q)] = sp >= int(scene_.real_planes) ? -1 : sp;
+      in[std::size_t(q)] = v < 0;
+      if (v < 0) lift = std::max(lift, e.lift[q]);
+      const int p = e.nearest_plane[q];
+      const bool next = p >= 0 && e.plane_distance[q] <= near;
+      inAnchor[std::size_t(q)] = next && v <= -margin && !scene_.planes[std::size_t(p)].is_virtual;
+      outAnchor[std::size_t(q)] = p < 0 || (next && v >= margin);
     }
-    for (int k = o[2]; k < std::min(D[2], o[2] + 8); ++k)
-      for (int j = o[1]; j < std::min(D[1], o[1] + 8); ++j)
-        for (int i = o[0]; i < std::min(D[0], o[0] + 8); ++i) {
-          const int q = BlockGrid<float>::offset(i, j, k);
-          const std::size_t idx = std::size_t(grid_.index(i, j, k));
-          const float v = e.value[q];
-          out_.inside[idx] = v < 0;
-          if (v < 0) lift = std::max(lift, e.lift[q]);
-          const int p = e.nearest_plane[q];
-          if (p < 0) {
-            out_anchor[idx] = 1;
-            continue;
-          }
-          const bool next = e.plane_distance[q] <= near;
-          in_anchor[idx] = next && v <= -margin && !scene_.planes[std::size_t(p)].is_virtual;
-          out_anchor[idx] = next && v >= margin;
-        }
     out_.field.setBlock(b, e.value);
     out_.section_plane.setBlock(b, plane.data());
+    out_.inside.setBlock(b, in.data());
+    in_anchor.setBlock(b, inAnchor.data());
+    out_anchor.setBlock(b, outAnchor.data());
     block_lift_[std::size_t(b)] = lift;
   }
 
@@ -83,7 +76,7 @@ class SolidAssembly {
     return m;
   }
 
-  std::vector<std::uint8_t> in_anchor, out_anchor;
+  BlockGrid<std::uint8_t> in_anchor, out_anchor;
 
  private:
   const SectionScene& scene_;
@@ -145,16 +138,14 @@ SampledReconstruction reconstructOnGrid(const SectionScene& scene, const std::fu
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   out.raw_inside = out.inside;
-  out.repair = repairSampledTopology(out.inside, assembly.in_anchor, assembly.out_anchor, grid);
+  out.repair = repairSampledTopology(out.inside, assembly.in_anchor, assembly.out_anchor);
   assembly.in_anchor = {};
   assembly.out_anchor = {};
 
   // The field for meshing: the evaluated values, with their sign forced to the repaired set.
   imposeSolid(out.field, out.inside, float(0.05 * h));
-  std::int64_t inside = 0;
-  for (const std::uint8_t v : out.inside) inside += v;
-  out.voxels_inside = inside;
-  out.voxel_betti = voxelBetti(out.inside, grid);
+  out.voxels_inside = out.inside.count(1);
+  out.voxel_betti = voxelBetti(out.inside);
   return out;
 }
 

@@ -20,14 +20,14 @@ struct SampledReconstruction {
   /// Negative inside the repaired solid, |value| <= band; by blocks of 8³ voxels (block_grid.h):
   /// blocks where the method's value is clamped to one ±band throughout are tiles.
   BlockGrid<float> field;
-  std::vector<std::uint8_t> inside;    ///< repaired voxel set of R
+  BlockGrid<std::uint8_t> inside;      ///< repaired voxel set of R (1 = in), by blocks
   TopologyRepair repair;
   Betti voxel_betti{0, 0, 0};
   std::int64_t voxels_inside = 0;
   double evaluate_seconds = 0;         ///< time spent evaluating the method on the grid
   /// Unrepaired evaluation of the method (R or R'), one byte per voxel: the set the thesis'
   /// statements (Theorem 18) are about, before the sampled topology is repaired.
-  std::vector<std::uint8_t> raw_inside;
+  BlockGrid<std::uint8_t> raw_inside;
   /// Method 2: for voxels of R', the plane (index into the real planes, or -1) of the section
   /// whose Voronoi cell holds the voxel; method 1: the nearest plane for voxels of R. Blocks
   /// without a voxel of R are tiles of -1.

@@ -3,6 +3,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -10,52 +11,81 @@
 
 namespace xsect {
 
-std::vector<std::uint16_t> voxelLabels(const std::vector<std::uint8_t>& inside,
-                                       const BlockGrid<int>& section_plane,
-                                       const std::vector<CuttingPlane>& planes,
-                                       const std::vector<std::vector<Section>>& labelled) {
+BlockGrid<std::uint16_t> voxelLabels(const BlockGrid<std::uint8_t>& inside, const BlockGrid<int>& section_plane,
+                                     const std::vector<CuttingPlane>& planes,
+                                     const std::vector<std::vector<Section>>& labelled) {
   const GridSpec& grid = section_plane.grid();
-  const std::size_t n = inside.size();
-  if (std::int64_t(n) != grid.count()) throw std::invalid_argument("voxel labels: sizes differ");
-  std::vector<std::uint16_t> label(n, 0);
-  const int nx = grid.dims[0], ny = grid.dims[1];
-  tbb::parallel_for(std::size_t(0), n, [&](std::size_t q) {
-    if (!inside[q]) return;
-    const std::int64_t id = std::int64_t(q);
-    const int i = int(id % nx), j = int((id / nx) % ny), k = int(id / (std::int64_t(nx) * ny));
-    const int p = section_plane.at(i, j, k);
-    if (p < 0 || std::size_t(p) >= planes.size()) return;
-    const Vec3 x = grid.centre(i, j, k);
-    const Vec2 a = planes[std::size_t(p)].plane.toPlane(x);
-    for (const Section& s : labelled.empty() ? planes[std::size_t(p)].sections : labelled[std::size_t(p)])
-      if (sectionContains(s, a)) {
-        label[q] = std::uint16_t(s.label);
-        return;
-      }
+  if (inside.grid().dims != grid.dims || inside.blockCount() != section_plane.blockCount())
+    throw std::invalid_argument("voxel labels: the solid and the section planes lie on different grids");
+  const auto& D = grid.dims;
+  BlockGrid<std::uint16_t> label(grid, 0);
+  // Per block of the solid: each voxel's label from its deciding plane; blocks without a voxel of
+  // the solid stay tiles of 0. Voxels of a block beyond the grid repeat its first voxel.
+  tbb::parallel_for(std::int64_t(0), inside.blockCount(), [&](std::int64_t b) {
+    if (!inside.isLeaf(b) && !inside.tile(b)) return;
+    const auto o = inside.blockOrigin(b);
+    std::array<std::uint16_t, BlockGrid<std::uint16_t>::kVoxels> values;
+    for (int dk = 0; dk < 8; ++dk)
+      for (int dj = 0; dj < 8; ++dj)
+        for (int di = 0; di < 8; ++di) {
+          const int q = BlockGrid<std::uint16_t>::offset(di, dj, dk);
+          values[std::size_t(q)] = 0;
+          const int i = o[0] + di, j = o[1] + dj, k = o[2] + dk;
+          if (i >= D[0] || j >= D[1] || k >= D[2]) {
+            values[std::size_t(q)] = values[0];
+            continue;
+          }
+          const int p = section_plane.at(i, j, k);
+          if (!inside.at(i, j, k) || p < 0 || std::size_t(p) >= planes.size()) continue;
+          const Vec2 a = planes[std::size_t(p)].plane.toPlane(grid.centre(i, j, k));
+          for (const Section& s : labelled.empty() ? planes[std::size_t(p)].sections : labelled[std::size_t(p)])
+            if (sectionContains(s, a)) {
+              values[std::size_t(q)] = std::uint16_t(s.label);
+              break;
+            }
+        }
+    label.setBlock(b, values.data());
   });
-  // Unlabelled voxels of the solid: breadth-first from the labelled ones.
-  std::vector<std::size_t> front, next;
-  for (std::size_t q = 0; q < n; ++q)
-    if (label[q]) front.push_back(q);
+  // Unlabelled voxels of the solid: breadth-first from the labelled ones, taken in scan order
+  // (rows of blocks without a voxel of the solid are skipped).
+  const int nx = D[0], ny = D[1], nz = D[2];
+  struct Voxel {
+    int i, j, k;
+  };
+  std::vector<Voxel> front, next;
+  std::vector<std::uint16_t> row(std::size_t(nx) + 8);
+  std::int64_t unlabelled = 0;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j) {
+      if (inside.blockRowIs(j >> 3, k >> 3, 0)) {
+        j |= 7;  // the rest of this row of blocks
+        continue;
+      }
+      label.readRow(j, k, row.data());
+      for (int i = 0; i < nx; ++i) {
+        if (row[std::size_t(i)]) front.push_back({i, j, k});
+        else unlabelled += inside.at(i, j, k);
+      }
+    }
+  if (unlabelled == 0) return label;
   while (!front.empty()) {
     next.clear();
-    for (const std::size_t q : front) {
-      const std::int64_t id = std::int64_t(q);
-      const int i = int(id % nx), j = int((id / nx) % ny), k = int(id / (std::int64_t(nx) * ny));
+    for (const Voxel& v : front) {
+      const std::uint16_t l = label.at(v.i, v.j, v.k);
       for (int dz = -1; dz <= 1; ++dz)
         for (int dy = -1; dy <= 1; ++dy)
           for (int dx = -1; dx <= 1; ++dx) {
-            const int a = i + dx, b = j + dy, c = k + dz;
-            if (a < 0 || b < 0 || c < 0 || a >= nx || b >= ny || c >= grid.dims[2]) continue;
-            const std::size_t r = std::size_t(grid.index(a, b, c));
-            if (inside[r] && !label[r]) {
-              label[r] = label[q];
-              next.push_back(r);
+            const int a = v.i + dx, b = v.j + dy, c = v.k + dz;
+            if (a < 0 || b < 0 || c < 0 || a >= nx || b >= ny || c >= nz) continue;
+            if (inside.at(a, b, c) && !label.at(a, b, c)) {
+              label.set(a, b, c, l);
+              next.push_back({a, b, c});
             }
           }
     }
     front.swap(next);
   }
+  label.compact();
   return label;
 }
 

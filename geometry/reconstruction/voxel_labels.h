@@ -13,19 +13,19 @@
 
 namespace xsect {
 
-/// @param inside         the (repaired) solid, one byte per voxel.
+/// @param inside         the (repaired) solid, 1 = in.
 /// @param section_plane  per voxel, the plane that decided it (-1: none, e.g. added by the repair),
-///                       on the grid of the labels.
+///                       on the solid's grid.
 /// @param planes         the planes (their frames), in the indices section_plane refers to.
 /// @param labelled       per plane, its sections with their labels; empty: the planes' own
 ///                       sections (and their labels).
-/// @returns per voxel the label (0 outside). Voxels without a deciding plane, or whose projection
-///          falls on no labelled section (within rounding of a contour), take the label of the
-///          nearest labelled voxel of the solid (breadth-first, 26-neighbours; ties by scan order).
-std::vector<std::uint16_t> voxelLabels(const std::vector<std::uint8_t>& inside,
-                                       const BlockGrid<int>& section_plane,
-                                       const std::vector<CuttingPlane>& planes,
-                                       const std::vector<std::vector<Section>>& labelled);
+/// @returns per voxel the label (0 outside), by blocks. Voxels without a deciding plane, or whose
+///          projection falls on no labelled section (within rounding of a contour), take the label
+///          of the nearest labelled voxel of the solid (breadth-first, 26-neighbours; ties by scan
+///          order).
+BlockGrid<std::uint16_t> voxelLabels(const BlockGrid<std::uint8_t>& inside, const BlockGrid<int>& section_plane,
+                                     const std::vector<CuttingPlane>& planes,
+                                     const std::vector<std::vector<Section>>& labelled);
 
 /// The field of one label for meshing: the solid's field where the voxel has that label, and the
 /// mirror value (|v|, at least `nudge`) inside other labels, so that neighbouring labels share
