@@ -44,7 +44,7 @@ void cull(const std::vector<PlaneRow>& rows, const std::vector<int>& from, const
 void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
                               const std::vector<SectionDistanceField>& fields, const GridSpec& grid,
                               const std::function<void(std::int64_t, const NearestPlaneBlock&)>& visitBlock,
-                              const std::function<void(double)>& progress) {
+                              bool wholeBlocks, const std::function<void(double)>& progress) {
   if (planes.empty()) throw std::invalid_argument("method 1: no cutting plane");
   if (fields.size() != planes.size())
     throw std::invalid_argument("method 1: one distance raster per plane is required");
@@ -155,11 +155,46 @@ void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
             for (int dx = 0; dx < 2; ++dx)
               visit(i0 + dx * half, j0 + dy * half, k0 + dz * half, half, level + 1, list, w);
       };
+  // A whole block decided at once (issue 17): when every plane that may be nearest somewhere in it
+  // sees the block's projection only where its raster is +band (no contour within the band, the
+  // sections' outside) and lies farther than `near` from every voxel centre, every voxel's value
+  // is +band and none is next to a plane: no voxel needs evaluating. The distances given are the
+  // block's lower bound and the plane the first candidate (the solid needs neither).
+  const double near = 0.5 * std::sqrt(3.0) * h * (1 + 1e-6);
+  const auto outsideBlock = [&](int i0, int j0, int k0, const std::vector<int>& from, Scratch& w) {
+    Vec3 c, e;
+    box(i0, j0, k0, std::min(D[0], i0 + kBlock), std::min(D[1], j0 + kBlock), std::min(D[2], k0 + kBlock), &c, &e);
+    std::vector<int>& list = w.lists[3];
+    cull(rows, from, c, e, list, w.lo);
+    if (list.empty()) return false;
+    double lowest = std::numeric_limits<double>::infinity();
+    const float band = fields[std::size_t(list[0])].band;
+    for (const int k : list) {
+      const PlaneRow& r = rows[std::size_t(k)];
+      const double l = std::abs(r.s(c)) - (r.ax * e.x() + r.ay * e.y() + r.az * e.z());
+      if (!(l > near) || fields[std::size_t(k)].band != band) return false;
+      lowest = std::min(lowest, l);
+      const double a = r.ux * c.x() + r.uy * c.y() + r.uz * c.z() - r.uo;
+      const double b = r.vx * c.x() + r.vy * c.y() + r.vz * c.z() - r.vo;
+      const double ra = std::abs(r.ux) * e.x() + std::abs(r.uy) * e.y() + std::abs(r.uz) * e.z();
+      const double rb = std::abs(r.vx) * e.x() + std::abs(r.vy) * e.y() + std::abs(r.vz) * e.z();
+      const double pad = 1e-9 * (ra + rb + h);
+      if (!fields[std::size_t(k)].outsideOver(a - ra - pad, a + ra + pad, b - rb - pad, b + rb + pad)) return false;
+    }
+    w.block.value.fill(band);
+    w.block.plane_distance.fill(float(lowest));
+    w.block.nearest_plane.fill(list[0]);
+    return true;
+  };
   const auto doBlock = [&](int b, Scratch& w) {
     const int ib = (b % bx) * kBlock, jb = ((b / bx) % by) * kBlock, kb = (b / (bx * by)) * kBlock;
     const int s = (ib / kSuper) + sx * ((jb / kSuper) + sy * (kb / kSuper));
-    visit(ib, jb, kb, kBlock, 0, superCand[s], w);
     NearestPlaneBlock& v = w.block;
+    if (wholeBlocks && outsideBlock(ib, jb, kb, superCand[s], w)) {
+      visitBlock(b, v);
+      return;
+    }
+    visit(ib, jb, kb, kBlock, 0, superCand[s], w);
     if (ib + kBlock > D[0] || jb + kBlock > D[1] || kb + kBlock > D[2])
       for (int k = 0; k < kBlock; ++k)
         for (int j = 0; j < kBlock; ++j)
@@ -205,7 +240,7 @@ NearestPlaneField nearestPlaneReconstruction(const std::vector<CuttingPlane>& pl
           out.plane_distance[idx] = v.plane_distance[q];
           out.nearest_plane[idx] = v.nearest_plane[q];
         }
-  }, progress);
+  }, false, progress);
   return out;
 }
 

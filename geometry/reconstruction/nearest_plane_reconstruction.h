@@ -46,10 +46,15 @@ struct NearestPlaneBlock {
 /// Method 1 block by block: visit(b, values) for every block b of BlockGrid's numbering on `grid`,
 /// from several threads at once (each block once), so that no per-voxel array of the whole grid is
 /// needed (issue 17). Parameters and ties as nearestPlaneReconstruction's.
+/// @param whole_blocks  decide a block at once where the bounds allow it: when every plane that
+///                      may be nearest in it sees it only where its raster is +band and is farther
+///                      than half a voxel diagonal from every voxel centre, the values are +band,
+///                      and plane_distance / nearest_plane hold a lower bound of the distance and
+///                      one of those planes instead of each voxel's own (no voxel is evaluated).
 void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
                               const std::vector<SectionDistanceField>& fields, const GridSpec& grid,
                               const std::function<void(std::int64_t, const NearestPlaneBlock&)>& visit,
-                              const std::function<void(double)>& progress = {});
+                              bool whole_blocks, const std::function<void(double)>& progress = {});
 
 /// The same on dense arrays (small grids, tests).
 /// @param planes    cutting planes (real and virtual); planes[i] uses fields[i].

@@ -124,7 +124,7 @@ SampledReconstruction reconstructOnGrid(const SectionScene& scene, const std::fu
     forEachNearestPlaneBlock(scene.planes, scene.fields, grid, [&](std::int64_t b, const NearestPlaneBlock& v) {
       assembly.add(b, {v.value.data(), v.plane_distance.data(), v.nearest_plane.data(), v.nearest_plane.data(),
                        v.plane_distance.data()});
-    }, progress);
+    }, true, progress);
   } else {
     SectionVoronoiParams vp;
     vp.slab_mm = params.slab_voxels * h;

@@ -32,14 +32,35 @@ struct SectionDistanceField {
     return pool_[std::size_t(t) * kTileNodes + std::size_t(j % kTile) * kTile + std::size_t(i % kTile)];
   }
 
-  /// Bilinear value at plane coordinates (a, b) in mm.
+  /// Bilinear value at plane coordinates (a, b) in mm; exactly ±band where the four nodes around
+  /// (a, b) all hold that value (beyond the band: only the sign is known, and interpolating equal
+  /// values in floating point could round off it).
   float sample(double a, double b) const {
     int i, j;
     float fx, fy;
     if (!locate(a, b, &i, &j, &fx, &fy)) return band;
     float r00, r01, r10, r11;
     corners(i, j, &r00, &r01, &r10, &r11);
+    if (r00 == r01 && r00 == r10 && r00 == r11 && std::abs(r00) == band) return r00;
     return (1 - fy) * ((1 - fx) * r00 + fx * r01) + fy * ((1 - fx) * r10 + fx * r11);
+  }
+
+  /// Whether sample() is +band everywhere in the rectangle [a0, a1] x [b0, b1] of plane
+  /// coordinates (mm): every raster square meeting it lies in tiles no contour comes within the
+  /// band of, outside the sections, or off the raster. Conservative (a tile of stored nodes is
+  /// never taken as outside).
+  bool outsideOver(double a0, double a1, double b0, double b1) const {
+    if (nu < 2 || nv < 2) return true;
+    const double x0 = (a0 - origin.x()) / step, x1 = (a1 - origin.x()) / step;
+    const double y0 = (b0 - origin.y()) / step, y1 = (b1 - origin.y()) / step;
+    if (!(x1 >= 0.0 && y1 >= 0.0 && x0 <= nu - 1.0 && y0 <= nv - 1.0)) return true;  // off the raster
+    // The nodes of every square meeting the rectangle (locate's squares: lower node clamped).
+    const int i0 = std::min(int(std::max(0.0, x0)), nu - 2), i1 = std::min(int(std::min(x1, nu - 1.0)), nu - 2) + 1;
+    const int j0 = std::min(int(std::max(0.0, y0)), nv - 2), j1 = std::min(int(std::min(y1, nv - 1.0)), nv - 2) + 1;
+    for (int tj = j0 / kTile; tj <= j1 / kTile; ++tj)
+      for (int ti = i0 / kTile; ti <= i1 / kTile; ++ti)
+        if (tiles_[std::size_t(tj) * std::size_t(tilesU_) + std::size_t(ti)] != kOutside) return false;
+    return true;
   }
 
   /// Bilinear value at (a, b) when the four nodes around it all hold exact distances (within the
