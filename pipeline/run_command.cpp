@@ -92,7 +92,18 @@ int checkCommand(const RunOptions& o) {
     r["end_margin_mm"] = L.end_margin_mm;
     r["grid_dims"] = L.grid.dims;
     r["estimated_voxels"] = L.grid.count();
-    r["estimated_memory_mb"] = double(L.grid.count()) * kReconstructionBytesPerVoxel / 1e6;
+    // What the run will keep (issue 17): the solid by blocks, measured on a coarse trial.
+    const SolidMemoryEstimate e = estimateSolidMemory(in.planes, reconstructionParams(in.config),
+                                                      denseBytesPerVoxel(in.config));
+    r["estimated_memory_mb"] = e.total() / 1e6;
+    r["estimated_memory"] = {{"blocks", e.blocks},
+                             {"boundary_blocks", e.boundary_blocks},
+                             {"solid_blocks", e.solid_blocks},
+                             {"plane_blocks", e.plane_blocks},
+                             {"trial_voxel_ratio", e.coarse_factor},
+                             {"solid_mb", (e.table_bytes + e.leaf_bytes) / 1e6},
+                             {"mesh_mb", e.mesh_bytes / 1e6},
+                             {"whole_volume_mb", e.dense_bytes / 1e6}};
   } else {
     in.warnings.push_back("no section found in any slice");
   }

@@ -70,6 +70,11 @@ json reconstructionJson(const RunResults& r) {
           {"end_margin_mm", layout.end_margin_mm},
           {"end_margin_auto", layout.end_margin_auto},
           {"max_lift_mm", rec.max_lift_mm},
+          {"storage", {{"blocks", rec.storage.blocks},
+                       {"boundary_blocks", rec.storage.field_leaves},
+                       {"solid_blocks", rec.storage.section_leaves},
+                       {"inside_leaves", rec.storage.inside_leaves},
+                       {"anchor_leaves", rec.storage.anchor_leaves}}},
           {"exact_face_tests", rec.exact_face_tests},
           {"search_restarts", rec.search_restarts},
           {"volume_mm3", r.diagnosis.topology.volume_mm3}};

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "geometry/reconstruction/sampled_reconstruction.h"
+#include "geometry/reconstruction/solid_memory.h"
 #include "io/input_error.h"
 #include "pipeline/machine_memory.h"
 
@@ -14,15 +14,28 @@ namespace xsect {
 
 namespace {
 
-/// Refuses, before allocating, a grid that would not fit in this machine's memory.
-void checkMemory(const RunConfig& c, const ReconstructionLayout& L) {
-  const double need = double(L.grid.count()) * kReconstructionBytesPerVoxel;
+/// Refuses, before allocating, a grid whose solid would not fit in this machine's memory (issue
+/// 17: what is kept, by blocks; a coarse trial measures it only when the worst case, every block
+/// a leaf, would not fit).
+void checkMemory(const RunConfig& c, const std::vector<CuttingPlane>& planes, const ReconstructionLayout& L) {
   const double have = physicalMemoryBytes();
-  if (have > 0 && need > 0.8 * have)
-    throw InputError(c.path, "reconstruction.voxel_size_mm",
-                     "a grid of " + std::to_string(L.grid.count()) + " voxels needs about " +
-                         std::to_string(int(need / 1e9)) + " GB, more than this machine has (" +
-                         std::to_string(int(have / 1e9)) + " GB): increase the voxel size");
+  if (!(have > 0)) return;
+  const double budget = 0.8 * have;
+  const double dense = denseBytesPerVoxel(c);
+  double blocks = 1;
+  for (int a = 0; a < 3; ++a) blocks *= double((L.grid.dims[a] + 7) / 8);
+  if (worstCaseSolidBytes(blocks) + double(L.grid.count()) * dense <= budget) return;
+  const SolidMemoryEstimate e = estimateSolidMemory(planes, reconstructionParams(c), dense);
+  if (e.total() <= budget) return;
+  const std::string setting = e.dense_bytes > 0.5 * e.total()
+                                  ? (c.reconstruction_method == ReconstructionMethod::section_voronoi
+                                         ? "use reconstruction.method: nearest_plane (its solid is kept by blocks) or increase the voxel size"
+                                         : "set smoothing.method: none (it holds the whole volume) or increase the voxel size")
+                                  : "increase the voxel size";
+  throw InputError(c.path, "reconstruction.voxel_size_mm",
+                   "a grid of " + std::to_string(L.grid.count()) + " voxels needs about " +
+                       std::to_string(int(std::ceil(e.total() / 1e9))) + " GB (" + memoryBreakdown(e) +
+                       "), more than this machine has (" + std::to_string(int(have / 1e9)) + " GB): " + setting);
 }
 
 SectionCounts countSections(const std::vector<CuttingPlane>& planes) {
@@ -56,6 +69,21 @@ VoxelSizeReport resolveVoxelSize(RunInputs& in, bool quiet) {
   return r;
 }
 
+double denseBytesPerVoxel(const RunConfig& c) {
+  double dense = 0;
+  if (c.reconstruction_method == ReconstructionMethod::section_voronoi) dense += kSectionVoronoiBytesPerVoxel;
+  if (c.smoothing_method != SmoothingMethod::none) dense += kSmoothingBytesPerVoxel;
+  // Several materials: their solids are made from dense copies (field, labels, one label's set).
+  if (c.segmentation.method == SegmentationMethod::labels) dense += 4 + 2 + 1;
+  return dense;
+}
+
+std::string memoryBreakdown(const SolidMemoryEstimate& e) {
+  const auto mb = [](double bytes) { return std::to_string(std::int64_t(std::ceil(bytes / 1e6))) + " MB"; };
+  return "solid by blocks " + mb(e.table_bytes + e.leaf_bytes) + ", meshes " + mb(e.mesh_bytes) +
+         ", whole-volume stages " + mb(e.dense_bytes);
+}
+
 nlohmann::ordered_json voxelSizeJson(const VoxelSizeReport& r) {
   using json = nlohmann::ordered_json;
   return {{"voxel_size_mm", r.voxel_mm},
@@ -76,7 +104,7 @@ SceneStage sceneStage(RunInputs& in, bool quiet) {
   if (s.counts.sections == 0)
     throw InputError(c.input_path, "", "no section found in any slice (check segmentation settings)");
   s.voxel_size = resolveVoxelSize(in, quiet);
-  checkMemory(c, layoutOf(in.planes, c));
+  checkMemory(c, in.planes, layoutOf(in.planes, c));
   try {
     s.scene = sectionScene(in.planes, reconstructionParams(c));
   } catch (const std::invalid_argument& e) {

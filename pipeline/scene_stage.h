@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "geometry/scene/section_scene.h"
+#include "geometry/reconstruction/solid_memory.h"
 #include "pipeline/input_stage.h"
 #include "pipeline/voxel_size_choice.h"
 
@@ -36,6 +37,13 @@ VoxelSizeReport resolveVoxelSize(RunInputs& in, bool quiet);
 
 /// The grid the reconstruction will use; configuration problems become InputError.
 ReconstructionLayout layoutOf(const std::vector<CuttingPlane>& planes, const RunConfig& c);
+
+/// Bytes per voxel of the configured stages that still hold whole volumes (method 2's evaluation,
+/// smoothing, several materials); 0 for method 1 alone.
+double denseBytesPerVoxel(const RunConfig& c);
+
+/// The estimate's parts in words, for messages.
+std::string memoryBreakdown(const SolidMemoryEstimate& e);
 
 /// report.json "reconstruction.voxel_size" and `xsect check`'s "voxel_size".
 nlohmann::ordered_json voxelSizeJson(const VoxelSizeReport& r);

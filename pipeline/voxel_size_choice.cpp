@@ -33,7 +33,7 @@ void checkRepresentable(const RunConfig& c, const std::vector<CuttingPlane>& pla
   GridSpec g;
   try {
     g = reconstructionLayout(planes, reconstructionParams(c)).grid;
-  } catch (const std::invalid_argument& e) {  // past 2^31 voxels
+  } catch (const std::invalid_argument& e) {  // past 2^40 voxels
     throw InputError(c.path, "reconstruction.voxel_size_mm", e.what());
   }
   const Vec3 lo = g.origin, hi = g.centre(g.dims[0] - 1, g.dims[1] - 1, g.dims[2] - 1);

@@ -67,7 +67,7 @@ VoxelSizeChoice automaticVoxelSize(const std::vector<CuttingPlane>& planes, cons
     params.voxel_mm = h;
     try {
       c.voxels = reconstructionLayout(planes, params).grid.count();
-    } catch (const std::invalid_argument&) {  // past 2^31 voxels
+    } catch (const std::invalid_argument&) {  // past 2^40 voxels
       c.voxels = std::int64_t(1) << 40;
     }
     if (c.voxels <= voxel_budget) break;

@@ -184,6 +184,7 @@ void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
     w.block.value.fill(band);
     w.block.plane_distance.fill(float(lowest));
     w.block.nearest_plane.fill(list[0]);
+    w.block.far_outside = true;
     return true;
   };
   const auto doBlock = [&](int b, Scratch& w) {
@@ -194,6 +195,7 @@ void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
       visitBlock(b, v);
       return;
     }
+    v.far_outside = false;
     visit(ib, jb, kb, kBlock, 0, superCand[s], w);
     if (ib + kBlock > D[0] || jb + kBlock > D[1] || kb + kBlock > D[2])
       for (int k = 0; k < kBlock; ++k)

@@ -41,6 +41,9 @@ struct NearestPlaneBlock {
   std::array<float, kVoxels> value;           ///< f_P(proj_P(x)), mm, clamped to ±band
   std::array<float, kVoxels> plane_distance;  ///< d(x, P), mm
   std::array<int, kVoxels> nearest_plane;     ///< P
+  /// Decided at once (forEachNearestPlaneBlock's whole_blocks): every value is +band and no voxel
+  /// lies within half a voxel diagonal of a plane.
+  bool far_outside = false;
 };
 
 /// Method 1 block by block: visit(b, values) for every block b of BlockGrid's numbering on `grid`,

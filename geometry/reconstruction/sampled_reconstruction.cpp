@@ -24,6 +24,7 @@ struct EvaluatedBlock {
   const int* nearest_plane;     ///< that plane (-1: none, method 2 far from every section)
   const int* section_plane;     ///< plane whose section decided an inside voxel (-1 otherwise)
   const float* lift;            ///< height of an inside voxel above that section's plane, mm
+  bool far_outside = false;     ///< every value the same positive one, no voxel next to a plane
 };
 
 /// Turns evaluated blocks into the solid's parts: the field and section planes by block, the
@@ -45,6 +46,10 @@ class SolidAssembly {
   // sections can reach by projection (nearest_plane -1) as outside evidence too. Voxels of the
   // block beyond the grid repeat its first voxel, so they keep a uniform block a tile.
   void add(std::int64_t b, const EvaluatedBlock& e) {
+    if (e.far_outside) {  // the tiles each grid starts with, the field's value aside
+      out_.field.setTile(b, e.value[0]);
+      return;
+    }
     const double h = grid_.voxel;
     const float near = float(0.5 * std::sqrt(3.0) * h), margin = float(0.5 * h);
     constexpr int kN = EvaluatedBlock::kVoxels;
@@ -123,7 +128,7 @@ SampledReconstruction reconstructOnGrid(const SectionScene& scene, const std::fu
     // Method 1 straight into blocks: no per-voxel value, distance or plane of the whole grid.
     forEachNearestPlaneBlock(scene.planes, scene.fields, grid, [&](std::int64_t b, const NearestPlaneBlock& v) {
       assembly.add(b, {v.value.data(), v.plane_distance.data(), v.nearest_plane.data(), v.nearest_plane.data(),
-                       v.plane_distance.data()});
+                       v.plane_distance.data(), v.far_outside});
     }, true, progress);
   } else {
     SectionVoronoiParams vp;
@@ -138,6 +143,8 @@ SampledReconstruction reconstructOnGrid(const SectionScene& scene, const std::fu
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   out.raw_inside = out.inside;
+  out.storage.blocks = out.field.blockCount();
+  out.storage.anchor_leaves = assembly.in_anchor.leafCount() + assembly.out_anchor.leafCount();
   out.repair = repairSampledTopology(out.inside, assembly.in_anchor, assembly.out_anchor);
   assembly.in_anchor = {};
   assembly.out_anchor = {};
@@ -145,6 +152,9 @@ SampledReconstruction reconstructOnGrid(const SectionScene& scene, const std::fu
   // The field for meshing: the evaluated values, with their sign forced to the repaired set.
   imposeSolid(out.field, out.inside, float(0.05 * h));
   out.voxels_inside = out.inside.count(1);
+  out.storage.field_leaves = out.field.leafCount();
+  out.storage.section_leaves = out.section_plane.leafCount();
+  out.storage.inside_leaves = out.inside.leafCount();
   out.voxel_betti = voxelBetti(out.inside);
   return out;
 }

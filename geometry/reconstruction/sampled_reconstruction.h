@@ -16,6 +16,15 @@
 
 namespace xsect {
 
+/// What the solid keeps, by blocks of 8³ voxels (block_grid.h): memory follows the leaves.
+struct SolidStorage {
+  std::int64_t blocks = 0;          ///< blocks of the grid (each has a table entry per block grid)
+  std::int64_t field_leaves = 0;    ///< blocks the field varies in (the boundary passes through)
+  std::int64_t section_leaves = 0;  ///< blocks holding voxels of R (their deciding planes)
+  std::int64_t inside_leaves = 0;   ///< blocks of the repaired set holding both values
+  std::int64_t anchor_leaves = 0;   ///< blocks of the repair's evidence holding both values
+};
+
 struct SampledReconstruction {
   /// Negative inside the repaired solid, |value| <= band; by blocks of 8³ voxels (block_grid.h):
   /// blocks where the method's value is clamped to one ±band throughout are tiles.
@@ -35,12 +44,10 @@ struct SampledReconstruction {
   /// Largest d(x, np'(x)) over the voxels of R' (method 2) or d(x, np(x)) over R (method 1), mm:
   /// the longest lift segment [a, lift(a)] realised (bounds the heights used by Theorem 20).
   double max_lift_mm = 0;
+  SolidStorage storage;
   std::int64_t exact_face_tests = 0;   ///< method 2 statistics
   std::int64_t search_restarts = 0;
 };
-
-/// Bytes per voxel held at once during the reconstruction (field, nearest-plane data, voxel sets).
-constexpr double kReconstructionBytesPerVoxel = 32;
 
 /// @param scene  the planes (real and end), their rasters and the grid (section_scene.h); the
 ///               method is scene.params.method.

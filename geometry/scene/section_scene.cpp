@@ -33,14 +33,17 @@ ReconstructionLayout reconstructionLayout(const std::vector<CuttingPlane>& plane
   const Vec3 boxLo = L.sections_min - Vec3::Constant(reachOut),
              boxHi = L.sections_max + Vec3::Constant(reachOut);
   L.grid.origin = boxLo - Vec3::Constant(2 * h);
+  // The solid is kept by blocks (block_grid.h), so the count itself is not bounded by an array's
+  // size; what would not fit in memory is refused before allocating (solid_memory.h). 2^40 voxels
+  // (4 TB as bytes, 2^31 blocks) is beyond any machine this runs on.
   double count = 1;
   for (int a = 0; a < 3; ++a) {
     const double n = std::ceil((boxHi[a] - boxLo[a]) / h) + 5;
     count *= n;
     L.grid.dims[a] = n < 2147483647.0 ? int(n) : 0;
   }
-  if (count > 2147483647.0)
-    throw std::invalid_argument("grid of " + std::to_string(std::int64_t(count)) +
+  if (count > 1099511627776.0 || !(count >= 1))
+    throw std::invalid_argument("grid of " + std::to_string(count) +
                                 " voxels is too large: increase reconstruction.voxel_size_mm");
   return L;
 }
