@@ -56,43 +56,52 @@ struct SharedFieldOfView {
   std::map<std::pair<double, double>, std::vector<Ring>> rings;  ///< per pixel spacing (x, y)
 };
 
+/// The shared masks by file, and per slice the rings of its mask at its spacing (null: its mask
+/// is its own, traced with its frame).
+struct SharedFieldsOfView {
+  std::map<std::string, SharedFieldOfView> byFile;
+  std::vector<const std::vector<Ring>*> ringsOfSlice;
+};
+
 Vec2 pixelSpacing(const SliceRecord& slice) {
   Vec2 spacing;
   planeOfPose(slice.image_to_world, &spacing);
   return spacing;
 }
 
-std::map<std::string, SharedFieldOfView> sharedFieldsOfView(const std::vector<SliceRecord>& slices,
-                                                            const std::string& listing_file) {
+SharedFieldsOfView sharedFieldsOfView(const std::vector<SliceRecord>& slices, const std::string& listing_file) {
   std::map<std::string, int> users, first;
   for (std::size_t i = 0; i < slices.size(); ++i)
     if (slices[i].fov_resolved) {
       ++users[*slices[i].fov_resolved];
       first.emplace(*slices[i].fov_resolved, int(i));
     }
-  std::map<std::string, SharedFieldOfView> shared;
+  SharedFieldsOfView out;
   for (const auto& [path, count] : users) {
     if (count < 2) continue;
-    SharedFieldOfView& s = shared[path];
+    SharedFieldOfView& s = out.byFile[path];
     try {
       s.mask = readFieldOfView(path, listing_file, "slices[" + std::to_string(first[path]) + "].fov");
     } catch (...) {
       s.error = std::current_exception();
     }
   }
-  for (const SliceRecord& slice : slices) {
-    if (!slice.fov_resolved) continue;
-    const auto it = shared.find(*slice.fov_resolved);
-    if (it == shared.end() || it->second.error) continue;
-    const Vec2 spacing = pixelSpacing(slice);
-    const std::pair<double, double> key(spacing.x(), spacing.y());
-    if (!it->second.rings.count(key)) it->second.rings[key] = fieldOfViewRings(it->second.mask, spacing);
+  out.ringsOfSlice.assign(slices.size(), nullptr);
+  for (std::size_t i = 0; i < slices.size(); ++i) {
+    if (!slices[i].fov_resolved) continue;
+    const auto it = out.byFile.find(*slices[i].fov_resolved);
+    if (it == out.byFile.end() || it->second.error) continue;
+    const Vec2 spacing = pixelSpacing(slices[i]);
+    auto& rings = it->second.rings;
+    auto r = rings.find({spacing.x(), spacing.y()});
+    if (r == rings.end()) r = rings.emplace(std::make_pair(spacing.x(), spacing.y()), fieldOfViewRings(it->second.mask, spacing)).first;
+    out.ringsOfSlice[i] = &r->second;
   }
-  return shared;
+  return out;
 }
 
-Frame readFrame(const SliceRecord& slice, int i, const std::string& listing_file,
-                const std::map<std::string, SharedFieldOfView>& shared) {
+Frame readFrame(const SliceRecord& slice, int i, const std::string& listing_file, const SharedFieldsOfView& all) {
+  const std::map<std::string, SharedFieldOfView>& shared = all.byFile;
   const std::string key = "slices[" + std::to_string(i) + "]";
   Frame f;
   f.image = readGreyImage(slice.image_resolved, listing_file, key + ".image");
@@ -111,7 +120,7 @@ Frame readFrame(const SliceRecord& slice, int i, const std::string& listing_file
 /// failing frame (the lowest index), as a sequential reading would.
 template <typename Work>
 void forEachFrame(const std::vector<SliceRecord>& slices, const std::string& listing_file,
-                  const std::map<std::string, SharedFieldOfView>& shared, const Work& work) {
+                  const SharedFieldsOfView& shared, const Work& work) {
   const int n = int(slices.size());
   std::vector<std::exception_ptr> failed(static_cast<std::size_t>(n));
   tbb::parallel_for(0, n, [&](int i) {
@@ -145,7 +154,7 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
     greyImageBytes(slices[i].image_resolved, listing_file, key + ".image");
     if (slices[i].fov_resolved) greyImageBytes(*slices[i].fov_resolved, listing_file, key + ".fov");
   }
-  const std::map<std::string, SharedFieldOfView> shared = sharedFieldsOfView(slices, listing_file);
+  const SharedFieldsOfView shared = sharedFieldsOfView(slices, listing_file);
   // Otsu: one threshold for the series, from the pooled histogram (series_threshold.h), pooled
   // over a first reading of the stream (integer counts: the same whatever the order).
   SegmentationParams perSlice = params;
@@ -175,9 +184,8 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
     cp.pixel_mm = std::min(spacing.x(), spacing.y());
     cp.extent.min = Vec2::Zero();
     cp.extent.max = Vec2((frame.image.cols - 1) * spacing.x(), (frame.image.rows - 1) * spacing.y());
-    const auto sharedFov = slices[i].fov_resolved ? shared.find(*slices[i].fov_resolved) : shared.end();
-    cp.field_of_view = sharedFov != shared.end() ? sharedFov->second.rings.at({spacing.x(), spacing.y()})
-                                                 : fieldOfViewRings(frame.fov, spacing);
+    const std::vector<Ring>* sharedRings = shared.ringsOfSlice[std::size_t(i)];
+    cp.field_of_view = sharedRings ? *sharedRings : fieldOfViewRings(frame.fov, spacing);
     if (!frame.fov.empty() && cv::countNonZero(frame.fov) == 0) cp.extent = PlaneRect{};  // observed nowhere
     const bool perLabel = perSlice.method == SegmentationMethod::labels && labelled;
     if (perLabel && !perSlice.merge_labels)

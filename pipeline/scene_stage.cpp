@@ -24,7 +24,8 @@ void checkMemory(const RunConfig& c, const std::vector<CuttingPlane>& planes, co
   const double dense = denseBytesPerVoxel(c);
   double blocks = 1;
   for (int a = 0; a < 3; ++a) blocks *= double((L.grid.dims[a] + 7) / 8);
-  if (worstCaseSolidBytes(blocks) + double(L.grid.count()) * dense <= budget) return;
+  const double rows = double(L.grid.dims[1]) * double(L.grid.dims[2]);
+  if (worstCaseSolidBytes(blocks, rows) + double(L.grid.count()) * dense <= budget) return;
   const SolidMemoryEstimate e = estimateSolidMemory(planes, reconstructionParams(c), dense);
   if (e.total() <= budget) return;
   const std::string setting = e.dense_bytes > 0.5 * e.total()

@@ -171,14 +171,15 @@ ConformalCutStats cutAlongSections(TriangleMesh& mesh, const std::vector<Cutting
       for (int cy = 0; cy < dims[1]; ++cy) {
         // The cells of the row within reach lie in one run of cx (the distance is linear in cx):
         // that run, widened by a cell against rounding, is tested cell by cell below.
-        int first = 0, last = dims[0] - 1;
+        double first = 0, last = dims[0] - 1;  // clamped as doubles: the run may lie far off the row
         const double s0 = P.signedDistance(lo + cell * Vec3(0.5, cy + 0.5, cz + 0.5));
         if (std::abs(step) > 1e-12 * cell) {
           const double u = (-reach - s0) / step, w = (reach - s0) / step;
-          first = int(std::max<double>(first, std::floor(std::min(u, w)) - 1));
-          last = int(std::min<double>(last, std::ceil(std::max(u, w)) + 1));
+          first = std::max(first, std::floor(std::min(u, w)) - 1);
+          last = std::min(last, std::ceil(std::max(u, w)) + 1);
         }
-        for (int cx = first; cx <= last; ++cx) {
+        if (first > last) continue;  // no cell of the row within reach (both now on the row)
+        for (int cx = int(first); cx <= int(last); ++cx) {
           const std::size_t b = (std::size_t(cz) * dims[1] + cy) * dims[0] + cx;
           const Vec3 centre = lo + cell * Vec3(cx + 0.5, cy + 0.5, cz + 0.5);
           const double sc = P.signedDistance(centre);

@@ -82,9 +82,9 @@ void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
   // level (planes crossing a box shrink with its size: with hundreds of random planes the 8³ list
   // holds dozens, the 2³ list a handful); voxels scan the survivors, each candidate's distance
   // updated incrementally from the box corner.
-  const int bx = (D[0] + kBlock - 1) / kBlock, by = (D[1] + kBlock - 1) / kBlock,
-            bz = (D[2] + kBlock - 1) / kBlock;
-  const int blocks = bx * by * bz;
+  const std::int64_t bx = (D[0] + kBlock - 1) / kBlock, by = (D[1] + kBlock - 1) / kBlock,
+                     bz = (D[2] + kBlock - 1) / kBlock;
+  const std::int64_t blocks = bx * by * bz;
   struct Scratch {
     std::vector<int> lists[4];  // candidates at box sizes 8, 4, 2 (index = level)
     std::vector<double> lo, s0, nx, ny, nz;
@@ -187,8 +187,8 @@ void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
     w.block.far_outside = true;
     return true;
   };
-  const auto doBlock = [&](int b, Scratch& w) {
-    const int ib = (b % bx) * kBlock, jb = ((b / bx) % by) * kBlock, kb = (b / (bx * by)) * kBlock;
+  const auto doBlock = [&](std::int64_t b, Scratch& w) {
+    const int ib = int(b % bx) * kBlock, jb = int((b / bx) % by) * kBlock, kb = int(b / (bx * by)) * kBlock;
     const int s = (ib / kSuper) + sx * ((jb / kSuper) + sy * (kb / kSuper));
     NearestPlaneBlock& v = w.block;
     if (wholeBlocks && outsideBlock(ib, jb, kb, superCand[s], w)) {
@@ -209,12 +209,12 @@ void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
             }
     visitBlock(b, v);
   };
-  const int chunk = std::max(256, blocks / 16);
-  for (int first = 0; first < blocks; first += chunk) {
-    const int last = std::min(blocks, first + chunk);
-    tbb::parallel_for(tbb::blocked_range<int>(first, last, 16), [&](const tbb::blocked_range<int>& r) {
+  const std::int64_t chunk = std::max<std::int64_t>(256, blocks / 16);
+  for (std::int64_t first = 0; first < blocks; first += chunk) {
+    const std::int64_t last = std::min(blocks, first + chunk);
+    tbb::parallel_for(tbb::blocked_range<std::int64_t>(first, last, 16), [&](const tbb::blocked_range<std::int64_t>& r) {
       Scratch w;
-      for (int b = r.begin(); b != r.end(); ++b) doBlock(b, w);
+      for (std::int64_t b = r.begin(); b != r.end(); ++b) doBlock(b, w);
     });
     if (progress) progress(double(last) / blocks);
   }

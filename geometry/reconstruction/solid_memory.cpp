@@ -26,14 +26,19 @@ constexpr double kPlaneLeafBytes = 512 * 1 + kLeafOverhead;
 // about 100 bytes per triangle while the mesh stage holds the method's mesh, its conformal cut
 // and the topology's edge lists (measured: 95).
 constexpr double kMeshBytesPerBoundaryBlock = 2.0 * 512 * 100;
+// Per row of voxels (ny nz of them): the repair's and Betti numbers' runs of the background (at
+// least one per row: first run, ends, component, union-find parent) while the per-slab parts and
+// the foreground's runs are alive too.
+constexpr double kBytesPerRow = 8 + 2 * (4 + 4 + 4 + 8) + 16;
 // The trial's size: small enough to cost a fraction of the run, fine enough to see the shape.
 constexpr double kTrialVoxels = 2e6;
 
 }  // namespace
 
-double worstCaseSolidBytes(double blocks) {
+double worstCaseSolidBytes(double blocks, double rows) {
   return blocks * (kTableBytesPerBlock + kBoundaryLeafBytes + kSolidLeafBytes + 2 * kPlaneLeafBytes +
-                   kMeshBytesPerBoundaryBlock);
+                   kMeshBytesPerBoundaryBlock) +
+         rows * kBytesPerRow;
 }
 
 SolidMemoryEstimate estimateSolidMemory(const std::vector<CuttingPlane>& real_planes,
@@ -58,7 +63,8 @@ SolidMemoryEstimate estimateSolidMemory(const std::vector<CuttingPlane>& real_pl
   e.plane_blocks = capped(double(trial.storage.anchor_leaves) * f * f, 2 * blocks);
   e.solid_blocks = capped(double(trial.storage.section_leaves) * f * f + double(trial.voxels_inside) * f * f * f / 512, blocks);
 
-  e.table_bytes = blocks * kTableBytesPerBlock;
+  e.table_bytes = blocks * kTableBytesPerBlock +
+                  double(layout.grid.dims[1]) * double(layout.grid.dims[2]) * kBytesPerRow;
   e.leaf_bytes = double(e.boundary_blocks) * kBoundaryLeafBytes + double(e.solid_blocks) * kSolidLeafBytes +
                  double(e.plane_blocks) * kPlaneLeafBytes;
   e.mesh_bytes = double(e.boundary_blocks) * kMeshBytesPerBoundaryBlock;

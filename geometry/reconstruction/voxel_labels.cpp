@@ -3,9 +3,11 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <stdexcept>
+#include <tuple>
 
 #include "geometry/core/polygon.h"
 
@@ -47,27 +49,42 @@ BlockGrid<std::uint16_t> voxelLabels(const BlockGrid<std::uint8_t>& inside, cons
     label.setBlock(b, values.data());
   });
   // Unlabelled voxels of the solid: breadth-first from the labelled ones, taken in scan order
-  // (rows of blocks without a voxel of the solid are skipped).
+  // (rows of blocks without a voxel of the solid are skipped). Only labelled voxels beside an
+  // unlabelled voxel of the solid start the search: the others would label nothing in its first
+  // wave, so the labels are the same, and the front follows the unlabelled voxels, not the solid.
   const int nx = D[0], ny = D[1], nz = D[2];
   struct Voxel {
     int i, j, k;
   };
+  const auto unlabelledAt = [&](int a, int b, int c) {
+    return a >= 0 && b >= 0 && c >= 0 && a < nx && b < ny && c < nz && inside.at(a, b, c) && !label.at(a, b, c);
+  };
+  std::vector<Voxel> unlabelled;
+  for (std::int64_t b = 0; b < inside.blockCount(); ++b) {
+    if (!inside.isLeaf(b) && !inside.tile(b)) continue;
+    const auto o = inside.blockOrigin(b);
+    for (int k = o[2]; k < std::min(nz, o[2] + 8); ++k)
+      for (int j = o[1]; j < std::min(ny, o[1] + 8); ++j)
+        for (int i = o[0]; i < std::min(nx, o[0] + 8); ++i)
+          if (unlabelledAt(i, j, k)) unlabelled.push_back({i, j, k});
+  }
+  if (unlabelled.empty()) return label;
+  // The labelled neighbours of the unlabelled voxels, in scan order, once each.
   std::vector<Voxel> front, next;
-  std::vector<std::uint16_t> row(std::size_t(nx) + 8);
-  std::int64_t unlabelled = 0;
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j) {
-      if (inside.blockRowIs(j >> 3, k >> 3, 0)) {
-        j |= 7;  // the rest of this row of blocks
-        continue;
-      }
-      label.readRow(j, k, row.data());
-      for (int i = 0; i < nx; ++i) {
-        if (row[std::size_t(i)]) front.push_back({i, j, k});
-        else unlabelled += inside.at(i, j, k);
-      }
-    }
-  if (unlabelled == 0) return label;
+  for (const Voxel& u : unlabelled)
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int a = u.i + dx, b = u.j + dy, c = u.k + dz;
+          if (a < 0 || b < 0 || c < 0 || a >= nx || b >= ny || c >= nz) continue;
+          if (label.at(a, b, c)) front.push_back({a, b, c});
+        }
+  const auto scanOrder = [](const Voxel& x, const Voxel& y) {
+    return std::tie(x.k, x.j, x.i) < std::tie(y.k, y.j, y.i);
+  };
+  const auto same = [](const Voxel& x, const Voxel& y) { return x.i == y.i && x.j == y.j && x.k == y.k; };
+  std::sort(front.begin(), front.end(), scanOrder);
+  front.erase(std::unique(front.begin(), front.end(), same), front.end());
   while (!front.empty()) {
     next.clear();
     for (const Voxel& v : front) {
