@@ -29,9 +29,7 @@ void checkMemory(const RunConfig& c, const std::vector<CuttingPlane>& planes, co
   const SolidMemoryEstimate e = estimateSolidMemory(planes, reconstructionParams(c), dense);
   if (e.total() <= budget) return;
   const std::string setting = e.dense_bytes > 0.5 * e.total()
-                                  ? (c.reconstruction_method == ReconstructionMethod::section_voronoi
-                                         ? "use reconstruction.method: nearest_plane (its solid is kept by blocks) or increase the voxel size"
-                                         : "set smoothing.method: none (it holds the whole volume) or increase the voxel size")
+                                  ? "set smoothing.method: none (it holds the whole volume) or increase the voxel size"
                                   : "increase the voxel size";
   throw InputError(c.path, "reconstruction.voxel_size_mm",
                    "a grid of " + std::to_string(L.grid.count()) + " voxels needs about " +
@@ -72,7 +70,6 @@ VoxelSizeReport resolveVoxelSize(RunInputs& in, bool quiet) {
 
 double denseBytesPerVoxel(const RunConfig& c) {
   double dense = 0;
-  if (c.reconstruction_method == ReconstructionMethod::section_voronoi) dense += kSectionVoronoiBytesPerVoxel;
   if (c.smoothing_method != SmoothingMethod::none) dense += kSmoothingBytesPerVoxel;
   // Several materials: their solids are made from dense copies (field, labels, one label's set).
   if (c.segmentation.method == SegmentationMethod::labels) dense += 4 + 2 + 1;

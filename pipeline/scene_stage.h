@@ -38,8 +38,8 @@ VoxelSizeReport resolveVoxelSize(RunInputs& in, bool quiet);
 /// The grid the reconstruction will use; configuration problems become InputError.
 ReconstructionLayout layoutOf(const std::vector<CuttingPlane>& planes, const RunConfig& c);
 
-/// Bytes per voxel of the configured stages that still hold whole volumes (method 2's evaluation,
-/// smoothing, several materials); 0 for method 1 alone.
+/// Bytes per voxel of the configured stages that still hold whole volumes (smoothing, several
+/// materials); 0 for methods 1 and 2 alone.
 double denseBytesPerVoxel(const RunConfig& c);
 
 /// The estimate's parts in words, for messages.

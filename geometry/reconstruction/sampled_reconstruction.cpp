@@ -90,30 +90,6 @@ class SolidAssembly {
   std::vector<float> block_lift_;
 };
 
-/// Method 2's dense arrays, block by block (voxels beyond the grid repeat the block's first).
-void addSectionVoronoiField(const SectionVoronoiField& svf, const GridSpec& grid, SolidAssembly& assembly) {
-  const BlockGrid<float> numbering(grid, 0.f);
-  tbb::parallel_for(std::int64_t(0), numbering.blockCount(), [&](std::int64_t b) {
-    constexpr int kN = EvaluatedBlock::kVoxels;
-    std::array<float, kN> value, distance, lift;
-    std::array<int, kN> nearest, section;
-    const auto o = numbering.blockOrigin(b);
-    for (int k = 0; k < 8; ++k)
-      for (int j = 0; j < 8; ++j)
-        for (int i = 0; i < 8; ++i) {
-          const bool beyond = o[0] + i >= grid.dims[0] || o[1] + j >= grid.dims[1] || o[2] + k >= grid.dims[2];
-          const std::size_t idx = std::size_t(beyond ? grid.index(o[0], o[1], o[2]) : grid.index(o[0] + i, o[1] + j, o[2] + k));
-          const std::size_t q = std::size_t(BlockGrid<float>::offset(i, j, k));
-          value[q] = svf.value.values[idx];
-          distance[q] = svf.plane_distance[idx];
-          nearest[q] = svf.nearest_plane[idx];
-          section[q] = svf.section_plane[idx];
-          lift[q] = svf.lift_height[idx];
-        }
-    assembly.add(b, {value.data(), distance.data(), nearest.data(), section.data(), lift.data()});
-  });
-}
-
 }  // namespace
 
 SampledReconstruction reconstructOnGrid(const SectionScene& scene, const std::function<void(double)>& progress) {
@@ -133,10 +109,13 @@ SampledReconstruction reconstructOnGrid(const SectionScene& scene, const std::fu
   } else {
     SectionVoronoiParams vp;
     vp.slab_mm = params.slab_voxels * h;
-    const SectionVoronoiField svf = sectionVoronoiReconstruction(scene.planes, scene.fields, grid, vp, progress);
-    addSectionVoronoiField(svf, grid, assembly);
-    out.exact_face_tests = svf.exact_face_tests;
-    out.search_restarts = svf.search_restarts;
+    SectionVoronoiStatistics statistics;
+    forEachSectionVoronoiBlock(scene.planes, scene.fields, grid, vp, [&](std::int64_t b, const SectionVoronoiBlock& v) {
+      assembly.add(b, {v.value.data(), v.plane_distance.data(), v.nearest_plane.data(), v.section_plane.data(),
+                       v.lift_height.data()});
+    }, progress, &statistics);
+    out.exact_face_tests = statistics.exact_face_tests;
+    out.search_restarts = statistics.search_restarts;
   }
   out.max_lift_mm = assembly.maxLift();
   out.evaluate_seconds =

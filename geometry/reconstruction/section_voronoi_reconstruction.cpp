@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -652,11 +653,11 @@ std::vector<PlaneInfo> planeInfo(const std::vector<CuttingPlane>& planes,
 
 }  // namespace
 
-SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>& planes,
-                                                 const std::vector<SectionDistanceField>& fields,
-                                                 const GridSpec& grid,
-                                                 const SectionVoronoiParams& params,
-                                                 const std::function<void(double)>& progress) {
+void forEachSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
+                                const std::vector<SectionDistanceField>& fields, const GridSpec& grid,
+                                const SectionVoronoiParams& params,
+                                const std::function<void(std::int64_t, const SectionVoronoiBlock&)>& visitBlock,
+                                const std::function<void(double)>& progress, SectionVoronoiStatistics* statistics) {
   if (planes.empty()) throw std::invalid_argument("method 2: no cutting plane");
   if (fields.size() != planes.size())
     throw std::invalid_argument("method 2: one distance raster per plane is required");
@@ -664,31 +665,31 @@ SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>
   if (!(params.slab_mm >= 0)) throw std::invalid_argument("method 2: slab must be >= 0");
 
   const std::vector<PlaneInfo> info = planeInfo(planes, fields);
-
-  SectionVoronoiField out;
-  out.value.grid = grid;
-  const std::size_t n = std::size_t(grid.count());
-  out.value.values.assign(n, 0.f);
-  out.plane_distance.assign(n, 0.f);
-  out.nearest_plane.assign(n, -1);
-  out.section_plane.assign(n, -1);
-  out.lift_height.assign(n, 0.f);
+  float band = 0;
+  for (const auto& f : fields) band = std::max(band, f.band);
 
   const Evaluator ev(info, params.slab_mm);
-  constexpr int kBlock = 4;
+  // Blocks of 4³ voxels share their candidate planes and search radius; the output goes by blocks
+  // of 8³ (block_grid.h), each the union of eight of them.
+  constexpr int kBlock = 4, kOut = BlockGrid<float>::kSide;
   const auto& D = grid.dims;
-  const int bx = (D[0] + kBlock - 1) / kBlock, by = (D[1] + kBlock - 1) / kBlock,
-            bz = (D[2] + kBlock - 1) / kBlock;
-  const int blocks = bx * by * bz;
+  const std::int64_t bx = (D[0] + kOut - 1) / kOut, by = (D[1] + kOut - 1) / kOut, bz = (D[2] + kOut - 1) / kOut;
+  const std::int64_t blocks = bx * by * bz;
   const double h = grid.voxel;
   const Vec3 gridExt = h * Vec3(D[0], D[1], D[2]);
   const double rMax = gridExt.norm() + 4 * h;
   std::atomic<std::int64_t> exact{0}, restarts{0};
 
-  const auto doBlock = [&](int b, Scratch& w) {
-    const int i0 = (b % bx) * kBlock, j0 = ((b / bx) % by) * kBlock, k0 = (b / (bx * by)) * kBlock;
+  struct Work {
+    Scratch w;
+    SectionVoronoiBlock out;
+  };
+  const auto doBlock = [&](int i0, int j0, int k0, Work& work) {
+    Scratch& w = work.w;
+    SectionVoronoiBlock& out = work.out;
     const int i1 = std::min(D[0], i0 + kBlock), j1 = std::min(D[1], j0 + kBlock),
               k1 = std::min(D[2], k0 + kBlock);
+    if (i0 >= i1 || j0 >= j1 || k0 >= k1) return;
     const Vec3 lo = grid.centre(i0, j0, k0), hi = grid.centre(i1 - 1, j1 - 1, k1 - 1);
     const Vec3 c = 0.5 * (lo + hi), e = 0.5 * (hi - lo);
     double minHi = kInf;
@@ -700,14 +701,16 @@ SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>
         if (isMax || lb <= R) w.cand.push_back(int(q));
       }
     };
-    const auto store = [&](std::size_t idx, const Decision& dcs) {
-      out.value.values[idx] = dcs.value;
-      out.plane_distance[idx] = dcs.plane_distance;
-      out.nearest_plane[idx] = dcs.nearest_plane;
-      out.section_plane[idx] = dcs.section_plane;
-      out.lift_height[idx] = dcs.lift;
+    const auto offsetOf = [](int i, int j, int k) { return BlockGrid<float>::offset(i, j, k); };
+    const auto store = [&](int o, const Decision& dcs) {
+      out.value[std::size_t(o)] = std::clamp(dcs.value, -band, band);
+      out.plane_distance[std::size_t(o)] = dcs.plane_distance;
+      out.nearest_plane[std::size_t(o)] = dcs.nearest_plane;
+      out.section_plane[std::size_t(o)] = dcs.section_plane;
+      out.lift_height[std::size_t(o)] = dcs.lift;
     };
-    // Voxels within the thickened nearest plane first (all of them in dense sweeps).
+    // Voxels within the thickened nearest plane first (all of them in dense sweeps). The voxels
+    // left are kept by their place in the 8³ block (and their coordinates recomputed).
     double R = 2.0 * minHi + 2 * h;
     candidates(R, R >= rMax);
     w.todo.clear();
@@ -715,9 +718,8 @@ SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>
       for (int j = j0; j < j1; ++j)
         for (int i = i0; i < i1; ++i) {
           Decision dcs;
-          const std::size_t idx = std::size_t(grid.index(i, j, k));
-          if (ev.decideInSlab(grid.centre(i, j, k), w.cand, &dcs)) store(idx, dcs);
-          else w.todo.push_back(int(idx));
+          if (ev.decideInSlab(grid.centre(i, j, k), w.cand, &dcs)) store(offsetOf(i, j, k), dcs);
+          else w.todo.push_back((i - i0) + kBlock * ((j - j0) + kBlock * (k - k0)));
         }
     if (w.todo.empty()) return;
     // Planes whose sections the block's projection can reach: without any, no voxel of the
@@ -754,8 +756,18 @@ SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>
         w.inBound.push_back(bnd);
       }
     }
+    const auto voxelOf = [&](int t) {
+      return std::array<int, 3>{i0 + t % kBlock, j0 + (t / kBlock) % kBlock, k0 + t / (kBlock * kBlock)};
+    };
     if (w.inList.empty()) {
-      for (const int idx : w.todo) out.value.values[std::size_t(idx)] = 1e30f;
+      for (const int t : w.todo) {
+        const auto v = voxelOf(t);  // outside every section's reach: +band
+        out.value[std::size_t(offsetOf(v[0], v[1], v[2]))] = band;
+        out.plane_distance[std::size_t(offsetOf(v[0], v[1], v[2]))] = 0.f;
+        out.nearest_plane[std::size_t(offsetOf(v[0], v[1], v[2]))] = -1;
+        out.section_plane[std::size_t(offsetOf(v[0], v[1], v[2]))] = -1;
+        out.lift_height[std::size_t(offsetOf(v[0], v[1], v[2]))] = 0.f;
+      }
       return;
     }
     bool first = true;
@@ -765,16 +777,15 @@ SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>
       first = false;
       w.next.clear();
       double suggest = 0;
-      for (const int idx : w.todo) {
-        const std::int64_t id = idx;
-        const int i = int(id % D[0]), j = int((id / D[0]) % D[1]), k = int(id / (std::int64_t(D[0]) * D[1]));
-        const Decision dcs = ev.decide(grid.centre(i, j, k), w.cand, w.inList, w.inBound, R, isMax, w);
+      for (const int t : w.todo) {
+        const auto v = voxelOf(t);
+        const Decision dcs = ev.decide(grid.centre(v[0], v[1], v[2]), w.cand, w.inList, w.inBound, R, isMax, w);
         if (dcs.verdict == Verdict::undecided) {
           suggest = std::max(suggest, dcs.suggest_radius);
-          w.next.push_back(idx);
+          w.next.push_back(t);
           continue;
         }
-        store(std::size_t(idx), dcs);
+        store(offsetOf(v[0], v[1], v[2]), dcs);
       }
       restarts += std::int64_t(w.next.size());
       w.todo.swap(w.next);
@@ -783,21 +794,73 @@ SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>
       R = std::max(2 * R, suggest * (1 + 1e-9) + 2 * h);
     }
   };
-  const int chunk = std::max(64, blocks / 32);
-  for (int first = 0; first < blocks; first += chunk) {
-    const int last = std::min(blocks, first + chunk);
-    tbb::parallel_for(tbb::blocked_range<int>(first, last, 4), [&](const tbb::blocked_range<int>& r) {
-      Scratch w;
-      for (int b = r.begin(); b != r.end(); ++b) doBlock(b, w);
-      exact += w.exact;
+  const std::int64_t chunk = std::max<std::int64_t>(16, blocks / 32);
+  for (std::int64_t first = 0; first < blocks; first += chunk) {
+    const std::int64_t last = std::min(blocks, first + chunk);
+    tbb::parallel_for(tbb::blocked_range<std::int64_t>(first, last, 1), [&](const tbb::blocked_range<std::int64_t>& r) {
+      Work work;
+      for (std::int64_t b = r.begin(); b != r.end(); ++b) {
+        const int ib = int(b % bx) * kOut, jb = int((b / bx) % by) * kOut, kb = int(b / (bx * by)) * kOut;
+        for (int dz = 0; dz < kOut; dz += kBlock)
+          for (int dy = 0; dy < kOut; dy += kBlock)
+            for (int dx = 0; dx < kOut; dx += kBlock) doBlock(ib + dx, jb + dy, kb + dz, work);
+        // Voxels beyond the grid repeat the block's first.
+        SectionVoronoiBlock& v = work.out;
+        if (ib + kOut > D[0] || jb + kOut > D[1] || kb + kOut > D[2])
+          for (int k = 0; k < kOut; ++k)
+            for (int j = 0; j < kOut; ++j)
+              for (int i = 0; i < kOut; ++i)
+                if (ib + i >= D[0] || jb + j >= D[1] || kb + k >= D[2]) {
+                  const std::size_t o = std::size_t(BlockGrid<float>::offset(i, j, k));
+                  v.value[o] = v.value[0];
+                  v.plane_distance[o] = v.plane_distance[0];
+                  v.nearest_plane[o] = v.nearest_plane[0];
+                  v.section_plane[o] = v.section_plane[0];
+                  v.lift_height[o] = v.lift_height[0];
+                }
+        visitBlock(b, v);
+      }
+      exact += work.w.exact;
     });
-    if (progress) progress(double(last) / blocks);
+    if (progress) progress(double(last) / double(blocks));
   }
-  float band = 0;
-  for (const auto& f : fields) band = std::max(band, f.band);
-  for (float& v : out.value.values) v = std::clamp(v, -band, band);
-  out.exact_face_tests = exact;
-  out.search_restarts = restarts;
+  if (statistics) {
+    statistics->exact_face_tests = exact;
+    statistics->search_restarts = restarts;
+  }
+}
+
+SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>& planes,
+                                                 const std::vector<SectionDistanceField>& fields,
+                                                 const GridSpec& grid,
+                                                 const SectionVoronoiParams& params,
+                                                 const std::function<void(double)>& progress) {
+  SectionVoronoiField out;
+  out.value.grid = grid;
+  const std::size_t n = std::size_t(grid.count());
+  out.value.values.assign(n, 0.f);
+  out.plane_distance.assign(n, 0.f);
+  out.nearest_plane.assign(n, -1);
+  out.section_plane.assign(n, -1);
+  out.lift_height.assign(n, 0.f);
+  const BlockGrid<float> numbering(grid, 0.f);
+  const auto& D = grid.dims;
+  SectionVoronoiStatistics statistics;
+  forEachSectionVoronoiBlock(planes, fields, grid, params, [&](std::int64_t b, const SectionVoronoiBlock& v) {
+    const auto o = numbering.blockOrigin(b);
+    for (int k = o[2]; k < std::min(D[2], o[2] + 8); ++k)
+      for (int j = o[1]; j < std::min(D[1], o[1] + 8); ++j)
+        for (int i = o[0]; i < std::min(D[0], o[0] + 8); ++i) {
+          const std::size_t idx = std::size_t(grid.index(i, j, k)), q = std::size_t(BlockGrid<float>::offset(i, j, k));
+          out.value.values[idx] = v.value[q];
+          out.plane_distance[idx] = v.plane_distance[q];
+          out.nearest_plane[idx] = v.nearest_plane[q];
+          out.section_plane[idx] = v.section_plane[q];
+          out.lift_height[idx] = v.lift_height[q];
+        }
+  }, progress, &statistics);
+  out.exact_face_tests = statistics.exact_face_tests;
+  out.search_restarts = statistics.search_restarts;
   return out;
 }
 

@@ -25,10 +25,12 @@
 // evaluation of Def. 27-28 away from such ties (1e-3 mm).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <vector>
 
+#include "geometry/core/block_grid.h"
 #include "geometry/scene/section_distance_field.h"
 #include "geometry/core/types.h"
 
@@ -58,12 +60,36 @@ struct SectionVoronoiField {
 /// @param grid      voxel centres to evaluate (mm).
 /// @param params    thickening of the planes.
 /// @param progress  optional, called with the fraction done (from the calling thread).
-/// Deterministic: every voxel is decided from its own position only.
+/// Deterministic: every voxel is decided from its own position only. Dense arrays (small grids,
+/// tests); the run uses forEachSectionVoronoiBlock.
 SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>& planes,
                                                  const std::vector<SectionDistanceField>& fields,
                                                  const GridSpec& grid,
                                                  const SectionVoronoiParams& params,
                                                  const std::function<void(double)>& progress = {});
+
+/// Method 2 on one block of 8³ voxels (block_grid.h), by BlockGrid's offset(); voxels of the
+/// block beyond the grid repeat the block's first voxel. Fields as SectionVoronoiField's.
+struct SectionVoronoiBlock {
+  static constexpr int kVoxels = BlockGrid<float>::kVoxels;
+  std::array<float, kVoxels> value, plane_distance, lift_height;
+  std::array<int, kVoxels> nearest_plane, section_plane;
+};
+
+struct SectionVoronoiStatistics {
+  std::int64_t exact_face_tests = 0;
+  std::int64_t search_restarts = 0;
+};
+
+/// Method 2 block by block: visit(b, values) for every block b of BlockGrid's numbering on `grid`,
+/// from several threads at once (each block once): no per-voxel array of the whole grid (issue
+/// 17). Parameters as sectionVoronoiReconstruction's; `statistics` (optional) receives its counts.
+void forEachSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
+                                const std::vector<SectionDistanceField>& fields, const GridSpec& grid,
+                                const SectionVoronoiParams& params,
+                                const std::function<void(std::int64_t, const SectionVoronoiBlock&)>& visit,
+                                const std::function<void(double)>& progress = {},
+                                SectionVoronoiStatistics* statistics = nullptr);
 
 /// Method 2 at single points (for the connectivity graph along lifts): the same decision as the
 /// grid evaluation, with every plane considered.

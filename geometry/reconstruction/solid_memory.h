@@ -8,7 +8,7 @@
 // voxel) for the boundary and the planes' neighbourhoods, by the volume ratio (f³) for the
 // solid's interior. The mesh is counted at its upper bound per boundary block (2 triangles per
 // voxel; measured on the freehand-2000 sweep: 1.6), the repair's runs per row of voxels. Stages
-// that still hold whole volumes (method 2's evaluation, the smoothing) add their bytes per voxel.
+// that still hold whole volumes (the smoothing, several materials) add their bytes per voxel.
 // Not counted: the planes, their rasters and the arrangement, which the run holds before this
 // estimate is needed (freehand-2000: 721 MB of its 1.37 GB peak) and measures per stage.
 #pragma once
@@ -35,8 +35,6 @@ struct SolidMemoryEstimate {
   double total() const { return table_bytes + leaf_bytes + mesh_bytes + dense_bytes; }
 };
 
-/// Bytes per voxel of method 2's evaluation (value, distance, planes, lift: whole volumes).
-constexpr double kSectionVoronoiBytesPerVoxel = 24;
 /// Bytes per voxel of the smoothing stages (dense fields and voxel sets on the grid).
 constexpr double kSmoothingBytesPerVoxel = 16;
 
@@ -46,8 +44,8 @@ double worstCaseSolidBytes(double blocks, double rows);
 
 /// @param real_planes            the planes with their sections (the end planes are added).
 /// @param params                 the run's reconstruction parameters (voxel size, end margin).
-/// @param dense_bytes_per_voxel  bytes per voxel of the stages that hold whole volumes (0 for
-///                               method 1 without smoothing).
+/// @param dense_bytes_per_voxel  bytes per voxel of the stages that hold whole volumes (0 without
+///                               smoothing and with one material).
 /// Throws std::invalid_argument as reconstructionLayout.
 SolidMemoryEstimate estimateSolidMemory(const std::vector<CuttingPlane>& real_planes,
                                         const ReconstructionParams& params, double dense_bytes_per_voxel);
