@@ -175,6 +175,32 @@ class BlockGrid {
   std::vector<std::unique_ptr<Leaf>> leaf_;
 };
 
+/// Calls f(i, j, k, offset) for every voxel (i, j, k) of the block at `origin` (its first voxel)
+/// that lies in `grid`, in scan order (x fastest).
+template <typename F>
+void forEachVoxelOfBlock(const GridSpec& grid, const std::array<int, 3>& origin, const F& f) {
+  const auto& D = grid.dims;
+  constexpr int n = BlockGrid<float>::kSide;
+  for (int k = origin[2]; k < std::min(D[2], origin[2] + n); ++k)
+    for (int j = origin[1]; j < std::min(D[1], origin[1] + n); ++j)
+      for (int i = origin[0]; i < std::min(D[0], origin[0] + n); ++i) f(i, j, k, BlockGrid<float>::offset(i, j, k));
+}
+
+/// Calls f(offset) for every voxel of the block at `origin` (its first voxel) that lies beyond
+/// `grid` (blocks on the grid's upper faces): the places a block's producer fills with a value of
+/// the block so that a block uniform within the grid is a tile.
+template <typename F>
+void forEachBeyondGrid(const GridSpec& grid, const std::array<int, 3>& origin, const F& f) {
+  const auto& D = grid.dims;
+  constexpr int n = BlockGrid<float>::kSide;
+  if (origin[0] + n <= D[0] && origin[1] + n <= D[1] && origin[2] + n <= D[2]) return;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        if (origin[0] + i >= D[0] || origin[1] + j >= D[1] || origin[2] + k >= D[2])
+          f(BlockGrid<float>::offset(i, j, k));
+}
+
 /// The values of a block grid as a dense array (x fastest), for small grids and for the stages
 /// that still read whole volumes.
 template <typename T>

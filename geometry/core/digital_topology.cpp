@@ -410,21 +410,17 @@ std::int64_t imposeSolid(ScalarField& field, const std::vector<std::uint8_t>& in
 
 std::int64_t imposeSolid(BlockGrid<float>& field, const BlockGrid<std::uint8_t>& inside, float nudge_mm) {
   const GridSpec& g = field.grid();
-  const auto& D = g.dims;
   std::vector<std::int64_t> changed(std::size_t(field.blockCount()), 0);
   tbb::parallel_for(std::int64_t(0), field.blockCount(), [&](std::int64_t b) {
     // Two tiles that agree: nothing to change.
     if (!field.isLeaf(b) && !inside.isLeaf(b) && (field.tile(b) < 0) == bool(inside.tile(b))) return;
-    const auto o = field.blockOrigin(b);
-    for (int k = o[2]; k < std::min(D[2], o[2] + 8); ++k)
-      for (int j = o[1]; j < std::min(D[1], o[1] + 8); ++j)
-        for (int i = o[0]; i < std::min(D[0], o[0] + 8); ++i) {
-          const bool in = inside.at(i, j, k);
-          const float v = field.at(i, j, k);
-          if (in == (v < 0)) continue;
-          field.leafForWriting(b)[BlockGrid<float>::offset(i, j, k)] = in ? -nudge_mm : nudge_mm;
-          ++changed[std::size_t(b)];
-        }
+    forEachVoxelOfBlock(g, field.blockOrigin(b), [&](int i, int j, int k, int o) {
+      const bool in = inside.at(i, j, k);
+      const float v = field.at(i, j, k);
+      if (in == (v < 0)) return;
+      field.leafForWriting(b)[o] = in ? -nudge_mm : nudge_mm;
+      ++changed[std::size_t(b)];
+    });
   });
   std::int64_t n = 0;
   for (const std::int64_t c : changed) n += c;

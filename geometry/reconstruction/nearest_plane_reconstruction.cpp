@@ -197,16 +197,11 @@ void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
     }
     v.far_outside = false;
     visit(ib, jb, kb, kBlock, 0, superCand[s], w);
-    if (ib + kBlock > D[0] || jb + kBlock > D[1] || kb + kBlock > D[2])
-      for (int k = 0; k < kBlock; ++k)
-        for (int j = 0; j < kBlock; ++j)
-          for (int i = 0; i < kBlock; ++i)
-            if (ib + i >= D[0] || jb + j >= D[1] || kb + k >= D[2]) {
-              const std::size_t o = std::size_t(BlockGrid<float>::offset(i, j, k));
-              v.value[o] = v.value[0];
-              v.plane_distance[o] = v.plane_distance[0];
-              v.nearest_plane[o] = v.nearest_plane[0];
-            }
+    forEachBeyondGrid(grid, {ib, jb, kb}, [&](int o) {
+      v.value[std::size_t(o)] = v.value[0];
+      v.plane_distance[std::size_t(o)] = v.plane_distance[0];
+      v.nearest_plane[std::size_t(o)] = v.nearest_plane[0];
+    });
     visitBlock(b, v);
   };
   const std::int64_t chunk = std::max<std::int64_t>(256, blocks / 16);
@@ -231,17 +226,13 @@ NearestPlaneField nearestPlaneReconstruction(const std::vector<CuttingPlane>& pl
   out.plane_distance.resize(n);
   out.nearest_plane.resize(n);
   const BlockGrid<float> blocks(grid, 0.f);  // the numbering of the blocks
-  const auto& D = grid.dims;
   forEachNearestPlaneBlock(planes, fields, grid, [&](std::int64_t b, const NearestPlaneBlock& v) {
-    const auto o = blocks.blockOrigin(b);
-    for (int k = o[2]; k < std::min(D[2], o[2] + 8); ++k)
-      for (int j = o[1]; j < std::min(D[1], o[1] + 8); ++j)
-        for (int i = o[0]; i < std::min(D[0], o[0] + 8); ++i) {
-          const std::size_t idx = std::size_t(grid.index(i, j, k)), q = std::size_t(BlockGrid<float>::offset(i, j, k));
-          out.value.values[idx] = v.value[q];
-          out.plane_distance[idx] = v.plane_distance[q];
-          out.nearest_plane[idx] = v.nearest_plane[q];
-        }
+    forEachVoxelOfBlock(grid, blocks.blockOrigin(b), [&](int i, int j, int k, int o) {
+      const std::size_t idx = std::size_t(grid.index(i, j, k)), q = std::size_t(o);
+      out.value.values[idx] = v.value[q];
+      out.plane_distance[idx] = v.plane_distance[q];
+      out.nearest_plane[idx] = v.nearest_plane[q];
+    });
   }, false, progress);
   return out;
 }

@@ -806,18 +806,14 @@ void forEachSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
             for (int dx = 0; dx < kOut; dx += kBlock) doBlock(ib + dx, jb + dy, kb + dz, work);
         // Voxels beyond the grid repeat the block's first.
         SectionVoronoiBlock& v = work.out;
-        if (ib + kOut > D[0] || jb + kOut > D[1] || kb + kOut > D[2])
-          for (int k = 0; k < kOut; ++k)
-            for (int j = 0; j < kOut; ++j)
-              for (int i = 0; i < kOut; ++i)
-                if (ib + i >= D[0] || jb + j >= D[1] || kb + k >= D[2]) {
-                  const std::size_t o = std::size_t(BlockGrid<float>::offset(i, j, k));
-                  v.value[o] = v.value[0];
-                  v.plane_distance[o] = v.plane_distance[0];
-                  v.nearest_plane[o] = v.nearest_plane[0];
-                  v.section_plane[o] = v.section_plane[0];
-                  v.lift_height[o] = v.lift_height[0];
-                }
+        forEachBeyondGrid(grid, {ib, jb, kb}, [&](int o) {
+          const std::size_t q = std::size_t(o);
+          v.value[q] = v.value[0];
+          v.plane_distance[q] = v.plane_distance[0];
+          v.nearest_plane[q] = v.nearest_plane[0];
+          v.section_plane[q] = v.section_plane[0];
+          v.lift_height[q] = v.lift_height[0];
+        });
         visitBlock(b, v);
       }
       exact += work.w.exact;
@@ -844,20 +840,16 @@ SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>
   out.section_plane.assign(n, -1);
   out.lift_height.assign(n, 0.f);
   const BlockGrid<float> numbering(grid, 0.f);
-  const auto& D = grid.dims;
   SectionVoronoiStatistics statistics;
   forEachSectionVoronoiBlock(planes, fields, grid, params, [&](std::int64_t b, const SectionVoronoiBlock& v) {
-    const auto o = numbering.blockOrigin(b);
-    for (int k = o[2]; k < std::min(D[2], o[2] + 8); ++k)
-      for (int j = o[1]; j < std::min(D[1], o[1] + 8); ++j)
-        for (int i = o[0]; i < std::min(D[0], o[0] + 8); ++i) {
-          const std::size_t idx = std::size_t(grid.index(i, j, k)), q = std::size_t(BlockGrid<float>::offset(i, j, k));
-          out.value.values[idx] = v.value[q];
-          out.plane_distance[idx] = v.plane_distance[q];
-          out.nearest_plane[idx] = v.nearest_plane[q];
-          out.section_plane[idx] = v.section_plane[q];
-          out.lift_height[idx] = v.lift_height[q];
-        }
+    forEachVoxelOfBlock(grid, numbering.blockOrigin(b), [&](int i, int j, int k, int o) {
+      const std::size_t idx = std::size_t(grid.index(i, j, k)), q = std::size_t(o);
+      out.value.values[idx] = v.value[q];
+      out.plane_distance[idx] = v.plane_distance[q];
+      out.nearest_plane[idx] = v.nearest_plane[q];
+      out.section_plane[idx] = v.section_plane[q];
+      out.lift_height[idx] = v.lift_height[q];
+    });
   }, progress, &statistics);
   out.exact_face_tests = statistics.exact_face_tests;
   out.search_restarts = statistics.search_restarts;
