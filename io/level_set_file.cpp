@@ -320,7 +320,15 @@ std::vector<std::size_t> checkEnvelope(const std::string& path, const std::strin
       if (blockPos < gridPos || endPos < blockPos) c.fail("grid offsets out of order");
       c.seek(gridPos, "grid offset");
     }
-    c.read<std::uint32_t>("grid compression");
+    // Blosc and ZIP blocks state their sizes, and OpenVDB allocates what they state before
+    // reading them (measured: a 25 kB file with a corrupt Blosc size asked for 28 GB). xsect
+    // writes active-mask compression only (writeLevelSetVdb), so those codecs are refused.
+    const auto compression = c.read<std::uint32_t>("grid compression");
+    if (compression & (openvdb::io::COMPRESS_ZIP | openvdb::io::COMPRESS_BLOSC))
+      throw InputError(path, "file",
+                       "a ZIP- or Blosc-compressed grid is not read (a corrupt block size would make "
+                       "OpenVDB allocate it unchecked): save it with active-mask compression only, as "
+                       "xsect writes its level sets");
     checkMetaMap(c, delayedLoad);
     c.string("transform type");
     if (!hasOffsets) break;  // the next grid starts after this one's tree: left to OpenVDB

@@ -60,7 +60,8 @@ void writeLevelSetVdb(const std::string& path, const NarrowBandLevelSet& ls,
 /// A level set written by writeLevelSetVdb (coords sorted, as the struct requires) round-trips
 /// exactly: grid, background, coords and values, bit for bit.
 /// Throws InputError(path, field, what): "file" (missing, unreadable, not a VDB file, truncated or
-/// corrupt, a format version other than 222..this OpenVDB's), "grid" (no grid of that name, not a
+/// corrupt, a format version other than 222..this OpenVDB's, a ZIP- or Blosc-compressed grid),
+/// "grid" (no grid of that name, not a
 /// float grid, too many active voxels), "grid class" (not a level set), "transform",
 /// "background", "values" (non-finite), "xsect_grid_dims". Corrupt lengths and offsets are caught
 /// before OpenVDB allocates for them; a corrupt byte inside the voxel data may go unnoticed

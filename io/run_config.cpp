@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "io/file_checks.h"
 #include "io/input_error.h"
 #include "io/yaml_fields.h"
 
@@ -86,7 +87,7 @@ std::string resolvePath(const fs::path& base, const std::string& p) {
 RunConfig readRunConfig(const std::string& path, const std::vector<std::string>& overrides) {
   RunConfig c;
   c.path = fs::absolute(path).lexically_normal().string();
-  if (!fs::is_regular_file(path)) throw InputError(path, "", "configuration file not found");
+  if (!isRegularFile(path)) throw InputError(path, "", "configuration file not found");
   YAML::Node root = loadYamlFile(path);
   if (!root.IsMap()) throw InputError(path, "", "top level must be a map");
   for (const auto& o : overrides) applyOverride(root, o, path);
@@ -112,7 +113,7 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
   if (sources != 1)
     throw InputError(path, "input", "exactly one of slices, csl, contour, plus_sequence is required",
                      yamlLine(input));
-  if (!fs::is_regular_file(c.input_path))
+  if (!isRegularFile(c.input_path))
     throw InputError(path, std::string("input.") + nameOf(kInputKinds, c.input_kind), "file not found: " + c.input_path,
                      yamlLine(input[nameOf(kInputKinds, c.input_kind)]));
 

@@ -6,6 +6,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "io/file_checks.h"
 #include "io/input_error.h"
 #include "io/text_file.h"
 #include "io/yaml_fields.h"
@@ -75,14 +76,14 @@ std::vector<SliceRecord> readSlicesFile(const std::string& path, std::vector<std
     if (!s["image"]) throw InputError(path, key + ".image", "missing", yamlLine(s));
     r.image = yamlString(s["image"], path, key + ".image");
     r.image_resolved = resolve(base, r.image);
-    if (!fs::is_regular_file(r.image_resolved))
+    if (!isRegularFile(r.image_resolved))
       throw InputError(path, key + ".image", "file not found: " + r.image_resolved,
                        yamlLine(s["image"]));
     r.image_to_world = readPose(s["image_to_world"], path, key + ".image_to_world");
     if (s["fov"]) {
       r.fov = yamlString(s["fov"], path, key + ".fov");
       r.fov_resolved = resolve(base, *r.fov);
-      if (!fs::is_regular_file(*r.fov_resolved))
+      if (!isRegularFile(*r.fov_resolved))
         throw InputError(path, key + ".fov", "file not found: " + *r.fov_resolved,
                          yamlLine(s["fov"]));
     }
