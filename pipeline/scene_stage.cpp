@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "geometry/core/block_grid.h"
 #include "geometry/reconstruction/solid_memory.h"
 #include "io/input_error.h"
 #include "pipeline/machine_memory.h"
@@ -22,8 +23,7 @@ void checkMemory(const RunConfig& c, const std::vector<CuttingPlane>& planes, co
   if (!(have > 0)) return;
   const double budget = 0.8 * have;
   const double dense = denseBytesPerVoxel(c);
-  double blocks = 1;
-  for (int a = 0; a < 3; ++a) blocks *= double((L.grid.dims[a] + 7) / 8);
+  const double blocks = double(blockCountOf(L.grid));
   const double rows = double(L.grid.dims[1]) * double(L.grid.dims[2]);
   if (worstCaseSolidBytes(blocks, rows) + double(L.grid.count()) * dense <= budget) return;
   const SolidMemoryEstimate e = estimateSolidMemory(planes, reconstructionParams(c), dense);

@@ -20,6 +20,13 @@
 
 namespace xsect {
 
+/// Blocks of 8³ voxels covering `grid` (BlockGrid's count, without building one).
+inline std::int64_t blockCountOf(const GridSpec& grid) {
+  std::int64_t n = 1;
+  for (int a = 0; a < 3; ++a) n *= (std::int64_t(grid.dims[a]) + 7) / 8;
+  return n;
+}
+
 template <typename T>
 class BlockGrid {
  public:
@@ -160,11 +167,6 @@ class BlockGrid {
     std::int64_t n = 0;
     for (const auto& l : leaf_) n += bool(l);
     return n;
-  }
-  /// Bytes held: the per-block table plus the leaves.
-  std::int64_t bytes() const {
-    return std::int64_t(tile_.size()) * std::int64_t(sizeof(T) + sizeof(void*)) +
-           leafCount() * std::int64_t(sizeof(Leaf));
   }
 
  private:

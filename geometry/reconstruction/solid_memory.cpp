@@ -46,8 +46,7 @@ SolidMemoryEstimate estimateSolidMemory(const std::vector<CuttingPlane>& real_pl
   const ReconstructionLayout layout = reconstructionLayout(real_planes, params);
   SolidMemoryEstimate e;
   e.voxels = layout.grid.count();
-  e.blocks = 1;
-  for (int a = 0; a < 3; ++a) e.blocks *= (layout.grid.dims[a] + 7) / 8;
+  e.blocks = blockCountOf(layout.grid);
 
   // The trial: method 1 on a grid at least twice as coarse, over the same box.
   ReconstructionParams coarse = params;
