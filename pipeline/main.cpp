@@ -11,6 +11,7 @@
 
 int main(int argc, char** argv) {
   using namespace xsect;
+  restartWithHugePages(argv);
   keepFreedMemoryForReuse();
   CLI::App app{"xsect: 3D shapes from pose-tagged 2D slices, with topological guarantees"};
   app.require_subcommand(1);
