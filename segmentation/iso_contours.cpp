@@ -1,11 +1,13 @@
 // Marching squares with oriented segments (see iso_contours.h). The field is padded by one
-// outside pixel (so every contour closes), cells whose four corners agree are skipped with one
-// comparison, and crossings live in compact arrays indexed through a per-edge slot table.
+// outside pixel (so every contour closes) and walked over the inside pixels' box only; cells whose
+// four corners agree are skipped with one comparison, and crossings live in compact arrays
+// indexed through a per-edge slot table.
 // labelIsoContours: the same walk over a material map, each mixed cell split among its materials
 // (see the comment before it), oriented segments per label, traced into rings per label.
 #include "segmentation/iso_contours.h"
 
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <array>
@@ -15,9 +17,19 @@ namespace xsect {
 
 std::vector<Ring> isoContours(const cv::Mat& field) {
   CV_Assert(field.type() == CV_32F);
+  // Only cells with an inside corner hold crossings: the walk covers the bounding box of the
+  // inside pixels widened by one pixel, which beyond the image is the padding (-1). A small object
+  // in a large frame costs its box, not the frame (issue 17: 2000 frames of 640 x 480 px).
+  const cv::Rect box = cv::boundingRect(field > 0.0f);
+  if (box.empty()) return {};
+  const cv::Rect wide(box.x - 1, box.y - 1, box.width + 2, box.height + 2);
+  const cv::Rect clip = wide & cv::Rect(0, 0, field.cols, field.rows);
   cv::Mat f;
-  cv::copyMakeBorder(field, f, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(-1.0f));
+  cv::copyMakeBorder(field(clip), f, clip.y - wide.y, wide.br().y - clip.br().y, clip.x - wide.x,
+                     wide.br().x - clip.br().x, cv::BORDER_CONSTANT, cv::Scalar(-1.0f));
   const int W = f.cols, H = f.rows;
+  // f's node (0, 0) is node (box.x, box.y) of the image padded by one pixel on each side.
+  const int ox = box.x, oy = box.y;
   // Inside = strictly positive; zero counts as outside (nudged to a tiny negative value).
   cv::Mat inside = f > 0.0f;
   for (int j = 0; j < H; ++j) {
@@ -35,7 +47,7 @@ std::vector<Ring> isoContours(const cv::Mat& field) {
     const float fa = f.at<float>(ja, ia), fb = f.at<float>(jb, ib);
     const double t = fa / double(fa - fb);
     s = std::int32_t(where.size());
-    where.emplace_back(ia + t * (ib - ia) - 1.0, ja + t * (jb - ja) - 1.0);
+    where.emplace_back((ia + ox) + t * (ib - ia) - 1.0, (ja + oy) + t * (jb - ja) - 1.0);
     next.push_back(-1);
     return s;
   };

@@ -57,3 +57,42 @@ TEST(SectionDistanceField, EqualsTheExactDistanceToThePolygons) {
   EXPECT_EQ(empty.nu, 0);
   EXPECT_EQ(empty.sample(0, 0), empty.band);
 }
+
+// sampleWithGradient: the value of sample() and the derivative of the bilinear interpolant within
+// the raster square (against a centred difference that stays inside the square), and the exact
+// distance's gradient (a unit vector) near the contour; zero gradient where the value is ±band.
+TEST(SectionDistanceField, GradientIsThatOfTheInterpolant) {
+  std::vector<Section> sections(1);
+  sections[0].outer = test::circle(Vec2(0, 0), 3, 300);
+  const double step = 0.1, band = 0.6;
+  const SectionDistanceField f = sectionDistanceField(sections, step, band);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-4, 4);
+  int checked = 0, unit = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const Vec2 p(u(rng), u(rng));
+    Vec2 g;
+    const float v = f.sampleWithGradient(p.x(), p.y(), &g);
+    EXPECT_EQ(v, f.sample(p.x(), p.y()));
+    if (std::abs(v) >= f.band) {
+      EXPECT_EQ(g, Vec2::Zero());
+      continue;
+    }
+    // A difference within the square holding p (h below the distance to its sides).
+    const Vec2 x = (p - f.origin) / step;
+    const double h = 0.25 * step * std::min({x.x() - std::floor(x.x()), std::ceil(x.x()) - x.x(),
+                                             x.y() - std::floor(x.y()), std::ceil(x.y()) - x.y()});
+    if (h < 1e-2 * step) continue;  // float values: a difference over less is noise
+    const Vec2 d((f.sample(p.x() + h, p.y()) - f.sample(p.x() - h, p.y())) / (2 * h),
+                 (f.sample(p.x(), p.y() + h) - f.sample(p.x(), p.y() - h)) / (2 * h));
+    EXPECT_NEAR(g.x(), d.x(), 2e-3) << p.transpose();
+    EXPECT_NEAR(g.y(), d.y(), 2e-3) << p.transpose();
+    ++checked;
+    if (std::abs(std::hypot(p.x(), p.y()) - 3) < 0.3) {
+      EXPECT_NEAR(g.norm(), 1.0, 0.05) << p.transpose();
+      ++unit;
+    }
+  }
+  EXPECT_GT(checked, 300);
+  EXPECT_GT(unit, 100);
+}

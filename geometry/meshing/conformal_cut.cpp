@@ -26,41 +26,39 @@ struct PlaneTags {
   }
 };
 
-double fieldAt(const CuttingPlane& cp, const SectionDistanceField& f, const Vec3& x) {
-  const Vec2 q = cp.plane.toPlane(x);
-  return f.sample(q.x(), q.y());
-}
-
-/// Newton steps on g(t) = f_P(x + t d) for a unit direction d; returns the new point or false.
+/// Newton steps on g(t) = f_P(x + t d) for a unit direction d, with the bilinear interpolant's own
+/// derivative; returns the new point or false.
 bool newtonAlong(const CuttingPlane& cp, const SectionDistanceField& f, Vec3 x, const Vec3& d,
                  double maxMove, Vec3* out) {
-  const double e = 0.25 * f.step;
+  const Plane& P = cp.plane;
+  const Vec2 start = P.toPlane(x), along(d.dot(P.u), d.dot(P.v));  // d within the plane's frame
   double t = 0;
   for (int it = 0; it < 6; ++it) {
-    const double v = fieldAt(cp, f, x + t * d);
+    const Vec2 q = start + t * along;
+    Vec2 grad;
+    const double v = f.sampleWithGradient(q.x(), q.y(), &grad);
     if (std::abs(v) >= f.band) return false;
-    const double g = (fieldAt(cp, f, x + (t + e) * d) - fieldAt(cp, f, x + (t - e) * d)) / (2 * e);
+    const double g = grad.dot(along);
     if (std::abs(g) < 1e-3) return false;
     t -= v / g;
     if (std::abs(t) > maxMove) return false;
   }
-  if (std::abs(fieldAt(cp, f, x + t * d)) > 1e-3 * f.step) return false;
+  const Vec2 q = start + t * along;
+  if (std::abs(f.sample(q.x(), q.y())) > 1e-3 * f.step) return false;
   *out = x + t * d;
   return true;
 }
 
-/// Newton steps within the plane (2D gradient of f_P).
+/// Newton steps within the plane, with the bilinear interpolant's own gradient.
 bool newtonInPlane(const CuttingPlane& cp, const SectionDistanceField& f, const Vec3& x,
                    double maxMove, Vec3* out) {
   const Plane& P = cp.plane;
   const Vec2 start = P.toPlane(x);
   Vec2 q = start;
-  const double e = 0.25 * f.step;
   for (int it = 0; it < 6; ++it) {
-    const double v = f.sample(q.x(), q.y());
+    Vec2 g;
+    const double v = f.sampleWithGradient(q.x(), q.y(), &g);
     if (std::abs(v) >= f.band) return false;
-    const Vec2 g((f.sample(q.x() + e, q.y()) - f.sample(q.x() - e, q.y())) / (2 * e),
-                 (f.sample(q.x(), q.y() + e) - f.sample(q.x(), q.y() - e)) / (2 * e));
     const double g2 = g.squaredNorm();
     if (g2 < 1e-6) return false;
     q -= v * g / g2;
@@ -228,6 +226,13 @@ ConformalCutStats cutAlongSections(TriangleMesh& mesh, const std::vector<Cutting
     stats.planes_cut += crosses;
   }
 
+  // What the plane walk needed is given back before the moves' arrays are made (issue 17: the
+  // mesh stage holds the run's peak memory).
+  std::vector<std::vector<Entry>>().swap(bucket);
+  std::vector<double>().swap(s);
+  std::vector<int>().swap(sign);
+  std::vector<int>().swap(stamp);
+
   // Adjacency: triangles around each vertex (CSR).
   std::vector<std::uint32_t> first(V.size() + 1, 0), incident(3 * T.size());
   for (const auto& t : T)
@@ -291,8 +296,8 @@ ConformalCutStats cutAlongSections(TriangleMesh& mesh, const std::vector<Cutting
   const auto normal = [&](const std::array<std::uint32_t, 3>& t) {
     return (V[t[1]] - V[t[0]]).cross(V[t[2]] - V[t[0]]);
   };
-  std::vector<Vec3> originalNormal(T.size());
-  for (std::size_t t = 0; t < T.size(); ++t) originalNormal[t] = normal(T[t]);
+  std::vector<Eigen::Vector3f> originalNormal(T.size());  // float: only the sign of a product is asked
+  tbb::parallel_for(std::size_t(0), T.size(), [&](std::size_t t) { originalNormal[t] = normal(T[t]).cast<float>(); });
   const auto apply = [&](std::size_t i) -> int {  // halvings used, or -1 if no move fits
     const Vec3 from = V[i];
     for (int halving = 0; halving <= 4; ++halving) {
@@ -300,7 +305,8 @@ ConformalCutStats cutAlongSections(TriangleMesh& mesh, const std::vector<Cutting
       bool ok = true;
       for (std::uint32_t k = first[i]; k < first[i + 1] && ok; ++k) {
         const std::uint32_t t = incident[k];
-        ok = normal(T[t]).dot(originalNormal[t]) > 0.1 * originalNormal[t].squaredNorm();
+        const Vec3 n0 = originalNormal[t].cast<double>();
+        ok = normal(T[t]).dot(n0) > 0.1 * n0.squaredNorm();
       }
       if (ok) return halving;
     }

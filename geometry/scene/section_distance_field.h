@@ -45,6 +45,22 @@ struct SectionDistanceField {
     return (1 - fy) * ((1 - fx) * r00 + fx * r01) + fy * ((1 - fx) * r10 + fx * r11);
   }
 
+  /// sample() and its gradient (per mm of a and b) within the raster square holding (a, b): the
+  /// derivative of the bilinear interpolant there. Zero gradient where sample() is a constant
+  /// ±band (beyond the band, or off the raster).
+  float sampleWithGradient(double a, double b, Vec2* gradient) const {
+    int i, j;
+    float fx, fy;
+    *gradient = Vec2::Zero();
+    if (!locate(a, b, &i, &j, &fx, &fy)) return band;
+    float r00, r01, r10, r11;
+    corners(i, j, &r00, &r01, &r10, &r11);
+    if (r00 == r01 && r00 == r10 && r00 == r11 && std::abs(r00) == band) return r00;
+    *gradient = Vec2(((1 - fy) * (r01 - r00) + fy * (r11 - r10)) / step,
+                     ((1 - fx) * (r10 - r00) + fx * (r11 - r01)) / step);
+    return (1 - fy) * ((1 - fx) * r00 + fx * r01) + fy * ((1 - fx) * r10 + fx * r11);
+  }
+
   /// Whether sample() is +band everywhere in the rectangle [a0, a1] x [b0, b1] of plane
   /// coordinates (mm): every raster square meeting it lies in tiles no contour comes within the
   /// band of, outside the sections, or off the raster. Conservative (a tile of stored nodes is
