@@ -68,7 +68,8 @@ MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const Recons
   const ConformalCutStats methodCut = c.conformal_mesh
                                           ? cutAlongSections(m.method_mesh, scene.planes, scene.fields, c.voxel_size_mm)
                                           : ConformalCutStats{};
-  m.mesh = smooth ? smooth->surface.mesh : m.method_mesh;
+  if (smooth) m.mesh = smooth->surface.mesh;
+  else m.mesh = std::move(m.method_mesh);  // one copy of a mesh of millions of triangles
   m.cut = !smooth ? methodCut
                   : c.conformal_mesh ? cutAlongSections(m.mesh, scene.planes, scene.fields, c.voxel_size_mm)
                                      : ConformalCutStats{};

@@ -28,7 +28,8 @@ struct Material {
 };
 
 struct MeshStage {
-  TriangleMesh method_mesh;         ///< the method's solid, conformally cut when asked
+  TriangleMesh method_mesh;         ///< with smoothing: the method's solid, conformally cut when
+                                    ///< asked (empty without smoothing: `mesh` is that solid)
   TriangleMesh mesh;                ///< what mesh.<fmt> holds: the smooth surface, or the method's
   ConformalCutStats cut;            ///< of `mesh`
   BlockGrid<std::uint16_t> voxel_label;  ///< labels.nrrd
