@@ -9,6 +9,7 @@
 #include "geometry/core/polygon.h"
 #include "geometry/core/ring_validity.h"
 #include "io/input_error.h"
+#include "io/text_file.h"
 
 namespace xsect {
 
@@ -187,6 +188,41 @@ std::vector<CuttingPlane> readCslFile(const std::string& path, std::vector<std::
     }
   }
   return planes;
+}
+
+void writeCslFile(const std::string& path, const std::vector<CuttingPlane>& planes) {
+  std::ostringstream os;
+  os.precision(17);
+  os << "CSLC\n" << planes.size() << " 2\n\n";
+  for (std::size_t p = 0; p < planes.size(); ++p) {
+    const Plane& pl = planes[p].plane;
+    std::vector<const Ring*> rings;
+    std::vector<bool> hole;
+    for (const Section& s : planes[p].sections) {
+      rings.push_back(&s.outer);
+      hole.push_back(false);
+      for (const Ring& h : s.holes) rings.push_back(&h), hole.push_back(true);
+    }
+    std::size_t vertices = 0;
+    for (const Ring* r : rings) vertices += r->size();
+    os << p + 1 << " " << vertices << " " << rings.size() << " " << pl.normal.x() << " " << pl.normal.y() << " "
+       << pl.normal.z() << " " << -pl.normal.dot(pl.origin) << "\n\n";
+    for (const Ring* r : rings)
+      for (const Vec2& q : *r) {
+        const Vec3 x = pl.toWorld(q);
+        os << x.x() << " " << x.y() << " " << x.z() << "\n";
+      }
+    os << "\n";
+    std::size_t first = 0;
+    for (std::size_t k = 0; k < rings.size(); ++k) {
+      os << rings[k]->size() << (hole[k] ? "h" : "") << " 1";
+      for (std::size_t q = 0; q < rings[k]->size(); ++q) os << " " << first + q;
+      os << "\n";
+      first += rings[k]->size();
+    }
+    os << "\n";
+  }
+  writeTextFile(path, os.str());
 }
 
 }  // namespace xsect

@@ -20,4 +20,9 @@ namespace xsect {
 /// Throws InputError naming the file, line and field on malformed content.
 std::vector<CuttingPlane> readCslFile(const std::string& path, std::vector<std::string>* warnings = nullptr);
 
+/// Writes planes and their sections as .csl (the layout readCslFile reads and OReX writes): per
+/// plane its normalised equation A x + B y + C z + D = 0, the contour vertices in world mm, one
+/// component per ring (outer rings label 1, holes marked 'h'). Numbers with 17 significant digits.
+void writeCslFile(const std::string& path, const std::vector<CuttingPlane>& planes);
+
 }  // namespace xsect

@@ -1,6 +1,7 @@
 // Reader and writer of slices.yaml (GUIDE.md, input contract), validated where the file enters.
 #include "io/slices_file.h"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -88,6 +89,27 @@ std::vector<SliceRecord> readSlicesFile(const std::string& path, std::vector<std
                          yamlLine(s["fov"]));
     }
     out.push_back(std::move(r));
+  }
+  return out;
+}
+
+std::vector<PoseRecord> readPosesFile(const std::string& path) {
+  const YAML::Node root = loadYamlFile(path);
+  if (!root.IsMap()) throw InputError(path, "", "top level must be a map with key 'slices'");
+  const YAML::Node list = root["slices"];
+  if (!list) throw InputError(path, "slices", "missing");
+  if (!list.IsSequence() || list.size() == 0)
+    throw InputError(path, "slices", "must be a non-empty list", yamlLine(list));
+  std::vector<PoseRecord> out;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const YAML::Node s = list[i];
+    const std::string key = "slices[" + std::to_string(i) + "]";
+    if (!s.IsMap()) throw InputError(path, key, "must be a map", yamlLine(s));
+    PoseRecord r;
+    r.image_to_world = readPose(s["image_to_world"], path, key + ".image_to_world");
+    if (s["width"]) r.width = yamlInteger(s["width"], path, key + ".width", 1, 1 << 20);
+    if (s["height"]) r.height = yamlInteger(s["height"], path, key + ".height", 1, 1 << 20);
+    out.push_back(r);
   }
   return out;
 }

@@ -25,6 +25,17 @@ struct SliceRecord {
 std::vector<SliceRecord> readSlicesFile(const std::string& path,
                                         std::vector<std::string>* warnings = nullptr);
 
+/// A planned slice (advice.yaml, or the planes given to `xsect slice`): a pose without an image.
+struct PoseRecord {
+  Mat4 image_to_world = Mat4::Identity();
+  int width = 0, height = 0;  ///< image size in pixels when given (0: not given)
+};
+
+/// Reads a list `slices:` of entries with `image_to_world` (validated as in readSlicesFile) and
+/// optional `width`, `height` (pixels, >= 1); an `image` key, if any, is ignored. Throws
+/// InputError naming the file, key and line.
+std::vector<PoseRecord> readPosesFile(const std::string& path);
+
 /// Writes slices.yaml with paths exactly as given in SliceRecord::image / fov.
 void writeSlicesFile(const std::string& path, const std::vector<SliceRecord>& slices);
 

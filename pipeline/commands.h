@@ -1,4 +1,4 @@
-// The four commands of the command-line contract (GUIDE.md): run, check, phantom, eval.
+// The commands of the command-line contract (GUIDE.md): run, check, phantom, eval, and slice.
 // Each returns the process exit code; invalid input is reported by throwing InputError (exit 2).
 #pragma once
 
@@ -35,5 +35,13 @@ struct EvalOptions {
   bool quiet = false;
 };
 int evalCommand(const EvalOptions& options);
+
+struct SliceOptions {
+  std::string mesh;                 ///< closed mesh to cut (ply, stl, obj)
+  std::vector<std::string> planes;  ///< plane files: poses YAML (advice.yaml) or .csl, in order
+  std::string out;                  ///< output folder: input.csl, config.yaml
+  bool quiet = false;
+};
+int sliceCommand(const SliceOptions& options);
 
 }  // namespace xsect

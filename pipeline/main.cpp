@@ -50,6 +50,14 @@ int main(int argc, char** argv) {
   evalCmd->add_option("--json", eval.json, "output JSON")->required();
   evalCmd->add_flag("--quiet,-q", eval.quiet, "no progress on stderr");
 
+  SliceOptions slice;
+  auto* sliceCmd = app.add_subcommand("slice", "cut a closed mesh by planes into a .csl input");
+  sliceCmd->add_option("--mesh", slice.mesh, "closed mesh (stl/ply/obj)")->required();
+  sliceCmd->add_option("--planes", slice.planes, "poses YAML (slices: image_to_world) or .csl; may repeat")
+      ->required();
+  sliceCmd->add_option("--out", slice.out, "output folder (input.csl, config.yaml)")->required();
+  sliceCmd->add_flag("--quiet,-q", slice.quiet, "no progress on stderr");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -66,6 +74,7 @@ int main(int argc, char** argv) {
     if (*runCmd) return runCommand(run);
     if (*checkCmd) return checkCommand(check);
     if (*phantomCmd) return phantomCommand(phantom);
+    if (*sliceCmd) return sliceCommand(slice);
     if (*evalCmd) {
       if (eval.truth.empty() && eval.reference.empty())
         throw InputError("", "--truth/--reference", "one of them is required");

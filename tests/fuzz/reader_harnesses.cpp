@@ -31,6 +31,7 @@ void readSlices(const std::string& path) {
   std::vector<std::string> warnings;
   readSlicesFile(path, &warnings);
 }
+void readPoses(const std::string& path) { readPosesFile(path); }
 void readConfig(const std::string& path) { readRunConfig(path); }
 void readAnyMesh(const std::string& path) { readMesh(path); }
 void readNrrd(const std::string& path) { readLabelVolumeNrrd(path); }
@@ -62,7 +63,7 @@ std::vector<ReaderHarness> readerHarnesses() {
       {"mesh_stl", ".stl", readAnyMesh},  {"mesh_obj", ".obj", readAnyMesh},
       {"nrrd", ".nrrd", readNrrd},        {"truth", ".yaml", readTruth},
       {"phantom", ".yaml", readPhantom},  {"vdb", ".vdb", readVdb},
-      {"image", ".png", readImage},
+      {"image", ".png", readImage},       {"poses", ".yaml", readPoses},
   };
 }
 
