@@ -51,15 +51,21 @@ std::string resolve(const fs::path& base, const std::string& p) {
   return q.lexically_normal().string();
 }
 
-}  // namespace
-
-std::vector<SliceRecord> readSlicesFile(const std::string& path, std::vector<std::string>* warnings) {
+/// The file's non-empty list `slices:`.
+YAML::Node sliceList(const std::string& path) {
   const YAML::Node root = loadYamlFile(path);
   if (!root.IsMap()) throw InputError(path, "", "top level must be a map with key 'slices'");
   const YAML::Node list = root["slices"];
   if (!list) throw InputError(path, "slices", "missing");
   if (!list.IsSequence() || list.size() == 0)
     throw InputError(path, "slices", "must be a non-empty list", yamlLine(list));
+  return list;
+}
+
+}  // namespace
+
+std::vector<SliceRecord> readSlicesFile(const std::string& path, std::vector<std::string>* warnings) {
+  const YAML::Node list = sliceList(path);
   const fs::path base = fs::absolute(fs::path(path)).parent_path();
   std::vector<SliceRecord> out;
   out.reserve(list.size());
@@ -94,12 +100,7 @@ std::vector<SliceRecord> readSlicesFile(const std::string& path, std::vector<std
 }
 
 std::vector<PoseRecord> readPosesFile(const std::string& path) {
-  const YAML::Node root = loadYamlFile(path);
-  if (!root.IsMap()) throw InputError(path, "", "top level must be a map with key 'slices'");
-  const YAML::Node list = root["slices"];
-  if (!list) throw InputError(path, "slices", "missing");
-  if (!list.IsSequence() || list.size() == 0)
-    throw InputError(path, "slices", "must be a non-empty list", yamlLine(list));
+  const YAML::Node list = sliceList(path);
   std::vector<PoseRecord> out;
   for (std::size_t i = 0; i < list.size(); ++i) {
     const YAML::Node s = list[i];

@@ -36,29 +36,22 @@ struct SectionDistanceField {
   /// (a, b) all hold that value (beyond the band: only the sign is known, and interpolating equal
   /// values in floating point could round off it).
   float sample(double a, double b) const {
-    int i, j;
-    float fx, fy;
-    if (!locate(a, b, &i, &j, &fx, &fy)) return band;
-    float r00, r01, r10, r11;
-    corners(i, j, &r00, &r01, &r10, &r11);
-    if (r00 == r01 && r00 == r10 && r00 == r11 && std::abs(r00) == band) return r00;
-    return (1 - fy) * ((1 - fx) * r00 + fx * r01) + fy * ((1 - fx) * r10 + fx * r11);
+    Square q;
+    if (!square(a, b, &q)) return band;
+    return q.beyondBand(band) ? q.r00 : q.value();
   }
 
   /// sample() and its gradient (per mm of a and b) within the raster square holding (a, b): the
   /// derivative of the bilinear interpolant there. Zero gradient where sample() is a constant
   /// ±band (beyond the band, or off the raster).
   float sampleWithGradient(double a, double b, Vec2* gradient) const {
-    int i, j;
-    float fx, fy;
     *gradient = Vec2::Zero();
-    if (!locate(a, b, &i, &j, &fx, &fy)) return band;
-    float r00, r01, r10, r11;
-    corners(i, j, &r00, &r01, &r10, &r11);
-    if (r00 == r01 && r00 == r10 && r00 == r11 && std::abs(r00) == band) return r00;
-    *gradient = Vec2(((1 - fy) * (r01 - r00) + fy * (r11 - r10)) / step,
-                     ((1 - fx) * (r10 - r00) + fx * (r11 - r01)) / step);
-    return (1 - fy) * ((1 - fx) * r00 + fx * r01) + fy * ((1 - fx) * r10 + fx * r11);
+    Square q;
+    if (!square(a, b, &q)) return band;
+    if (q.beyondBand(band)) return q.r00;
+    *gradient = Vec2(((1 - q.fy) * (q.r01 - q.r00) + q.fy * (q.r11 - q.r10)) / step,
+                     ((1 - q.fx) * (q.r10 - q.r00) + q.fx * (q.r11 - q.r01)) / step);
+    return q.value();
   }
 
   /// Whether sample() is +band everywhere in the rectangle [a0, a1] x [b0, b1] of plane
@@ -82,15 +75,12 @@ struct SectionDistanceField {
   /// Bilinear value at (a, b) when the four nodes around it all hold exact distances (within the
   /// band): returns false, leaving *v alone, where a node is clamped or (a, b) is off the raster.
   bool sampleWithinBand(double a, double b, float* v) const {
-    int i, j;
-    float fx, fy;
-    if (!locate(a, b, &i, &j, &fx, &fy)) return false;
-    float r00, r01, r10, r11;
-    corners(i, j, &r00, &r01, &r10, &r11);
+    Square q;
+    if (!square(a, b, &q)) return false;
     const float lim = band;
-    if (!(std::abs(r00) < lim && std::abs(r01) < lim && std::abs(r10) < lim && std::abs(r11) < lim))
+    if (!(std::abs(q.r00) < lim && std::abs(q.r01) < lim && std::abs(q.r10) < lim && std::abs(q.r11) < lim))
       return false;
-    *v = (1 - fy) * ((1 - fx) * r00 + fx * r01) + fy * ((1 - fx) * r10 + fx * r11);
+    *v = q.value();
     return true;
   }
 
@@ -104,6 +94,21 @@ struct SectionDistanceField {
   static constexpr std::int32_t kOutside = -1, kInside = -2;
   static constexpr std::size_t kTileNodes = std::size_t(kTile) * kTile;
 
+  /// A raster square's four nodes and where a point lies across it.
+  struct Square {
+    float fx, fy;              ///< fractions across the square along u and v
+    float r00, r01, r10, r11;  ///< nodes (i, j), (i+1, j), (i, j+1), (i+1, j+1)
+    float value() const { return (1 - fy) * ((1 - fx) * r00 + fx * r01) + fy * ((1 - fx) * r10 + fx * r11); }
+    /// All four nodes hold the same ±band (the value there is exactly that, not a rounding of it).
+    bool beyondBand(float band) const { return r00 == r01 && r00 == r10 && r00 == r11 && std::abs(r00) == band; }
+  };
+  /// The square holding plane point (a, b); false off the raster.
+  bool square(double a, double b, Square* q) const {
+    int i, j;
+    if (!locate(a, b, &i, &j, &q->fx, &q->fy)) return false;
+    corners(i, j, &q->r00, &q->r01, &q->r10, &q->r11);
+    return true;
+  }
   /// The raster square holding plane point (a, b): its lower node (i, j) and the fractions
   /// (fx, fy) across it; false off the raster.
   bool locate(double a, double b, int* i, int* j, float* fx, float* fy) const {
