@@ -17,6 +17,7 @@
 #pragma once
 
 #include <malloc.h>
+#include <sys/auxv.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -27,16 +28,27 @@ namespace xsect {
 
 /// Restarts this program with glibc.malloc.hugetlb=1 added to GLIBC_TUNABLES, unless the variable
 /// already names that tunable; returns (and carries on as it is) when the restart is not possible.
+/// Restarts at most once (XSECT_RESTARTED marks the restarted process, whatever glibc does with
+/// GLIBC_TUNABLES), never in secure mode (set-user-id: glibc ignores tunables there) and never
+/// when started through the dynamic loader (/proc/self/exe is then the loader, not xsect).
 inline void restartWithHugePages(char** argv) {
+  if (std::getenv("XSECT_RESTARTED") || getauxval(AT_SECURE) != 0) return;
   const char* set = std::getenv("GLIBC_TUNABLES");
   if (set && std::strstr(set, "glibc.malloc.hugetlb")) return;
+  char exe[4096];
+  const ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+  if (n <= 0) return;
+  exe[n] = '\0';
+  const char* name = std::strrchr(exe, '/');
+  if (std::strncmp(name ? name + 1 : exe, "ld-", 3) == 0) return;
   const bool had = set != nullptr;
   const std::string before = had ? set : "";
   const std::string value = before.empty() ? "glibc.malloc.hugetlb=1" : before + ":glibc.malloc.hugetlb=1";
-  if (setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0) return;
-  execv("/proc/self/exe", argv);
+  if (setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0 || setenv("XSECT_RESTARTED", "1", 1) != 0) return;
+  execv(exe, argv);
   if (had) setenv("GLIBC_TUNABLES", before.c_str(), 1);  // exec failed: run as before
   else unsetenv("GLIBC_TUNABLES");
+  unsetenv("XSECT_RESTARTED");
 }
 
 inline void keepFreedMemoryForReuse() {

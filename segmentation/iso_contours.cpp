@@ -26,7 +26,7 @@ std::vector<Ring> isoContours(const cv::Mat& field) {
   const cv::Rect clip = wide & cv::Rect(0, 0, field.cols, field.rows);
   cv::Mat f;
   cv::copyMakeBorder(field(clip), f, clip.y - wide.y, wide.br().y - clip.br().y, clip.x - wide.x,
-                     wide.br().x - clip.br().x, cv::BORDER_CONSTANT, cv::Scalar(-1.0f));
+                     wide.br().x - clip.br().x, cv::BORDER_CONSTANT | cv::BORDER_ISOLATED, cv::Scalar(-1.0f));
   const int W = f.cols, H = f.rows;
   // f's node (0, 0) is node (box.x, box.y) of the image padded by one pixel on each side.
   const int ox = box.x, oy = box.y;

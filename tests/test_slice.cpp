@@ -80,6 +80,33 @@ TEST(MeshSections, TorusGivesAnAnnulusAndTwoDiscs) {
   }
 }
 
+// Planes through mesh vertices (a voxel mesh cut at its lattice levels): vertices on the plane
+// are taken a hair to the normal's side, so the section is the one just behind the plane, with
+// simple rings even where two rings would touch at a vertex.
+TEST(MeshSections, PlanesThroughVerticesGiveTheSectionJustBehind) {
+  const TriangleMesh l = test::voxelBoundary({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}});  // an L of 3 voxels
+  // x = 1 facing +x: behind it (x < 1), voxel (0,0,0): one unit square.
+  auto s = meshSections(l, planeThrough(Vec3(1, 0, 0), Vec3::UnitX()));
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_NEAR(sectionArea(s[0]), 1.0, 1e-6);
+  // Facing -x: behind it, voxels (1,0,0) and (1,1,0): one 2 x 1 rectangle.
+  s = meshSections(l, planeThrough(Vec3(1, 0, 0), -Vec3::UnitX()));
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_NEAR(sectionArea(s[0]), 2.0, 1e-6);
+  // z = 1 facing up (the top faces): the whole L behind it; z = 0 facing up: nothing behind.
+  s = meshSections(l, planeThrough(Vec3(0, 0, 1), Vec3::UnitZ()));
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_NEAR(sectionArea(s[0]), 3.0, 1e-6);
+  EXPECT_TRUE(meshSections(l, planeThrough(Vec3(0, 0, 0), Vec3::UnitZ())).empty());
+  // Two voxels stacked diagonally (sharing the edge x = 1, z = 1): the plane z = 1 through that
+  // edge gives the lower voxel's square only, a simple ring.
+  const TriangleMesh stack = test::voxelBoundary({{0, 0, 0}, {1, 0, 1}});
+  s = meshSections(stack, planeThrough(Vec3(0, 0, 1), Vec3::UnitZ()));
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_NEAR(sectionArea(s[0]), 1.0, 1e-6);
+  EXPECT_TRUE(s[0].holes.empty());
+}
+
 // An open mesh crossed where it is open: an error, not a made-up contour.
 TEST(MeshSections, AnOpenMeshIsRefusedWhereThePlaneMeetsTheOpening) {
   TriangleMesh sphere = test::icosphere(5, 3);
@@ -139,7 +166,15 @@ TEST(SliceCommand, WritesACslThatRunsToTheModelsTopology) {
                                     (dir / "cut" / "input.csl").string() + " --out " + (dir / "again").string() +
                                     " --quiet");
   ASSERT_EQ(again.code, 0) << again.err;
-  EXPECT_EQ(readCslFile((dir / "again" / "input.csl").string()).size(), 14u);
+  const std::vector<CuttingPlane> replanes = readCslFile((dir / "again" / "input.csl").string());
+  ASSERT_EQ(replanes.size(), 14u);
+  for (std::size_t k = 0; k < 14; ++k) {
+    EXPECT_LT((replanes[k].plane.normal - planes[k].plane.normal).norm(), 1e-9) << k;
+    EXPECT_NEAR(replanes[k].plane.signedDistance(planes[k].plane.origin), 0, 1e-9) << k;
+    ASSERT_EQ(replanes[k].sections.size(), planes[k].sections.size()) << k;
+    for (std::size_t q = 0; q < planes[k].sections.size(); ++q)
+      EXPECT_NEAR(sectionArea(replanes[k].sections[q]), sectionArea(planes[k].sections[q]), 1e-9) << k;
+  }
   // The configuration runs: a torus.
   const auto run = test::runXsect("run " + (dir / "cut" / "config.yaml").string() + " --out " +
                                   (dir / "out").string() + " --quiet");

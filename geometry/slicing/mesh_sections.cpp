@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -13,14 +14,19 @@
 namespace xsect {
 
 std::vector<Section> meshSections(const TriangleMesh& mesh, const Plane& plane) {
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const auto& v : mesh.vertices) lo = lo.cwiseMin(v.cast<double>()), hi = hi.cwiseMax(v.cast<double>());
+  const double extent = mesh.vertices.empty() ? 0.0 : (hi - lo).norm();
+  // A vertex on the plane is moved off it, to the normal's side, by far less than anything the
+  // mesh resolves (1e-9 of its size): the crossings next to it are then distinct points of simple
+  // rings, not one point that several rings (or one ring twice) would pass through.
+  const double lift = 1e-9 * std::max(extent, 1e-300);
   std::vector<double> s(mesh.vertices.size());
-  double extent = 0;
   for (std::size_t i = 0; i < s.size(); ++i) {
-    const Vec3 x = mesh.vertices[i].cast<double>();
-    s[i] = plane.signedDistance(x);
-    extent = std::max(extent, (x - plane.origin).norm());
+    s[i] = plane.signedDistance(mesh.vertices[i].cast<double>());
+    if (s[i] == 0) s[i] = lift;
   }
-  const auto above = [&](std::uint32_t i) { return s[i] >= 0; };  // on the plane: above
+  const auto above = [&](std::uint32_t i) { return s[i] > 0; };
 
   // One point per crossed edge, shared by the edge's two triangles.
   std::unordered_map<std::uint64_t, std::uint32_t> pointOfEdge;
@@ -75,7 +81,10 @@ std::vector<Section> meshSections(const TriangleMesh& mesh, const Plane& plane) 
     }
     ring = withoutRepeatedVertices(ring);
     const double tiny = 1e-12 * std::max(extent * extent, 1e-300);
-    if (ring.size() >= 3 && std::abs(signedArea(ring)) > tiny) rings.push_back(std::move(ring));
+    if (ring.size() < 3 || std::abs(signedArea(ring)) <= tiny) continue;  // the plane touches the mesh
+    if (!ringIsSimple(ring))
+      throw std::invalid_argument("the section crosses itself (the mesh intersects itself there)");
+    rings.push_back(std::move(ring));
   }
 
   // Nesting by containment (rings of a closed mesh's crossing do not cross one another).
