@@ -1,0 +1,69 @@
+// Chebyshev ball of a cell by linear programming with constraint generation (see cell_height.h).
+// CGAL's QP headers stay in this file.
+#include "geometry/sampling/cell_height.h"
+
+#include <CGAL/Gmpzf.h>
+#include <CGAL/QP_functions.h>
+#include <CGAL/QP_models.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace xsect {
+
+CellHeight cellHeight(const std::vector<Plane>& planes, const std::vector<int>& sides, const Vec3& lo,
+                      const Vec3& hi) {
+  if (sides.size() != planes.size()) throw std::invalid_argument("cellHeight: one side per plane");
+  if (!(lo.array() < hi.array()).all()) throw std::invalid_argument("cellHeight: empty box");
+  using Program = CGAL::Quadratic_program<double>;
+  using Solution = CGAL::Quadratic_program_solution<CGAL::Gmpzf>;
+  // Variables x, y, z (0-2) and r (3); rows A v <= b. Maximise r: minimise -r, with r >= 0.
+  Program lp(CGAL::SMALLER, false, 0, false, 0);
+  lp.set_l(3, true, 0.0);
+  lp.set_c(3, -1.0);
+  int rows = 0;
+  const auto addRow = [&](const Vec3& a, double b) {
+    for (int k = 0; k < 3; ++k) lp.set_a(k, rows, a[k]);
+    lp.set_a(3, rows, 1.0);
+    lp.set_b(rows, b);
+    ++rows;
+  };
+  for (int k = 0; k < 3; ++k) {  // lo_k + r <= x_k and x_k + r <= hi_k
+    addRow(-Vec3::Unit(k), -lo[k]);
+    addRow(Vec3::Unit(k), hi[k]);
+  }
+  // Plane j as a row: r <= σ_j (n_j · x − d_j), i.e. −σ_j n_j · x + r <= −σ_j d_j.
+  const auto slack = [&](std::size_t j, const Vec3& x) {
+    return double(sides[j]) * planes[j].signedDistance(x);
+  };
+  std::vector<char> used(planes.size(), 0);
+  CellHeight out;
+  const double scale = (hi - lo).norm();
+  for (;;) {
+    const Solution s = CGAL::solve_linear_program(lp, CGAL::Gmpzf());
+    if (!s.is_optimal()) return CellHeight{};  // infeasible: the cell has no point in the box
+    auto v = s.variable_values_begin();
+    for (int k = 0; k < 3; ++k, ++v) out.centre[k] = CGAL::to_double(*v);
+    out.height = CGAL::to_double(*v);
+    // The plane the ball crosses most deeply, if any (a tolerance of 1e-12 of the box for the
+    // rounding of the centre to doubles).
+    std::size_t worst = planes.size();
+    double deepest = 1e-12 * scale;
+    for (std::size_t j = 0; j < planes.size(); ++j) {
+      if (used[j]) continue;
+      const double depth = out.height - slack(j, out.centre);
+      if (depth > deepest) deepest = depth, worst = j;
+    }
+    if (worst == planes.size()) break;
+    used[worst] = 1;
+    addRow(-double(sides[worst]) * planes[worst].normal, -double(sides[worst]) * planes[worst].normal.dot(planes[worst].origin));
+  }
+  const double touch = 1e-9 * scale;
+  for (int k = 0; k < 3; ++k)
+    out.open = out.open || out.centre[k] - out.height - lo[k] < touch || hi[k] - out.centre[k] - out.height < touch;
+  for (std::size_t j = 0; j < planes.size(); ++j)
+    if (std::abs(slack(j, out.centre) - out.height) < touch) out.bounding_planes.push_back(int(j));
+  return out;
+}
+
+}  // namespace xsect
