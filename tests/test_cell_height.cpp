@@ -110,8 +110,30 @@ TEST(CellHeight, BallIsInsideAndNoPointIsDeeperInRandomArrangements) {
   EXPECT_EQ(cells, 80);
 }
 
+// `open` says whether the box limits the height, wherever the solver puts a ball that may slide:
+// a slab in a box off the origin is closed by its planes; a cell the box cuts is open; a cell that
+// does not meet the box is open with height 0.
+TEST(CellHeight, OpenMeansTheBoxLimitsTheHeight) {
+  const std::vector<Plane> slab{planeOf(Vec3::UnitZ(), Vec3(0, 0, 5)), planeOf(Vec3::UnitZ(), Vec3(0, 0, 6))};
+  const std::vector<int> between{1, -1};
+  const CellHeight h = cellHeight(slab, between, Vec3(0, 0, 0), Vec3(20, 20, 20));
+  EXPECT_NEAR(h.height, 0.5, 1e-12);
+  EXPECT_FALSE(h.open) << "centre " << h.centre.transpose();
+  // The box cuts the slab to 0.6 mm: open, height 0.3.
+  const CellHeight cut = cellHeight(slab, between, Vec3(0, 0, 0), Vec3(20, 20, 5.6));
+  EXPECT_NEAR(cut.height, 0.3, 1e-12);
+  EXPECT_TRUE(cut.open);
+  // The slab lies beyond the box.
+  const CellHeight missed = cellHeight(slab, between, Vec3(0, 0, 0), Vec3(20, 20, 4));
+  EXPECT_EQ(missed.height, 0.0);
+  EXPECT_TRUE(missed.open);
+}
+
 TEST(CellHeight, RefusesMismatchedInput) {
   const std::vector<Plane> planes{planeOf(Vec3::UnitZ(), Vec3::Zero())};
   EXPECT_THROW(cellHeight(planes, {}, Vec3::Constant(-1), Vec3::Constant(1)), std::invalid_argument);
   EXPECT_THROW(cellHeight(planes, {1}, Vec3::Constant(1), Vec3::Constant(-1)), std::invalid_argument);
+  std::vector<Plane> scaled = planes;
+  scaled[0].normal *= 2;
+  EXPECT_THROW(cellHeight(scaled, {1}, Vec3::Constant(-1), Vec3::Constant(1)), std::invalid_argument);
 }

@@ -11,10 +11,12 @@
 
 namespace xsect {
 
-CellHeight cellHeight(const std::vector<Plane>& planes, const std::vector<int>& sides, const Vec3& lo,
-                      const Vec3& hi) {
-  if (sides.size() != planes.size()) throw std::invalid_argument("cellHeight: one side per plane");
-  if (!(lo.array() < hi.array()).all()) throw std::invalid_argument("cellHeight: empty box");
+namespace {
+
+/// The Chebyshev ball of the cell within [lo, hi] (bounding_planes and open left empty); height 0
+/// and `feasible` false when the cell does not meet the box.
+CellHeight chebyshevBall(const std::vector<Plane>& planes, const std::vector<int>& sides, const Vec3& lo,
+                         const Vec3& hi, bool* feasible) {
   using Program = CGAL::Quadratic_program<double>;
   using Solution = CGAL::Quadratic_program_solution<CGAL::Gmpzf>;
   // Variables x, y, z (0-2) and r (3); rows A v <= b. Maximise r: minimise -r, with r >= 0.
@@ -32,37 +34,57 @@ CellHeight cellHeight(const std::vector<Plane>& planes, const std::vector<int>& 
     addRow(-Vec3::Unit(k), -lo[k]);
     addRow(Vec3::Unit(k), hi[k]);
   }
-  // Plane j as a row: r <= σ_j (n_j · x − d_j), i.e. −σ_j n_j · x + r <= −σ_j d_j.
-  const auto slack = [&](std::size_t j, const Vec3& x) {
-    return double(sides[j]) * planes[j].signedDistance(x);
-  };
   std::vector<char> used(planes.size(), 0);
   CellHeight out;
   const double scale = (hi - lo).norm();
   for (;;) {
     const Solution s = CGAL::solve_linear_program(lp, CGAL::Gmpzf());
-    if (!s.is_optimal()) return CellHeight{};  // infeasible: the cell has no point in the box
+    *feasible = s.is_optimal();  // the box bounds the program: not optimal means infeasible
+    if (!*feasible) return CellHeight{};
     auto v = s.variable_values_begin();
     for (int k = 0; k < 3; ++k, ++v) out.centre[k] = CGAL::to_double(*v);
     out.height = CGAL::to_double(*v);
     // The plane the ball crosses most deeply, if any (a tolerance of 1e-12 of the box for the
-    // rounding of the centre to doubles).
+    // rounding of the centre to doubles); as a row: r <= σ_j (n_j · x − d_j).
     std::size_t worst = planes.size();
     double deepest = 1e-12 * scale;
     for (std::size_t j = 0; j < planes.size(); ++j) {
       if (used[j]) continue;
-      const double depth = out.height - slack(j, out.centre);
+      const double depth = out.height - double(sides[j]) * planes[j].signedDistance(out.centre);
       if (depth > deepest) deepest = depth, worst = j;
     }
-    if (worst == planes.size()) break;
+    if (worst == planes.size()) return out;
     used[worst] = 1;
-    addRow(-double(sides[worst]) * planes[worst].normal, -double(sides[worst]) * planes[worst].normal.dot(planes[worst].origin));
+    const Plane& P = planes[worst];
+    addRow(-double(sides[worst]) * P.normal, -double(sides[worst]) * P.normal.dot(P.origin));
   }
+}
+
+}  // namespace
+
+CellHeight cellHeight(const std::vector<Plane>& planes, const std::vector<int>& sides, const Vec3& lo,
+                      const Vec3& hi) {
+  if (sides.size() != planes.size()) throw std::invalid_argument("cellHeight: one side per plane");
+  if (!(lo.array() < hi.array()).all()) throw std::invalid_argument("cellHeight: empty box");
+  for (const Plane& p : planes)
+    if (std::abs(p.normal.norm() - 1) > 1e-9) throw std::invalid_argument("cellHeight: plane normals must be unit");
+  bool feasible = false;
+  CellHeight out = chebyshevBall(planes, sides, lo, hi, &feasible);
+  const double scale = (hi - lo).norm();
+  if (!feasible) {  // the cell does not meet the box: nothing is shown for it
+    out.open = true;
+    return out;
+  }
+  // Open: the box, not the planes, limits the height (the same cell in a box grown by its
+  // diagonal each way has a larger ball). Unlike "the ball touches the box", this does not depend
+  // on which of several largest balls the solver returns.
+  bool grown = false;
+  const Vec3 d = Vec3::Constant(scale);
+  out.open = chebyshevBall(planes, sides, lo - d, hi + d, &grown).height > out.height + 1e-9 * scale;
   const double touch = 1e-9 * scale;
-  for (int k = 0; k < 3; ++k)
-    out.open = out.open || out.centre[k] - out.height - lo[k] < touch || hi[k] - out.centre[k] - out.height < touch;
   for (std::size_t j = 0; j < planes.size(); ++j)
-    if (std::abs(slack(j, out.centre) - out.height) < touch) out.bounding_planes.push_back(int(j));
+    if (std::abs(double(sides[j]) * planes[j].signedDistance(out.centre) - out.height) < touch)
+      out.bounding_planes.push_back(int(j));
   return out;
 }
 

@@ -7,8 +7,9 @@
 //
 // Generalisation written down: a cell that the planes do not close (or close only far away) is
 // measured within a box (in practice the reconstruction's grid), i.e. h_C of C ∩ box; such a cell
-// is reported `open` when its ball touches the box, since then its true height may be larger and
-// no condition may be taken as shown for it.
+// is reported `open` when the box limits its height (the same cell in a larger box has a larger
+// ball), since then its true height may be larger and no condition may be taken as shown for it.
+// A cell that does not meet the box is open with height 0.
 #pragma once
 
 #include <vector>
@@ -20,11 +21,12 @@ namespace xsect {
 struct CellHeight {
   double height = 0;                ///< h_C, mm (0: the cell has no interior within the box)
   Vec3 centre = Vec3::Zero();       ///< centre of the inscribed ball, mm
-  bool open = false;                ///< the ball touches the box, not only the planes
+  bool open = false;                ///< the box limits the height, or the cell misses the box
   std::vector<int> bounding_planes; ///< planes the ball touches (indices into `planes`)
 };
 
-/// @param planes  the cutting planes (unit normals), real and virtual.
+/// @param planes  the cutting planes, real and virtual (unit normals: std::invalid_argument
+///                otherwise).
 /// @param sides   sides[j] = +1 when the cell lies on the side planes[j].normal points to, −1
 ///                otherwise; the same length as `planes` (std::invalid_argument otherwise).
 /// @param lo, hi  the box the cell is measured within, mm (lo < hi componentwise).
