@@ -20,19 +20,11 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "io/file_checks.h"
 #include "io/input_error.h"
 
 namespace xsect {
 namespace {
-
-std::string lowerExtension(const std::string& path) {
-  const auto slash = path.find_last_of("/\\");
-  const auto dot = path.find_last_of('.');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string ext = path.substr(dot + 1);
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Writing

@@ -1,7 +1,6 @@
 // Reader and writer of slices.yaml (GUIDE.md, input contract), validated where the file enters.
 #include "io/slices_file.h"
 
-#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>

@@ -5,7 +5,6 @@
 // cuts the whole mesh (a contour file gives all of O ∩ P on its plane). Bad meshes (unreadable,
 // not closed), a plane that misses the mesh and malformed plane files are input errors (exit 2)
 // naming the file and the plane; the folder appears complete or not at all.
-#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -13,6 +12,7 @@
 #include "geometry/meshing/mesh_topology.h"
 #include "geometry/slicing/mesh_sections.h"
 #include "io/csl_file.h"
+#include "io/file_checks.h"
 #include "io/input_error.h"
 #include "io/mesh_io.h"
 #include "io/slices_file.h"
@@ -22,8 +22,6 @@
 #include "pipeline/progress.h"
 
 namespace xsect {
-
-namespace fs = std::filesystem;
 
 namespace {
 
@@ -35,9 +33,7 @@ struct NamedPlane {
 
 std::vector<NamedPlane> planesOf(const std::string& path) {
   std::vector<NamedPlane> out;
-  std::string ext = fs::path(path).extension().string();
-  for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  if (ext == ".csl") {
+  if (lowerExtension(path) == "csl") {
     const std::vector<CuttingPlane> planes = readCslFile(path);
     for (std::size_t p = 0; p < planes.size(); ++p) out.push_back({planes[p].plane, path, planes[p].name});
     return out;
