@@ -3,6 +3,8 @@
 // bytes are reproducible); the reader parses the attached header, then inflates or copies exactly
 // the voxels the sizes call for, checking every field it relies on.
 #include "io/label_volume_file.h"
+#include "io/gzip_stream.h"
+#include "io/nrrd_geometry.h"
 
 #include <zlib.h>
 
@@ -25,16 +27,7 @@ namespace xsect {
 
 namespace {
 
-std::string number(double v) {
-  if (v == 0.0) return "0";  // also -0
-  char buf[64];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
-
-std::string vec3(double x, double y, double z) {
-  return "(" + number(x) + "," + number(y) + "," + number(z) + ")";
-}
+std::string number(double v) { return nrrdNumber(v); }
 
 /// A distinct colour per segment, reproducible: hue stepped by the golden angle.
 std::array<double, 3> segmentColour(int n) {
@@ -55,7 +48,6 @@ std::array<double, 3> segmentColour(int n) {
 }
 
 std::string header(const GridSpec& grid, const LabelRows& rowOf) {
-  const double v = grid.voxel;
   std::string h =
       "NRRD0004\n"
       "# Complete NRRD file format specification at:\n"
@@ -63,16 +55,8 @@ std::string header(const GridSpec& grid, const LabelRows& rowOf) {
       "# xsect label volume: one label per voxel, 0 = background. World coordinates (mm) are\n"
       "# taken as LPS, as for xsect's meshes; space origin = centre of voxel (0,0,0).\n"
       "type: unsigned short\n"
-      "dimension: 3\n"
-      "space: left-posterior-superior\n";
-  h += "sizes: " + std::to_string(grid.dims[0]) + " " + std::to_string(grid.dims[1]) + " " +
-       std::to_string(grid.dims[2]) + "\n";
-  h += "space directions: " + vec3(v, 0, 0) + " " + vec3(0, v, 0) + " " + vec3(0, 0, v) + "\n";
-  h += "kinds: domain domain domain\n"
-       "endian: little\n"
-       "encoding: gzip\n";
-  h += "space origin: " + vec3(grid.origin.x(), grid.origin.y(), grid.origin.z()) + "\n";
-  h += "space units: \"mm\" \"mm\" \"mm\"\n";
+      "dimension: 3\n";
+  h += nrrdGridLines(grid, "endian: little\nencoding: gzip\n");
 
   // Slicer segmentation metadata: one segment per label present, with its voxel extent.
   struct Extent { int lo[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, hi[3] = {-1, -1, -1}; };
@@ -422,35 +406,16 @@ void writeLabelVolumeNrrd(const std::string& path, const GridSpec& grid, const L
   const std::string h = header(grid, rowOf);
   out.write(h.data(), std::streamsize(h.size()));
 
-  // gzip wrapper (windowBits 15 + 16): zlib writes no name and mtime 0, so the bytes repeat. The
-  // rows go in as they come (deflate's output does not depend on how its input is cut up).
-  z_stream zs;
-  std::memset(&zs, 0, sizeof zs);
-  if (deflateInit2(&zs, Z_DEFAULT_COMPRESSION, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
-    throw std::runtime_error("zlib: deflateInit2 failed");
-  struct Guard { z_stream* z; ~Guard() { deflateEnd(z); } } guard{&zs};
   const int nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
   std::vector<std::uint16_t> row(static_cast<std::size_t>(nx));
-  std::vector<unsigned char> in(2 * std::size_t(nx)), buf(1 << 17);
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j) {
-      rowOf(j, k, row.data());
-      for (int i = 0; i < nx; ++i) {  // little-endian whatever the host
-        in[2 * std::size_t(i)] = static_cast<unsigned char>(row[std::size_t(i)] & 0xff);
-        in[2 * std::size_t(i) + 1] = static_cast<unsigned char>(row[std::size_t(i)] >> 8);
-      }
-      const int flush = k == nz - 1 && j == ny - 1 ? Z_FINISH : Z_NO_FLUSH;
-      zs.next_in = in.data();
-      zs.avail_in = uInt(in.size());
-      int rc;
-      do {
-        zs.next_out = buf.data();
-        zs.avail_out = uInt(buf.size());
-        rc = deflate(&zs, flush);
-        if (rc == Z_STREAM_ERROR) throw std::runtime_error("zlib: deflate failed");
-        out.write(reinterpret_cast<const char*>(buf.data()), std::streamsize(buf.size() - zs.avail_out));
-      } while (zs.avail_out == 0 || (flush == Z_FINISH && rc != Z_STREAM_END));
+  writeGzipRows(out, std::size_t(ny) * std::size_t(nz), [&](std::size_t r, std::string* bytes) {
+    rowOf(int(r % std::size_t(ny)), int(r / std::size_t(ny)), row.data());
+    bytes->resize(2 * std::size_t(nx));
+    for (int i = 0; i < nx; ++i) {  // little-endian whatever the host
+      (*bytes)[2 * std::size_t(i)] = char(row[std::size_t(i)] & 0xff);
+      (*bytes)[2 * std::size_t(i) + 1] = char(row[std::size_t(i)] >> 8);
     }
+  });
   out.flush();
   if (!out) throw std::runtime_error("error while writing " + path);
 }

@@ -28,7 +28,9 @@ const std::set<std::string> kKnownKeys = {
     "reconstruction.method", "reconstruction.voxel_size_mm", "reconstruction.voxel_budget", "reconstruction.end_margin_mm",
     "reconstruction.conformal_mesh",
     "smoothing", "smoothing.method", "smoothing.exponent", "smoothing.cap_mm",
-    "smoothing.adaptivity", "smoothing.keep_connectivity", "smoothing.iterations", "output", "output.dir", "output.mesh"};
+    "smoothing.adaptivity", "smoothing.keep_connectivity", "smoothing.iterations", "sampling", "sampling.reach_mm",
+    "sampling.reach_interior_mm", "sampling.reach_exterior_mm", "sampling.max_angle_deg", "sampling.advice_count",
+    "output", "output.dir", "output.mesh"};
 
 void collectUnknown(const YAML::Node& n, const std::string& prefix, const std::string& file,
                     std::vector<std::string>& warnings) {
@@ -234,6 +236,26 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
     if (const YAML::Node n = s["iterations"]) {
       c.smoothing_iterations = yamlInteger(n, path, "smoothing.iterations", 0, 1000);
     }
+  }
+  if (const YAML::Node s = section("sampling")) {
+    const auto length = [&](const char* key, std::optional<double>* to) {
+      if (const YAML::Node v = s[key]) {
+        const std::string name = std::string("sampling.") + key;
+        const double x = yamlNumber(v, path, name);
+        if (!(x > 0) || !std::isfinite(x)) throw InputError(path, name, "must be a positive length", yamlLine(v));
+        *to = x;
+      }
+    };
+    length("reach_mm", &c.sampling.reach_mm);
+    length("reach_interior_mm", &c.sampling.reach_interior_mm);
+    length("reach_exterior_mm", &c.sampling.reach_exterior_mm);
+    if (const YAML::Node a = s["max_angle_deg"]) {
+      const double x = yamlNumber(a, path, "sampling.max_angle_deg");
+      if (!(x >= 0 && x < 90)) throw InputError(path, "sampling.max_angle_deg", "must lie in [0, 90) degrees", yamlLine(a));
+      c.sampling.max_angle_deg = x;
+    }
+    if (const YAML::Node n = s["advice_count"])
+      c.sampling.advice_count = int(yamlInteger(n, path, "sampling.advice_count", 0, 100000));
   }
   c.output_dir = resolvePath(base, "out");
   if (const YAML::Node s = section("output")) {

@@ -67,6 +67,15 @@ struct RunConfig {
   /// level-set smoothing of the method's solid instead (which keeps that connectivity).
   bool smoothing_keep_connectivity = true;
   int smoothing_iterations = 8;                         ///< level_set: curvature-flow steps
+  /// `sampling.*`: what the user knows of the object, for the sampling verdict (issue 18;
+  /// geometry/sampling/sampling_conditions.h), and how many slices to advise.
+  struct Sampling {
+    std::optional<double> reach_mm;           ///< both reaches at once
+    std::optional<double> reach_interior_mm;  ///< reach_i (overrides reach_mm)
+    std::optional<double> reach_exterior_mm;  ///< reach_e (overrides reach_mm)
+    std::optional<double> max_angle_deg;      ///< bound of α at contour points, [0, 90)
+    std::optional<int> advice_count;          ///< empty: as many as the violated cells need
+  } sampling;
   std::string output_dir;           ///< resolved against the configuration file
   std::vector<std::string> mesh_formats{"ply"};
   std::vector<std::string> warnings;  ///< unknown keys and similar

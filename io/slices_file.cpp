@@ -114,17 +114,37 @@ std::vector<PoseRecord> readPosesFile(const std::string& path) {
   return out;
 }
 
+namespace {
+void writeMatrix(std::ostringstream& os, const Mat4& m) {
+  os << "    image_to_world:\n";
+  for (int r = 0; r < 4; ++r) {
+    os << "      - [";
+    for (int c = 0; c < 4; ++c) os << (c ? ", " : "") << yamlNumberText(m(r, c));
+    os << "]\n";
+  }
+}
+}  // namespace
+
+void writePosesFile(const std::string& path, const std::vector<PoseRecord>& poses, const std::string& header,
+                    const std::vector<std::string>& notes) {
+  std::ostringstream os;
+  if (!header.empty()) os << "# " << header << "\n";
+  os << "slices:" << (poses.empty() ? " []" : "") << "\n";
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    if (i < notes.size() && !notes[i].empty()) os << "  # " << notes[i] << "\n";
+    os << "  - width: " << poses[i].width << "\n";
+    os << "    height: " << poses[i].height << "\n";
+    writeMatrix(os, poses[i].image_to_world);
+  }
+  writeTextFile(path, std::string(os.str()));
+}
+
 void writeSlicesFile(const std::string& path, const std::vector<SliceRecord>& slices) {
   std::ostringstream os;
   os << "slices:\n";
   for (const auto& s : slices) {
     os << "  - image: " << s.image << "\n";
-    os << "    image_to_world:\n";
-    for (int r = 0; r < 4; ++r) {
-      os << "      - [";
-      for (int c = 0; c < 4; ++c) os << (c ? ", " : "") << yamlNumberText(s.image_to_world(r, c));
-      os << "]\n";
-    }
+    writeMatrix(os, s.image_to_world);
     if (s.fov) os << "    fov: " << *s.fov << "\n";
   }
   writeTextFile(path, std::string(os.str()));

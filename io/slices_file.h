@@ -36,6 +36,11 @@ struct PoseRecord {
 /// InputError naming the file, key and line.
 std::vector<PoseRecord> readPosesFile(const std::string& path);
 
+/// Writes a poses file that readPosesFile reads back: `header` and each entry's `notes[i]` (if
+/// given) as YAML comments (one line each).
+void writePosesFile(const std::string& path, const std::vector<PoseRecord>& poses, const std::string& header,
+                    const std::vector<std::string>& notes = {});
+
 /// Writes slices.yaml with paths exactly as given in SliceRecord::image / fov.
 void writeSlicesFile(const std::string& path, const std::vector<SliceRecord>& slices);
 

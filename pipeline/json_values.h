@@ -2,6 +2,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "geometry/core/types.h"
 
@@ -9,5 +10,8 @@ namespace xsect {
 
 /// A point or vector as [x, y, z] (mm).
 inline nlohmann::ordered_json vecJson(const Vec3& v) { return nlohmann::ordered_json::array({v.x(), v.y(), v.z()}); }
+
+/// A number as JSON writes it (shortest round trip), for text outside JSON.
+inline std::string jsonNumber(double v) { return nlohmann::json(v).dump(); }
 
 }  // namespace xsect

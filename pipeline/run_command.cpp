@@ -6,6 +6,7 @@
 //   reconstruct                  (reconstruct_stage.h, stage 5: the solid, checked against the graph)
 //   smooth                       (smooth_stage.h, stage 6, optional)
 //   mesh -> diagnose             (mesh_stage.h, stage 7)
+//   sampling                     (sampling_stage.h, stage 7: the sampling conditions, verdict, advice)
 //   write                        (run_outputs.h, stage 8)
 #include <iostream>
 #include <optional>
@@ -14,10 +15,12 @@
 #include "pipeline/arrange_stage.h"
 #include "pipeline/commands.h"
 #include "pipeline/input_stage.h"
+#include "io/input_error.h"
 #include "pipeline/json_values.h"
 #include "pipeline/mesh_stage.h"
 #include "pipeline/reconstruct_stage.h"
 #include "pipeline/run_outputs.h"
+#include "pipeline/sampling_stage.h"
 #include "pipeline/scene_stage.h"
 #include "pipeline/smooth_stage.h"
 
@@ -63,13 +66,19 @@ int runCommand(const RunOptions& o) {
   const DiagnoseStage diagnosis = diagnoseStage(reconstruction, smoothed, meshes);
   clock.end("diagnose");
 
+  progress.stage("sampling");
+  const SamplingStage sampling = samplingStage(c, scene, arrangement, true);
+  clock.end("sampling");
+
   progress.stage("write");
-  writeRunOutputs({in, built, arrangement, reconstruction, smoothed, meshes, diagnosis}, o, clock, outDir);
+  writeRunOutputs({in, built, arrangement, reconstruction, smoothed, meshes, diagnosis, sampling}, o, clock, outDir);
   progress.finish();
   for (const auto& w : in.warnings) progress.note("warning: " + w);
   const Betti& betti = diagnosis.topology.betti;
-  if (!o.quiet)
+  if (!o.quiet) {
+    std::cerr << samplingLine(sampling) << "\n";
     std::cerr << "betti " << betti[0] << " " << betti[1] << " " << betti[2] << "; outputs in " << outDir.string() << "\n";
+  }
   return 0;
 }
 
@@ -104,6 +113,15 @@ int checkCommand(const RunOptions& o) {
                              {"solid_mb", (e.table_bytes + e.leaf_bytes) / 1e6},
                              {"mesh_mb", e.mesh_bytes / 1e6},
                              {"whole_volume_mb", e.dense_bytes / 1e6}};
+    // The sampling diagnosis needs the scene and the arrangement, not the solid (issue 18).
+    SectionScene scene;
+    try {
+      scene = sectionScene(in.planes, reconstructionParams(in.config));
+    } catch (const std::invalid_argument& e) {
+      throw InputError(in.config.path, "reconstruction", e.what());
+    }
+    const ArrangeStage arrangement = arrangeStage(in.config, scene);
+    r["sampling"] = samplingSummaryJson(samplingStage(in.config, scene, arrangement, false));
   } else {
     in.warnings.push_back("no section found in any slice");
   }

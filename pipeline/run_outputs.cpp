@@ -12,6 +12,8 @@
 #include "io/label_volume_file.h"
 #include "io/level_set_file.h"
 #include "io/mesh_io.h"
+#include "io/scalar_volume_file.h"
+#include "io/slices_file.h"
 #include "io/staged_output.h"
 #include "io/text_file.h"
 #include "pipeline/library_versions.h"
@@ -109,6 +111,24 @@ void writeRunOutputs(const RunResults& r, const RunOptions& o, const StageClock&
   writeTextFile(out.file("graph.dot").string(), graphDot(r));
   writeTextFile(out.file("conformity.json").string(),
                 conformityDetailsJson(c.conformity, r.inputs.conformity).dump(2) + "\n");
+  writeTextFile(out.file("sampling.json").string(), samplingDetailsJson(r.sampling).dump(1) + "\n");
+  const GridSpec& g = labels.grid();
+  writeScalarVolumeNrrd(
+      out.file("sampling.nrrd").string(), g,
+      [&](int j, int k, float* row) {
+        for (int i = 0; i < g.dims[0]; ++i) row[i] = samplingRatioAt(r.sampling, g.centre(i, j, k));
+      },
+      "xsect sampling: per voxel, h_C / critical reach of its cell (thesis Def. 23; < 1 passes), -1 unknown");
+  if (!r.sampling.advice_poses.empty()) {
+    std::vector<std::string> notes;
+    for (const AdvisedSlice& a : r.sampling.advice)
+      notes.push_back("splits cell " + std::to_string(a.cell) + "; worst " + (a.ratio ? "ratio " : "height (mm) ") +
+                      jsonNumber(a.worst_before) + " -> " + jsonNumber(a.worst_after));
+    writePosesFile(out.file("advice.yaml").string(), r.sampling.advice_poses,
+                   "xsect advice: slices to add, best first (image_to_world in the input's frame, pixels of " +
+                       jsonNumber(r.sampling.advice_pixel_mm) + " mm)",
+                   notes);
+  }
   writeTextFile(out.file("report.json").string(), reportJson(r, clock).dump(2) + "\n");
   writeTextFile(out.file("manifest.json").string(), manifestJson(r.inputs, o, out.dir()).dump(2) + "\n");
   out.commit();

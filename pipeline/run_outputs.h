@@ -1,7 +1,8 @@
 // The one writer of `xsect run` (GUIDE.md stage 8): the stages' typed results turned into the
 // output folder, which appears complete or not at all (io/staged_output.h): mesh.<fmt> (and
 // mesh_unsmoothed, mesh_label_L), level_set.vdb, labels.nrrd, graph.json and graph.dot,
-// conformity.json, report.json and manifest.json.
+// conformity.json, sampling.json, sampling.nrrd, advice.yaml (when slices are advised),
+// report.json and manifest.json.
 #pragma once
 
 #include <filesystem>
@@ -13,6 +14,7 @@
 #include "pipeline/input_stage.h"
 #include "pipeline/mesh_stage.h"
 #include "pipeline/reconstruct_stage.h"
+#include "pipeline/sampling_stage.h"
 #include "pipeline/scene_stage.h"
 #include "pipeline/smooth_stage.h"
 #include "pipeline/stage_clock.h"
@@ -28,6 +30,7 @@ struct RunResults {
   const SmoothStage* smooth;  ///< nullptr without smoothing
   const MeshStage& meshes;
   const DiagnoseStage& diagnosis;
+  const SamplingStage& sampling;
 };
 
 /// graph.json: the sections (nodes) and the edges of G and, for method 2, G' (thesis Def. 30), each

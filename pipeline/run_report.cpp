@@ -201,6 +201,7 @@ json reportJson(const RunResults& r, const StageClock& clock) {
                                {"cavities_filled", rec.repair.cavities_filled},
                                {"critical_voxels_added", rec.repair.critical_voxels_added}};
   report["conformity"] = conformityJson(r);
+  report["sampling"] = samplingSummaryJson(r.sampling);
   report["timings_s"] = clock.timings;
   report["timings_s"]["total"] = clock.total();
   report["peak_memory_mb"] = clock.memory;

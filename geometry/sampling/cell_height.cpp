@@ -63,7 +63,7 @@ CellHeight chebyshevBall(const std::vector<Plane>& planes, const std::vector<int
 }  // namespace
 
 CellHeight cellHeight(const std::vector<Plane>& planes, const std::vector<int>& sides, const Vec3& lo,
-                      const Vec3& hi) {
+                      const Vec3& hi, bool check_open) {
   if (sides.size() != planes.size()) throw std::invalid_argument("cellHeight: one side per plane");
   if (!(lo.array() < hi.array()).all()) throw std::invalid_argument("cellHeight: empty box");
   for (const Plane& p : planes)
@@ -78,9 +78,11 @@ CellHeight cellHeight(const std::vector<Plane>& planes, const std::vector<int>& 
   // Open: the box, not the planes, limits the height (the same cell in a box grown by its
   // diagonal each way has a larger ball). Unlike "the ball touches the box", this does not depend
   // on which of several largest balls the solver returns.
-  bool grown = false;
-  const Vec3 d = Vec3::Constant(scale);
-  out.open = chebyshevBall(planes, sides, lo - d, hi + d, &grown).height > out.height + 1e-9 * scale;
+  if (check_open) {
+    bool grown = false;
+    const Vec3 d = Vec3::Constant(scale);
+    out.open = chebyshevBall(planes, sides, lo - d, hi + d, &grown).height > out.height + 1e-9 * scale;
+  }
   const double touch = 1e-9 * scale;
   for (std::size_t j = 0; j < planes.size(); ++j)
     if (std::abs(double(sides[j]) * planes[j].signedDistance(out.centre) - out.height) < touch)

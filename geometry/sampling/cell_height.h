@@ -34,7 +34,9 @@ struct CellHeight {
 /// constraint generation: the program starts with the box alone and adds the plane its ball
 /// crosses most deeply until the ball crosses none, so each program holds the cell's facets and
 /// few others.
+/// @param check_open  false: skip the second program that decides `open` (left false), for callers
+///                    whose planes close every cell within the box (the end planes).
 CellHeight cellHeight(const std::vector<Plane>& planes, const std::vector<int>& sides, const Vec3& lo,
-                      const Vec3& hi);
+                      const Vec3& hi, bool check_open = true);
 
 }  // namespace xsect

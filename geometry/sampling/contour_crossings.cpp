@@ -1,0 +1,88 @@
+// Surface normals, angles α and reach bounds where two planes' contours meet (contour_crossings.h).
+#include "geometry/sampling/contour_crossings.h"
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <optional>
+
+#include "geometry/sampling/tangent_disc.h"
+
+namespace xsect {
+
+namespace {
+
+constexpr double kDegree = 3.14159265358979323846 / 180.0;
+
+Vec3 inWorld(const Plane& p, const Vec2& d) { return p.u * d.x() + p.v * d.y(); }
+
+}  // namespace
+
+std::vector<ContourCrossing> contourCrossings(const std::vector<CuttingPlane>& planes,
+                                              const SectionArrangement& arrangement, double tolerance_mm,
+                                              const CrossingParams& params) {
+  std::vector<const SectionPoint*> candidates;
+  for (const SectionPoint& s : arrangement.points) {
+    if (s.kind != SectionPoint::trace || s.trace_plane < 0) continue;
+    const CuttingPlane& A = planes[std::size_t(s.plane)];
+    const CuttingPlane& B = planes[std::size_t(s.trace_plane)];
+    if (A.is_virtual || B.is_virtual || B.sections.empty()) continue;
+    if (std::abs(A.plane.normal.dot(B.plane.normal)) > std::cos(params.min_plane_angle_deg * kDegree)) continue;
+    candidates.push_back(&s);
+  }
+  const std::size_t stride =
+      params.max_crossings > 0 ? std::max<std::size_t>(1, (candidates.size() + params.max_crossings - 1) / params.max_crossings) : 1;
+  std::vector<const SectionPoint*> kept;
+  for (std::size_t i = 0; i < candidates.size(); i += stride) kept.push_back(candidates[i]);
+
+  std::vector<std::optional<ContourCrossing>> found(kept.size());
+  const double sinTangent = std::sin(params.min_tangent_angle_deg * kDegree);
+  tbb::parallel_for(std::size_t(0), kept.size(), [&](std::size_t i) {
+    const SectionPoint& s = *kept[i];
+    const CuttingPlane& A = planes[std::size_t(s.plane)];
+    const CuttingPlane& B = planes[std::size_t(s.trace_plane)];
+    const Vec3 x = A.plane.toWorld(s.p);
+    const Vec2 pB = B.plane.toPlane(x);
+    if (!B.observed_everywhere && !B.extent.contains(pB)) return;
+    const double exclude = params.exclude_mm > 0 ? params.exclude_mm
+                                                 : 2 * std::max({A.pixel_mm, B.pixel_mm, 0.5 * tolerance_mm});
+    const ContourFoot fB = nearestContourPoint(B.sections, pB, exclude);
+    if (!fB.found || fB.distance > tolerance_mm) return;
+    const ContourFoot fA = nearestContourPoint(A.sections, s.p, exclude);
+    if (!fA.found) return;
+    const Vec3 tA = inWorld(A.plane, fA.tangent), tB = inWorld(B.plane, fB.tangent);
+    Vec3 n = tA.cross(tB);
+    if (n.norm() < sinTangent) return;
+    n.normalize();
+    // The sections lie to the left of their rings' direction (outer rings counter-clockwise, holes
+    // clockwise): inward in-plane normals.
+    const Vec2 inA(-fA.tangent.y(), fA.tangent.x()), inB(-fB.tangent.y(), fB.tangent.x());
+    if (n.dot(inWorld(A.plane, inA)) > 0) n = -n;       // outward
+    if (n.dot(inWorld(B.plane, inB)) > 0) return;         // the two contours disagree on the side
+    ContourCrossing c;
+    c.point = x;
+    c.plane_a = s.plane;
+    c.plane_b = s.trace_plane;
+    c.normal = n;
+    const double sa = std::min(1.0, std::abs(n.dot(A.plane.normal))), sb = std::min(1.0, std::abs(n.dot(B.plane.normal)));
+    c.alpha_a_deg = std::asin(sa) / kDegree;
+    c.alpha_b_deg = std::asin(sb) / kDegree;
+    const auto widened = [&](double alpha_deg) {
+      return std::cos(std::min(90.0, alpha_deg + params.angle_margin_deg) * kDegree);
+    };
+    const double ca = widened(c.alpha_a_deg), cb = widened(c.alpha_b_deg);
+    const auto bound = [&](const std::vector<Section>& secs, const Vec2& at, const Vec2& dir, double cosine) {
+      const double w = tangentDiscRadius(secs, at, dir, exclude) + tolerance_mm;
+      return cosine > 1e-6 ? w / cosine : std::numeric_limits<double>::infinity();
+    };
+    c.interior_bound_mm = std::min(bound(A.sections, fA.point, inA, ca), bound(B.sections, fB.point, inB, cb));
+    c.exterior_bound_mm = std::min(bound(A.sections, fA.point, -inA, ca), bound(B.sections, fB.point, -inB, cb));
+    found[i] = c;
+  });
+  std::vector<ContourCrossing> out;
+  for (auto& f : found)
+    if (f) out.push_back(*f);
+  return out;
+}
+
+}  // namespace xsect

@@ -1,0 +1,348 @@
+// Per-cell sampling conditions and the verdict (see sampling_conditions.h).
+#include "geometry/sampling/sampling_conditions.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <unordered_map>
+
+#include "geometry/sampling/cell_height.h"
+
+namespace xsect {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kDegree = 3.14159265358979323846 / 180.0;
+
+/// A critical value as known: `sat` the value a height must stay below for the condition to be
+/// shown (NaN: a prior it needs is missing), `vio` the value a height reaching shows it violated
+/// (+inf: nothing known), `data` whether `vio` comes from the data's bounds alone.
+struct Critical {
+  double sat = kNaN, vio = kInf;
+  bool data = false;
+};
+
+Critical sideOf(const std::optional<double>& prior, double bound) {
+  Critical k;
+  k.sat = prior ? std::min(*prior, bound) : kNaN;
+  k.vio = prior ? std::min(*prior, bound) : bound;
+  k.data = std::isfinite(bound) && (!prior || bound < *prior);
+  return k;
+}
+
+Critical lesser(const Critical& a, const Critical& b) {
+  Critical k;
+  k.sat = std::isnan(a.sat) || std::isnan(b.sat) ? kNaN : std::min(a.sat, b.sat);
+  const Critical& v = a.vio <= b.vio ? a : b;
+  k.vio = v.vio;
+  k.data = v.data;
+  return k;
+}
+
+Critical scaled(const Critical& k, double satFactor, double vioFactor, bool data) {
+  return {std::isnan(satFactor) ? kNaN : satFactor * k.sat, vioFactor * k.vio, data};
+}
+
+double transversalFactor(double alpha_deg) { return 0.5 * (1 - std::sin(alpha_deg * kDegree)); }
+
+ConditionCheck check(double lo, double hi, const Critical& k) {
+  ConditionCheck c;
+  if (!std::isnan(k.sat) && hi < k.sat) {
+    c.verdict = SamplingVerdict::satisfied;
+    c.critical_mm = k.sat;
+  } else if (std::isfinite(k.vio) && lo >= k.vio) {
+    c.verdict = SamplingVerdict::violated;
+    c.critical_mm = k.vio;
+    c.from_data = k.data;
+  } else {
+    c.critical_mm = std::isnan(k.sat) ? k.vio : k.sat;
+  }
+  return c;
+}
+
+bool straddles(double lo, double hi, const Critical& k) {
+  return (!std::isnan(k.sat) && lo < k.sat && hi >= k.sat) || (std::isfinite(k.vio) && lo < k.vio && hi >= k.vio);
+}
+
+SamplingVerdict combine(SamplingVerdict a, SamplingVerdict b) {
+  if (a == SamplingVerdict::violated || b == SamplingVerdict::violated) return SamplingVerdict::violated;
+  if (a == SamplingVerdict::satisfied && b == SamplingVerdict::satisfied) return SamplingVerdict::satisfied;
+  return SamplingVerdict::undetermined;
+}
+
+/// The critical values of a cell's two conditions (see the header for the definitions).
+void criticalsOf(const CellSampling& c, ReconstructionMethod method, const SamplingPrior& prior,
+                 double angleMargin, Critical* density, Critical* transversality) {
+  const bool sections = c.arrangement_cell >= 0;
+  const Critical ri = sideOf(prior.reach_interior_mm, c.interior_bound_mm);
+  const Critical re = sideOf(prior.reach_exterior_mm, c.exterior_bound_mm);
+  const Critical reach = lesser(ri, re);
+  // α_C: 0 without contour points; else the prior raised to what was measured (unknown without a
+  // prior when showing the condition; what was measured, or 0, when showing a violation).
+  // Measured angles raise the prior as measured, and count with their margin taken off when they
+  // show a violation.
+  const double measured = c.alpha_samples > 0 ? c.alpha_max_deg : 0.0;
+  const double measuredLow = std::max(0.0, measured - angleMargin);
+  const double alphaSat = !sections ? 0.0 : prior.max_angle_deg ? std::max(*prior.max_angle_deg, measured) : kNaN;
+  const double alphaVio = !sections ? 0.0 : prior.max_angle_deg ? std::max(*prior.max_angle_deg, measuredLow) : measuredLow;
+  const bool alphaData = !prior.max_angle_deg || measuredLow >= *prior.max_angle_deg;
+  const double fSat = std::isnan(alphaSat) ? kNaN : transversalFactor(alphaSat);
+  if (!sections) {
+    // O ∩ ∂C is empty: either O misses C, where R misses it too and the conditions hold trivially
+    // (np(m) ∉ O for every m in C), or a component of O lies inside C, holding a medial ball of
+    // radius ≥ reach_i (Prop. 2). h_C < reach_i rules the second case out, for both methods.
+    *density = ri;
+    *transversality = ri;
+    return;
+  }
+  if (method == ReconstructionMethod::nearest_plane) {
+    *density = reach;  // C1; for a cell without sections it also covers Prop. 2
+    *transversality = scaled(reach, fSat, transversalFactor(alphaVio), reach.data && alphaData);  // C2
+    return;
+  }
+  *density = re;  // C'1
+  // C'3 holds per contour point: the prior's product, or what one crossing allows.
+  Critical t = scaled(reach, fSat, transversalFactor(alphaVio), reach.data && alphaData);
+  if (c.transversal_bound_mm < t.vio) t.vio = c.transversal_bound_mm, t.data = true;
+  if (!std::isnan(t.sat)) t.sat = std::min(t.sat, c.transversal_bound_mm);
+  *transversality = t;
+}
+
+void evaluate(CellSampling& c, ReconstructionMethod method, const SamplingPrior& prior, double angleMargin) {
+  Critical d, t;
+  criticalsOf(c, method, prior, angleMargin, &d, &t);
+  // Method 2 on a cell with sections: h'_C ≥ h_C has no upper bound here.
+  const bool upperKnown = method == ReconstructionMethod::nearest_plane || c.arrangement_cell < 0;
+  const double hi = upperKnown ? c.height_hi_mm : kInf;
+  c.density = check(c.height_lo_mm, hi, d);
+  c.transversality = check(c.height_lo_mm, hi, t);
+  c.verdict = combine(c.density.verdict, c.transversality.verdict);
+  const double crit = std::isfinite(c.transversality.critical_mm) ? c.transversality.critical_mm
+                                                                   : c.density.critical_mm;
+  c.ratio = std::isfinite(crit) && crit > 0 ? c.height_hi_mm / crit : kNaN;
+}
+
+bool needsExactHeight(const CellSampling& c, ReconstructionMethod method, const SamplingPrior& prior,
+                      double angleMargin) {
+  if (c.height_exact) return false;
+  Critical d, t;
+  criticalsOf(c, method, prior, angleMargin, &d, &t);
+  return straddles(c.height_lo_mm, c.height_hi_mm, d) || straddles(c.height_lo_mm, c.height_hi_mm, t);
+}
+
+/// Worst first: larger ratio, then larger height, then scan order.
+bool worse(const CellSampling& a, const CellSampling& b, int ia, int ib) {
+  const double ra = std::isnan(a.ratio) ? -1 : a.ratio, rb = std::isnan(b.ratio) ? -1 : b.ratio;
+  if (ra != rb) return ra > rb;
+  if (a.height_hi_mm != b.height_hi_mm) return a.height_hi_mm > b.height_hi_mm;
+  return ia < ib;
+}
+
+}  // namespace
+
+SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes, const SectionArrangement& arrangement,
+                                   ReconstructionMethod method, const SamplingPrior& prior, const Vec3& lo,
+                                   const Vec3& hi, double voxel_mm, double tolerance_mm,
+                                   const SamplingParams& params) {
+  SamplingDiagnosis out;
+  const double margin = params.crossings.angle_margin_deg;
+  out.method = method;
+  out.prior = prior;
+  std::vector<Plane> ps;
+  ps.reserve(planes.size());
+  for (const CuttingPlane& p : planes) ps.push_back(p.plane);
+  const CellKeys keys(ps);
+  out.scan = scanCells(ps, keys, lo, hi, scanSpacing(lo, hi, voxel_mm, ps.size(), params.lattice_work));
+  const CellScan& scan = out.scan;
+
+  std::unordered_map<std::uint64_t, int> cellOfKey;
+  cellOfKey.reserve(scan.cells.size() + std::size_t(std::max(arrangement.cells, 0)));
+  out.cells.reserve(scan.cells.size() + std::size_t(std::max(arrangement.cells, 0)));
+  for (std::size_t i = 0; i < scan.cells.size(); ++i) {
+    const ScannedCell& s = scan.cells[i];
+    CellSampling c;
+    c.key = s.key;
+    c.scanned = int(i);
+    c.height_lo_mm = s.max_distance_mm;
+    c.height_hi_mm = scan.heightBound(s);
+    c.centre = s.farthest;
+    c.end_cell = s.on_box;
+    out.cells.push_back(c);
+    cellOfKey.emplace(s.key, int(i));
+  }
+
+  // The arrangement's cells (those bounded by a section): the key of a point of theirs that lies on
+  // no other plane, on the cell's side of its own plane.
+  const int nArr = arrangement.cells;
+  struct Candidates {  // up to four (point, side) of the cell
+    std::array<std::pair<int, int>, 4> at;
+    int count = 0;
+    const std::pair<int, int>* begin() const { return at.data(); }
+    const std::pair<int, int>* end() const { return at.data() + count; }
+    const std::pair<int, int>& front() const { return at[0]; }
+  };
+  std::vector<Candidates> candidates(std::size_t(std::max(nArr, 0)));
+  for (std::size_t i = 0; i < arrangement.points.size(); ++i) {
+    const SectionPoint& s = arrangement.points[i];
+    if (s.kind == SectionPoint::trace) continue;
+    for (int side = 0; side < 2; ++side) {
+      const int cell = s.cell[std::size_t(side)];
+      if (cell < 0) continue;
+      Candidates& c = candidates[std::size_t(cell)];
+      if (c.count < 4) c.at[std::size_t(c.count++)] = {int(i), side};
+    }
+  }
+  std::vector<std::uint64_t> arrKey(candidates.size(), 0);
+  std::vector<Vec3> arrPoint(candidates.size(), Vec3::Zero());
+  std::vector<char> arrFound(candidates.size(), 0);
+  const double tiny = 1e-9 * (hi - lo).norm();
+  tbb::parallel_for(std::size_t(0), candidates.size(), [&](std::size_t cell) {
+    for (const auto& [pi, side] : candidates[cell]) {
+      const SectionPoint& s = arrangement.points[std::size_t(pi)];
+      const Vec3 x = planes[std::size_t(s.plane)].plane.toWorld(s.p);
+      double clearance = 0;
+      const std::uint64_t k = keys.of(x, s.plane, side ? 1 : -1, &clearance);
+      if (clearance > tiny || !arrFound[cell]) arrKey[cell] = k, arrPoint[cell] = x, arrFound[cell] = 1;
+      if (clearance > tiny) break;
+    }
+  });
+  for (std::size_t cell = 0; cell < candidates.size(); ++cell) {
+    if (!arrFound[cell]) continue;
+    const auto it = cellOfKey.find(arrKey[cell]);
+    if (it != cellOfKey.end()) {
+      CellSampling& c = out.cells[std::size_t(it->second)];
+      if (c.arrangement_cell < 0) c.arrangement_cell = int(cell);
+      continue;
+    }
+    CellSampling c;  // no lattice point inside: h_C ≤ ρ
+    c.key = arrKey[cell];
+    c.arrangement_cell = int(cell);
+    c.height_hi_mm = scan.half_diagonal_mm;
+    c.centre = arrPoint[cell];
+    cellOfKey.emplace(c.key, int(out.cells.size()));
+    out.cells.push_back(c);
+  }
+
+  // Angles and reach bounds where contours cross, given to the four cells around each crossing.
+  out.crossings = contourCrossings(planes, arrangement, tolerance_mm, params.crossings);
+  const double eps = 1e-7 * (hi - lo).norm();
+  for (const ContourCrossing& x : out.crossings) {
+    const Vec3 na = planes[std::size_t(x.plane_a)].plane.normal, nb = planes[std::size_t(x.plane_b)].plane.normal;
+    const double alpha = std::max(x.alpha_a_deg, x.alpha_b_deg);
+    const double reachBound = std::min(x.interior_bound_mm, x.exterior_bound_mm);
+    const double transversal =
+        std::min(transversalFactor(std::max(0.0, x.alpha_a_deg - margin)), transversalFactor(std::max(0.0, x.alpha_b_deg - margin))) *
+        reachBound;
+    out.reach_interior_bound_mm = std::min(out.reach_interior_bound_mm, x.interior_bound_mm);
+    out.reach_exterior_bound_mm = std::min(out.reach_exterior_bound_mm, x.exterior_bound_mm);
+    out.alpha_max_measured_deg = std::isnan(out.alpha_max_measured_deg) ? alpha : std::max(out.alpha_max_measured_deg, alpha);
+    for (int sa = -1; sa <= 1; sa += 2)
+      for (int sb = -1; sb <= 1; sb += 2) {
+        const auto it = cellOfKey.find(keys.of(x.point + eps * (sa * na + sb * nb)));
+        if (it == cellOfKey.end()) continue;
+        CellSampling& c = out.cells[std::size_t(it->second)];
+        c.alpha_max_deg = c.alpha_samples ? std::max(c.alpha_max_deg, alpha) : alpha;
+        ++c.alpha_samples;
+        c.interior_bound_mm = std::min(c.interior_bound_mm, x.interior_bound_mm);
+        c.exterior_bound_mm = std::min(c.exterior_bound_mm, x.exterior_bound_mm);
+        c.transversal_bound_mm = std::min(c.transversal_bound_mm, transversal);
+      }
+  }
+  if ((prior.reach_interior_mm && *prior.reach_interior_mm > out.reach_interior_bound_mm) ||
+      (prior.reach_exterior_mm && *prior.reach_exterior_mm > out.reach_exterior_bound_mm))
+    out.prior_contradicted = true;
+
+  for (CellSampling& c : out.cells) evaluate(c, method, prior, margin);
+
+  // Exact heights (Chebyshev balls) where the lattice's bounds straddle a critical value, then for
+  // the worst cells and the largest cell without sections, within the budget.
+  std::vector<int> order(out.cells.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = int(i);
+  const auto worseIndex = [&](int a, int b) {
+    return worse(out.cells[std::size_t(a)], out.cells[std::size_t(b)], a, b);
+  };
+  const std::size_t top = std::min<std::size_t>(20, order.size());
+  std::partial_sort(order.begin(), order.begin() + std::ptrdiff_t(top), order.end(), worseIndex);
+  std::vector<int> exact;
+  std::vector<char> chosen(out.cells.size(), 0);
+  const auto choose = [&](int i) {
+    if (i >= 0 && !chosen[std::size_t(i)] && int(exact.size()) < params.exact_cells) chosen[std::size_t(i)] = 1, exact.push_back(i);
+  };
+  int largestEmpty = -1;
+  for (std::size_t i = 0; i < out.cells.size(); ++i)
+    if (out.cells[i].arrangement_cell < 0 &&
+        (largestEmpty < 0 || out.cells[i].height_lo_mm > out.cells[std::size_t(largestEmpty)].height_lo_mm))
+      largestEmpty = int(i);
+  choose(largestEmpty);
+  for (std::size_t i = 0; i < top; ++i) choose(order[i]);
+  std::vector<int> straddling;
+  for (std::size_t i = 0; i < out.cells.size(); ++i)
+    if (needsExactHeight(out.cells[i], method, prior, margin)) straddling.push_back(int(i));
+  std::sort(straddling.begin(), straddling.end(), worseIndex);
+  for (int i : straddling) choose(i);
+  const Vec3 pad = Vec3::Constant(std::max(scan.lattice.voxel, 1e-6 * (hi - lo).norm()));
+  tbb::parallel_for(std::size_t(0), exact.size(), [&](std::size_t e) {
+    CellSampling& c = out.cells[std::size_t(exact[e])];
+    std::vector<int> sides;
+    if (c.scanned >= 0) {
+      sides = keys.sides(c.centre);
+    } else {  // a section point of the cell: on its own plane, on the cell's side
+      const int cell = c.arrangement_cell;
+      const auto& [pi, side] = candidates[std::size_t(cell)].front();
+      sides = keys.sides(c.centre, arrangement.points[std::size_t(pi)].plane, side ? 1 : -1);
+    }
+    const CellHeight h = cellHeight(ps, sides, lo - pad, hi + pad, false);
+    c.height_lo_mm = c.height_hi_mm = h.height;
+    c.height_exact = true;
+    c.centre = h.centre;
+  });
+  out.exact_cells = int(exact.size());
+  for (int i : exact) evaluate(out.cells[std::size_t(i)], method, prior, margin);
+
+  // Verdicts over all cells. A cell met neither by the lattice nor by a section holds no section and
+  // has h_C ≤ ρ: for the guarantee, ρ must pass a cell without sections' conditions.
+  out.density = out.transversality = SamplingVerdict::satisfied;
+  for (const CellSampling& c : out.cells) {
+    out.density = combine(out.density, c.density.verdict);
+    out.transversality = combine(out.transversality, c.transversality.verdict);
+  }
+  CellSampling unmet;
+  unmet.height_hi_mm = scan.half_diagonal_mm;
+  evaluate(unmet, method, prior, margin);
+  out.density = combine(out.density, unmet.density.verdict == SamplingVerdict::violated ? SamplingVerdict::satisfied
+                                                                                          : unmet.density.verdict);
+  out.transversality = combine(out.transversality, unmet.transversality.verdict == SamplingVerdict::violated
+                                                       ? SamplingVerdict::satisfied
+                                                       : unmet.transversality.verdict);
+  out.verdict = combine(out.density, out.transversality);
+  out.largest_empty_cell = largestEmpty;
+
+  std::vector<int> deciding;
+  for (std::size_t i = 0; i < out.cells.size(); ++i)
+    if (out.verdict == SamplingVerdict::satisfied || out.cells[i].verdict == out.verdict) deciding.push_back(int(i));
+  const std::size_t shown = std::min<std::size_t>(20, deciding.size());
+  std::partial_sort(deciding.begin(), deciding.begin() + std::ptrdiff_t(shown), deciding.end(), worseIndex);
+  out.deciding.assign(deciding.begin(), deciding.begin() + std::ptrdiff_t(shown));
+  return out;
+}
+
+std::vector<std::string> samplingConsequences(const SamplingDiagnosis& d) {
+  std::vector<std::string> out;
+  const bool m1 = d.method == ReconstructionMethod::nearest_plane;
+  if (d.density == SamplingVerdict::satisfied)
+    out.push_back(m1 ? "Separation Condition (Lemma 3): the sections are joined as in the object (Thm 3) and "
+                       "every component of its boundary is cut by a plane (Prop. 2)"
+                     : "Weak Density Condition: every component of the object's boundary is cut by a plane");
+  if (d.verdict == SamplingVerdict::satisfied)
+    out.push_back(m1 ? "Intersection Condition (Thm 15): the reconstruction is homotopy equivalent, homeomorphic "
+                       "and isotopic to the object"
+                     : "the reconstruction is homotopy equivalent, homeomorphic and isotopic to the object "
+                       "(Thm 23-24), within Hausdorff distance max h'_C (Thm 20)");
+  return out;
+}
+
+}  // namespace xsect

@@ -1,0 +1,126 @@
+// The thesis' sampling conditions checked per cell of the arrangement, and a verdict (issue 18;
+// GUIDE.md stage 7). Method 1 (ch. 1 §2.3, §4.5): the Density Condition (C1) h_C < reach_C(O)
+// (Lemma 3: the Separation Condition, so the sections are joined as in O, Thm 3) and the
+// Transversality Condition (C2) h_C < ½(1 − sin α_C)·reach_C(O) (Thm 15: with C1, R is homotopy
+// equivalent, homeomorphic and isotopic to O). Method 2 (ch. 2 §3): the Weak Density Condition
+// (C'1) h'_C < reach_e(O_C) and the Transversality Condition (C'3) h'_C < ½(1 − sin α_a)·reach(a)
+// (Thm 19-24: the same connectivity, homotopy, homeomorphism, and d_H(O, R') ≤ max h'_C).
+//
+// Definitions written down where the thesis leaves a choice:
+//  - Cells are those of all cutting planes and the six end planes (end_planes.h): the conditions are
+//    checked for O inside the end planes' box, an assumption the data cannot check.
+//  - h_C comes from a lattice scan (cell_scan.h) as a lower and an upper bound, made exact by the
+//    cell's Chebyshev ball (cell_height.h) where the bounds straddle a critical value.
+//  - Method 2: h'_C ≥ h_C (the nearest section point of x ∈ C lies on ∂C), so h_C is a lower bound
+//    of h'_C; no upper bound is computed, so method 2's conditions are violated or undetermined,
+//    never satisfied.
+//  - α_C: the larger of the prior `max_angle_deg` and the angles measured where contours cross
+//    (contour_crossings.h) on the cell's boundary. Without the prior, α_C is unknown for a cell
+//    holding sections (a few measured angles do not bound it), so C2 / C'3 cannot be satisfied
+//    there; measured angles still serve to show violations.
+//  - The critical reach of a cell is the prior (taken as the reach's value) lowered to what the
+//    data allow (the reach bounds at the cell's contour crossings). A condition is satisfied when
+//    the upper bound of the height is below the critical value known for certain (every prior it
+//    needs given), violated when the lower bound of the height reaches it; `violated` from the data
+//    bound alone holds whatever the object (for a smooth ∂O whose sections are the contours given).
+//  - Cells holding no section, both methods: O ∩ ∂C is empty, so either O misses C (and so does R;
+//    every condition holds there trivially: the nearest point on ∂C of any x in C is outside O), or
+//    a component of O lies inside C (Prop. 2), holding a medial ball of radius ≥ reach_i. Their one
+//    condition is h_C < reach_i (nothing missed), reported as both density and transversality.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#include "geometry/arrangement/section_arrangement.h"
+#include "geometry/core/named_choice.h"
+#include "geometry/core/reconstruction_method.h"
+#include "geometry/core/types.h"
+#include "geometry/sampling/cell_scan.h"
+#include "geometry/sampling/contour_crossings.h"
+
+namespace xsect {
+
+enum class SamplingVerdict { satisfied, violated, undetermined };
+constexpr std::array<NamedChoice<SamplingVerdict>, 3> kSamplingVerdicts{{
+    {SamplingVerdict::satisfied, "satisfied"},
+    {SamplingVerdict::violated, "violated"},
+    {SamplingVerdict::undetermined, "undetermined"},
+}};
+
+/// What the user knows of the object (`sampling.*` of the configuration), mm and degrees.
+struct SamplingPrior {
+  std::optional<double> reach_interior_mm;  ///< reach_i (sampling.reach_interior_mm or reach_mm)
+  std::optional<double> reach_exterior_mm;  ///< reach_e (sampling.reach_exterior_mm or reach_mm)
+  std::optional<double> max_angle_deg;      ///< bound of α at contour points, [0, 90)
+};
+
+struct SamplingParams {
+  double lattice_work = 5e8;       ///< scan budget: lattice points × planes (cell_scan.h)
+  int exact_cells = 400;           ///< at most this many Chebyshev balls are solved
+  CrossingParams crossings;
+};
+
+/// One condition in one cell.
+struct ConditionCheck {
+  SamplingVerdict verdict = SamplingVerdict::undetermined;
+  /// Critical value of the height, mm (+inf: unknown). The height must stay below it.
+  double critical_mm = std::numeric_limits<double>::infinity();
+  bool from_data = false;  ///< a violation shown by the data's reach bound alone
+};
+
+struct CellSampling {
+  std::uint64_t key = 0;
+  int scanned = -1;            ///< index into the scan's cells (−1: no lattice point inside)
+  int arrangement_cell = -1;   ///< the arrangement's id of the cell (−1: it holds no section)
+  double height_lo_mm = 0, height_hi_mm = 0;  ///< bounds of h_C (equal when exact)
+  bool height_exact = false;   ///< Chebyshev ball solved
+  Vec3 centre = Vec3::Zero();  ///< centre of the inscribed ball (or the lattice point reaching height_lo)
+  bool end_cell = false;       ///< bounded by an end plane (an open cell closed by the end planes)
+  double alpha_max_deg = std::numeric_limits<double>::quiet_NaN();  ///< measured, NaN: none
+  int alpha_samples = 0;
+  double interior_bound_mm = std::numeric_limits<double>::infinity();  ///< data bound of reach_i there
+  double exterior_bound_mm = std::numeric_limits<double>::infinity();  ///< data bound of reach_e there
+  /// min over its crossings a of ½(1 − sin α_a)·(data bound of reach(a)), mm: what C'3 may reach.
+  double transversal_bound_mm = std::numeric_limits<double>::infinity();
+  ConditionCheck density;        ///< C1 (method 1), C'1 (method 2); cells without sections: Prop. 2
+  ConditionCheck transversality; ///< C2 / C'3
+  SamplingVerdict verdict = SamplingVerdict::undetermined;
+  /// height / critical value of the strongest condition known for the cell (NaN: none known).
+  double ratio = std::numeric_limits<double>::quiet_NaN();
+};
+
+struct SamplingDiagnosis {
+  ReconstructionMethod method = ReconstructionMethod::nearest_plane;
+  SamplingPrior prior;
+  CellScan scan;
+  std::vector<CellSampling> cells;       ///< scanned cells in scan order, then unscanned arrangement cells
+  std::vector<ContourCrossing> crossings;
+  SamplingVerdict verdict = SamplingVerdict::undetermined;  ///< the topological guarantee
+  SamplingVerdict density = SamplingVerdict::undetermined;  ///< over all cells
+  SamplingVerdict transversality = SamplingVerdict::undetermined;
+  std::vector<int> deciding;     ///< cells that decide the verdict, worst first (at most 20)
+  int largest_empty_cell = -1;   ///< the cell without sections with the largest height (Prop. 2)
+  double reach_interior_bound_mm = std::numeric_limits<double>::infinity();  ///< data, over all crossings
+  double reach_exterior_bound_mm = std::numeric_limits<double>::infinity();
+  double alpha_max_measured_deg = std::numeric_limits<double>::quiet_NaN();
+  int exact_cells = 0;           ///< Chebyshev balls solved
+  bool prior_contradicted = false;  ///< a prior reach exceeds a data bound
+};
+
+/// @param planes  all cutting planes, the end planes last (SectionScene::planes).
+/// @param lo, hi  the end planes' box, mm.
+/// @param voxel_mm the reconstruction's voxel (the lattice's finest spacing).
+/// @param tolerance_mm how far contours may miss each other at a crossing (contour_crossings.h).
+SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes, const SectionArrangement& arrangement,
+                                   ReconstructionMethod method, const SamplingPrior& prior, const Vec3& lo,
+                                   const Vec3& hi, double voxel_mm, double tolerance_mm,
+                                   const SamplingParams& params = {});
+
+/// The thesis' consequences that the verdicts shown give, in words (e.g. "sections joined as in
+/// the object (Thm 3)").
+std::vector<std::string> samplingConsequences(const SamplingDiagnosis& d);
+
+}  // namespace xsect

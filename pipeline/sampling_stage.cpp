@@ -1,0 +1,286 @@
+// The sampling diagnosis stage and its JSON (see sampling_stage.h).
+#include "pipeline/sampling_stage.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <tuple>
+
+#include "pipeline/json_values.h"
+
+namespace xsect {
+
+using json = nlohmann::ordered_json;
+
+namespace {
+
+json finite(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+const char* name(SamplingVerdict v) { return nameOf(kSamplingVerdicts, v); }
+
+struct ConditionNames {
+  const char* density;
+  const char* transversality;
+};
+ConditionNames conditionNames(ReconstructionMethod m) {
+  if (m == ReconstructionMethod::nearest_plane) return {"C1 density", "C2 transversality"};
+  return {"C'1 weak density", "C'3 transversality"};
+}
+
+double medianPixel(const SectionScene& scene) {
+  std::vector<double> px;
+  for (std::size_t i = 0; i < scene.real_planes; ++i)
+    if (scene.planes[i].pixel_mm > 0) px.push_back(scene.planes[i].pixel_mm);
+  if (px.empty()) return 0;
+  std::nth_element(px.begin(), px.begin() + std::ptrdiff_t(px.size() / 2), px.end());
+  return px[px.size() / 2];
+}
+
+/// The advised plane as an image of the sections' bounds seen on it.
+PoseRecord poseOf(const Plane& p, const Vec3& bmin, const Vec3& bmax, double pixel) {
+  Vec2 lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
+  for (int c = 0; c < 8; ++c) {
+    const Vec3 x((c & 1) ? bmax.x() : bmin.x(), (c & 2) ? bmax.y() : bmin.y(), (c & 4) ? bmax.z() : bmin.z());
+    const Vec2 q = p.toPlane(x);
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  PoseRecord r;
+  r.width = int(std::ceil((hi.x() - lo.x()) / pixel)) + 1;
+  r.height = int(std::ceil((hi.y() - lo.y()) / pixel)) + 1;
+  r.image_to_world = Mat4::Identity();
+  r.image_to_world.block<3, 1>(0, 0) = p.u * pixel;
+  r.image_to_world.block<3, 1>(0, 1) = p.v * pixel;
+  r.image_to_world.block<3, 1>(0, 2) = p.normal * pixel;
+  r.image_to_world.block<3, 1>(0, 3) = p.toWorld(lo);
+  return r;
+}
+
+json cellJson(const SamplingStage& s, int id) {
+  const CellSampling& c = s.diagnosis.cells[std::size_t(id)];
+  const ConditionNames n = conditionNames(s.diagnosis.method);
+  const bool densityDecides =
+      c.density.verdict == c.verdict || c.transversality.verdict == SamplingVerdict::satisfied;
+  const ConditionCheck& k = densityDecides ? c.density : c.transversality;
+  return {{"cell", id},
+          {"holds_sections", c.arrangement_cell >= 0},
+          {"end_cell", c.end_cell},
+          {"height_mm", c.height_hi_mm},
+          {"height_lower_mm", c.height_lo_mm},
+          {"height_exact", c.height_exact},
+          {"centre_mm", vecJson(c.centre)},
+          {"verdict", name(c.verdict)},
+          {"condition", densityDecides ? n.density : n.transversality},
+          {"critical_mm", finite(k.critical_mm)},
+          {"ratio", finite(c.ratio)},
+          {"shown_by_data_alone", k.from_data},
+          {"alpha_max_deg", finite(c.alpha_max_deg)}};
+}
+
+}  // namespace
+
+SamplingPrior samplingPrior(const RunConfig& c) {
+  SamplingPrior p;
+  p.reach_interior_mm = c.sampling.reach_interior_mm ? c.sampling.reach_interior_mm : c.sampling.reach_mm;
+  p.reach_exterior_mm = c.sampling.reach_exterior_mm ? c.sampling.reach_exterior_mm : c.sampling.reach_mm;
+  p.max_angle_deg = c.sampling.max_angle_deg;
+  return p;
+}
+
+SamplingStage samplingStage(const RunConfig& c, const SectionScene& scene, const ArrangeStage& arrangement,
+                            bool advise) {
+  SamplingStage s;
+  const ReconstructionLayout& L = scene.layout;
+  s.lo = L.sections_min - Vec3::Constant(L.end_margin_mm);
+  s.hi = L.sections_max + Vec3::Constant(L.end_margin_mm);
+  const double pixel = medianPixel(scene);
+  const double tolerance = std::max(scene.params.voxel_mm, 2 * pixel);
+  s.diagnosis = diagnoseSampling(scene.planes, arrangement.arrangement, c.reconstruction_method, samplingPrior(c),
+                                 s.lo, s.hi, scene.params.voxel_mm, tolerance);
+  if (!advise || s.diagnosis.verdict == SamplingVerdict::satisfied) return s;
+  bool violated = false;
+  for (const CellSampling& cell : s.diagnosis.cells) violated = violated || cell.verdict == SamplingVerdict::violated;
+  const int inputSlices = int(scene.real_planes);
+  AdviceParams a;
+  if (c.sampling.advice_count) {
+    a.count = *c.sampling.advice_count;
+  } else {  // enough for the violated cells (at most as many as the input has, and 30); else 10
+    a.count = violated ? std::min(inputSlices, 30) : std::min(inputSlices, 10);
+    a.until_resolved = violated;
+  }
+  s.advice = adviseSlices(scene.planes, s.diagnosis, s.lo, s.hi, a);
+  s.advice_pixel_mm = pixel > 0 ? pixel : (L.sections_max - L.sections_min).maxCoeff() / 256;
+  for (const AdvisedSlice& slice : s.advice)
+    s.advice_poses.push_back(poseOf(slice.plane, L.sections_min, L.sections_max, s.advice_pixel_mm));
+  return s;
+}
+
+json samplingSummaryJson(const SamplingStage& s) {
+  const SamplingDiagnosis& d = s.diagnosis;
+  const ConditionNames n = conditionNames(d.method);
+  int withSections = 0, counts[3] = {0, 0, 0}, fromData = 0;
+  double maxHeight = 0;
+  for (const CellSampling& c : d.cells) {
+    withSections += c.arrangement_cell >= 0;
+    ++counts[int(c.verdict)];
+    fromData += c.verdict == SamplingVerdict::violated && (c.density.from_data || c.transversality.from_data);
+    maxHeight = std::max(maxHeight, c.height_hi_mm);
+  }
+  json deciding = json::array();
+  for (int id : d.deciding) deciding.push_back(cellJson(s, id));
+  json r;
+  r["verdict"] = name(d.verdict);
+  r["method"] = nameOf(kReconstructionMethods, d.method);
+  r["conditions"] = {{n.density, name(d.density)}, {n.transversality, name(d.transversality)}};
+  r["guarantees"] = samplingConsequences(d);
+  r["prior"] = {{"reach_interior_mm", d.prior.reach_interior_mm ? json(*d.prior.reach_interior_mm) : json(nullptr)},
+                {"reach_exterior_mm", d.prior.reach_exterior_mm ? json(*d.prior.reach_exterior_mm) : json(nullptr)},
+                {"max_angle_deg", d.prior.max_angle_deg ? json(*d.prior.max_angle_deg) : json(nullptr)}};
+  r["prior_contradicted_by_data"] = d.prior_contradicted;
+  r["data"] = {{"contour_crossings", d.crossings.size()},
+               {"reach_interior_bound_mm", finite(d.reach_interior_bound_mm)},
+               {"reach_exterior_bound_mm", finite(d.reach_exterior_bound_mm)},
+               {"alpha_max_measured_deg", finite(d.alpha_max_measured_deg)}};
+  r["cells"] = {{"total", d.cells.size()},
+                {"holding_sections", withSections},
+                {"satisfied", counts[int(SamplingVerdict::satisfied)]},
+                {"violated", counts[int(SamplingVerdict::violated)]},
+                {"violated_by_data_alone", fromData},
+                {"undetermined", counts[int(SamplingVerdict::undetermined)]},
+                {"exact_heights", d.exact_cells}};
+  r["max_height_mm"] = maxHeight;
+  r["lattice_spacing_mm"] = d.scan.lattice.voxel;
+  r["end_box_mm"] = {vecJson(s.lo), vecJson(s.hi)};
+  r["assumes"] = "the object lies inside the end planes' box; its boundary is smooth; the contours are its sections";
+  r["deciding_cells"] = deciding;
+  if (d.largest_empty_cell >= 0) {
+    const CellSampling& c = d.cells[std::size_t(d.largest_empty_cell)];
+    r["largest_cell_without_sections"] = {
+        {"cell", d.largest_empty_cell},
+        {"height_mm", c.height_hi_mm},
+        {"centre_mm", vecJson(c.centre)},
+        {"meaning", "no plane touches a ball of this radius there: an object component of that size could be "
+                    "missed entirely (Prop. 2)"}};
+  }
+  r["advice"] = {{"slices", s.advice.size()}, {"file", s.advice.empty() ? json(nullptr) : json("advice.yaml")}};
+  return r;
+}
+
+json samplingDetailsJson(const SamplingStage& s) {
+  const SamplingDiagnosis& d = s.diagnosis;
+  const ConditionNames n = conditionNames(d.method);
+  json cols;
+  json id = json::array(), sections = json::array(), endCell = json::array(), lo = json::array(), hi = json::array(),
+       exact = json::array(), centre = json::array(), alpha = json::array(), alphaN = json::array(),
+       ri = json::array(), re = json::array(), dc = json::array(), dv = json::array(), tc = json::array(),
+       tv = json::array(), verdict = json::array(), ratio = json::array(), data = json::array();
+  // At most kListed cells: the worst (largest ratio, then height), listed by id.
+  constexpr std::size_t kListed = 20000;
+  std::vector<std::size_t> listed(d.cells.size());
+  for (std::size_t i = 0; i < listed.size(); ++i) listed[i] = i;
+  if (listed.size() > kListed) {
+    const auto key = [&](std::size_t i) {
+      const CellSampling& c = d.cells[i];
+      return std::make_tuple(std::isnan(c.ratio) ? -1.0 : c.ratio, c.height_hi_mm, -double(i));
+    };
+    std::nth_element(listed.begin(), listed.begin() + std::ptrdiff_t(kListed), listed.end(),
+                     [&](std::size_t a, std::size_t b) { return key(a) > key(b); });
+    listed.resize(kListed);
+    std::sort(listed.begin(), listed.end());
+  }
+  for (const std::size_t i : listed) {
+    const CellSampling& c = d.cells[i];
+    id.push_back(i);
+    sections.push_back(c.arrangement_cell >= 0);
+    endCell.push_back(c.end_cell);
+    lo.push_back(c.height_lo_mm);
+    hi.push_back(c.height_hi_mm);
+    exact.push_back(c.height_exact);
+    centre.push_back(vecJson(c.centre));
+    alpha.push_back(finite(c.alpha_max_deg));
+    alphaN.push_back(c.alpha_samples);
+    ri.push_back(finite(c.interior_bound_mm));
+    re.push_back(finite(c.exterior_bound_mm));
+    dc.push_back(finite(c.density.critical_mm));
+    dv.push_back(name(c.density.verdict));
+    tc.push_back(finite(c.transversality.critical_mm));
+    tv.push_back(name(c.transversality.verdict));
+    verdict.push_back(name(c.verdict));
+    ratio.push_back(finite(c.ratio));
+    data.push_back(c.density.from_data || c.transversality.from_data);
+  }
+  cols["id"] = id;
+  cols["holds_sections"] = sections;
+  cols["end_cell"] = endCell;
+  cols["height_lower_mm"] = lo;
+  cols["height_mm"] = hi;
+  cols["height_exact"] = exact;
+  cols["centre_mm"] = centre;
+  cols["alpha_max_deg"] = alpha;
+  cols["alpha_samples"] = alphaN;
+  cols["reach_interior_bound_mm"] = ri;
+  cols["reach_exterior_bound_mm"] = re;
+  cols["density_critical_mm"] = dc;
+  cols["density"] = dv;
+  cols["transversality_critical_mm"] = tc;
+  cols["transversality"] = tv;
+  cols["verdict"] = verdict;
+  cols["ratio"] = ratio;
+  cols["violated_by_data_alone"] = data;
+  json crossings = json::array();
+  for (const ContourCrossing& x : d.crossings)
+    crossings.push_back({{"point_mm", vecJson(x.point)},
+                         {"planes", {x.plane_a, x.plane_b}},
+                         {"normal", vecJson(x.normal)},
+                         {"alpha_deg", {x.alpha_a_deg, x.alpha_b_deg}},
+                         {"reach_interior_bound_mm", finite(x.interior_bound_mm)},
+                         {"reach_exterior_bound_mm", finite(x.exterior_bound_mm)}});
+  json advice = json::array();
+  for (const AdvisedSlice& a : s.advice)
+    advice.push_back({{"cell", a.cell},
+                      {"point_mm", vecJson(a.plane.origin)},
+                      {"normal", vecJson(a.plane.normal)},
+                      {a.ratio ? "worst_ratio_before" : "worst_height_before_mm", a.worst_before},
+                      {a.ratio ? "worst_ratio_after" : "worst_height_after_mm", a.worst_after}});
+  return {{"summary", samplingSummaryJson(s)},
+          {"conditions", {{"density", n.density}, {"transversality", n.transversality}}},
+          {"cells_total", d.cells.size()},
+          {"cells_listed", listed.size()},
+          {"cells", cols},
+          {"contour_crossings", crossings},
+          {"advice", advice}};
+}
+
+std::string samplingLine(const SamplingStage& s) {
+  const SamplingDiagnosis& d = s.diagnosis;
+  std::ostringstream os;
+  os << "sampling: " << name(d.verdict);
+  if (!d.deciding.empty() && d.verdict != SamplingVerdict::satisfied) {
+    const json c = cellJson(s, d.deciding.front());
+    os << " (worst cell " << d.deciding.front() << ": " << c["condition"].get<std::string>() << ", h_C "
+       << c["height_mm"].get<double>() << " mm";
+    if (!c["critical_mm"].is_null()) os << " against " << c["critical_mm"].get<double>() << " mm";
+    if (c["shown_by_data_alone"].get<bool>()) os << ", shown by the data alone";
+    os << ")";
+  }
+  if (!d.prior.reach_interior_mm && !d.prior.reach_exterior_mm && d.verdict == SamplingVerdict::undetermined)
+    os << "; give sampling.reach_mm (and sampling.max_angle_deg) to decide";
+  if (!s.advice.empty()) os << "; advice.yaml proposes " << s.advice.size() << " slices";
+  return os.str();
+}
+
+float samplingRatioAt(const SamplingStage& s, const Vec3& x) {
+  const GridSpec& L = s.diagnosis.scan.lattice;
+  int ijk[3];
+  for (int a = 0; a < 3; ++a) {
+    const double t = std::round((x[a] - L.origin[a]) / L.voxel);
+    if (t < 0 || t > L.dims[a] - 1) return -1.0f;
+    ijk[a] = int(t);
+  }
+  const int cell = s.diagnosis.scan.cell_of_point[std::size_t(L.index(ijk[0], ijk[1], ijk[2]))];
+  if (cell < 0) return -1.0f;
+  const double r = s.diagnosis.cells[std::size_t(cell)].ratio;
+  return std::isnan(r) ? -1.0f : float(r);
+}
+
+}  // namespace xsect

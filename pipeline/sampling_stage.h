@@ -1,0 +1,47 @@
+// The sampling diagnosis of `xsect run` and `xsect check` (GUIDE.md stage 7; issue 18): the
+// thesis' sampling conditions per cell of the arrangement with a verdict
+// (geometry/sampling/sampling_conditions.h) and, when the verdict is not `satisfied`, the slices to
+// add (geometry/sampling/slice_advice.h). Reads the scene and the arrangement; needs no solid, so
+// `xsect check` runs it without reconstructing. Its results become report.json `sampling`,
+// sampling.json, sampling.nrrd and advice.yaml (run_outputs.cpp).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "geometry/sampling/sampling_conditions.h"
+#include "geometry/sampling/slice_advice.h"
+#include "io/run_config.h"
+#include "io/slices_file.h"
+#include "pipeline/arrange_stage.h"
+
+namespace xsect {
+
+struct SamplingStage {
+  SamplingDiagnosis diagnosis;
+  Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  ///< the end planes' box, mm
+  std::vector<AdvisedSlice> advice;
+  std::vector<PoseRecord> advice_poses;      ///< the advice as image poses at the input's pixel size
+  double advice_pixel_mm = 0;
+};
+
+/// The prior the configuration gives (sampling.reach_mm fills both reaches unless they are given).
+SamplingPrior samplingPrior(const RunConfig& c);
+
+/// @param advise  propose slices when the verdict is not `satisfied`.
+SamplingStage samplingStage(const RunConfig& c, const SectionScene& scene, const ArrangeStage& arrangement,
+                            bool advise);
+
+/// report.json `sampling` (and `xsect check`'s): the verdict, its conditions and consequences, the
+/// prior, what the data bound, the deciding cells.
+nlohmann::ordered_json samplingSummaryJson(const SamplingStage& s);
+/// sampling.json: every cell, column by column.
+nlohmann::ordered_json samplingDetailsJson(const SamplingStage& s);
+/// The stderr line: the verdict and why.
+std::string samplingLine(const SamplingStage& s);
+/// sampling.nrrd's value at a point: the ratio h_C / critical value of the cell holding it, −1 where
+/// no critical value is known or outside the end planes.
+float samplingRatioAt(const SamplingStage& s, const Vec3& x);
+
+}  // namespace xsect
