@@ -95,7 +95,7 @@ SamplingStage samplingStage(const RunConfig& c, const SectionScene& scene, const
   s.hi = L.sections_max + Vec3::Constant(L.end_margin_mm);
   const double pixel = medianPixel(scene);
   const double tolerance = std::max(scene.params.voxel_mm, 2 * pixel);
-  s.diagnosis = diagnoseSampling(scene.planes, arrangement.arrangement, c.reconstruction_method, samplingPrior(c),
+  s.diagnosis = diagnoseSampling(scene.planes, scene.fields, arrangement.arrangement, c.reconstruction_method, samplingPrior(c),
                                  s.lo, s.hi, scene.params.voxel_mm, tolerance);
   if (!advise || s.diagnosis.verdict == SamplingVerdict::satisfied) return s;
   bool violated = false;
@@ -138,6 +138,7 @@ json samplingSummaryJson(const SamplingStage& s) {
                 {"max_angle_deg", d.prior.max_angle_deg ? json(*d.prior.max_angle_deg) : json(nullptr)}};
   r["prior_contradicted_by_data"] = d.prior_contradicted;
   r["data"] = {{"contour_crossings", d.crossings.size()},
+               {"contour_points_bounded", d.contour_points_bounded},
                {"reach_interior_bound_mm", finite(d.reach_interior_bound_mm)},
                {"reach_exterior_bound_mm", finite(d.reach_exterior_bound_mm)},
                {"alpha_max_measured_deg", finite(d.alpha_max_measured_deg)}};

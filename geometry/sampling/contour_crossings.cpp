@@ -44,11 +44,11 @@ std::vector<ContourCrossing> contourCrossings(const std::vector<CuttingPlane>& p
     const Vec3 x = A.plane.toWorld(s.p);
     const Vec2 pB = B.plane.toPlane(x);
     if (!B.observed_everywhere && !B.extent.contains(pB)) return;
-    const double exclude = params.exclude_mm > 0 ? params.exclude_mm
-                                                 : 2 * std::max({A.pixel_mm, B.pixel_mm, 0.5 * tolerance_mm});
-    const ContourFoot fB = nearestContourPoint(B.sections, pB, exclude);
+    const double arc = params.tangent_arc_mm > 0 ? params.tangent_arc_mm
+                                                 : std::max({2 * A.pixel_mm, 2 * B.pixel_mm, tolerance_mm});
+    const ContourFoot fB = nearestContourPoint(B.sections, pB, arc);
     if (!fB.found || fB.distance > tolerance_mm) return;
-    const ContourFoot fA = nearestContourPoint(A.sections, s.p, exclude);
+    const ContourFoot fA = nearestContourPoint(A.sections, s.p, arc);
     if (!fA.found) return;
     const Vec3 tA = inWorld(A.plane, fA.tangent), tB = inWorld(B.plane, fB.tangent);
     Vec3 n = tA.cross(tB);
@@ -71,8 +71,15 @@ std::vector<ContourCrossing> contourCrossings(const std::vector<CuttingPlane>& p
       return std::cos(std::min(90.0, alpha_deg + params.angle_margin_deg) * kDegree);
     };
     const double ca = widened(c.alpha_a_deg), cb = widened(c.alpha_b_deg);
+    // The largest disc over directions within the angle margin of the measured normal: the true
+    // normal lies among them when the contour's tangent is within the margin.
     const auto bound = [&](const std::vector<Section>& secs, const Vec2& at, const Vec2& dir, double cosine) {
-      const double w = tangentDiscRadius(secs, at, dir, exclude) + tolerance_mm;
+      double w = 0;
+      for (int k = -2; k <= 2; ++k) {
+        const double t = 0.5 * k * params.angle_margin_deg * kDegree;
+        const Vec2 d(std::cos(t) * dir.x() - std::sin(t) * dir.y(), std::sin(t) * dir.x() + std::cos(t) * dir.y());
+        w = std::max(w, tangentDiscRadius(secs, at, d, 2 * tolerance_mm));
+      }
       return cosine > 1e-6 ? w / cosine : std::numeric_limits<double>::infinity();
     };
     c.interior_bound_mm = std::min(bound(A.sections, fA.point, inA, ca), bound(B.sections, fB.point, inB, cb));

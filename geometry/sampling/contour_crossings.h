@@ -23,7 +23,8 @@ struct ContourCrossing {
   Vec3 normal = Vec3::Zero();   ///< unit normal of ∂O there (outward)
   double alpha_a_deg = 0, alpha_b_deg = 0;  ///< α at the point for plane a and plane b (Def. 26)
   /// Upper bounds of the inner and outer medial balls' radii at the point (mm; +inf when the
-  /// sections bound nothing on that side): min over both planes of (w + tolerance) / cos(α + margin).
+  /// sections bound nothing on that side): min over both planes of w / cos(α + margin), w the
+  /// largest tangent disc over directions within the margin of the measured normal.
   double interior_bound_mm = std::numeric_limits<double>::infinity();
   double exterior_bound_mm = std::numeric_limits<double>::infinity();
 };
@@ -32,11 +33,13 @@ struct CrossingParams {
   double min_plane_angle_deg = 20;  ///< planes closer to parallel are not used (ill-conditioned)
   double min_tangent_angle_deg = 15;///< contours meeting at a smaller angle are not used
   std::size_t max_crossings = 40000;///< at most this many trace points are examined (evenly spread)
-  /// Contour vertices nearer than this to the point are ignored by the disc bounds, mm
-  /// (discretisation; a larger value only weakens the bounds). 0: 2 × the planes' pixel size.
-  double exclude_mm = 0;
+  /// Arc length over which the contours' tangents are measured (a chord), mm. 0: 2 × the planes'
+  /// pixel size, at least the crossing tolerance.
+  double tangent_arc_mm = 0;
   /// Measurement margins, so that the bounds stay bounds despite the contours' discretisation: the
-  /// disc radii grow by the crossing tolerance and α by this angle before dividing by cos α.
+  /// disc is the largest over directions within this angle of the measured normal, vertices limit
+  /// it only beyond twice the crossing tolerance (tangent_disc.h), and α grows by this angle
+  /// before dividing by cos α.
   double angle_margin_deg = 5;
 };
 

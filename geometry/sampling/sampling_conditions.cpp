@@ -144,7 +144,8 @@ bool worse(const CellSampling& a, const CellSampling& b, int ia, int ib) {
 
 }  // namespace
 
-SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes, const SectionArrangement& arrangement,
+SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
+                                   const std::vector<SectionDistanceField>& fields, const SectionArrangement& arrangement,
                                    ReconstructionMethod method, const SamplingPrior& prior, const Vec3& lo,
                                    const Vec3& hi, double voxel_mm, double tolerance_mm,
                                    const SamplingParams& params) {
@@ -210,14 +211,17 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes, cons
       if (clearance > tiny) break;
     }
   });
+  std::vector<int> cellOfArrangement(candidates.size(), -1);
   for (std::size_t cell = 0; cell < candidates.size(); ++cell) {
     if (!arrFound[cell]) continue;
     const auto it = cellOfKey.find(arrKey[cell]);
     if (it != cellOfKey.end()) {
       CellSampling& c = out.cells[std::size_t(it->second)];
       if (c.arrangement_cell < 0) c.arrangement_cell = int(cell);
+      cellOfArrangement[cell] = it->second;
       continue;
     }
+    cellOfArrangement[cell] = int(out.cells.size());
     CellSampling c;  // no lattice point inside: h_C ≤ ρ
     c.key = arrKey[cell];
     c.arrangement_cell = int(cell);
@@ -251,6 +255,20 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes, cons
         c.exterior_bound_mm = std::min(c.exterior_bound_mm, x.exterior_bound_mm);
         c.transversal_bound_mm = std::min(c.transversal_bound_mm, transversal);
       }
+  }
+  // Reach bounds at contour points, given to the cells on both sides of their plane.
+  for (const ContourReachBound& b : contourReachBounds(planes, fields, arrangement, tolerance_mm, (hi - lo).norm(),
+                                                       params.reach_bounds)) {
+    if (!std::isfinite(b.interior_mm) && !std::isfinite(b.exterior_mm)) continue;
+    ++out.contour_points_bounded;
+    out.reach_interior_bound_mm = std::min(out.reach_interior_bound_mm, b.interior_mm);
+    out.reach_exterior_bound_mm = std::min(out.reach_exterior_bound_mm, b.exterior_mm);
+    for (const int cell : arrangement.points[std::size_t(b.point)].cell) {
+      if (cell < 0 || cellOfArrangement[std::size_t(cell)] < 0) continue;
+      CellSampling& c = out.cells[std::size_t(cellOfArrangement[std::size_t(cell)])];
+      c.interior_bound_mm = std::min(c.interior_bound_mm, b.interior_mm);
+      c.exterior_bound_mm = std::min(c.exterior_bound_mm, b.exterior_mm);
+    }
   }
   if ((prior.reach_interior_mm && *prior.reach_interior_mm > out.reach_interior_bound_mm) ||
       (prior.reach_exterior_mm && *prior.reach_exterior_mm > out.reach_exterior_bound_mm))

@@ -19,7 +19,8 @@
 //    holding sections (a few measured angles do not bound it), so C2 / C'3 cannot be satisfied
 //    there; measured angles still serve to show violations.
 //  - The critical reach of a cell is the prior (taken as the reach's value) lowered to what the
-//    data allow (the reach bounds at the cell's contour crossings). A condition is satisfied when
+//    data allow (the reach bounds at the cell's contour crossings and contour points,
+//    contour_crossings.h and reach_bound.h). A condition is satisfied when
 //    the upper bound of the height is below the critical value known for certain (every prior it
 //    needs given), violated when the lower bound of the height reaches it; `violated` from the data
 //    bound alone holds whatever the object (for a smooth ∂O whose sections are the contours given).
@@ -40,6 +41,8 @@
 #include "geometry/core/types.h"
 #include "geometry/sampling/cell_scan.h"
 #include "geometry/sampling/contour_crossings.h"
+#include "geometry/sampling/reach_bound.h"
+#include "geometry/scene/section_distance_field.h"
 
 namespace xsect {
 
@@ -61,6 +64,7 @@ struct SamplingParams {
   double lattice_work = 5e8;       ///< scan budget: lattice points × planes (cell_scan.h)
   int exact_cells = 400;           ///< at most this many Chebyshev balls are solved
   CrossingParams crossings;
+  ReachBoundParams reach_bounds;
 };
 
 /// One condition in one cell.
@@ -105,16 +109,19 @@ struct SamplingDiagnosis {
   int largest_empty_cell = -1;   ///< the cell without sections with the largest height (Prop. 2)
   double reach_interior_bound_mm = std::numeric_limits<double>::infinity();  ///< data, over all crossings
   double reach_exterior_bound_mm = std::numeric_limits<double>::infinity();
+  int contour_points_bounded = 0;  ///< contour vertices whose balls the planes around them bound
   double alpha_max_measured_deg = std::numeric_limits<double>::quiet_NaN();
   int exact_cells = 0;           ///< Chebyshev balls solved
   bool prior_contradicted = false;  ///< a prior reach exceeds a data bound
 };
 
-/// @param planes  all cutting planes, the end planes last (SectionScene::planes).
+/// @param planes  all cutting planes, the end planes last (SectionScene::planes), and their f_P
+///                rasters (SectionScene::fields).
 /// @param lo, hi  the end planes' box, mm.
 /// @param voxel_mm the reconstruction's voxel (the lattice's finest spacing).
 /// @param tolerance_mm how far contours may miss each other at a crossing (contour_crossings.h).
-SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes, const SectionArrangement& arrangement,
+SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
+                                   const std::vector<SectionDistanceField>& fields, const SectionArrangement& arrangement,
                                    ReconstructionMethod method, const SamplingPrior& prior, const Vec3& lo,
                                    const Vec3& hi, double voxel_mm, double tolerance_mm,
                                    const SamplingParams& params = {});

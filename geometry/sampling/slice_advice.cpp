@@ -57,9 +57,13 @@ std::vector<AdvisedSlice> adviseSlices(const std::vector<CuttingPlane>& planes, 
   // (the sections' connectivity, Thm 3), then by the transversality ratio.
   const bool densityFirst = d.density != SamplingVerdict::satisfied;
   // The cells followed: the worst that are not shown satisfied.
+  // Cells holding sections first: where the object is known to be, the connectivity of its
+  // sections is at stake; cells without sections only matter for what the planes miss (Prop. 2).
   std::vector<int> order;
-  for (std::size_t i = 0; i < d.cells.size(); ++i)
-    if (d.cells[i].verdict != SamplingVerdict::satisfied) order.push_back(int(i));
+  for (int pass = 0; pass < 2 && order.empty(); ++pass)
+    for (std::size_t i = 0; i < d.cells.size(); ++i)
+      if (d.cells[i].verdict != SamplingVerdict::satisfied && (pass == 1 || d.cells[i].arrangement_cell >= 0))
+        order.push_back(int(i));
   const auto score0 = [&](const CellSampling& c) {
     const double crit = densityFirst ? c.density.critical_mm : c.transversality.critical_mm;
     return std::isfinite(crit) && crit > 0 ? c.height_hi_mm / crit : -1.0;

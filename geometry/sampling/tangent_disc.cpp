@@ -44,15 +44,15 @@ Vec2 walk(const Ring& r, std::size_t e, double t, double arc) {
 }  // namespace
 
 double tangentDiscRadius(const std::vector<Section>& sections, const Vec2& a, const Vec2& direction,
-                         double exclude_mm) {
+                         double slack_mm) {
   double best = std::numeric_limits<double>::infinity();
-  const double ex2 = exclude_mm * exclude_mm;
+  const double s = std::max(0.0, slack_mm);
   forEachRing(sections, [&](const Ring& r) {
     for (const Vec2& q : r) {
       const Vec2 d = q - a;
-      const double along = direction.dot(d), l2 = d.squaredNorm();
-      if (along <= 0 || l2 < ex2) continue;
-      best = std::min(best, l2 / (2 * along));
+      const double along = direction.dot(d);
+      if (along <= s) continue;
+      best = std::min(best, (d.squaredNorm() - s * s) / (2 * (along - s)));
     }
   });
   return best;

@@ -1,0 +1,180 @@
+// Reach bounds from the sections alone (see reach_bound.h).
+#include "geometry/sampling/reach_bound.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "geometry/sampling/tangent_disc.h"
+
+namespace xsect {
+
+namespace {
+
+constexpr double kDegree = 3.14159265358979323846 / 180.0;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// A plane's contour vertices in square buckets, to find one within a distance of a point.
+struct VertexBuckets {
+  Vec2 origin = Vec2::Zero();
+  double size = 1;
+  int nu = 0, nv = 0;
+  std::vector<int> start;   ///< bucket b holds points[start[b] .. start[b + 1])
+  std::vector<Vec2> points;
+
+  explicit VertexBuckets(const std::vector<Section>& sections) {
+    std::vector<Vec2> all;
+    for (const Section& s : sections) {
+      all.insert(all.end(), s.outer.begin(), s.outer.end());
+      for (const Ring& h : s.holes) all.insert(all.end(), h.begin(), h.end());
+    }
+    if (all.empty()) return;
+    Vec2 lo = all[0], hi = all[0];
+    for (const Vec2& q : all) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+    origin = lo;
+    size = std::max((hi - lo).maxCoeff() / 32, 1e-9);
+    nu = int((hi.x() - lo.x()) / size) + 1;
+    nv = int((hi.y() - lo.y()) / size) + 1;
+    std::vector<int> count(std::size_t(nu) * std::size_t(nv) + 1, 0);
+    const auto bucket = [&](const Vec2& q) {
+      const int i = std::min(nu - 1, int((q.x() - origin.x()) / size)), j = std::min(nv - 1, int((q.y() - origin.y()) / size));
+      return std::size_t(j) * std::size_t(nu) + std::size_t(i);
+    };
+    for (const Vec2& q : all) ++count[bucket(q) + 1];
+    for (std::size_t b = 1; b < count.size(); ++b) count[b] += count[b - 1];
+    start = count;
+    points.resize(all.size());
+    for (const Vec2& q : all) points[std::size_t(count[bucket(q)]++)] = q;
+  }
+
+  /// Whether some vertex lies closer than `radius` to p.
+  bool anyWithin(const Vec2& p, double radius) const {
+    if (points.empty() || radius <= 0) return false;
+    const int i0 = std::max(0, int(std::floor((p.x() - radius - origin.x()) / size)));
+    const int i1 = std::min(nu - 1, int(std::floor((p.x() + radius - origin.x()) / size)));
+    const int j0 = std::max(0, int(std::floor((p.y() - radius - origin.y()) / size)));
+    const int j1 = std::min(nv - 1, int(std::floor((p.y() + radius - origin.y()) / size)));
+    const double r2 = radius * radius;
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) {
+        const std::size_t b = std::size_t(j) * std::size_t(nu) + std::size_t(i);
+        for (int k = start[b]; k < start[b + 1]; ++k)
+          if ((points[std::size_t(k)] - p).squaredNorm() < r2) return true;
+      }
+    return false;
+  }
+};
+
+struct Tester {
+  const std::vector<CuttingPlane>& planes;
+  const std::vector<SectionDistanceField>& fields;
+  const std::vector<VertexBuckets>& vertices;
+  std::vector<int> near;  ///< planes that test the balls
+  Vec3 a = Vec3::Zero(), out = Vec3::Zero(), normal = Vec3::Zero();  ///< point, in-plane outward normal, plane normal
+  double slack = 0;
+
+  /// Whether plane q refutes a ball (centre c, radius r) that must lie inside O (inner) or outside:
+  /// the ball shrunk by the slack s holds a point of the other side on the plane.
+  bool refutes(int q, const Vec3& c, double r, bool inner, double s) const {
+    const CuttingPlane& Q = planes[std::size_t(q)];
+    const double d = Q.plane.signedDistance(c), rs = r - s;
+    if (std::abs(d) >= rs) return false;
+    const double rho = std::sqrt(r * r - d * d), rhoS = std::sqrt(rs * rs - d * d);
+    const Vec2 cq = Q.plane.toPlane(c);
+    if (!Q.observed_everywhere) {  // the disc must lie where the plane was observed
+      if (!Q.field_of_view.empty()) return false;
+      if (!(cq.x() - rho >= Q.extent.min.x() && cq.x() + rho <= Q.extent.max.x() && cq.y() - rho >= Q.extent.min.y() &&
+            cq.y() + rho <= Q.extent.max.y()))
+        return false;
+    }
+    const SectionDistanceField& f = fields[std::size_t(q)];
+    const double v = f.sample(cq.x(), cq.y());
+    const double band = f.band;
+    // Where the raster keeps only the sign, a contour vertex within the shrunk disc refutes.
+    if (inner) {  // the shrunk disc inside the sections: f(cq) <= -rhoS
+      if (v <= -band) return vertices[std::size_t(q)].anyWithin(cq, rhoS);
+      return v > -rhoS;
+    }
+    if (v >= band) return vertices[std::size_t(q)].anyWithin(cq, rhoS);  // outside: f(cq) >= rhoS
+    return v < rhoS;
+  }
+
+  /// Whether some α leaves a ball of radius r on the `inner` side unrefuted. Its own plane alone
+  /// asks r·cos α ≤ w, the section's tangent disc there (`disc`): only |α| ≥ acos(w / r) is
+  /// sampled, finely enough that the ball moves by at most about the slack between samples.
+  bool feasible(double r, bool inner, double disc, double alphaStep) const {
+    const double half = 0.5 * 3.14159265358979323846;
+    const double alphaMin = std::acos(std::min(1.0, disc / r));
+    const double range = half - alphaMin;
+    if (range <= 0) return false;
+    const double step = std::min(alphaStep, std::max(range / 200, slack / r));
+    const double s = slack + r * 0.5 * step;
+    for (double t = alphaMin + 0.5 * step; t < half; t += step)
+      for (const double alpha : {t, -t}) {
+        const Vec3 n = std::cos(alpha) * out + std::sin(alpha) * normal;
+        const Vec3 c = inner ? Vec3(a - r * n) : Vec3(a + r * n);
+        bool refuted = false;
+        for (int q : near)
+          if (refutes(q, c, r, inner, s)) {
+            refuted = true;
+            break;
+          }
+        if (!refuted) return true;
+      }
+    return false;
+  }
+};
+
+}  // namespace
+
+std::vector<ContourReachBound> contourReachBounds(const std::vector<CuttingPlane>& planes,
+                                                  const std::vector<SectionDistanceField>& fields,
+                                                  const SectionArrangement& arrangement, double tolerance_mm,
+                                                  double max_reach_mm, const ReachBoundParams& params) {
+  std::vector<int> vertices;
+  for (std::size_t i = 0; i < arrangement.points.size(); ++i) {
+    const SectionPoint& s = arrangement.points[i];
+    if (s.kind == SectionPoint::vertex && !planes[std::size_t(s.plane)].is_virtual) vertices.push_back(int(i));
+  }
+  const std::size_t stride =
+      std::max<std::size_t>(1, (vertices.size() + params.max_points - 1) / std::max<std::size_t>(params.max_points, 1));
+  std::vector<ContourReachBound> out;
+  for (std::size_t i = 0; i < vertices.size(); i += stride) out.push_back({vertices[i], kInf, kInf});
+  const double alphaStep = params.alpha_step_deg * kDegree;
+  std::vector<VertexBuckets> buckets;
+  buckets.reserve(planes.size());
+  for (const CuttingPlane& p : planes) buckets.emplace_back(p.sections);
+  tbb::parallel_for(std::size_t(0), out.size(), [&](std::size_t k) {
+    const SectionPoint& s = arrangement.points[std::size_t(out[k].point)];
+    const CuttingPlane& P = planes[std::size_t(s.plane)];
+    const double step = fields[std::size_t(s.plane)].step;
+    const ContourFoot foot = nearestContourPoint(P.sections, s.p, std::max(tolerance_mm, 2 * P.pixel_mm));
+    if (!foot.found) return;
+    Tester t{planes, fields, buckets, {}, P.plane.toWorld(foot.point),
+             P.plane.u * foot.tangent.y() - P.plane.v * foot.tangent.x(),  // right of the ring: outward
+             P.plane.normal, tolerance_mm + step};
+    // The planes nearest to the point (its own first), by distance.
+    std::vector<std::pair<double, int>> byDistance;
+    for (std::size_t q = 0; q < planes.size(); ++q)
+      if (!planes[q].is_virtual) byDistance.push_back({std::abs(planes[q].plane.signedDistance(t.a)), int(q)});
+    const std::size_t keep = std::min<std::size_t>(byDistance.size(), std::size_t(std::max(params.neighbour_planes, 1)));
+    std::partial_sort(byDistance.begin(), byDistance.begin() + std::ptrdiff_t(keep), byDistance.end());
+    for (std::size_t j = 0; j < keep; ++j) t.near.push_back(byDistance[j].second);
+    for (int side = 0; side < 2; ++side) {
+      const bool inner = side == 0;
+      const Vec2 in(-foot.tangent.y(), foot.tangent.x());
+      const double disc = tangentDiscRadius(P.sections, foot.point, inner ? in : Vec2(-in), 2 * t.slack);
+      double lo = 0, hi = max_reach_mm;
+      if (t.feasible(hi, inner, disc, alphaStep)) continue;  // nothing shown below the limit
+      for (int b = 0; b < params.bisections; ++b) {
+        const double mid = 0.5 * (lo + hi);
+        (t.feasible(mid, inner, disc, alphaStep) ? lo : hi) = mid;
+      }
+      (inner ? out[k].interior_mm : out[k].exterior_mm) = hi;
+    }
+  });
+  return out;
+}
+
+}  // namespace xsect

@@ -1,0 +1,183 @@
+// The pieces of the sampling diagnosis (issue 18) against what they must be: the lattice scan's
+// bounds against the exact heights of cells (thesis Def. 23), tangent discs against circles and
+// annuli with and without contour noise, the surface normals and angles α measured at contour
+// crossings against a sphere's (Def. 26), and the reach bounds from the sections alone against the
+// true reach of a sphere and a torus cut by parallel and random planes (they must never fall below).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "geometry/arrangement/section_arrangement.h"
+#include "geometry/sampling/cell_height.h"
+#include "geometry/sampling/cell_scan.h"
+#include "geometry/sampling/contour_crossings.h"
+#include "geometry/sampling/reach_bound.h"
+#include "geometry/sampling/tangent_disc.h"
+#include "geometry/scene/section_scene.h"
+
+using namespace xsect;
+
+namespace {
+
+Plane planeThrough(const Vec3& origin, const Vec3& n) {
+  Plane p;
+  p.origin = origin;
+  p.normal = n.normalized();
+  const Vec3 a = std::abs(p.normal.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY();
+  p.u = p.normal.cross(a).normalized();
+  p.v = p.normal.cross(p.u);
+  return p;
+}
+
+Ring circle(const Vec2& c, double r, int n, bool ccw = true, double noise = 0, std::mt19937* rng = nullptr) {
+  Ring ring;
+  std::uniform_real_distribution<double> u(-noise, noise);
+  for (int i = 0; i < n; ++i) {
+    const double t = 2 * M_PI * i / n * (ccw ? 1 : -1);
+    const double rr = r + (rng ? u(*rng) : 0.0);
+    ring.push_back(c + rr * Vec2(std::cos(t), std::sin(t)));
+  }
+  return ring;
+}
+
+/// A plane with the sections a sphere (centre c, radius R) leaves on it.
+CuttingPlane sphereCut(const Plane& P, const Vec3& c, double R, int slice) {
+  CuttingPlane cp;
+  cp.slice = slice;
+  cp.plane = P;
+  cp.observed_everywhere = true;
+  const double d = P.signedDistance(c);
+  if (std::abs(d) < R) cp.sections.push_back(Section{circle(P.toPlane(c), std::sqrt(R * R - d * d), 360), {}, 1});
+  return cp;
+}
+
+/// z = const planes through a torus about the z axis (major R, minor r): annuli.
+CuttingPlane torusCut(double z, double R, double r, int slice) {
+  CuttingPlane cp;
+  cp.slice = slice;
+  cp.plane = planeThrough(Vec3(0, 0, z), Vec3::UnitZ());
+  cp.observed_everywhere = true;
+  if (std::abs(z) < r) {
+    const double w = std::sqrt(r * r - z * z);
+    const Vec2 c = cp.plane.toPlane(Vec3::Zero());
+    cp.sections.push_back(Section{circle(c, R + w, 720), {circle(c, R - w, 720, false)}, 1});
+  }
+  return cp;
+}
+
+}  // namespace
+
+// Every scanned cell's exact height lies between the scan's bounds, over five random arrangements.
+TEST(SamplingGeometry, LatticeScanBoundsTheExactHeights) {
+  const Vec3 lo(-10, -10, -10), hi(10, 10, 10);
+  int nontrivial = 0;
+  for (int seed = 0; seed < 5; ++seed) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> g;
+    std::uniform_real_distribution<double> u(-8, 8);
+    std::vector<Plane> planes;
+    for (int k = 0; k < 12; ++k) planes.push_back(planeThrough(Vec3(u(rng), u(rng), u(rng)), Vec3(g(rng), g(rng), g(rng))));
+    for (int a = 0; a < 3; ++a) {  // the box's faces, normals outward
+      planes.push_back(planeThrough(lo, -Vec3::Unit(a)));
+      planes.push_back(planeThrough(hi, Vec3::Unit(a)));
+    }
+    const CellKeys keys(planes);
+    const CellScan scan = scanCells(planes, keys, lo, hi, 0.8);
+    ASSERT_GT(scan.cells.size(), 20u);
+    for (std::size_t i = 0; i < scan.cells.size(); i += 3) {
+      const ScannedCell& c = scan.cells[i];
+      const CellHeight h = cellHeight(planes, keys.sides(c.farthest), lo - Vec3::Constant(1), hi + Vec3::Constant(1), false);
+      EXPECT_LE(c.max_distance_mm, h.height + 1e-5) << "seed " << seed << " cell " << i;
+      EXPECT_GE(scan.heightBound(c), h.height - 1e-9) << "seed " << seed << " cell " << i;
+      nontrivial += h.height > scan.half_diagonal_mm;
+      EXPECT_EQ(keys.of(h.centre), c.key) << "the ball's centre lies in the cell";
+    }
+  }
+  EXPECT_GT(nontrivial, 20);
+}
+
+TEST(SamplingGeometry, TangentDiscsOfCirclesAndAnnuli) {
+  const std::vector<Section> disc{Section{circle(Vec2(0, 0), 5, 720), {}, 1}};
+  EXPECT_NEAR(tangentDiscRadius(disc, Vec2(5, 0), Vec2(-1, 0), 0), 5, 0.01);
+  EXPECT_TRUE(std::isinf(tangentDiscRadius(disc, Vec2(5, 0), Vec2(1, 0), 0)));
+  const std::vector<Section> annulus{Section{circle(Vec2(0, 0), 5, 720), {circle(Vec2(0, 0), 2, 720, false)}, 1}};
+  EXPECT_NEAR(tangentDiscRadius(annulus, Vec2(5, 0), Vec2(-1, 0), 0), 1.5, 0.01);
+  EXPECT_NEAR(tangentDiscRadius(annulus, Vec2(2, 0), Vec2(-1, 0), 0), 2, 0.01) << "outside, in the hole";
+  // Vertices off the circle by at most σ/2 never cut the true disc short.
+  for (int seed = 0; seed < 20; ++seed) {
+    std::mt19937 rng(seed);
+    const double sigma = 0.1;
+    const std::vector<Section> noisy{Section{circle(Vec2(0, 0), 5, 720, true, sigma / 2, &rng), {}, 1}};
+    const double t = 2 * M_PI * seed / 20;
+    const Vec2 a = 5 * Vec2(std::cos(t), std::sin(t));
+    const double w = tangentDiscRadius(noisy, a, -a.normalized(), sigma);
+    EXPECT_GE(w, 5.0 - 1e-9) << "seed " << seed;
+    EXPECT_LT(w, 7.0) << "seed " << seed;
+  }
+}
+
+// At the crossings of 24 random planes' contours on a sphere: the point on the sphere, the normal
+// the sphere's, α as defined (angle of the plane with the normal) and interior bounds above R.
+TEST(SamplingGeometry, ContourCrossingsMeasureTheSphere) {
+  const Vec3 c(1, 2, 3);
+  const double R = 8;
+  std::mt19937 rng(4);
+  std::normal_distribution<double> g;
+  std::uniform_real_distribution<double> u(-6, 6);
+  std::vector<CuttingPlane> planes;
+  for (int k = 0; k < 24; ++k) {
+    const Vec3 n = Vec3(g(rng), g(rng), g(rng)).normalized();
+    planes.push_back(sphereCut(planeThrough(c + u(rng) * n, n), c, R, k));
+  }
+  const SectionArrangement arrangement = arrangeSections(planes, 0.5);
+  const std::vector<ContourCrossing> xs = contourCrossings(planes, arrangement, 0.05);
+  ASSERT_GT(xs.size(), 50u);
+  for (const ContourCrossing& x : xs) {
+    EXPECT_NEAR((x.point - c).norm(), R, 0.01);
+    const Vec3 n = (x.point - c).normalized();
+    EXPECT_GT(x.normal.dot(n), std::cos(3 * M_PI / 180)) << "outward normal";
+    const double alpha = std::asin(std::min(1.0, std::abs(n.dot(planes[std::size_t(x.plane_a)].plane.normal)))) * 180 / M_PI;
+    EXPECT_NEAR(x.alpha_a_deg, alpha, 3);
+    EXPECT_GE(x.interior_bound_mm, R);
+    EXPECT_TRUE(std::isinf(x.exterior_bound_mm)) << "a ball outside a sphere is not bounded";
+  }
+}
+
+// Reach bounds from the sections alone never fall below the true reach, and the planes around the
+// ends of a stack do bound it: a sphere (reach_i = R) in a parallel stack and random planes, a torus
+// (reach_i = r, reach_e = R - r) in a parallel stack.
+TEST(SamplingGeometry, ReachBoundsFromTheSectionsAreBounds) {
+  const auto check = [](const std::vector<CuttingPlane>& real, double reachI, double reachE, const char* what) {
+    ReconstructionParams params;
+    params.voxel_mm = 0.25;
+    const SectionScene scene = sectionScene(real, params);
+    const SectionArrangement arrangement = arrangeSections(scene.planes, 0.5);
+    const std::vector<ContourReachBound> bounds =
+        contourReachBounds(scene.planes, scene.fields, arrangement, 0.1, 100.0);
+    ASSERT_GT(bounds.size(), 100u) << what;
+    int finite = 0;
+    for (const ContourReachBound& b : bounds) {
+      EXPECT_GE(b.interior_mm, reachI) << what;
+      EXPECT_GE(b.exterior_mm, reachE) << what;
+      finite += std::isfinite(b.interior_mm) || std::isfinite(b.exterior_mm);
+    }
+    EXPECT_GT(finite, 0) << what << ": no contour point bounded";
+  };
+  const Vec3 c(0.5, -0.5, 0.25);
+  std::vector<CuttingPlane> stack;
+  for (int k = -5; k <= 5; ++k) stack.push_back(sphereCut(planeThrough(c + Vec3(0, 0, 1.5 * k), Vec3::UnitZ()), c, 8, k + 5));
+  check(stack, 8, INFINITY, "sphere, parallel stack");
+  std::mt19937 rng(9);
+  std::normal_distribution<double> g;
+  std::uniform_real_distribution<double> u(-7, 7);
+  std::vector<CuttingPlane> random;
+  for (int k = 0; k < 16; ++k) {
+    const Vec3 n = Vec3(g(rng), g(rng), g(rng)).normalized();
+    random.push_back(sphereCut(planeThrough(c + u(rng) * n, n), c, 8, k));
+  }
+  check(random, 8, INFINITY, "sphere, random planes");
+  std::vector<CuttingPlane> torus;
+  for (int k = -3; k <= 3; ++k) torus.push_back(torusCut(1.25 * k + 0.1, 12, 4, k + 3));
+  check(torus, 4, 8, "torus, parallel stack");
+}
