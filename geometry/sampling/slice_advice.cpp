@@ -53,9 +53,11 @@ std::vector<AdvisedSlice> adviseSlices(const std::vector<CuttingPlane>& planes, 
   const CellKeys keys(ps);
   const Vec3 pad = Vec3::Constant(1e-6 * (hi - lo).norm());
 
-  // Density first: while it is not shown everywhere, the cells are ranked by their density ratio
-  // (the sections' connectivity, Thm 3), then by the transversality ratio.
-  const bool densityFirst = d.density != SamplingVerdict::satisfied;
+  // Density first (the sections' connectivity, Thm 3): the cells are ranked by their density ratio
+  // while the Density Condition is violated somewhere, or undetermined with nothing violated; else
+  // by their transversality ratio.
+  const bool densityFirst = d.density == SamplingVerdict::violated ||
+                            (d.transversality != SamplingVerdict::violated && d.density != SamplingVerdict::satisfied);
   // The cells followed: the worst that are not shown satisfied.
   // Cells holding sections first: where the object is known to be, the connectivity of its
   // sections is at stake; cells without sections only matter for what the planes miss (Prop. 2).
