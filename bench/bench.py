@@ -237,6 +237,10 @@ def main():
             "run": {"wall_s": median(walls), "peak_memory_mb": max(mems)},
             "eval": {"wall_s": ev_wall, "peak_memory_mb": ev_mem},
             "stages": stages,
+            "sampling": ({"diagnosis_s": median([r["sampling"]["timings_s"]["diagnosis"] for r in reports]),
+                          "advice_s": median([r["sampling"]["timings_s"]["advice"] for r in reports]),
+                          "advice_slices": rep["sampling"]["advice"]["slices"],
+                          "verdict": rep["sampling"]["verdict"]} if "sampling" in rep else None),
             "voxels": rep["counts"]["voxels"],
             "planes": rep["counts"]["slices"],
             "method": rep["reconstruction"]["method"],
@@ -277,6 +281,11 @@ def main():
                          + ("" if af is None else
                             f", enforced on {c.get('pairs_enforced')}: after max {af['max_mismatch_mm']:.1e} mm"
                             f" ({c.get('endpoint_moves')} moves, {c.get('edits_added')}+{c.get('edits_removed')} edits)"))
+            if stage == "sampling" and r.get("sampling"):
+                sm = r["sampling"]
+                rest = r["run"]["wall_s"] - s["wall_s"]
+                extra = (f"  diagnosis {sm['diagnosis_s']:.3f} s ({100 * sm['diagnosis_s'] / rest:.0f}% of the rest of "
+                         f"the run), advice of {sm['advice_slices']} slices {sm['advice_s']:.3f} s; verdict {sm['verdict']}")
             if stage == "smooth":
                 ev = r.get("smoothing_evaluate_s")
                 extra = "  Shepard interpolant evaluation " + ("n/a" if ev is None else f"{ev:.3f} s")

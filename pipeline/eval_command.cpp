@@ -11,6 +11,9 @@
 //   dice, iou, voxel_mm, grid_dims                    overlap of the two solids on a voxel grid
 //   betti, watertight, surfaces, mesh_volume_mm3      topology of the evaluated mesh's solid
 //   truth_betti                                       when known (truth, or watertight reference)
+//   separation_condition{checked, holds, ...}         (truth only) thesis Def. 19 checked on samples
+//                                                     of the truth's medial axis, beside the run's
+//                                                     sampling verdict (report.json next to the mesh)
 //   conformity_iou_min, conformity[{slice, image, iou, section_area_mm2, section_perimeter_mm,
 //                                         cut_area_mm2}]   with --slices
 // Inputs are validated where they enter (InputError: exit 2).
@@ -34,6 +37,7 @@
 #include "io/mesh_io.h"
 #include "io/slices_file.h"
 #include "io/truth_file.h"
+#include "geometry/evaluation/medial_axis_samples.h"
 #include "pipeline/commands.h"
 #include "pipeline/eval_metrics.h"
 #include "pipeline/load_sections.h"
@@ -138,6 +142,48 @@ SurfaceDistances compareSurfaces(const TriangleMesh& mesh, const MeshDistance& m
   return dist;
 }
 
+/// The Separation Condition itself (thesis Def. 19), from samples of the truth's medial axis
+/// (geometry/evaluation/medial_axis_samples.h) tested against the mesh's solid, beside the sampling
+/// verdict of the run that made the mesh (its report.json, when it sits beside the mesh).
+json separationCondition(const PhantomShape& shape, const MeshDistance& meshQuery, const Vec3& lo, const Vec3& hi,
+                         const std::string& meshPath) {
+  json s;
+  if (!hasExactDistance(shape)) {
+    s["checked"] = false;
+    s["why"] = "the truth's signed distance is not exact (its medial axis cannot be read from it)";
+    return s;
+  }
+  const double h = (hi - lo).norm() / 80;
+  const MedialAxisSamples m = medialAxisSamples([&shape](const Vec3& x) { return signedDistance(shape, x); }, lo, hi,
+                                                h, 0.9, 2 * h);
+  const std::vector<std::uint8_t> inI = meshQuery.inside(m.interior), inE = meshQuery.inside(m.exterior);
+  const auto count = [](const std::vector<std::uint8_t>& v, std::uint8_t x) {
+    return std::int64_t(std::count(v.begin(), v.end(), x));
+  };
+  const std::int64_t missed = count(inI, 0), crossed = count(inE, 1);
+  s["checked"] = true;
+  s["holds"] = missed == 0 && crossed == 0;
+  s["spacing_mm"] = h;
+  s["interior_medial_samples"] = m.interior.size();
+  s["interior_samples_outside_reconstruction"] = missed;
+  s["exterior_medial_samples"] = m.exterior.size();
+  s["exterior_samples_inside_reconstruction"] = crossed;
+  const std::filesystem::path report = std::filesystem::path(meshPath).parent_path() / "report.json";
+  if (std::filesystem::exists(report)) {
+    try {
+      std::ifstream f(report);
+      const json r = json::parse(f);
+      if (r.contains("sampling")) {
+        s["sampling_verdict"] = r["sampling"]["verdict"];
+        s["sampling_conditions"] = r["sampling"]["conditions"];
+      }
+    } catch (const std::exception&) {
+      s["sampling_verdict"] = nullptr;  // a report of another kind: nothing to compare
+    }
+  }
+  return s;
+}
+
 }  // namespace
 
 int evalCommand(const EvalOptions& options) {
@@ -205,6 +251,11 @@ int evalCommand(const EvalOptions& options) {
   out["iou"] = overlap.iou();
   out["voxel_mm"] = grid.voxel;
   out["grid_dims"] = grid.dims;
+
+  if (truth) {
+    progress.stage("eval: separation condition");
+    out["separation_condition"] = separationCondition(*truth, meshQuery, lo, hi, options.mesh);
+  }
 
   if (!options.slices.empty()) {
     double iouMin = 0;

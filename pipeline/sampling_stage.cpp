@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <chrono>
 #include <sstream>
 #include <tuple>
 
@@ -95,9 +96,15 @@ SamplingStage samplingStage(const RunConfig& c, const SectionScene& scene, const
   s.hi = L.sections_max + Vec3::Constant(L.end_margin_mm);
   const double pixel = medianPixel(scene);
   const double tolerance = std::max(scene.params.voxel_mm, 2 * pixel);
+  const auto start = std::chrono::steady_clock::now();
+  const auto since = [](std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  };
   s.diagnosis = diagnoseSampling(scene.planes, scene.fields, arrangement.arrangement, c.reconstruction_method, samplingPrior(c),
                                  s.lo, s.hi, scene.params.voxel_mm, tolerance);
+  s.diagnosis_s = since(start);
   if (!advise || s.diagnosis.verdict == SamplingVerdict::satisfied) return s;
+  const auto adviceStart = std::chrono::steady_clock::now();
   bool violated = false;
   for (const CellSampling& cell : s.diagnosis.cells) violated = violated || cell.verdict == SamplingVerdict::violated;
   const int inputSlices = int(scene.real_planes);
@@ -112,6 +119,7 @@ SamplingStage samplingStage(const RunConfig& c, const SectionScene& scene, const
   s.advice_pixel_mm = pixel > 0 ? pixel : (L.sections_max - L.sections_min).maxCoeff() / 256;
   for (const AdvisedSlice& slice : s.advice)
     s.advice_poses.push_back(poseOf(slice.plane, L.sections_min, L.sections_max, s.advice_pixel_mm));
+  s.advice_s = since(adviceStart);
   return s;
 }
 
@@ -164,6 +172,7 @@ json samplingSummaryJson(const SamplingStage& s) {
                     "missed entirely (Prop. 2)"}};
   }
   r["advice"] = {{"slices", s.advice.size()}, {"file", s.advice.empty() ? json(nullptr) : json("advice.yaml")}};
+  r["timings_s"] = {{"diagnosis", s.diagnosis_s}, {"advice", s.advice_s}};
   return r;
 }
 

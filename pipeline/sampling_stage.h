@@ -24,6 +24,7 @@ struct SamplingStage {
   std::vector<AdvisedSlice> advice;
   std::vector<PoseRecord> advice_poses;      ///< the advice as image poses at the input's pixel size
   double advice_pixel_mm = 0;
+  double diagnosis_s = 0, advice_s = 0;      ///< wall time of each part, s
 };
 
 /// The prior the configuration gives (sampling.reach_mm fills both reaches unless they are given).

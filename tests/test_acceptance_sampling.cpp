@@ -284,3 +284,36 @@ TEST(AcceptanceSampling, FollowingTheAdviceWorksAndBeatsChance) {
   EXPECT_GE(advised * 10, wrong * 8);
   EXPECT_LT(random, advised);
 }
+
+// `xsect eval --truth` checks the Separation Condition itself on the phantom's medial axis, beside
+// the run's verdict: it holds for a dense multi-axial torus and fails for sparse ones that get the
+// topology wrong (not necessarily all: the Intersection Condition may fail alone, Fig. 1.11).
+TEST(AcceptanceSampling, EvalChecksTheSeparationCondition) {
+  const std::string dense = "seed: 2\n" + std::string(kTorus) + "pattern: {kind: multiaxial, count: 10}\n" + image(0.25, 0.4);
+  const fs::path d = phantom("separation-dense", dense);
+  run(d, "out", "");
+  const nlohmann::json e = eval(d, "out");
+  ASSERT_TRUE(e.contains("separation_condition"));
+  const nlohmann::json& s = e["separation_condition"];
+  EXPECT_TRUE(s["checked"].get<bool>());
+  EXPECT_TRUE(s["holds"].get<bool>()) << s.dump(1);
+  EXPECT_GT(s["interior_medial_samples"].get<int>(), 20);
+  EXPECT_GT(s["exterior_medial_samples"].get<int>(), 5);
+  EXPECT_TRUE(s.contains("sampling_verdict")) << "the run's verdict beside it";
+  fs::remove_all(d);
+  int wrong = 0, failed = 0;
+  for (int seed = 1; seed <= 4; ++seed) {
+    const std::string sparse = "seed: " + std::to_string(seed) + "\n" + kTorus + "pattern: {kind: random, count: " +
+                               std::to_string(6 + seed % 4) + "}\n" + image(0.5, 0.5);
+    const fs::path ds = phantom("separation-sparse", sparse);
+    const nlohmann::json r = run(ds, "out", "");
+    const nlohmann::json es = eval(ds, "out");
+    if (bettiOf(r) != truthOf(ds).betti) {
+      ++wrong;
+      failed += !es["separation_condition"]["holds"].get<bool>();
+    }
+    fs::remove_all(ds);
+  }
+  ASSERT_GE(wrong, 2);
+  EXPECT_GE(failed, 1);
+}

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "geometry/arrangement/section_arrangement.h"
+#include "geometry/evaluation/medial_axis_samples.h"
 #include "geometry/sampling/cell_height.h"
 #include "geometry/sampling/cell_scan.h"
 #include "geometry/sampling/contour_crossings.h"
@@ -180,4 +181,20 @@ TEST(SamplingGeometry, ReachBoundsFromTheSectionsAreBounds) {
   std::vector<CuttingPlane> torus;
   for (int k = -3; k <= 3; ++k) torus.push_back(torusCut(1.25 * k + 0.1, 12, 4, k + 3));
   check(torus, 4, 8, "torus, parallel stack");
+}
+
+// The medial axis of a torus about z (major R, minor r): inside, the core circle; outside, the z
+// axis. Every sample lies within two lattice steps of them, and both are found.
+TEST(SamplingGeometry, MedialAxisSamplesOfATorus) {
+  const double R = 12, r = 4;
+  const auto sdf = [&](const Vec3& x) {
+    const double q = std::hypot(x.x(), x.y()) - R;
+    return std::hypot(q, x.z()) - r;
+  };
+  const double h = 0.5;
+  const MedialAxisSamples m = medialAxisSamples(sdf, Vec3(-18, -18, -6), Vec3(18, 18, 6), h, 0.9, 2 * h);
+  ASSERT_GT(m.interior.size(), 50u);
+  ASSERT_GT(m.exterior.size(), 5u);
+  for (const Vec3& x : m.interior) EXPECT_LT(std::hypot(std::hypot(x.x(), x.y()) - R, x.z()), 2 * h) << x.transpose();
+  for (const Vec3& x : m.exterior) EXPECT_LT(std::hypot(x.x(), x.y()), 2 * h) << x.transpose();
 }

@@ -65,13 +65,14 @@ std::vector<int> CellKeys::sides(const Vec3& x, int onPlane, int side) const {
   return s;
 }
 
-double scanSpacing(const Vec3& lo, const Vec3& hi, double voxel_mm, std::size_t planes, double work) {
+double scanSpacing(const Vec3& lo, const Vec3& hi, double voxel_mm, std::size_t planes, double work,
+                   double max_points) {
   if (!(voxel_mm > 0)) throw std::invalid_argument("scanSpacing: voxel size must be positive");
   const Vec3 e = (hi - lo).cwiseMax(Vec3::Zero());
   double s = voxel_mm;
   for (;;) {
     const double points = (std::floor(e.x() / s) + 2) * (std::floor(e.y() / s) + 2) * (std::floor(e.z() / s) + 2);
-    if (points * double(std::max<std::size_t>(planes, 1)) <= work) return s;
+    if (points * double(std::max<std::size_t>(planes, 1)) <= work && points <= max_points) return s;
     s *= 1.1;
   }
 }

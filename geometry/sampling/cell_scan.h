@@ -68,8 +68,10 @@ struct CellScan {
 };
 
 /// The lattice spacing for scanning `planes` over [lo, hi]: the voxel size, coarsened until
-/// points × planes stays within `work` (the scan costs one distance per point and plane).
-double scanSpacing(const Vec3& lo, const Vec3& hi, double voxel_mm, std::size_t planes, double work = 1e9);
+/// points × planes stays within `work` (the scan costs one distance per point and plane) and the
+/// points within `max_points` (16 bytes each while scanning).
+double scanSpacing(const Vec3& lo, const Vec3& hi, double voxel_mm, std::size_t planes, double work = 1e9,
+                   double max_points = 1e6);
 
 /// @param planes   all cutting planes, real and virtual (unit normals).
 /// @param lo, hi   the box (mm); points outside it belong to no cell. In practice the end planes'
