@@ -105,15 +105,17 @@ SamplingStage samplingStage(const RunConfig& c, const SectionScene& scene, const
   s.diagnosis_s = since(start);
   if (!advise || s.diagnosis.verdict == SamplingVerdict::satisfied) return s;
   const auto adviceStart = std::chrono::steady_clock::now();
-  bool violated = false;
-  for (const CellSampling& cell : s.diagnosis.cells) violated = violated || cell.verdict == SamplingVerdict::violated;
+  // Default: while the Density Condition is violated, slices until every cell passes it (at most as
+  // many as the input has, and 30); otherwise 10 (the transversality, where α is near 90°, is
+  // rarely brought under its critical value by slices alone).
+  const bool densityViolated = s.diagnosis.density == SamplingVerdict::violated;
   const int inputSlices = int(scene.real_planes);
   AdviceParams a;
   if (c.sampling.advice_count) {
     a.count = *c.sampling.advice_count;
-  } else {  // enough for the violated cells (at most as many as the input has, and 30); else 10
-    a.count = violated ? std::min(inputSlices, 30) : std::min(inputSlices, 10);
-    a.until_resolved = violated;
+  } else {
+    a.count = std::min(inputSlices, densityViolated ? 30 : 10);
+    a.until_resolved = densityViolated;
   }
   s.advice = adviseSlices(scene.planes, s.diagnosis, s.lo, s.hi, a);
   s.advice_pixel_mm = pixel > 0 ? pixel : (L.sections_max - L.sections_min).maxCoeff() / 256;
