@@ -317,3 +317,28 @@ TEST(AcceptanceSampling, EvalChecksTheSeparationCondition) {
   ASSERT_GE(wrong, 2);
   EXPECT_GE(failed, 1);
 }
+
+// `xsect check` gives the same diagnosis without reconstructing; bad sampling keys are input errors
+// naming the key (exit 2), with nothing written.
+TEST(AcceptanceSampling, CheckDiagnosesAndBadPriorsAreInputErrors) {
+  const fs::path d = phantom("sampling-check", "seed: 3\n" + std::string(kTorus) +
+                                                   "pattern: {kind: random, count: 8}\n" + image(0.5, 0.5));
+  const fs::path out = d / "check.json";
+  const int code = std::system((std::string(XSECT_BIN) + " check " + (d / "ph/config.yaml").string() +
+                                " --quiet --set sampling.reach_mm=4 > " + out.string())
+                                   .c_str());
+  ASSERT_EQ(code, 0);
+  const nlohmann::json c = readJson(out);
+  ASSERT_TRUE(c.contains("sampling"));
+  const nlohmann::json r = run(d, "out", "--set sampling.reach_mm=4");
+  EXPECT_EQ(c["sampling"]["verdict"], r["sampling"]["verdict"]);
+  EXPECT_EQ(c["sampling"]["cells"], r["sampling"]["cells"]) << "the same cells and verdicts";
+  for (const std::string bad : {"sampling.max_angle_deg=95", "sampling.reach_mm=-1", "sampling.advice_count=-3"}) {
+    const auto res = runXsect("run " + (d / "ph/config.yaml").string() + " --out " + (d / "bad").string() +
+                              " --quiet --set " + bad);
+    EXPECT_EQ(res.code, 2) << bad;
+    EXPECT_NE(res.err.find(bad.substr(0, bad.find('='))), std::string::npos) << res.err;
+    EXPECT_FALSE(fs::exists(d / "bad")) << bad;
+  }
+  fs::remove_all(d);
+}
