@@ -20,6 +20,7 @@
 #include <random>
 #include <sstream>
 
+#include "geometry/core/plane_of_pose.h"
 #include "geometry/slicing/mesh_sections.h"
 #include "io/mesh_io.h"
 #include "io/slices_file.h"
@@ -198,12 +199,7 @@ TEST(AcceptanceSampling, OReXSparseSetsAreViolatedFromTheDataAlone) {
       const TriangleMesh mesh = readMesh((kData / "Elephant_scaled.stl").string());
       std::vector<PoseRecord> kept;
       for (const PoseRecord& p : readPosesFile((dir / "out/advice.yaml").string())) {
-        Plane P;
-        P.origin = p.image_to_world.block<3, 1>(0, 3);
-        P.u = p.image_to_world.block<3, 1>(0, 0).normalized();
-        P.v = p.image_to_world.block<3, 1>(0, 1).normalized();
-        P.normal = p.image_to_world.block<3, 1>(0, 2).normalized();
-        if (!meshSections(mesh, P).empty()) kept.push_back(p);
+        if (!meshSections(mesh, planeOfPose(p.image_to_world)).empty()) kept.push_back(p);
       }
       ASSERT_GE(kept.size(), 12u);
       writePosesFile((dir / "kept.yaml").string(), kept, "advice that cuts the mesh");

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "geometry/arrangement/section_arrangement.h"
+#include "geometry/core/plane_of_pose.h"
 #include "geometry/evaluation/medial_axis_samples.h"
 #include "geometry/sampling/cell_height.h"
 #include "geometry/sampling/cell_scan.h"
@@ -20,16 +21,6 @@
 using namespace xsect;
 
 namespace {
-
-Plane planeThrough(const Vec3& origin, const Vec3& n) {
-  Plane p;
-  p.origin = origin;
-  p.normal = n.normalized();
-  const Vec3 a = std::abs(p.normal.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY();
-  p.u = p.normal.cross(a).normalized();
-  p.v = p.normal.cross(p.u);
-  return p;
-}
 
 Ring circle(const Vec2& c, double r, int n, bool ccw = true, double noise = 0, std::mt19937* rng = nullptr) {
   Ring ring;
@@ -51,6 +42,19 @@ CuttingPlane sphereCut(const Plane& P, const Vec3& c, double R, int slice) {
   const double d = P.signedDistance(c);
   if (std::abs(d) < R) cp.sections.push_back(Section{circle(P.toPlane(c), std::sqrt(R * R - d * d), 360), {}, 1});
   return cp;
+}
+
+/// `count` random planes within `spread` of the sphere's centre, with its sections.
+std::vector<CuttingPlane> randomSphereCuts(unsigned seed, int count, const Vec3& c, double R, double spread) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g;
+  std::uniform_real_distribution<double> u(-spread, spread);
+  std::vector<CuttingPlane> planes;
+  for (int k = 0; k < count; ++k) {
+    const Vec3 n = Vec3(g(rng), g(rng), g(rng)).normalized();
+    planes.push_back(sphereCut(planeThrough(c + u(rng) * n, n), c, R, k));
+  }
+  return planes;
 }
 
 /// z = const planes through a torus about the z axis (major R, minor r): annuli.
@@ -123,14 +127,7 @@ TEST(SamplingGeometry, TangentDiscsOfCirclesAndAnnuli) {
 TEST(SamplingGeometry, ContourCrossingsMeasureTheSphere) {
   const Vec3 c(1, 2, 3);
   const double R = 8;
-  std::mt19937 rng(4);
-  std::normal_distribution<double> g;
-  std::uniform_real_distribution<double> u(-6, 6);
-  std::vector<CuttingPlane> planes;
-  for (int k = 0; k < 24; ++k) {
-    const Vec3 n = Vec3(g(rng), g(rng), g(rng)).normalized();
-    planes.push_back(sphereCut(planeThrough(c + u(rng) * n, n), c, R, k));
-  }
+  const std::vector<CuttingPlane> planes = randomSphereCuts(4, 24, c, R, 6);
   const SectionArrangement arrangement = arrangeSections(planes, 0.5);
   const std::vector<ContourCrossing> xs = contourCrossings(planes, arrangement, 0.05);
   ASSERT_GT(xs.size(), 50u);
@@ -169,15 +166,7 @@ TEST(SamplingGeometry, ReachBoundsFromTheSectionsAreBounds) {
   std::vector<CuttingPlane> stack;
   for (int k = -5; k <= 5; ++k) stack.push_back(sphereCut(planeThrough(c + Vec3(0, 0, 1.5 * k), Vec3::UnitZ()), c, 8, k + 5));
   check(stack, 8, INFINITY, "sphere, parallel stack");
-  std::mt19937 rng(9);
-  std::normal_distribution<double> g;
-  std::uniform_real_distribution<double> u(-7, 7);
-  std::vector<CuttingPlane> random;
-  for (int k = 0; k < 16; ++k) {
-    const Vec3 n = Vec3(g(rng), g(rng), g(rng)).normalized();
-    random.push_back(sphereCut(planeThrough(c + u(rng) * n, n), c, 8, k));
-  }
-  check(random, 8, INFINITY, "sphere, random planes");
+  check(randomSphereCuts(9, 16, c, 8, 7), 8, INFINITY, "sphere, random planes");
   std::vector<CuttingPlane> torus;
   for (int k = -3; k <= 3; ++k) torus.push_back(torusCut(1.25 * k + 0.1, 12, 4, k + 3));
   check(torus, 4, 8, "torus, parallel stack");

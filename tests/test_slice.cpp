@@ -11,6 +11,7 @@
 #include <random>
 
 #include "cli.h"
+#include "geometry/core/plane_of_pose.h"
 #include "geometry/core/polygon.h"
 #include "geometry/slicing/mesh_sections.h"
 #include "io/csl_file.h"
@@ -19,21 +20,6 @@
 
 using namespace xsect;
 namespace fs = std::filesystem;
-
-namespace {
-
-/// A plane through `origin` with unit normal `n` and a frame completing it.
-Plane planeThrough(const Vec3& origin, const Vec3& n) {
-  Plane p;
-  p.origin = origin;
-  p.normal = n.normalized();
-  const Vec3 a = std::abs(p.normal.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY();
-  p.u = p.normal.cross(a).normalized();
-  p.v = p.normal.cross(p.u);
-  return p;
-}
-
-}  // namespace
 
 // A sphere cut at distance d from its centre: one disc of radius sqrt(R² - d²). Every vertex lies
 // on the circle within the icosphere's chord error; the area within 1%. 60 random planes.

@@ -1,6 +1,9 @@
 // The cutting plane of a slice from its image_to_world pose (GUIDE.md conventions): origin is the
-// centre of pixel (0, 0); u and v the normalised first two columns; normal = u x v.
+// centre of pixel (0, 0); u and v the normalised first two columns; normal = u x v. And a plane
+// through a point with a given normal, with a frame completing it.
 #pragma once
+
+#include <cmath>
 
 #include "geometry/core/types.h"
 
@@ -18,6 +21,18 @@ inline Plane planeOfPose(const Mat4& image_to_world, Vec2* spacing = nullptr) {
   p.normal = c0.cross(c1).normalized();
   p.v = p.normal.cross(p.u);  // exactly orthonormal, right-handed
   if (spacing) *spacing = Vec2(c0.norm(), c1.norm());
+  return p;
+}
+
+/// The plane through `point` with unit normal along `normal` (non-zero); u, v complete a
+/// right-handed orthonormal frame (u ⟂ the world axis least aligned with the normal among x, y).
+inline Plane planeThrough(const Vec3& point, const Vec3& normal) {
+  Plane p;
+  p.origin = point;
+  p.normal = normal.normalized();
+  const Vec3 a = std::abs(p.normal.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY();
+  p.u = p.normal.cross(a).normalized();
+  p.v = p.normal.cross(p.u);
   return p;
 }
 

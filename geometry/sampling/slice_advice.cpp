@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geometry/core/plane_of_pose.h"
 #include "geometry/sampling/cell_height.h"
 
 namespace xsect {
@@ -30,16 +31,6 @@ std::vector<Vec3> directions() {
         d.push_back(v.normalized());
       }
   return d;  // 13
-}
-
-Plane planeThrough(const Vec3& c, const Vec3& n) {
-  Plane p;
-  p.origin = c;
-  p.normal = n;
-  const Vec3 a = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
-  p.u = n.cross(a).normalized();
-  p.v = n.cross(p.u);
-  return p;
 }
 
 }  // namespace
