@@ -158,7 +158,8 @@ json samplingSummaryJson(const SamplingStage& s) {
                 {"violated", counts[int(SamplingVerdict::violated)]},
                 {"violated_by_data_alone", fromData},
                 {"undetermined", counts[int(SamplingVerdict::undetermined)]},
-                {"exact_heights", d.exact_cells}};
+                {"exact_heights", d.exact_cells},
+                {"holding_sections_not_told_apart", d.unmatched_cells}};
   r["max_height_mm"] = maxHeight;
   r["lattice_spacing_mm"] = d.scan.lattice.voxel;
   r["end_box_mm"] = {vecJson(s.lo), vecJson(s.hi)};

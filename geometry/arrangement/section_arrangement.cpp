@@ -202,7 +202,7 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
         const PointKeys& pk = keys[i][q];
         const Key key = variant == 0 ? pk.minus : variant == 1 ? pk.plus : variant == 2 ? pk.minusAlt : pk.plusAlt;
         const auto it = cellOf.emplace(key, int(cellOf.size())).first;
-        if (variant < 2) sp.cell[std::size_t(side)] = it->second;
+        (variant < 2 ? sp.cell : sp.cell_alt)[std::size_t(side)] = it->second;
         const std::array<int, 4> sk{sp.plane, sp.section, side == 0 ? -1 : 1, it->second};
         const auto sit = subOf.find(sk);
         if (sit == subOf.end()) {

@@ -24,10 +24,13 @@ struct SectionPoint {
   Vec2 p = Vec2::Zero();  ///< plane coordinates, mm
   enum Kind : std::uint8_t { vertex, trace, sample } kind = sample;
   /// Cells on the negative and positive side of the point's own plane (ids into the cells found).
-  /// A trace point also bounds the cells on the other side of the plane it lies on (the
-  /// thesis' duplication of such vertices); those are counted, the positive one is recorded here.
+  /// A trace point also bounds the cells on both sides of the plane it lies on (the thesis'
+  /// duplication of such vertices): `cell` are those on that plane's positive side, `cell_alt`
+  /// those on its negative side.
   std::array<int, 2> cell{-1, -1};
   int trace_plane = -1;  ///< trace points: the plane whose trace they lie on
+  /// Trace points: the cells on the negative side of the trace plane, on either side of the own.
+  std::array<int, 2> cell_alt{-1, -1};
 };
 
 struct SubSection {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <optional>
 
+#include "geometry/sampling/observed_edge.h"
 #include "geometry/sampling/tangent_disc.h"
 
 namespace xsect {
@@ -43,7 +44,8 @@ std::vector<ContourCrossing> contourCrossings(const std::vector<CuttingPlane>& p
     const CuttingPlane& B = planes[std::size_t(s.trace_plane)];
     const Vec3 x = A.plane.toWorld(s.p);
     const Vec2 pB = B.plane.toPlane(x);
-    if (!B.observed_everywhere && !B.extent.contains(pB)) return;
+    // Contours along the border of what a plane observed are not the object's surface.
+    if (nearObservedEdge(A, s.p, tolerance_mm) || nearObservedEdge(B, pB, tolerance_mm)) return;
     const double arc = params.tangent_arc_mm > 0 ? params.tangent_arc_mm
                                                  : std::max({2 * A.pixel_mm, 2 * B.pixel_mm, tolerance_mm});
     const ContourFoot fB = nearestContourPoint(B.sections, pB, arc);
@@ -52,8 +54,11 @@ std::vector<ContourCrossing> contourCrossings(const std::vector<CuttingPlane>& p
     if (!fA.found) return;
     const Vec3 tA = inWorld(A.plane, fA.tangent), tB = inWorld(B.plane, fB.tangent);
     Vec3 n = tA.cross(tB);
-    if (n.norm() < sinTangent) return;
+    const double sinCrossing = n.norm();
+    if (sinCrossing < sinTangent) return;
     n.normalize();
+    // Tangent errors turn the normal by up to 1/sin(crossing angle) times as much.
+    const double margin = std::min(30.0, params.angle_margin_deg / sinCrossing);
     // The sections lie to the left of their rings' direction (outer rings counter-clockwise, holes
     // clockwise): inward in-plane normals.
     const Vec2 inA(-fA.tangent.y(), fA.tangent.x()), inB(-fB.tangent.y(), fB.tangent.x());
@@ -67,23 +72,25 @@ std::vector<ContourCrossing> contourCrossings(const std::vector<CuttingPlane>& p
     const double sa = std::min(1.0, std::abs(n.dot(A.plane.normal))), sb = std::min(1.0, std::abs(n.dot(B.plane.normal)));
     c.alpha_a_deg = std::asin(sa) / kDegree;
     c.alpha_b_deg = std::asin(sb) / kDegree;
-    const auto widened = [&](double alpha_deg) {
-      return std::cos(std::min(90.0, alpha_deg + params.angle_margin_deg) * kDegree);
-    };
+    c.alpha_margin_deg = margin;
+    const auto widened = [&](double alpha_deg) { return std::cos(std::min(90.0, alpha_deg + margin) * kDegree); };
     const double ca = widened(c.alpha_a_deg), cb = widened(c.alpha_b_deg);
     // The largest disc over directions within the angle margin of the measured normal: the true
     // normal lies among them when the contour's tangent is within the margin.
-    const auto bound = [&](const std::vector<Section>& secs, const Vec2& at, const Vec2& dir, double cosine) {
+    const auto bound = [&](const CuttingPlane& P, const Vec2& at, const Vec2& dir, double cosine) {
+      // On a plane seen in part, border vertices may cut the disc short: no bound from it.
+      if (!P.observed_everywhere) return std::numeric_limits<double>::infinity();
+      const std::vector<Section>& secs = P.sections;
       double w = 0;
       for (int k = -2; k <= 2; ++k) {
-        const double t = 0.5 * k * params.angle_margin_deg * kDegree;
+        const double t = 0.5 * k * margin * kDegree;
         const Vec2 d(std::cos(t) * dir.x() - std::sin(t) * dir.y(), std::sin(t) * dir.x() + std::cos(t) * dir.y());
         w = std::max(w, tangentDiscRadius(secs, at, d, 2 * tolerance_mm));
       }
       return cosine > 1e-6 ? w / cosine : std::numeric_limits<double>::infinity();
     };
-    c.interior_bound_mm = std::min(bound(A.sections, fA.point, inA, ca), bound(B.sections, fB.point, inB, cb));
-    c.exterior_bound_mm = std::min(bound(A.sections, fA.point, -inA, ca), bound(B.sections, fB.point, -inB, cb));
+    c.interior_bound_mm = std::min(bound(A, fA.point, inA, ca), bound(B, fB.point, inB, cb));
+    c.exterior_bound_mm = std::min(bound(A, fA.point, -inA, ca), bound(B, fB.point, -inB, cb));
     found[i] = c;
   });
   std::vector<ContourCrossing> out;

@@ -22,6 +22,7 @@ struct ContourCrossing {
   int plane_a = -1, plane_b = -1;
   Vec3 normal = Vec3::Zero();   ///< unit normal of ∂O there (outward)
   double alpha_a_deg = 0, alpha_b_deg = 0;  ///< α at the point for plane a and plane b (Def. 26)
+  double alpha_margin_deg = 0;  ///< how far the measured α may be off (CrossingParams)
   /// Upper bounds of the inner and outer medial balls' radii at the point (mm; +inf when the
   /// sections bound nothing on that side): min over both planes of w / cos(α + margin), w the
   /// largest tangent disc over directions within the margin of the measured normal.
@@ -32,14 +33,16 @@ struct ContourCrossing {
 struct CrossingParams {
   double min_plane_angle_deg = 20;  ///< planes closer to parallel are not used (ill-conditioned)
   double min_tangent_angle_deg = 15;///< contours meeting at a smaller angle are not used
-  std::size_t max_crossings = 40000;///< at most this many trace points are examined (evenly spread)
+  std::size_t max_crossings = 20000;///< at most this many trace points are examined (evenly spread)
   /// Arc length over which the contours' tangents are measured (a chord), mm. 0: 2 × the planes'
   /// pixel size, at least the crossing tolerance.
   double tangent_arc_mm = 0;
   /// Measurement margins, so that the bounds stay bounds despite the contours' discretisation: the
   /// disc is the largest over directions within this angle of the measured normal, vertices limit
   /// it only beyond twice the crossing tolerance (tangent_disc.h), and α grows by this angle
-  /// before dividing by cos α.
+  /// before dividing by cos α; the angle is divided by the sine of the angle between the two
+  /// contour tangents (their errors turn the normal that much more), at most 30°. Contour points
+  /// near the border of a plane observed in part are skipped, and such planes give no disc bound.
   double angle_margin_deg = 5;
 };
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geometry/sampling/observed_edge.h"
 #include "geometry/sampling/tangent_disc.h"
 
 namespace xsect {
@@ -33,7 +34,7 @@ struct VertexBuckets {
     Vec2 lo = all[0], hi = all[0];
     for (const Vec2& q : all) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
     origin = lo;
-    size = std::max((hi - lo).maxCoeff() / 32, 1e-9);
+    size = std::max((hi - lo).maxCoeff() / 32, 1e-6 * std::max(1.0, hi.cwiseAbs().maxCoeff()));
     nu = int((hi.x() - lo.x()) / size) + 1;
     nv = int((hi.y() - lo.y()) / size) + 1;
     std::vector<int> count(std::size_t(nu) * std::size_t(nv) + 1, 0);
@@ -51,10 +52,9 @@ struct VertexBuckets {
   /// Whether some vertex lies closer than `radius` to p.
   bool anyWithin(const Vec2& p, double radius) const {
     if (points.empty() || radius <= 0) return false;
-    const int i0 = std::max(0, int(std::floor((p.x() - radius - origin.x()) / size)));
-    const int i1 = std::min(nu - 1, int(std::floor((p.x() + radius - origin.x()) / size)));
-    const int j0 = std::max(0, int(std::floor((p.y() - radius - origin.y()) / size)));
-    const int j1 = std::min(nv - 1, int(std::floor((p.y() + radius - origin.y()) / size)));
+    const auto cell = [&](double x, int n) { return int(std::clamp(std::floor(x / size), -1.0, double(n))); };
+    const int i0 = std::max(0, cell(p.x() - radius - origin.x(), nu)), i1 = std::min(nu - 1, cell(p.x() + radius - origin.x(), nu));
+    const int j0 = std::max(0, cell(p.y() - radius - origin.y(), nv)), j1 = std::min(nv - 1, cell(p.y() + radius - origin.y(), nv));
     const double r2 = radius * radius;
     for (int j = j0; j <= j1; ++j)
       for (int i = i0; i <= i1; ++i) {
@@ -73,6 +73,8 @@ struct Tester {
   std::vector<int> near;  ///< planes that test the balls
   Vec3 a = Vec3::Zero(), out = Vec3::Zero(), normal = Vec3::Zero();  ///< point, in-plane outward normal, plane normal
   double slack = 0;
+  Vec3 tangent = Vec3::Zero();  ///< the contour's unit tangent at a
+  double turn = 0;              ///< how far the measured in-plane normal may be off, radians
 
   /// Whether plane q refutes a ball (centre c, radius r) that must lie inside O (inner) or outside:
   /// the ball shrunk by the slack s holds a point of the other side on the plane.
@@ -108,20 +110,26 @@ struct Tester {
     const double alphaMin = std::acos(std::min(1.0, disc / r));
     const double range = half - alphaMin;
     if (range <= 0) return false;
-    const double step = std::min(alphaStep, std::max(range / 200, slack / r));
-    const double s = slack + r * 0.5 * step;
-    for (double t = alphaMin + 0.5 * step; t < half; t += step)
-      for (const double alpha : {t, -t}) {
-        const Vec3 n = std::cos(alpha) * out + std::sin(alpha) * normal;
-        const Vec3 c = inner ? Vec3(a - r * n) : Vec3(a + r * n);
-        bool refuted = false;
-        for (int q : near)
-          if (refutes(q, c, r, inner, s)) {
-            refuted = true;
-            break;
-          }
-        if (!refuted) return true;
-      }
+    double step = std::min(alphaStep, std::max(range / 200, slack / r));
+    step = range / std::ceil(range / step);  // samples at the middles of equal steps cover the range
+    // The contour's measured normal may be off by up to `turn`: the in-plane direction is sampled
+    // at -turn, 0, +turn, and the ball moves by at most r·sin(turn / 2) between them.
+    const double s = slack + r * 0.5 * step + r * std::sin(0.5 * turn);
+    for (int k = -1; k <= 1; ++k) {
+      const Vec3 o = std::cos(k * turn) * out + std::sin(k * turn) * tangent;
+      for (double t = alphaMin + 0.5 * step; t < half; t += step)
+        for (const double alpha : {t, -t}) {
+          const Vec3 n = std::cos(alpha) * o + std::sin(alpha) * normal;
+          const Vec3 c = inner ? Vec3(a - r * n) : Vec3(a + r * n);
+          bool refuted = false;
+          for (int q : near)
+            if (refutes(q, c, r, inner, s)) {
+              refuted = true;
+              break;
+            }
+          if (!refuted) return true;
+        }
+    }
     return false;
   }
 };
@@ -149,11 +157,15 @@ std::vector<ContourReachBound> contourReachBounds(const std::vector<CuttingPlane
     const SectionPoint& s = arrangement.points[std::size_t(out[k].point)];
     const CuttingPlane& P = planes[std::size_t(s.plane)];
     const double step = fields[std::size_t(s.plane)].step;
+    // Where the plane was observed only in part, contour points near the edge of what was seen may
+    // lie on a cut-off border rather than on the object: they are left out.
+    if (nearObservedEdge(P, s.p, std::max(tolerance_mm, 2 * step))) return;
     const ContourFoot foot = nearestContourPoint(P.sections, s.p, std::max(tolerance_mm, 2 * P.pixel_mm));
     if (!foot.found) return;
     Tester t{planes, fields, buckets, {}, P.plane.toWorld(foot.point),
              P.plane.u * foot.tangent.y() - P.plane.v * foot.tangent.x(),  // right of the ring: outward
-             P.plane.normal, tolerance_mm + step};
+             P.plane.normal, tolerance_mm + step,
+             P.plane.u * foot.tangent.x() + P.plane.v * foot.tangent.y(), params.normal_error_deg * kDegree};
     // The planes nearest to the point (its own first), by distance.
     std::vector<std::pair<double, int>> byDistance;
     for (std::size_t q = 0; q < planes.size(); ++q)
@@ -163,10 +175,32 @@ std::vector<ContourReachBound> contourReachBounds(const std::vector<CuttingPlane
     for (std::size_t j = 0; j < keep; ++j) t.near.push_back(byDistance[j].second);
     for (int side = 0; side < 2; ++side) {
       const bool inner = side == 0;
+      // The own plane's tangent disc (largest over the directions the normal may take) bounds
+      // r·cos α; on a plane seen in part, border vertices may cut it short: no bound there.
       const Vec2 in(-foot.tangent.y(), foot.tangent.x());
-      const double disc = tangentDiscRadius(P.sections, foot.point, inner ? in : Vec2(-in), 2 * t.slack);
-      double lo = 0, hi = max_reach_mm;
-      if (t.feasible(hi, inner, disc, alphaStep)) continue;  // nothing shown below the limit
+      double disc = 0;
+      if (P.observed_everywhere) {
+        for (int d = -1; d <= 1; ++d) {
+          const double turn = d * t.turn;
+          const Vec2 dir = (inner ? in : Vec2(-in));
+          const Vec2 rotated(std::cos(turn) * dir.x() - std::sin(turn) * dir.y(), std::sin(turn) * dir.x() + std::cos(turn) * dir.y());
+          disc = std::max(disc, tangentDiscRadius(P.sections, foot.point, rotated, 2 * t.slack));
+        }
+      } else {
+        disc = std::numeric_limits<double>::infinity();
+      }
+      // Any refuted r bounds the reach (the slack grows with r, so refutation is not monotone in
+      // r): radii grow geometrically from the slack until one is refuted, then the gap to the
+      // last one standing is bisected, keeping the least refuted radius.
+      double lo = 0, hi = 0;
+      for (double r = 2 * t.slack; r <= max_reach_mm; r *= 1.5) {
+        if (!t.feasible(r, inner, disc, alphaStep)) {
+          hi = r;
+          break;
+        }
+        lo = r;
+      }
+      if (hi == 0) continue;  // nothing refuted below the limit
       for (int b = 0; b < params.bisections; ++b) {
         const double mid = 0.5 * (lo + hi);
         (t.feasible(mid, inner, disc, alphaStep) ? lo : hi) = mid;

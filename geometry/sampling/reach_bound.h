@@ -12,7 +12,11 @@
 // Discretisation is absorbed by a slack σ (the contours' accuracy, the raster's step, and the
 // ball's shift between the α sampled): a plane refutes a ball when the ball shrunk by σ holds a
 // point of the plane on the wrong side, read from the plane's signed distance raster, or, where the
-// raster keeps only the sign (beyond its band), from a contour vertex inside the shrunk ball.
+// raster keeps only the sign (beyond its band), from a contour vertex inside the shrunk ball. The
+// contour's in-plane normal is measured from a chord: it is sampled within an error margin too.
+// On planes observed only in part (an image, a probe's sector), contour points near the edge of
+// what was seen are left out, and their own plane's tangent disc is not used (the border may
+// have cut the section).
 #pragma once
 
 #include <limits>
@@ -31,10 +35,11 @@ struct ContourReachBound {
 };
 
 struct ReachBoundParams {
-  std::size_t max_points = 4000;  ///< contour vertices examined (evenly spread)
+  std::size_t max_points = 1500;  ///< contour vertices examined (evenly spread)
   int neighbour_planes = 6;       ///< planes nearest to the point that test its balls (its own included)
   double alpha_step_deg = 10;     ///< coarsest α step (finer where the ball is large)
-  int bisections = 14;            ///< steps of the search for the largest r
+  int bisections = 8;             ///< bisection steps after the geometric search for a refuted r
+  double normal_error_deg = 4;    ///< how far the contour's measured in-plane normal may be off
 };
 
 /// @param planes  all cutting planes (virtual ones are skipped) and their f_P rasters.

@@ -75,8 +75,8 @@ SamplingVerdict combine(SamplingVerdict a, SamplingVerdict b) {
 }
 
 /// The critical values of a cell's two conditions (see the header for the definitions).
-void criticalsOf(const CellSampling& c, ReconstructionMethod method, const SamplingPrior& prior,
-                 double angleMargin, Critical* density, Critical* transversality) {
+void criticalsOf(const CellSampling& c, ReconstructionMethod method, const SamplingPrior& prior, Critical* density,
+                 Critical* transversality) {
   const bool sections = c.arrangement_cell >= 0;
   const Critical ri = sideOf(prior.reach_interior_mm, c.interior_bound_mm);
   const Critical re = sideOf(prior.reach_exterior_mm, c.exterior_bound_mm);
@@ -84,9 +84,9 @@ void criticalsOf(const CellSampling& c, ReconstructionMethod method, const Sampl
   // α_C: 0 without contour points; else the prior raised to what was measured (unknown without a
   // prior when showing the condition; what was measured, or 0, when showing a violation).
   // Measured angles raise the prior as measured, and count with their margin taken off when they
-  // show a violation.
+  // show a violation (alpha_lower_deg).
   const double measured = c.alpha_samples > 0 ? c.alpha_max_deg : 0.0;
-  const double measuredLow = std::max(0.0, measured - angleMargin);
+  const double measuredLow = c.alpha_samples > 0 ? c.alpha_lower_deg : 0.0;
   const double alphaSat = !sections ? 0.0 : prior.max_angle_deg ? std::max(*prior.max_angle_deg, measured) : kNaN;
   const double alphaVio = !sections ? 0.0 : prior.max_angle_deg ? std::max(*prior.max_angle_deg, measuredLow) : measuredLow;
   const bool alphaData = !prior.max_angle_deg || measuredLow >= *prior.max_angle_deg;
@@ -105,16 +105,24 @@ void criticalsOf(const CellSampling& c, ReconstructionMethod method, const Sampl
     return;
   }
   *density = re;  // C'1
-  // C'3 holds per contour point: the prior's product, or what one crossing allows.
-  Critical t = scaled(reach, fSat, transversalFactor(alphaVio), reach.data && alphaData);
+  // C'3 holds per contour point a: h'_C < ½(1 − sin α_a)·reach(a). A crossing bounds it at once
+  // (transversal_bound_mm); elsewhere α_a ≥ 0 leaves ½·reach. The largest α and the least reach of
+  // the cell are not those of one point, so they are not combined as for C2.
+  Critical t;
+  t.sat = kNaN;  // h'_C has no upper bound here: never shown
+  t.vio = 0.5 * reach.vio;
+  t.data = reach.data;
+  if (prior.max_angle_deg && !std::isnan(fSat)) {  // the prior bounds every α_a: its product
+    const double v = transversalFactor(*prior.max_angle_deg) * reach.vio;
+    if (v < t.vio) t.vio = v, t.data = false;
+  }
   if (c.transversal_bound_mm < t.vio) t.vio = c.transversal_bound_mm, t.data = true;
-  if (!std::isnan(t.sat)) t.sat = std::min(t.sat, c.transversal_bound_mm);
   *transversality = t;
 }
 
-void evaluate(CellSampling& c, ReconstructionMethod method, const SamplingPrior& prior, double angleMargin) {
+void evaluate(CellSampling& c, ReconstructionMethod method, const SamplingPrior& prior) {
   Critical d, t;
-  criticalsOf(c, method, prior, angleMargin, &d, &t);
+  criticalsOf(c, method, prior, &d, &t);
   // Method 2 on a cell with sections: h'_C ≥ h_C has no upper bound here.
   const bool upperKnown = method == ReconstructionMethod::nearest_plane || c.arrangement_cell < 0;
   const double hi = upperKnown ? c.height_hi_mm : kInf;
@@ -126,11 +134,10 @@ void evaluate(CellSampling& c, ReconstructionMethod method, const SamplingPrior&
   c.ratio = std::isfinite(crit) && crit > 0 ? c.height_hi_mm / crit : kNaN;
 }
 
-bool needsExactHeight(const CellSampling& c, ReconstructionMethod method, const SamplingPrior& prior,
-                      double angleMargin) {
+bool needsExactHeight(const CellSampling& c, ReconstructionMethod method, const SamplingPrior& prior) {
   if (c.height_exact) return false;
   Critical d, t;
-  criticalsOf(c, method, prior, angleMargin, &d, &t);
+  criticalsOf(c, method, prior, &d, &t);
   return straddles(c.height_lo_mm, c.height_hi_mm, d) || straddles(c.height_lo_mm, c.height_hi_mm, t);
 }
 
@@ -150,7 +157,6 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
                                    const Vec3& hi, double voxel_mm, double tolerance_mm,
                                    const SamplingParams& params) {
   SamplingDiagnosis out;
-  const double margin = params.crossings.angle_margin_deg;
   out.method = method;
   out.prior = prior;
   std::vector<Plane> ps;
@@ -179,41 +185,58 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
   // The arrangement's cells (those bounded by a section): the key of a point of theirs that lies on
   // no other plane, on the cell's side of its own plane.
   const int nArr = arrangement.cells;
-  struct Candidates {  // up to four (point, side) of the cell
-    std::array<std::pair<int, int>, 4> at;
+  struct Candidate {
+    int point = -1, side = 0;  ///< side of the point's own plane (0: negative)
+    int traceSide = 0;         ///< trace points: side of the trace plane (±1)
+  };
+  struct Candidates {  // up to four points of the cell
+    std::array<Candidate, 4> at;
     int count = 0;
-    const std::pair<int, int>* begin() const { return at.data(); }
-    const std::pair<int, int>* end() const { return at.data() + count; }
-    const std::pair<int, int>& front() const { return at[0]; }
+    const Candidate* begin() const { return at.data(); }
+    const Candidate* end() const { return at.data() + count; }
   };
   std::vector<Candidates> candidates(std::size_t(std::max(nArr, 0)));
-  for (std::size_t i = 0; i < arrangement.points.size(); ++i) {
-    const SectionPoint& s = arrangement.points[i];
-    if (s.kind == SectionPoint::trace) continue;
-    for (int side = 0; side < 2; ++side) {
-      const int cell = s.cell[std::size_t(side)];
-      if (cell < 0) continue;
-      Candidates& c = candidates[std::size_t(cell)];
-      if (c.count < 4) c.at[std::size_t(c.count++)] = {int(i), side};
+  const auto addCandidate = [&](int cell, const Candidate& c) {
+    if (cell < 0) return;
+    Candidates& cs = candidates[std::size_t(cell)];
+    if (cs.count < 4) cs.at[std::size_t(cs.count++)] = c;
+  };
+  // Vertices and samples first (they lie on one plane), then trace points (on two).
+  for (int pass = 0; pass < 2; ++pass)
+    for (std::size_t i = 0; i < arrangement.points.size(); ++i) {
+      const SectionPoint& s = arrangement.points[i];
+      if ((s.kind == SectionPoint::trace) != (pass == 1)) continue;
+      for (int side = 0; side < 2; ++side) {
+        addCandidate(s.cell[std::size_t(side)], {int(i), side, s.kind == SectionPoint::trace ? 1 : 0});
+        if (s.kind == SectionPoint::trace) addCandidate(s.cell_alt[std::size_t(side)], {int(i), side, -1});
+      }
     }
-  }
   std::vector<std::uint64_t> arrKey(candidates.size(), 0);
   std::vector<Vec3> arrPoint(candidates.size(), Vec3::Zero());
   std::vector<char> arrFound(candidates.size(), 0);
+  std::vector<std::pair<int, int>> arrPlaneSide(candidates.size(), {-1, 0});  // the point's plane, side
   const double tiny = 1e-9 * (hi - lo).norm();
   tbb::parallel_for(std::size_t(0), candidates.size(), [&](std::size_t cell) {
-    for (const auto& [pi, side] : candidates[cell]) {
-      const SectionPoint& s = arrangement.points[std::size_t(pi)];
+    for (const Candidate& cand : candidates[cell]) {
+      const SectionPoint& s = arrangement.points[std::size_t(cand.point)];
       const Vec3 x = planes[std::size_t(s.plane)].plane.toWorld(s.p);
       double clearance = 0;
-      const std::uint64_t k = keys.of(x, s.plane, side ? 1 : -1, &clearance);
-      if (clearance > tiny || !arrFound[cell]) arrKey[cell] = k, arrPoint[cell] = x, arrFound[cell] = 1;
+      std::uint64_t k = keys.of(x, s.plane, cand.side ? 1 : -1, &clearance);
+      if (cand.traceSide != 0) {  // on the trace plane too: its side forced, the clearance from the rest
+        k = keys.onSide(k, x, s.trace_plane, cand.traceSide);
+        clearance = tiny * 2;  // the other planes are not checked for trace points
+      }
+      if (clearance > tiny || !arrFound[cell])
+        arrKey[cell] = k, arrPoint[cell] = x, arrFound[cell] = 1, arrPlaneSide[cell] = {s.plane, cand.side ? 1 : -1};
       if (clearance > tiny) break;
     }
   });
   std::vector<int> cellOfArrangement(candidates.size(), -1);
   for (std::size_t cell = 0; cell < candidates.size(); ++cell) {
-    if (!arrFound[cell]) continue;
+    if (!arrFound[cell]) {  // only trace points: the cell is not told apart, nothing is shown
+      ++out.unmatched_cells;
+      continue;
+    }
     const auto it = cellOfKey.find(arrKey[cell]);
     if (it != cellOfKey.end()) {
       CellSampling& c = out.cells[std::size_t(it->second)];
@@ -239,7 +262,8 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
     const double alpha = std::max(x.alpha_a_deg, x.alpha_b_deg);
     const double reachBound = std::min(x.interior_bound_mm, x.exterior_bound_mm);
     const double transversal =
-        std::min(transversalFactor(std::max(0.0, x.alpha_a_deg - margin)), transversalFactor(std::max(0.0, x.alpha_b_deg - margin))) *
+        std::min(transversalFactor(std::max(0.0, x.alpha_a_deg - x.alpha_margin_deg)),
+                 transversalFactor(std::max(0.0, x.alpha_b_deg - x.alpha_margin_deg))) *
         reachBound;
     out.reach_interior_bound_mm = std::min(out.reach_interior_bound_mm, x.interior_bound_mm);
     out.reach_exterior_bound_mm = std::min(out.reach_exterior_bound_mm, x.exterior_bound_mm);
@@ -250,6 +274,7 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
         if (it == cellOfKey.end()) continue;
         CellSampling& c = out.cells[std::size_t(it->second)];
         c.alpha_max_deg = c.alpha_samples ? std::max(c.alpha_max_deg, alpha) : alpha;
+        c.alpha_lower_deg = std::max(c.alpha_lower_deg, alpha - x.alpha_margin_deg);
         ++c.alpha_samples;
         c.interior_bound_mm = std::min(c.interior_bound_mm, x.interior_bound_mm);
         c.exterior_bound_mm = std::min(c.exterior_bound_mm, x.exterior_bound_mm);
@@ -274,7 +299,7 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
       (prior.reach_exterior_mm && *prior.reach_exterior_mm > out.reach_exterior_bound_mm))
     out.prior_contradicted = true;
 
-  for (CellSampling& c : out.cells) evaluate(c, method, prior, margin);
+  for (CellSampling& c : out.cells) evaluate(c, method, prior);
 
   // Exact heights (Chebyshev balls) where the lattice's bounds straddle a critical value, then for
   // the worst cells and the largest cell without sections, within the budget.
@@ -299,7 +324,7 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
   for (std::size_t i = 0; i < top; ++i) choose(order[i]);
   std::vector<int> straddling;
   for (std::size_t i = 0; i < out.cells.size(); ++i)
-    if (needsExactHeight(out.cells[i], method, prior, margin)) straddling.push_back(int(i));
+    if (needsExactHeight(out.cells[i], method, prior)) straddling.push_back(int(i));
   std::sort(straddling.begin(), straddling.end(), worseIndex);
   for (int i : straddling) choose(i);
   const Vec3 pad = Vec3::Constant(std::max(scan.lattice.voxel, 1e-6 * (hi - lo).norm()));
@@ -308,18 +333,22 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
     std::vector<int> sides;
     if (c.scanned >= 0) {
       sides = keys.sides(c.centre);
-    } else {  // a section point of the cell: on its own plane, on the cell's side
-      const int cell = c.arrangement_cell;
-      const auto& [pi, side] = candidates[std::size_t(cell)].front();
-      sides = keys.sides(c.centre, arrangement.points[std::size_t(pi)].plane, side ? 1 : -1);
+    } else {  // the section point that keyed the cell: on its own plane, on the cell's side
+      const auto& [plane, side] = arrPlaneSide[std::size_t(c.arrangement_cell)];
+      sides = keys.sides(c.centre, plane, side);
     }
     const CellHeight h = cellHeight(ps, sides, lo - pad, hi + pad, false);
+    // A ball outside the lattice's bounds means the sign vector named another cell (or none):
+    // the bounds stay.
+    const double eps = 1e-6 * (hi - lo).norm();
+    if (h.open || h.height < c.height_lo_mm - eps || h.height > c.height_hi_mm + eps || keys.of(h.centre) != c.key)
+      return;
     c.height_lo_mm = c.height_hi_mm = h.height;
     c.height_exact = true;
     c.centre = h.centre;
   });
-  out.exact_cells = int(exact.size());
-  for (int i : exact) evaluate(out.cells[std::size_t(i)], method, prior, margin);
+  for (int i : exact) out.exact_cells += out.cells[std::size_t(i)].height_exact;
+  for (int i : exact) evaluate(out.cells[std::size_t(i)], method, prior);
 
   // Verdicts over all cells. A cell met neither by the lattice nor by a section holds no section and
   // has h_C ≤ ρ: for the guarantee, ρ must pass a cell without sections' conditions.
@@ -330,12 +359,16 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
   }
   CellSampling unmet;
   unmet.height_hi_mm = scan.half_diagonal_mm;
-  evaluate(unmet, method, prior, margin);
+  evaluate(unmet, method, prior);
   out.density = combine(out.density, unmet.density.verdict == SamplingVerdict::violated ? SamplingVerdict::satisfied
                                                                                           : unmet.density.verdict);
   out.transversality = combine(out.transversality, unmet.transversality.verdict == SamplingVerdict::violated
                                                        ? SamplingVerdict::satisfied
                                                        : unmet.transversality.verdict);
+  if (out.unmatched_cells > 0) {  // cells holding sections that were not told apart: nothing is shown
+    if (out.density == SamplingVerdict::satisfied) out.density = SamplingVerdict::undetermined;
+    if (out.transversality == SamplingVerdict::satisfied) out.transversality = SamplingVerdict::undetermined;
+  }
   out.verdict = combine(out.density, out.transversality);
   out.largest_empty_cell = largestEmpty;
 

@@ -61,7 +61,7 @@ struct SamplingPrior {
 };
 
 struct SamplingParams {
-  double lattice_work = 5e8;       ///< scan budget: lattice points × planes (cell_scan.h)
+  double lattice_work = 3e8;       ///< scan budget: lattice points × planes (cell_scan.h)
   int exact_cells = 400;           ///< at most this many Chebyshev balls are solved
   CrossingParams crossings;
   ReachBoundParams reach_bounds;
@@ -84,6 +84,7 @@ struct CellSampling {
   Vec3 centre = Vec3::Zero();  ///< centre of the inscribed ball (or the lattice point reaching height_lo)
   bool end_cell = false;       ///< bounded by an end plane (an open cell closed by the end planes)
   double alpha_max_deg = std::numeric_limits<double>::quiet_NaN();  ///< measured, NaN: none
+  double alpha_lower_deg = 0;  ///< max over its crossings of (α measured − its margin), ≥ 0
   int alpha_samples = 0;
   double interior_bound_mm = std::numeric_limits<double>::infinity();  ///< data bound of reach_i there
   double exterior_bound_mm = std::numeric_limits<double>::infinity();  ///< data bound of reach_e there
@@ -112,6 +113,9 @@ struct SamplingDiagnosis {
   int contour_points_bounded = 0;  ///< contour vertices whose balls the planes around them bound
   double alpha_max_measured_deg = std::numeric_limits<double>::quiet_NaN();
   int exact_cells = 0;           ///< Chebyshev balls solved
+  /// Cells holding sections that only trace points reach (not told apart from their neighbours):
+  /// when any, nothing is shown satisfied.
+  int unmatched_cells = 0;
   bool prior_contradicted = false;  ///< a prior reach exceeds a data bound
 };
 

@@ -55,7 +55,8 @@ std::vector<AdvisedSlice> adviseSlices(const std::vector<CuttingPlane>& planes, 
   std::vector<int> order;
   for (int pass = 0; pass < 2 && order.empty(); ++pass)
     for (std::size_t i = 0; i < d.cells.size(); ++i)
-      if (d.cells[i].verdict != SamplingVerdict::satisfied && (pass == 1 || d.cells[i].arrangement_cell >= 0))
+      if (d.cells[i].verdict != SamplingVerdict::satisfied && (pass == 1 || d.cells[i].arrangement_cell >= 0) &&
+          (d.cells[i].scanned >= 0 || d.cells[i].height_exact))  // else its centre lies on a plane
         order.push_back(int(i));
   const auto score0 = [&](const CellSampling& c) {
     const double crit = densityFirst ? c.density.critical_mm : c.transversality.critical_mm;
@@ -104,7 +105,7 @@ std::vector<AdvisedSlice> adviseSlices(const std::vector<CuttingPlane>& planes, 
   const std::vector<Vec3> dirs = directions();
   for (int it = 0; it < params.count && !cells.empty(); ++it) {
     const int w = worst();
-    Followed& target = cells[std::size_t(w)];
+    const Followed target = cells[std::size_t(w)];  // a copy: `cells` grows below
     const double before = score(target);
     if (params.until_resolved && anyCritical && before < 1) break;
     if (target.height.height <= 0) break;
