@@ -147,11 +147,19 @@ json samplingSummaryJson(const SamplingStage& s) {
                 {"reach_exterior_mm", d.prior.reach_exterior_mm ? json(*d.prior.reach_exterior_mm) : json(nullptr)},
                 {"max_angle_deg", d.prior.max_angle_deg ? json(*d.prior.max_angle_deg) : json(nullptr)}};
   r["prior_contradicted_by_data"] = d.prior_contradicted;
+  std::vector<double> est = d.alpha_estimates_deg;
+  std::sort(est.begin(), est.end());
+  const auto quantile = [&](double q) { return est.empty() ? json(nullptr) : json(est[std::size_t(q * double(est.size() - 1))]); };
   r["data"] = {{"contour_crossings", d.crossings.size()},
                {"contour_points_bounded", d.contour_points_bounded},
                {"reach_interior_bound_mm", finite(d.reach_interior_bound_mm)},
                {"reach_exterior_bound_mm", finite(d.reach_exterior_bound_mm)},
-               {"alpha_max_measured_deg", finite(d.alpha_max_measured_deg)}};
+               {"alpha_max_measured_deg", finite(d.alpha_max_measured_deg)},
+               {"alpha_estimated_from_neighbouring_slices",
+                {{"points", est.size()}, {"median_deg", quantile(0.5)}, {"p90_deg", quantile(0.9)},
+                 {"max_deg", quantile(1.0)},
+                 {"meaning", "an estimate (the surface taken straight between slices), not a bound: to help "
+                             "choose sampling.max_angle_deg; never used for the verdict"}}}};
   r["cells"] = {{"total", d.cells.size()},
                 {"holding_sections", withSections},
                 {"satisfied", counts[int(SamplingVerdict::satisfied)]},
@@ -186,7 +194,8 @@ json samplingDetailsJson(const SamplingStage& s) {
   json id = json::array(), sections = json::array(), endCell = json::array(), lo = json::array(), hi = json::array(),
        exact = json::array(), centre = json::array(), alpha = json::array(), alphaN = json::array(),
        ri = json::array(), re = json::array(), dc = json::array(), dv = json::array(), tc = json::array(),
-       tv = json::array(), verdict = json::array(), ratio = json::array(), data = json::array();
+       tv = json::array(), verdict = json::array(), ratio = json::array(), data = json::array(),
+       alphaEst = json::array();
   // At most kListed cells: the worst (largest ratio, then height), listed by id.
   constexpr std::size_t kListed = 20000;
   std::vector<std::size_t> listed(d.cells.size());
@@ -211,6 +220,7 @@ json samplingDetailsJson(const SamplingStage& s) {
     exact.push_back(c.height_exact);
     centre.push_back(vecJson(c.centre));
     alpha.push_back(finite(c.alpha_max_deg));
+    alphaEst.push_back(finite(c.alpha_estimated_deg));
     alphaN.push_back(c.alpha_samples);
     ri.push_back(finite(c.interior_bound_mm));
     re.push_back(finite(c.exterior_bound_mm));
@@ -231,6 +241,7 @@ json samplingDetailsJson(const SamplingStage& s) {
   cols["centre_mm"] = centre;
   cols["alpha_max_deg"] = alpha;
   cols["alpha_samples"] = alphaN;
+  cols["alpha_estimated_deg"] = alphaEst;
   cols["reach_interior_bound_mm"] = ri;
   cols["reach_exterior_bound_mm"] = re;
   cols["density_critical_mm"] = dc;

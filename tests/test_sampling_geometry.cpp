@@ -14,6 +14,7 @@
 #include "geometry/sampling/cell_height.h"
 #include "geometry/sampling/cell_scan.h"
 #include "geometry/sampling/contour_crossings.h"
+#include "geometry/sampling/neighbour_angles.h"
 #include "geometry/sampling/reach_bound.h"
 #include "geometry/sampling/tangent_disc.h"
 #include "geometry/scene/section_scene.h"
@@ -186,4 +187,24 @@ TEST(SamplingGeometry, MedialAxisSamplesOfATorus) {
   ASSERT_GT(m.exterior.size(), 5u);
   for (const Vec3& x : m.interior) EXPECT_LT(std::hypot(std::hypot(x.x(), x.y()) - R, x.z()), 2 * h) << x.transpose();
   for (const Vec3& x : m.exterior) EXPECT_LT(std::hypot(x.x(), x.y()), 2 * h) << x.transpose();
+}
+
+// α estimated between near-parallel slices of a sphere (R = 8, slices 0.5 mm apart) follows the
+// true angle asin(|z| / R) where the sphere is not nearly tangent to the slices.
+TEST(SamplingGeometry, NeighbourAnglesFollowTheSphere) {
+  const Vec3 c(0.3, -0.2, 0.1);
+  const double R = 8;
+  std::vector<CuttingPlane> stack;
+  for (int k = -14; k <= 14; ++k) stack.push_back(sphereCut(planeThrough(c + Vec3(0, 0, 0.5 * k), Vec3::UnitZ()), c, R, k + 14));
+  const SectionArrangement arrangement = arrangeSections(stack, 0.5);
+  const std::vector<NeighbourAngle> est = neighbourAngles(stack, arrangement);
+  int checked = 0;
+  for (const NeighbourAngle& e : est) {
+    const SectionPoint& s = arrangement.points[std::size_t(e.point)];
+    const double z = stack[std::size_t(s.plane)].plane.signedDistance(c);
+    if (std::abs(z) > 6) continue;
+    EXPECT_NEAR(e.alpha_deg, std::asin(std::abs(z) / R) * 180 / M_PI, 5) << "z " << z;
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
 }

@@ -281,6 +281,15 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
         c.transversal_bound_mm = std::min(c.transversal_bound_mm, transversal);
       }
   }
+  // α estimated from neighbouring near-parallel slices: reported with the cells, not used.
+  for (const NeighbourAngle& e : neighbourAngles(planes, arrangement, params.neighbour_angles)) {
+    out.alpha_estimates_deg.push_back(e.alpha_deg);
+    for (const int cell : arrangement.points[std::size_t(e.point)].cell) {
+      if (cell < 0 || cellOfArrangement[std::size_t(cell)] < 0) continue;
+      CellSampling& c = out.cells[std::size_t(cellOfArrangement[std::size_t(cell)])];
+      c.alpha_estimated_deg = std::isnan(c.alpha_estimated_deg) ? e.alpha_deg : std::max(c.alpha_estimated_deg, e.alpha_deg);
+    }
+  }
   // Reach bounds at contour points, given to the cells on both sides of their plane.
   for (const ContourReachBound& b : contourReachBounds(planes, fields, arrangement, tolerance_mm, (hi - lo).norm(),
                                                        params.reach_bounds)) {

@@ -41,6 +41,7 @@
 #include "geometry/core/types.h"
 #include "geometry/sampling/cell_scan.h"
 #include "geometry/sampling/contour_crossings.h"
+#include "geometry/sampling/neighbour_angles.h"
 #include "geometry/sampling/reach_bound.h"
 #include "geometry/scene/section_distance_field.h"
 
@@ -65,6 +66,7 @@ struct SamplingParams {
   int exact_cells = 400;           ///< at most this many Chebyshev balls are solved
   CrossingParams crossings;
   ReachBoundParams reach_bounds;
+  NeighbourAngleParams neighbour_angles;
 };
 
 /// One condition in one cell.
@@ -85,6 +87,9 @@ struct CellSampling {
   bool end_cell = false;       ///< bounded by an end plane (an open cell closed by the end planes)
   double alpha_max_deg = std::numeric_limits<double>::quiet_NaN();  ///< measured, NaN: none
   double alpha_lower_deg = 0;  ///< max over its crossings of (α measured − its margin), ≥ 0
+  /// Largest α estimated from neighbouring near-parallel slices at its contour points (NaN: none);
+  /// reported, never used for the verdict (neighbour_angles.h).
+  double alpha_estimated_deg = std::numeric_limits<double>::quiet_NaN();
   int alpha_samples = 0;
   double interior_bound_mm = std::numeric_limits<double>::infinity();  ///< data bound of reach_i there
   double exterior_bound_mm = std::numeric_limits<double>::infinity();  ///< data bound of reach_e there
@@ -112,6 +117,8 @@ struct SamplingDiagnosis {
   double reach_exterior_bound_mm = std::numeric_limits<double>::infinity();
   int contour_points_bounded = 0;  ///< contour vertices whose balls the planes around them bound
   double alpha_max_measured_deg = std::numeric_limits<double>::quiet_NaN();
+  /// α estimated from neighbouring near-parallel slices over the contour points examined, degrees.
+  std::vector<double> alpha_estimates_deg;
   int exact_cells = 0;           ///< Chebyshev balls solved
   /// Cells holding sections that only trace points reach (not told apart from their neighbours):
   /// when any, nothing is shown satisfied.
