@@ -10,11 +10,11 @@
 
 namespace xsect {
 
-void writeGzipRows(std::ostream& out, std::size_t rows, const ByteRows& rowBytes) {
+void writeGzipRows(std::ostream& out, std::size_t rows, const ByteRows& rowBytes, int level) {
   z_stream zs;
   std::memset(&zs, 0, sizeof zs);
   // windowBits 15 + 16: a gzip wrapper with no name and mtime 0.
-  if (deflateInit2(&zs, Z_DEFAULT_COMPRESSION, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+  if (deflateInit2(&zs, level, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
     throw std::runtime_error("zlib: deflateInit2 failed");
   struct Guard { z_stream* z; ~Guard() { deflateEnd(z); } } guard{&zs};
   std::string in;

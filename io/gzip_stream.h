@@ -13,8 +13,8 @@ namespace xsect {
 /// Bytes of row `row` into `bytes` (the callee sizes it).
 using ByteRows = std::function<void(std::size_t row, std::string* bytes)>;
 
-/// Deflates rows 0 .. rows-1 into `out` as one gzip member. Throws std::runtime_error on a zlib
-/// failure.
-void writeGzipRows(std::ostream& out, std::size_t rows, const ByteRows& rowBytes);
+/// Deflates rows 0 .. rows-1 into `out` as one gzip member at zlib `level` (-1: zlib's default,
+/// 1: fastest). Throws std::runtime_error on a zlib failure.
+void writeGzipRows(std::ostream& out, std::size_t rows, const ByteRows& rowBytes, int level = -1);
 
 }  // namespace xsect

@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include <zlib.h>
+
 #include "io/gzip_stream.h"
 #include "io/nrrd_geometry.h"
 
@@ -35,7 +37,7 @@ void writeScalarVolumeNrrd(const std::string& path, const GridSpec& grid, const 
       std::memcpy(&u, &row[std::size_t(i)], 4);
       for (int b = 0; b < 4; ++b) (*bytes)[4 * std::size_t(i) + std::size_t(b)] = char((u >> (8 * b)) & 0xff);
     }
-  });
+  }, Z_BEST_SPEED);  // diagnostics of the whole grid: speed over size (runs of equal values pack well anyway)
   out.flush();
   if (!out) throw std::runtime_error("error while writing " + path);
 }

@@ -12,10 +12,10 @@
 #include <optional>
 #include <nlohmann/json.hpp>
 
+#include "io/input_error.h"
 #include "pipeline/arrange_stage.h"
 #include "pipeline/commands.h"
 #include "pipeline/input_stage.h"
-#include "io/input_error.h"
 #include "pipeline/json_values.h"
 #include "pipeline/mesh_stage.h"
 #include "pipeline/reconstruct_stage.h"

@@ -115,9 +115,7 @@ void writeRunOutputs(const RunResults& r, const RunOptions& o, const StageClock&
   const GridSpec& g = labels.grid();
   writeScalarVolumeNrrd(
       out.file("sampling.nrrd").string(), g,
-      [&](int j, int k, float* row) {
-        for (int i = 0; i < g.dims[0]; ++i) row[i] = samplingRatioAt(r.sampling, g.centre(i, j, k));
-      },
+      [&](int j, int k, float* row) { samplingRatioRow(r.sampling, g, j, k, row); },
       "xsect sampling: per voxel, h_C / critical reach of its cell (thesis Def. 23; < 1 passes), -1 unknown");
   if (!r.sampling.advice_poses.empty()) {
     std::vector<std::string> notes;

@@ -293,18 +293,23 @@ std::string samplingLine(const SamplingStage& s) {
   return os.str();
 }
 
-float samplingRatioAt(const SamplingStage& s, const Vec3& x) {
+void samplingRatioRow(const SamplingStage& s, const GridSpec& grid, int j, int k, float* row) {
   const GridSpec& L = s.diagnosis.scan.lattice;
-  int ijk[3];
-  for (int a = 0; a < 3; ++a) {
-    const double t = std::round((x[a] - L.origin[a]) / L.voxel);
-    if (t < 0 || t > L.dims[a] - 1) return -1.0f;
-    ijk[a] = int(t);
+  const Vec3 start = grid.centre(0, j, k);
+  const double ty = std::round((start.y() - L.origin.y()) / L.voxel), tz = std::round((start.z() - L.origin.z()) / L.voxel);
+  const int nx = grid.dims[0];
+  if (ty < 0 || ty > L.dims[1] - 1 || tz < 0 || tz > L.dims[2] - 1) {
+    std::fill(row, row + nx, -1.0f);
+    return;
   }
-  const int cell = s.diagnosis.scan.cell_of_point[std::size_t(L.index(ijk[0], ijk[1], ijk[2]))];
-  if (cell < 0) return -1.0f;
-  const double r = s.diagnosis.cells[std::size_t(cell)].ratio;
-  return std::isnan(r) ? -1.0f : float(r);
+  const std::int32_t* cells = s.diagnosis.scan.cell_of_point.data() + L.index(0, int(ty), int(tz));
+  const double step = grid.voxel / L.voxel, x0 = (start.x() - L.origin.x()) / L.voxel;
+  for (int i = 0; i < nx; ++i) {
+    const double tx = std::round(x0 + i * step);
+    const int cell = tx < 0 || tx > L.dims[0] - 1 ? -1 : cells[std::size_t(tx)];
+    const double r = cell < 0 ? -1.0 : s.diagnosis.cells[std::size_t(cell)].ratio;
+    row[i] = std::isnan(r) ? -1.0f : float(r);
+  }
 }
 
 }  // namespace xsect

@@ -41,8 +41,9 @@ nlohmann::ordered_json samplingSummaryJson(const SamplingStage& s);
 nlohmann::ordered_json samplingDetailsJson(const SamplingStage& s);
 /// The stderr line: the verdict and why.
 std::string samplingLine(const SamplingStage& s);
-/// sampling.nrrd's value at a point: the ratio h_C / critical value of the cell holding it, −1 where
-/// no critical value is known or outside the end planes.
-float samplingRatioAt(const SamplingStage& s, const Vec3& x);
+/// sampling.nrrd's row (0 .. grid.dims[0]-1, j, k) of `grid`: per voxel the ratio h_C / critical
+/// value of the cell holding its centre (the nearest lattice point's), −1 where no critical value is
+/// known or outside the end planes.
+void samplingRatioRow(const SamplingStage& s, const GridSpec& grid, int j, int k, float* row);
 
 }  // namespace xsect
