@@ -266,7 +266,9 @@ json samplingDetailsJson(const SamplingStage& s) {
                       {"normal", vecJson(a.plane.normal)},
                       {a.ratio ? "worst_ratio_before" : "worst_height_before_mm", a.worst_before},
                       {a.ratio ? "worst_ratio_after" : "worst_height_after_mm", a.worst_after}});
-  return {{"summary", samplingSummaryJson(s)},
+  json summary = samplingSummaryJson(s);
+  summary.erase("timings_s");  // the file's bytes depend only on the inputs (report.json has them)
+  return {{"summary", summary},
           {"conditions", {{"density", n.density}, {"transversality", n.transversality}}},
           {"cells_total", d.cells.size()},
           {"cells_listed", listed.size()},

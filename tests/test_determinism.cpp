@@ -36,7 +36,8 @@ TEST(Determinism, SameBytesWhateverTheThreadCount) {
     }
     std::vector<std::string> files{"mesh.ply", "mesh.stl", "mesh.obj", "graph.json", "graph.dot", "labels.nrrd"};
     if (method == "shepard" || method == "level_set") files.insert(files.end(), {"level_set.vdb", "mesh_unsmoothed.ply"});
-    files.push_back("conformity.json");
+    files.insert(files.end(), {"conformity.json", "sampling.json", "sampling.nrrd"});
+    if (fs::exists(dir / (method + "1") / "advice.yaml")) files.push_back("advice.yaml");
     for (const std::string& f : files) {
       const std::string a = slurp(dir / (method + "1") / f);
       EXPECT_GT(a.size(), 100u) << f;
