@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "geometry/sampling/contour_vertices.h"
 #include "geometry/sampling/observed_edge.h"
 #include "geometry/sampling/tangent_disc.h"
 
@@ -14,15 +15,8 @@ namespace xsect {
 std::vector<NeighbourAngle> neighbourAngles(const std::vector<CuttingPlane>& planes, const SectionArrangement& arrangement,
                                             const NeighbourAngleParams& params) {
   constexpr double kDegree = 3.14159265358979323846 / 180.0;
-  std::vector<int> vertices;
-  for (std::size_t i = 0; i < arrangement.points.size(); ++i) {
-    const SectionPoint& s = arrangement.points[i];
-    if (s.kind == SectionPoint::vertex && !planes[std::size_t(s.plane)].is_virtual) vertices.push_back(int(i));
-  }
-  const std::size_t stride =
-      std::max<std::size_t>(1, (vertices.size() + params.max_points - 1) / std::max<std::size_t>(params.max_points, 1));
   std::vector<NeighbourAngle> out;
-  for (std::size_t i = 0; i < vertices.size(); i += stride) out.push_back({vertices[i], -1, 0});
+  for (const int v : spreadContourVertices(planes, arrangement, params.max_points)) out.push_back({v, -1, 0});
   const double cosMax = std::cos(params.max_plane_angle_deg * kDegree);
   tbb::parallel_for(std::size_t(0), out.size(), [&](std::size_t k) {
     const SectionPoint& s = arrangement.points[std::size_t(out[k].point)];

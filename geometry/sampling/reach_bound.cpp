@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geometry/sampling/contour_vertices.h"
 #include "geometry/sampling/observed_edge.h"
 #include "geometry/sampling/tangent_disc.h"
 
@@ -140,15 +141,8 @@ std::vector<ContourReachBound> contourReachBounds(const std::vector<CuttingPlane
                                                   const std::vector<SectionDistanceField>& fields,
                                                   const SectionArrangement& arrangement, double tolerance_mm,
                                                   double max_reach_mm, const ReachBoundParams& params) {
-  std::vector<int> vertices;
-  for (std::size_t i = 0; i < arrangement.points.size(); ++i) {
-    const SectionPoint& s = arrangement.points[i];
-    if (s.kind == SectionPoint::vertex && !planes[std::size_t(s.plane)].is_virtual) vertices.push_back(int(i));
-  }
-  const std::size_t stride =
-      std::max<std::size_t>(1, (vertices.size() + params.max_points - 1) / std::max<std::size_t>(params.max_points, 1));
   std::vector<ContourReachBound> out;
-  for (std::size_t i = 0; i < vertices.size(); i += stride) out.push_back({vertices[i], kInf, kInf});
+  for (const int v : spreadContourVertices(planes, arrangement, params.max_points)) out.push_back({v, kInf, kInf});
   const double alphaStep = params.alpha_step_deg * kDegree;
   std::vector<VertexBuckets> buckets;
   buckets.reserve(planes.size());
