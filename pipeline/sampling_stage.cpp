@@ -6,7 +6,9 @@
 #include <chrono>
 #include <sstream>
 #include <tuple>
+#include <utility>
 
+#include "geometry/core/median.h"
 #include "pipeline/json_values.h"
 
 namespace xsect {
@@ -32,9 +34,7 @@ double medianPixel(const SectionScene& scene) {
   std::vector<double> px;
   for (std::size_t i = 0; i < scene.real_planes; ++i)
     if (scene.planes[i].pixel_mm > 0) px.push_back(scene.planes[i].pixel_mm);
-  if (px.empty()) return 0;
-  std::nth_element(px.begin(), px.begin() + std::ptrdiff_t(px.size() / 2), px.end());
-  return px[px.size() / 2];
+  return upperMedian(std::move(px));  // 0 when no plane knows its pixel (contours given directly)
 }
 
 /// The advised plane as an image of the sections' bounds seen on it.

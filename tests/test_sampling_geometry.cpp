@@ -18,19 +18,19 @@
 #include "geometry/sampling/reach_bound.h"
 #include "geometry/sampling/tangent_disc.h"
 #include "geometry/scene/section_scene.h"
+#include "section_fixtures.h"
 
 using namespace xsect;
 
 namespace {
 
-Ring circle(const Vec2& c, double r, int n, bool ccw = true, double noise = 0, std::mt19937* rng = nullptr) {
-  Ring ring;
+using test::circle;
+
+/// A counter-clockwise circle whose vertices are moved radially by up to ±noise.
+Ring noisyCircle(const Vec2& c, double r, int n, double noise, std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-noise, noise);
-  for (int i = 0; i < n; ++i) {
-    const double t = 2 * M_PI * i / n * (ccw ? 1 : -1);
-    const double rr = r + (rng ? u(*rng) : 0.0);
-    ring.push_back(c + rr * Vec2(std::cos(t), std::sin(t)));
-  }
+  Ring ring = circle(c, r, n);
+  for (Vec2& q : ring) q = c + (q - c) * ((r + u(rng)) / r);
   return ring;
 }
 
@@ -114,7 +114,7 @@ TEST(SamplingGeometry, TangentDiscsOfCirclesAndAnnuli) {
   for (int seed = 0; seed < 20; ++seed) {
     std::mt19937 rng(seed);
     const double sigma = 0.1;
-    const std::vector<Section> noisy{Section{circle(Vec2(0, 0), 5, 720, true, sigma / 2, &rng), {}, 1}};
+    const std::vector<Section> noisy{Section{noisyCircle(Vec2(0, 0), 5, 720, sigma / 2, rng), {}, 1}};
     const double t = 2 * M_PI * seed / 20;
     const Vec2 a = 5 * Vec2(std::cos(t), std::sin(t));
     const double w = tangentDiscRadius(noisy, a, -a.normalized(), sigma);
@@ -197,7 +197,7 @@ TEST(SamplingGeometry, NeighbourAnglesFollowTheSphere) {
   std::vector<CuttingPlane> stack;
   for (int k = -14; k <= 14; ++k) stack.push_back(sphereCut(planeThrough(c + Vec3(0, 0, 0.5 * k), Vec3::UnitZ()), c, R, k + 14));
   const SectionArrangement arrangement = arrangeSections(stack, 0.5);
-  const std::vector<NeighbourAngle> est = neighbourAngles(stack, arrangement);
+  const std::vector<NeighbourAngle> est = neighbourAngles(stack, arrangement, 0.05);
   int checked = 0;
   for (const NeighbourAngle& e : est) {
     const SectionPoint& s = arrangement.points[std::size_t(e.point)];

@@ -13,7 +13,7 @@
 namespace xsect {
 
 std::vector<NeighbourAngle> neighbourAngles(const std::vector<CuttingPlane>& planes, const SectionArrangement& arrangement,
-                                            const NeighbourAngleParams& params) {
+                                            double tolerance_mm, const NeighbourAngleParams& params) {
   constexpr double kDegree = 3.14159265358979323846 / 180.0;
   std::vector<NeighbourAngle> out;
   for (const int v : spreadContourVertices(planes, arrangement, params.max_points)) out.push_back({v, -1, 0});
@@ -21,7 +21,7 @@ std::vector<NeighbourAngle> neighbourAngles(const std::vector<CuttingPlane>& pla
   tbb::parallel_for(std::size_t(0), out.size(), [&](std::size_t k) {
     const SectionPoint& s = arrangement.points[std::size_t(out[k].point)];
     const CuttingPlane& P = planes[std::size_t(s.plane)];
-    const double arc = std::max(2 * P.pixel_mm, 1e-3);
+    const double arc = std::max(2 * P.pixel_mm, tolerance_mm);  // no fixed length: any units
     if (nearObservedEdge(P, s.p, arc)) return;
     const Vec3 a = P.plane.toWorld(s.p);
     // The nearest near-parallel plane holding sections, by distance from a.

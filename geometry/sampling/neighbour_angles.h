@@ -24,8 +24,10 @@ struct NeighbourAngleParams {
   std::size_t max_points = 4000;    ///< contour vertices examined (evenly spread)
 };
 
+/// @param tolerance_mm  the contours' accuracy, mm: the arc over which tangents are measured and
+///                      the distance kept from the border of a plane observed in part.
 /// Deterministic; parallel over the points.
 std::vector<NeighbourAngle> neighbourAngles(const std::vector<CuttingPlane>& planes, const SectionArrangement& arrangement,
-                                            const NeighbourAngleParams& params = {});
+                                            double tolerance_mm, const NeighbourAngleParams& params = {});
 
 }  // namespace xsect

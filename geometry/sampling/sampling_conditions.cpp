@@ -166,8 +166,8 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
   out.scan = scanCells(ps, keys, lo, hi, scanSpacing(lo, hi, voxel_mm, ps.size(), params.lattice_work));
   const CellScan& scan = out.scan;
 
-  std::unordered_map<std::uint64_t, int> cellOfKey;
-  cellOfKey.reserve(scan.cells.size() + std::size_t(std::max(arrangement.cells, 0)));
+  // Scanned cells keep their scan index; cells only the arrangement meets are appended.
+  std::unordered_map<std::uint64_t, int> cellOfKey = scan.index_of_key;
   out.cells.reserve(scan.cells.size() + std::size_t(std::max(arrangement.cells, 0)));
   for (std::size_t i = 0; i < scan.cells.size(); ++i) {
     const ScannedCell& s = scan.cells[i];
@@ -179,7 +179,6 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
     c.centre = s.farthest;
     c.end_cell = s.on_box;
     out.cells.push_back(c);
-    cellOfKey.emplace(s.key, int(i));
   }
 
   // The arrangement's cells (those bounded by a section): the key of a point of theirs that lies on
@@ -282,7 +281,7 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
       }
   }
   // α estimated from neighbouring near-parallel slices: reported with the cells, not used.
-  for (const NeighbourAngle& e : neighbourAngles(planes, arrangement, params.neighbour_angles)) {
+  for (const NeighbourAngle& e : neighbourAngles(planes, arrangement, tolerance_mm, params.neighbour_angles)) {
     out.alpha_estimates_deg.push_back(e.alpha_deg);
     for (const int cell : arrangement.points[std::size_t(e.point)].cell) {
       if (cell < 0 || cellOfArrangement[std::size_t(cell)] < 0) continue;
