@@ -63,19 +63,24 @@ json cellJson(const SamplingStage& s, int id) {
   const bool densityDecides =
       c.density.verdict == c.verdict || c.transversality.verdict == SamplingVerdict::satisfied;
   const ConditionCheck& k = densityDecides ? c.density : c.transversality;
-  return {{"cell", id},
-          {"holds_sections", c.arrangement_cell >= 0},
-          {"end_cell", c.end_cell},
-          {"height_mm", c.height_hi_mm},
-          {"height_lower_mm", c.height_lo_mm},
-          {"height_exact", c.height_exact},
-          {"centre_mm", vecJson(c.centre)},
-          {"verdict", name(c.verdict)},
-          {"condition", densityDecides ? n.density : n.transversality},
-          {"critical_mm", finite(k.critical_mm)},
-          {"ratio", finite(c.ratio)},
-          {"shown_by_data_alone", k.from_data},
-          {"alpha_max_deg", finite(c.alpha_max_deg)}};
+  json j = {{"cell", id},
+            {"holds_sections", c.arrangement_cell >= 0},
+            {"end_cell", c.end_cell},
+            {"height_mm", c.height_hi_mm},
+            {"height_lower_mm", c.height_lo_mm},
+            {"height_exact", c.height_exact},
+            {"centre_mm", vecJson(c.centre)},
+            {"verdict", name(c.verdict)},
+            {"condition", densityDecides ? n.density : n.transversality},
+            {"critical_mm", finite(k.critical_mm)},
+            {"ratio", finite(c.ratio)},
+            {"shown_by_data_alone", k.from_data},
+            {"alpha_max_deg", finite(c.alpha_max_deg)}};
+  if (s.diagnosis.method == ReconstructionMethod::section_voronoi && c.arrangement_cell >= 0) {
+    j["section_height_mm"] = finite(c.section_height_hi_mm);
+    j["section_height_farthest_mm"] = vecJson(c.section_farthest);
+  }
+  return j;
 }
 
 }  // namespace
@@ -100,8 +105,11 @@ SamplingStage samplingStage(const RunConfig& c, const SectionScene& scene, const
   const auto since = [](std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   };
-  s.diagnosis = diagnoseSampling(scene.planes, scene.fields, arrangement.arrangement, c.reconstruction_method, samplingPrior(c),
-                                 s.lo, s.hi, scene.params.voxel_mm, tolerance);
+  if (c.reconstruction_method == ReconstructionMethod::nearest_plane)
+    s.intersection = checkIntersectionCondition(scene.planes, arrangement.arrangement, arrangement.graphs.lift_section,
+                                                arrangement.graphs.lift_length_mm);
+  s.diagnosis = diagnoseSampling(scene.planes, scene.fields, arrangement.arrangement, c.reconstruction_method,
+                                 samplingPrior(c), s.lo, s.hi, scene.params.voxel_mm, tolerance, s.intersection.shown);
   s.diagnosis_s = since(start);
   if (!advise || s.diagnosis.verdict == SamplingVerdict::satisfied) return s;
   const auto adviceStart = std::chrono::steady_clock::now();
@@ -142,6 +150,8 @@ json samplingSummaryJson(const SamplingStage& s) {
   r["verdict"] = name(d.verdict);
   r["method"] = nameOf(kReconstructionMethods, d.method);
   r["conditions"] = {{n.density, name(d.density)}, {n.transversality, name(d.transversality)}};
+  if (d.method == ReconstructionMethod::nearest_plane)
+    r["conditions"]["intersection_on_data"] = name(d.intersection);
   r["guarantees"] = samplingConsequences(d);
   r["prior"] = {{"reach_interior_mm", d.prior.reach_interior_mm ? json(*d.prior.reach_interior_mm) : json(nullptr)},
                 {"reach_exterior_mm", d.prior.reach_exterior_mm ? json(*d.prior.reach_exterior_mm) : json(nullptr)},
@@ -168,7 +178,18 @@ json samplingSummaryJson(const SamplingStage& s) {
                 {"undetermined", counts[int(SamplingVerdict::undetermined)]},
                 {"exact_heights", d.exact_cells},
                 {"holding_sections_not_told_apart", d.unmatched_cells}};
+  if (d.method == ReconstructionMethod::nearest_plane)
+    r["cells"]["intersection_not_shown"] = {{"piece_with_hole", s.intersection.cells_with_holes},
+                                            {"cycle_or_split_intersection", s.intersection.cells_with_cycles},
+                                            {"lift_unlocated", s.intersection.cells_unlocated}};
   r["max_height_mm"] = maxHeight;
+  if (d.method == ReconstructionMethod::section_voronoi)
+    r["section_heights"] = {
+        {"cells_bounded", d.section_height_cells},
+        {"max_mm", finite(d.section_height_max_mm)},
+        {"meaning", "h'_C (Def. 31), the largest distance of a point of a cell to the sections on its boundary, "
+                    "bounded from above; null where a cell with sections was not bounded. Under the conditions "
+                    "the Hausdorff distance to the object is at most its max (Thm 20)"}};
   r["lattice_spacing_mm"] = d.scan.lattice.voxel;
   r["end_box_mm"] = {vecJson(s.lo), vecJson(s.hi)};
   r["assumes"] = "the object lies inside the end planes' box; its boundary is smooth; the contours are its sections";
@@ -195,7 +216,8 @@ json samplingDetailsJson(const SamplingStage& s) {
        exact = json::array(), centre = json::array(), alpha = json::array(), alphaN = json::array(),
        ri = json::array(), re = json::array(), dc = json::array(), dv = json::array(), tc = json::array(),
        tv = json::array(), verdict = json::array(), ratio = json::array(), data = json::array(),
-       alphaEst = json::array();
+       alphaEst = json::array(), sectionHeight = json::array(),
+       inter = json::array();
   // At most kListed cells: the worst (largest ratio, then height), listed by id.
   constexpr std::size_t kListed = 20000;
   std::vector<std::size_t> listed(d.cells.size());
@@ -228,10 +250,13 @@ json samplingDetailsJson(const SamplingStage& s) {
     dv.push_back(name(c.density.verdict));
     tc.push_back(finite(c.transversality.critical_mm));
     tv.push_back(name(c.transversality.verdict));
+    inter.push_back(name(c.intersection));
     verdict.push_back(name(c.verdict));
     ratio.push_back(finite(c.ratio));
     data.push_back(c.density.from_data || c.transversality.from_data);
+    sectionHeight.push_back(c.arrangement_cell >= 0 ? finite(c.section_height_hi_mm) : json(nullptr));
   }
+  if (d.method == ReconstructionMethod::section_voronoi) cols["section_height_mm"] = sectionHeight;
   cols["id"] = id;
   cols["holds_sections"] = sections;
   cols["end_cell"] = endCell;
@@ -248,6 +273,7 @@ json samplingDetailsJson(const SamplingStage& s) {
   cols["density"] = dv;
   cols["transversality_critical_mm"] = tc;
   cols["transversality"] = tv;
+  if (d.method == ReconstructionMethod::nearest_plane) cols["intersection_on_data"] = inter;
   cols["verdict"] = verdict;
   cols["ratio"] = ratio;
   cols["violated_by_data_alone"] = data;
@@ -285,6 +311,8 @@ std::string samplingLine(const SamplingStage& s) {
     const json c = cellJson(s, d.deciding.front());
     os << " (worst cell " << d.deciding.front() << ": " << c["condition"].get<std::string>() << ", h_C "
        << c["height_mm"].get<double>() << " mm";
+    if (c.contains("section_height_mm") && !c["section_height_mm"].is_null())
+      os << ", h'_C <= " << c["section_height_mm"].get<double>() << " mm";
     if (!c["critical_mm"].is_null()) os << " against " << c["critical_mm"].get<double>() << " mm";
     if (c["shown_by_data_alone"].get<bool>()) os << ", shown by the data alone";
     os << ")";

@@ -161,6 +161,36 @@ std::string withExtraPlanes(const std::string& spec, const std::string& planes) 
 TEST(AcceptanceSampling, NoFalseAssuranceFansAndStacks) { expectNoFalseAssurance(0); }
 TEST(AcceptanceSampling, NoFalseAssuranceRandomAndParallel) { expectNoFalseAssurance(1); }
 
+// Method 2 (ch. 2 §3): no false assurance on fans and stacks with the true reach, and every h'_C
+// bound (Def. 31) in sampling.json at least the cell's h_C (h'_C ≥ h_C).
+TEST(AcceptanceSampling, NoFalseAssuranceMethod2) {
+  std::vector<Config> configs;
+  for (int n : {4, 8, 16, 36}) configs.push_back(fan("torus", kTorus, n));
+  for (int n : {3, 8, 36}) configs.push_back(fan("sphere", kSphere, n));
+  for (int n : {3, 5}) configs.push_back(pattern("torus", kTorus, "{kind: multiaxial, count: " + std::to_string(n) + "}", n));
+  configs.push_back(pattern("vessel", kVessel, "{kind: parallel, count: 20, direction: [0, 0, 1]}", 1));
+  int wrong = 0, bounded = 0;
+  for (const Config& cfg : configs) {
+    const fs::path dir = phantom("assurance-m2-" + cfg.name, cfg.spec);
+    const Truth t = truthOf(dir);
+    const nlohmann::json r = run(dir, "out", priorSets(t, cfg.angleZero) + " --set reconstruction.method=section_voronoi");
+    if (bettiOf(r) != t.betti) {
+      ++wrong;
+      EXPECT_NE(r["sampling"]["verdict"], "satisfied") << cfg.name << ": wrong Betti numbers yet satisfied";
+    }
+    const nlohmann::json cols = readJson(dir / "out/sampling.json")["cells"];
+    for (std::size_t i = 0; i < cols["id"].size(); ++i) {
+      if (cols["section_height_mm"][i].is_null()) continue;
+      ++bounded;
+      EXPECT_GE(cols["section_height_mm"][i].get<double>(), cols["height_lower_mm"][i].get<double>() - 1e-9) << cfg.name;
+    }
+    fs::remove_all(dir);
+  }
+  std::cout << "[ sampling ] method 2: " << configs.size() << " configurations, " << wrong << " wrong, none satisfied; "
+            << bounded << " cells with h'_C bounded\n";
+  EXPECT_GT(bounded, 100);
+}
+
 TEST(AcceptanceSampling, DenseFansAreSatisfiedWithTheirTrueReach) {
   for (const Config& cfg : {fan("torus", kTorus, 36), fan("sphere", kSphere, 36), fan("spheroid", kSpheroid, 36)}) {
     const fs::path dir = phantom("dense-" + cfg.name, cfg.spec);
@@ -168,7 +198,9 @@ TEST(AcceptanceSampling, DenseFansAreSatisfiedWithTheirTrueReach) {
     const nlohmann::json r = run(dir, "out", priorSets(t, true));
     EXPECT_EQ(bettiOf(r), t.betti) << cfg.name;
     EXPECT_EQ(r["sampling"]["verdict"], "satisfied") << cfg.name << "\n" << r["sampling"].dump(1);
-    EXPECT_EQ(r["sampling"]["guarantees"].size(), 2u) << cfg.name;
+    // The Separation Condition, the Intersection Condition shown on the data, and the consequence.
+    EXPECT_EQ(r["sampling"]["guarantees"].size(), 3u) << cfg.name;
+    EXPECT_EQ(r["sampling"]["conditions"]["intersection_on_data"], "satisfied") << cfg.name;
     EXPECT_TRUE(fs::exists(dir / "out/sampling.json"));
     EXPECT_TRUE(fs::exists(dir / "out/sampling.nrrd"));
     EXPECT_FALSE(fs::exists(dir / "out/advice.yaml")) << "no advice when satisfied";

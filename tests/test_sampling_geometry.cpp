@@ -2,7 +2,9 @@
 // bounds against the exact heights of cells (thesis Def. 23), tangent discs against circles and
 // annuli with and without contour noise, the surface normals and angles α measured at contour
 // crossings against a sphere's (Def. 26), and the reach bounds from the sections alone against the
-// true reach of a sphere and a torus cut by parallel and random planes (they must never fall below).
+// true reach of a sphere and a torus cut by parallel and random planes (they must never fall below);
+// method 2's cell height h'_C (Def. 31) bounded from above on a cube and on random cells against
+// brute force.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,6 +18,7 @@
 #include "geometry/sampling/contour_crossings.h"
 #include "geometry/sampling/neighbour_angles.h"
 #include "geometry/sampling/reach_bound.h"
+#include "geometry/sampling/section_cell_height.h"
 #include "geometry/sampling/tangent_disc.h"
 #include "geometry/scene/section_scene.h"
 #include "section_fixtures.h"
@@ -207,4 +210,78 @@ TEST(SamplingGeometry, NeighbourAnglesFollowTheSphere) {
     ++checked;
   }
   EXPECT_GT(checked, 100);
+}
+
+TEST(SamplingGeometry, SectionHeightBoundsMethod2sHeight) {
+  // The unit cube, its faces' normals outward: the cell lies on their negative sides.
+  std::vector<Plane> cube;
+  for (int a = 0; a < 3; ++a) {
+    cube.push_back(planeThrough(Vec3::Zero(), -Vec3::Unit(a)));
+    cube.push_back(planeThrough(Vec3::Ones(), Vec3::Unit(a)));
+  }
+  const std::vector<int> inside(6, -1);
+  const Vec3 lo = -Vec3::Ones(), hi = 2 * Vec3::Ones(), mid = Vec3::Constant(0.5);
+  const auto face = [](double z) {
+    std::vector<Vec3> pts;
+    for (int i = 0; i <= 20; ++i)
+      for (int j = 0; j <= 20; ++j) pts.emplace_back(i / 20.0, j / 20.0, z);
+    return pts;
+  };
+  const double tol = 0.05 * std::sqrt(0.5) + 0.06;  // the points' gaps and the relative resolution
+  // A section covering the bottom face: h' = 1 (the top face).
+  SectionHeightBound b = sectionHeightBound(cube, inside, mid, lo, hi, face(0), 0, 0.01);
+  EXPECT_GE(b.upper_mm, 1 - 1e-9);
+  EXPECT_LE(b.upper_mm, 1 + tol);
+  EXPECT_NEAR(b.farthest.z(), 1, 0.1);
+  // Bottom and top: h' = 1/2.
+  std::vector<Vec3> both = face(0), top = face(1);
+  both.insert(both.end(), top.begin(), top.end());
+  b = sectionHeightBound(cube, inside, mid, lo, hi, both, 0, 0.01);
+  EXPECT_GE(b.upper_mm, 0.5 - 1e-9);
+  EXPECT_LE(b.upper_mm, 0.5 + tol);
+  // A section reduced to a corner: h' = √3; a target above it stops early, still a bound.
+  b = sectionHeightBound(cube, inside, mid, lo, hi, {Vec3::Zero()}, 0, 0.01);
+  EXPECT_GE(b.upper_mm, std::sqrt(3.0) - 1e-9);
+  EXPECT_LE(b.upper_mm, std::sqrt(3.0) * 1.06);
+  b = sectionHeightBound(cube, inside, mid, lo, hi, {Vec3::Zero()}, 3, 0.01);
+  EXPECT_GE(b.upper_mm, std::sqrt(3.0) - 1e-9);
+  EXPECT_LT(b.upper_mm, 3);
+  EXPECT_TRUE(std::isinf(sectionHeightBound(cube, inside, Vec3(2, 0.5, 0.5), lo, hi, {Vec3::Zero()}, 0, 0.01).upper_mm))
+      << "an interior point outside the cell is refused";
+
+  // Random cells of random planes, random points: never below the brute-force maximum, and close.
+  int checked = 0;
+  double excess = 0;
+  for (int seed = 0; seed < 4; ++seed) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> g;
+    std::uniform_real_distribution<double> u(-8, 8), w(-10, 10);
+    const Vec3 blo(-10, -10, -10), bhi(10, 10, 10);
+    std::vector<Plane> planes;
+    for (int k = 0; k < 10; ++k) planes.push_back(planeThrough(Vec3(u(rng), u(rng), u(rng)), Vec3(g(rng), g(rng), g(rng))));
+    const CellKeys keys(planes);
+    const CellScan scan = scanCells(planes, keys, blo, bhi, 1.0);
+    std::vector<Vec3> samples;
+    for (int k = 0; k < 200000; ++k) samples.emplace_back(w(rng), w(rng), w(rng));
+    for (std::size_t i = 0; i < scan.cells.size(); i += 5) {
+      const ScannedCell& c = scan.cells[i];
+      if (c.max_distance_mm <= 0) continue;
+      std::vector<Vec3> pts;
+      for (int k = 0; k < 12; ++k) pts.emplace_back(u(rng), u(rng), u(rng));
+      double brute = 0;
+      for (const Vec3& x : samples) {
+        if (keys.of(x) != c.key) continue;
+        double d = 1e300;
+        for (const Vec3& p : pts) d = std::min(d, (x - p).norm());
+        brute = std::max(brute, d);
+      }
+      const SectionHeightBound sb = sectionHeightBound(planes, keys.sides(c.farthest), c.farthest, blo - Vec3::Constant(1e-3), bhi + Vec3::Constant(1e-3), pts, 0, 0.05);
+      EXPECT_GE(sb.upper_mm, brute - 1e-9) << "seed " << seed << " cell " << i;
+      excess += sb.upper_mm / brute;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 30);
+  // Close on average (random samples miss the cells' corners, so the brute force is low too).
+  EXPECT_LT(excess / checked, 1.1);
 }

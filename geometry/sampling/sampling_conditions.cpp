@@ -109,7 +109,9 @@ void criticalsOf(const CellSampling& c, ReconstructionMethod method, const Sampl
   // (transversal_bound_mm); elsewhere α_a ≥ 0 leaves ½·reach. The largest α and the least reach of
   // the cell are not those of one point, so they are not combined as for C2.
   Critical t;
-  t.sat = kNaN;  // h'_C has no upper bound here: never shown
+  // Shown with a prior on every α_a (raised to what was measured) and on the reach, lowered to
+  // what the crossings allow.
+  t.sat = std::isnan(fSat) || std::isnan(reach.sat) ? kNaN : std::min(fSat * reach.sat, c.transversal_bound_mm);
   t.vio = 0.5 * reach.vio;
   t.data = reach.data;
   if (prior.max_angle_deg && !std::isnan(fSat)) {  // the prior bounds every α_a: its product
@@ -120,18 +122,31 @@ void criticalsOf(const CellSampling& c, ReconstructionMethod method, const Sampl
   *transversality = t;
 }
 
+/// The verdict of a cell's conditions: satisfied when C1 and C2 are shown, or (method 1) C1 and
+/// the Intersection Condition shown on the data in C2's place; otherwise violated when C1 or C2 is
+/// shown violated (C2 is violated as a condition even where the data show the Intersection
+/// Condition: the guarantee then rests on C1, not shown), else undetermined.
+SamplingVerdict cellVerdict(SamplingVerdict density, SamplingVerdict transversality, SamplingVerdict intersection,
+                            ReconstructionMethod method) {
+  if (method == ReconstructionMethod::nearest_plane && density == SamplingVerdict::satisfied &&
+      intersection == SamplingVerdict::satisfied)
+    return SamplingVerdict::satisfied;
+  return combine(density, transversality);
+}
+
 void evaluate(CellSampling& c, ReconstructionMethod method, const SamplingPrior& prior) {
   Critical d, t;
   criticalsOf(c, method, prior, &d, &t);
-  // Method 2 on a cell with sections: h'_C ≥ h_C has no upper bound here.
-  const bool upperKnown = method == ReconstructionMethod::nearest_plane || c.arrangement_cell < 0;
-  const double hi = upperKnown ? c.height_hi_mm : kInf;
+  // Method 2 on a cell with sections: the height is h'_C ≥ h_C, bounded above where computed.
+  const bool sectionHeight = method == ReconstructionMethod::section_voronoi && c.arrangement_cell >= 0;
+  const double hi = sectionHeight ? c.section_height_hi_mm : c.height_hi_mm;
   c.density = check(c.height_lo_mm, hi, d);
   c.transversality = check(c.height_lo_mm, hi, t);
-  c.verdict = combine(c.density.verdict, c.transversality.verdict);
+  c.verdict = cellVerdict(c.density.verdict, c.transversality.verdict, c.intersection, method);
   const double crit = std::isfinite(c.transversality.critical_mm) ? c.transversality.critical_mm
                                                                    : c.density.critical_mm;
-  c.ratio = std::isfinite(crit) && crit > 0 ? c.height_hi_mm / crit : kNaN;
+  const double height = sectionHeight && std::isfinite(hi) ? hi : c.height_hi_mm;
+  c.ratio = std::isfinite(crit) && crit > 0 ? height / crit : kNaN;
 }
 
 bool needsExactHeight(const CellSampling& c, ReconstructionMethod method, const SamplingPrior& prior) {
@@ -139,6 +154,80 @@ bool needsExactHeight(const CellSampling& c, ReconstructionMethod method, const 
   Critical d, t;
   criticalsOf(c, method, prior, &d, &t);
   return straddles(c.height_lo_mm, c.height_hi_mm, d) || straddles(c.height_lo_mm, c.height_hi_mm, t);
+}
+
+/// Method 2: upper bounds of h'_C (section_cell_height.h) for the cells with sections where they
+/// may show a condition (every prior it needs given, the lower bound below it), then for the
+/// worst cells, within the budget. `arrPlaneSide[k]`: the plane and side of the point that keyed
+/// arrangement cell k (for cells met by no lattice point).
+void boundSectionHeights(SamplingDiagnosis& out, const std::vector<Plane>& ps, const CellKeys& keys,
+                         const std::vector<CuttingPlane>& planes, const SectionArrangement& arrangement,
+                         const std::vector<std::pair<int, int>>& arrPlaneSide, const Vec3& lo, const Vec3& hi,
+                         const SamplingParams& params) {
+  // The points of S_C, per arrangement cell (a trace point bounds up to four cells).
+  const std::size_t nArr = std::size_t(std::max(arrangement.cells, 0));
+  std::vector<std::vector<Vec3>> pointsOf(nArr);
+  for (const SectionPoint& s : arrangement.points) {
+    const Vec3 x = planes[std::size_t(s.plane)].plane.toWorld(s.p);
+    for (int k = 0; k < 2; ++k) {
+      if (s.cell[std::size_t(k)] >= 0) pointsOf[std::size_t(s.cell[std::size_t(k)])].push_back(x);
+      if (s.cell_alt[std::size_t(k)] >= 0) pointsOf[std::size_t(s.cell_alt[std::size_t(k)])].push_back(x);
+    }
+  }
+  std::vector<int> decisive, worst;
+  std::vector<double> target(out.cells.size(), 0.0);
+  for (std::size_t i = 0; i < out.cells.size(); ++i) {
+    const CellSampling& c = out.cells[i];
+    if (c.arrangement_cell < 0) continue;
+    Critical d, t;
+    criticalsOf(c, out.method, out.prior, &d, &t);
+    const double sat = std::isnan(d.sat) || std::isnan(t.sat) ? kNaN : std::min(d.sat, t.sat);
+    if (!std::isnan(sat) && c.height_lo_mm < sat) {
+      decisive.push_back(int(i));
+      target[i] = sat;
+    } else {
+      worst.push_back(int(i));
+    }
+  }
+  const auto deeper = [&](int a, int b) {
+    const double ha = out.cells[std::size_t(a)].height_lo_mm, hb = out.cells[std::size_t(b)].height_lo_mm;
+    return ha != hb ? ha > hb : a < b;
+  };
+  std::sort(decisive.begin(), decisive.end(), deeper);
+  const std::size_t shownWorst = std::min<std::size_t>(20, worst.size());
+  std::partial_sort(worst.begin(), worst.begin() + std::ptrdiff_t(shownWorst), worst.end(), deeper);
+  std::vector<int> todo(decisive.begin(),
+                        decisive.begin() + std::ptrdiff_t(std::min<std::size_t>(decisive.size(),
+                                                                                std::size_t(params.section_height_cells))));
+  todo.insert(todo.end(), worst.begin(), worst.begin() + std::ptrdiff_t(shownWorst));
+  const double resolution = std::max(arrangement.sample_spacing_mm, 1e-9 * (hi - lo).norm());
+  const Vec3 pad = Vec3::Constant(1e-6 * (hi - lo).norm());
+  tbb::parallel_for(std::size_t(0), todo.size(), [&](std::size_t e) {
+    CellSampling& c = out.cells[std::size_t(todo[e])];
+    std::vector<int> sides;
+    Vec3 interior = c.centre;
+    if (c.scanned >= 0 || c.height_exact) {
+      sides = keys.sides(c.centre);
+    } else {  // no lattice point inside: its Chebyshev ball gives one
+      const auto& [plane, side] = arrPlaneSide[std::size_t(c.arrangement_cell)];
+      sides = keys.sides(c.centre, plane, side);
+      const CellHeight h = cellHeight(ps, sides, lo - pad, hi + pad, false);
+      if (h.open || !(h.height > 0)) return;
+      interior = h.centre;
+    }
+    const SectionHeightBound b = sectionHeightBound(ps, sides, interior, lo - pad, hi + pad,
+                                                    pointsOf[std::size_t(c.arrangement_cell)],
+                                                    target[std::size_t(todo[e])], resolution, params.section_height);
+    // h'_C ≥ h_C: a bound below the lower bound of h_C only reflects rounding.
+    c.section_height_hi_mm = std::max(b.upper_mm, c.height_lo_mm);
+    c.section_farthest = b.farthest;
+  });
+  out.section_height_max_mm = 0;
+  for (const CellSampling& c : out.cells) {
+    if (c.arrangement_cell < 0) continue;
+    out.section_height_cells += std::isfinite(c.section_height_hi_mm);
+    out.section_height_max_mm = std::max(out.section_height_max_mm, c.section_height_hi_mm);
+  }
 }
 
 /// Worst first: larger ratio, then larger height, then scan order.
@@ -155,6 +244,7 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
                                    const std::vector<SectionDistanceField>& fields, const SectionArrangement& arrangement,
                                    ReconstructionMethod method, const SamplingPrior& prior, const Vec3& lo,
                                    const Vec3& hi, double voxel_mm, double tolerance_mm,
+                                   const std::vector<std::uint8_t>& intersection_shown,
                                    const SamplingParams& params) {
   SamplingDiagnosis out;
   out.method = method;
@@ -251,6 +341,18 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
     c.centre = arrPoint[cell];
     cellOfKey.emplace(c.key, int(out.cells.size()));
     out.cells.push_back(c);
+  }
+
+  // The Intersection Condition as shown on the data (method 1): every arrangement cell of a
+  // diagnosis cell shown; a cell without sections holds it trivially.
+  const bool intersectionChecked = method == ReconstructionMethod::nearest_plane &&
+                                   intersection_shown.size() == candidates.size();
+  if (intersectionChecked) {
+    std::vector<char> notShown(out.cells.size(), 0);
+    for (std::size_t cell = 0; cell < candidates.size(); ++cell)
+      if (cellOfArrangement[cell] >= 0 && !intersection_shown[cell]) notShown[std::size_t(cellOfArrangement[cell])] = 1;
+    for (std::size_t i = 0; i < out.cells.size(); ++i)
+      out.cells[i].intersection = notShown[i] ? SamplingVerdict::undetermined : SamplingVerdict::satisfied;
   }
 
   // Angles and reach bounds where contours cross, given to the four cells around each crossing.
@@ -357,27 +459,41 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
   });
   for (int i : exact) out.exact_cells += out.cells[std::size_t(i)].height_exact;
   for (int i : exact) evaluate(out.cells[std::size_t(i)], method, prior);
+  if (method == ReconstructionMethod::section_voronoi) {
+    boundSectionHeights(out, ps, keys, planes, arrangement, arrPlaneSide, lo, hi, params);
+    for (CellSampling& c : out.cells) evaluate(c, method, prior);
+  }
 
   // Verdicts over all cells. A cell met neither by the lattice nor by a section holds no section and
   // has h_C ≤ ρ: for the guarantee, ρ must pass a cell without sections' conditions.
   out.density = out.transversality = SamplingVerdict::satisfied;
+  out.intersection = intersectionChecked ? SamplingVerdict::satisfied : SamplingVerdict::undetermined;
+  // Method 1: every cell shows C2 or, in its place, the Intersection Condition.
+  bool intersectionEverywhere = intersectionChecked;
   for (const CellSampling& c : out.cells) {
     out.density = combine(out.density, c.density.verdict);
     out.transversality = combine(out.transversality, c.transversality.verdict);
+    out.intersection = combine(out.intersection, c.intersection);
+    intersectionEverywhere = intersectionEverywhere && (c.intersection == SamplingVerdict::satisfied ||
+                                                        c.transversality.verdict == SamplingVerdict::satisfied);
   }
-  CellSampling unmet;
+  CellSampling unmet;  // no section: the Intersection Condition holds there trivially
   unmet.height_hi_mm = scan.half_diagonal_mm;
   evaluate(unmet, method, prior);
-  out.density = combine(out.density, unmet.density.verdict == SamplingVerdict::violated ? SamplingVerdict::satisfied
-                                                                                          : unmet.density.verdict);
-  out.transversality = combine(out.transversality, unmet.transversality.verdict == SamplingVerdict::violated
-                                                       ? SamplingVerdict::satisfied
-                                                       : unmet.transversality.verdict);
+  // An unmet cell's height is only bounded above (≤ ρ): it can show a condition, never a violation.
+  const auto unmetVerdict = [](SamplingVerdict v) {
+    return v == SamplingVerdict::violated ? SamplingVerdict::satisfied : v;
+  };
+  out.density = combine(out.density, unmetVerdict(unmet.density.verdict));
+  out.transversality = combine(out.transversality, unmetVerdict(unmet.transversality.verdict));
   if (out.unmatched_cells > 0) {  // cells holding sections that were not told apart: nothing is shown
-    if (out.density == SamplingVerdict::satisfied) out.density = SamplingVerdict::undetermined;
-    if (out.transversality == SamplingVerdict::satisfied) out.transversality = SamplingVerdict::undetermined;
+    for (SamplingVerdict* v : {&out.density, &out.transversality, &out.intersection})
+      if (*v == SamplingVerdict::satisfied) *v = SamplingVerdict::undetermined;
   }
-  out.verdict = combine(out.density, out.transversality);
+  out.verdict = cellVerdict(out.density, out.transversality,
+                            intersectionEverywhere && out.unmatched_cells == 0 ? SamplingVerdict::satisfied
+                                                                               : SamplingVerdict::undetermined,
+                            method);
   out.largest_empty_cell = largestEmpty;
 
   std::vector<int> deciding;
@@ -396,11 +512,20 @@ std::vector<std::string> samplingConsequences(const SamplingDiagnosis& d) {
     out.push_back(m1 ? "Separation Condition (Lemma 3): the sections are joined as in the object (Thm 3) and "
                        "every component of its boundary is cut by a plane (Prop. 2)"
                      : "Weak Density Condition: every component of the object's boundary is cut by a plane");
+  if (m1 && d.intersection == SamplingVerdict::satisfied)
+    out.push_back("Intersection Condition shown on the data (§4.4: every component of lift(S_C) contractible, "
+                  "at the sections' sample spacing)");
   if (d.verdict == SamplingVerdict::satisfied)
-    out.push_back(m1 ? "Intersection Condition (Thm 15): the reconstruction is homotopy equivalent, homeomorphic "
-                       "and isotopic to the object"
+    out.push_back(m1 ? std::string(d.transversality == SamplingVerdict::satisfied
+                                       ? "Transversality Condition (Thm 15), so the Intersection Condition holds"
+                                       : "Separation and Intersection Conditions") +
+                           ": the reconstruction is homotopy equivalent (Thm 14), homeomorphic and isotopic "
+                           "(Thm 16) to the object"
                      : "the reconstruction is homotopy equivalent, homeomorphic and isotopic to the object "
-                       "(Thm 23-24), within Hausdorff distance max h'_C (Thm 20)");
+                       "(Thm 23-24), within Hausdorff distance max h'_C (Thm 20)" +
+                           (std::isfinite(d.section_height_max_mm)
+                                ? " <= " + std::to_string(d.section_height_max_mm) + " mm"
+                                : std::string()));
   return out;
 }
 

@@ -12,8 +12,9 @@
 //  - h_C comes from a lattice scan (cell_scan.h) as a lower and an upper bound, made exact by the
 //    cell's Chebyshev ball (cell_height.h) where the bounds straddle a critical value.
 //  - Method 2: h'_C ≥ h_C (the nearest section point of x ∈ C lies on ∂C), so h_C is a lower bound
-//    of h'_C; no upper bound is computed, so method 2's conditions are violated or undetermined,
-//    never satisfied.
+//    of h'_C; the upper bound comes from branch and bound over the cell's polytope
+//    (section_cell_height.h), for the cells where it may show a condition (every prior given) and
+//    the worst cells, within `section_height_cells`.
 //  - α_C: the larger of the prior `max_angle_deg` and the angles measured where contours cross
 //    (contour_crossings.h) on the cell's boundary. Without the prior, α_C is unknown for a cell
 //    holding sections (a few measured angles do not bound it), so C2 / C'3 cannot be satisfied
@@ -24,6 +25,8 @@
 //    the upper bound of the height is below the critical value known for certain (every prior it
 //    needs given), violated when the lower bound of the height reaches it; `violated` from the data
 //    bound alone holds whatever the object (for a smooth ∂O whose sections are the contours given).
+//  - Method 1's second condition is C2 or, in its place, the Intersection Condition shown on the
+//    data (§4.4, intersection_condition.h): with C1 either gives Thm 14 and 16's guarantees.
 //  - Cells holding no section, both methods: O ∩ ∂C is empty, so either O misses C (and so does R;
 //    every condition holds there trivially: the nearest point on ∂C of any x in C is outside O), or
 //    a component of O lies inside C (Prop. 2), holding a medial ball of radius ≥ reach_i. Their one
@@ -43,6 +46,7 @@
 #include "geometry/sampling/contour_crossings.h"
 #include "geometry/sampling/neighbour_angles.h"
 #include "geometry/sampling/reach_bound.h"
+#include "geometry/sampling/section_cell_height.h"
 #include "geometry/scene/section_distance_field.h"
 
 namespace xsect {
@@ -67,6 +71,10 @@ struct SamplingParams {
   CrossingParams crossings;
   ReachBoundParams reach_bounds;
   NeighbourAngleParams neighbour_angles;
+  SectionHeightParams section_height;
+  /// Method 2: at most this many cells get an upper bound of h'_C (section_cell_height.h), those
+  /// that may be shown first, worst first; the others keep +inf (their conditions are not shown).
+  int section_height_cells = 20000;
 };
 
 /// One condition in one cell.
@@ -85,6 +93,10 @@ struct CellSampling {
   bool height_exact = false;   ///< Chebyshev ball solved
   Vec3 centre = Vec3::Zero();  ///< centre of the inscribed ball (or the lattice point reaching height_lo)
   bool end_cell = false;       ///< bounded by an end plane (an open cell closed by the end planes)
+  /// Method 2 (Def. 31): an upper bound of h'_C, the largest distance of a point of C to the
+  /// sections on ∂C (+inf: not bounded); its lower bound is height_lo_mm (h'_C ≥ h_C).
+  double section_height_hi_mm = std::numeric_limits<double>::infinity();
+  Vec3 section_farthest = Vec3::Zero();  ///< where that bound is reached (within its resolution)
   double alpha_max_deg = std::numeric_limits<double>::quiet_NaN();  ///< measured, NaN: none
   double alpha_lower_deg = 0;  ///< max over its crossings of (α measured − its margin), ≥ 0
   /// Largest α estimated from neighbouring near-parallel slices at its contour points (NaN: none);
@@ -97,6 +109,10 @@ struct CellSampling {
   double transversal_bound_mm = std::numeric_limits<double>::infinity();
   ConditionCheck density;        ///< C1 (method 1), C'1 (method 2); cells without sections: Prop. 2
   ConditionCheck transversality; ///< C2 / C'3
+  /// Method 1: the Intersection Condition shown on the data in this cell (intersection_condition.h):
+  /// `satisfied` (also for a cell without sections: S_C is empty), else `undetermined` (the data
+  /// cannot show it violated: Fig. 1.11's torus and twisted cylinder have the same sections).
+  SamplingVerdict intersection = SamplingVerdict::undetermined;
   SamplingVerdict verdict = SamplingVerdict::undetermined;
   /// height / critical value of the strongest condition known for the cell (NaN: none known).
   double ratio = std::numeric_limits<double>::quiet_NaN();
@@ -111,6 +127,9 @@ struct SamplingDiagnosis {
   SamplingVerdict verdict = SamplingVerdict::undetermined;  ///< the topological guarantee
   SamplingVerdict density = SamplingVerdict::undetermined;  ///< over all cells
   SamplingVerdict transversality = SamplingVerdict::undetermined;
+  /// Method 1: the Intersection Condition shown on the data in every cell (undetermined when
+  /// not checked: method 2, or no lifts given).
+  SamplingVerdict intersection = SamplingVerdict::undetermined;
   std::vector<int> deciding;     ///< cells that decide the verdict, worst first (at most 20)
   int largest_empty_cell = -1;   ///< the cell without sections with the largest height (Prop. 2)
   double reach_interior_bound_mm = std::numeric_limits<double>::infinity();  ///< data, over all crossings
@@ -120,6 +139,10 @@ struct SamplingDiagnosis {
   /// α estimated from neighbouring near-parallel slices over the contour points examined, degrees.
   std::vector<double> alpha_estimates_deg;
   int exact_cells = 0;           ///< Chebyshev balls solved
+  int section_height_cells = 0;  ///< method 2: cells whose h'_C was bounded from above
+  /// Method 2: max over the cells with sections of the bound of h'_C (+inf when a cell has none):
+  /// under the conditions, d_H(O, R') ≤ max h'_C (Thm 20).
+  double section_height_max_mm = std::numeric_limits<double>::infinity();
   /// Cells holding sections that only trace points reach (not told apart from their neighbours):
   /// when any, nothing is shown satisfied.
   int unmatched_cells = 0;
@@ -131,10 +154,13 @@ struct SamplingDiagnosis {
 /// @param lo, hi  the end planes' box, mm.
 /// @param voxel_mm the reconstruction's voxel (the lattice's finest spacing).
 /// @param tolerance_mm how far contours may miss each other at a crossing (contour_crossings.h).
+/// @param intersection_shown per arrangement cell, 1 where the Intersection Condition was shown on
+///                the data (checkIntersectionCondition, method 1); empty: not checked.
 SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
                                    const std::vector<SectionDistanceField>& fields, const SectionArrangement& arrangement,
                                    ReconstructionMethod method, const SamplingPrior& prior, const Vec3& lo,
                                    const Vec3& hi, double voxel_mm, double tolerance_mm,
+                                   const std::vector<std::uint8_t>& intersection_shown = {},
                                    const SamplingParams& params = {});
 
 /// The thesis' consequences that the verdicts shown give, in words (e.g. "sections joined as in
