@@ -105,11 +105,8 @@ SamplingStage samplingStage(const RunConfig& c, const SectionScene& scene, const
   const auto since = [](std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   };
-  if (c.reconstruction_method == ReconstructionMethod::nearest_plane)
-    s.intersection = checkIntersectionCondition(scene.planes, arrangement.arrangement, arrangement.graphs.lift_section,
-                                                arrangement.graphs.lift_length_mm);
   s.diagnosis = diagnoseSampling(scene.planes, scene.fields, arrangement.arrangement, c.reconstruction_method,
-                                 samplingPrior(c), s.lo, s.hi, scene.params.voxel_mm, tolerance, s.intersection.shown);
+                                 samplingPrior(c), s.lo, s.hi, scene.params.voxel_mm, tolerance);
   s.diagnosis_s = since(start);
   if (!advise || s.diagnosis.verdict == SamplingVerdict::satisfied) return s;
   const auto adviceStart = std::chrono::steady_clock::now();
@@ -179,9 +176,12 @@ json samplingSummaryJson(const SamplingStage& s) {
                 {"exact_heights", d.exact_cells},
                 {"holding_sections_not_told_apart", d.unmatched_cells}};
   if (d.method == ReconstructionMethod::nearest_plane)
-    r["cells"]["intersection_not_shown"] = {{"piece_with_hole", s.intersection.cells_with_holes},
-                                            {"cycle_or_split_intersection", s.intersection.cells_with_cycles},
-                                            {"lift_unlocated", s.intersection.cells_unlocated}};
+    r["cells"]["intersection_on_data"] = {
+        {"checked", d.intersection_checked},
+        {"not_contractible", d.intersection_not_contractible},
+        {"not_sampled", d.intersection_unsampled},
+        {"meaning", "cells where C1 is shown whose reconstruction R_C (homotopy equivalent to lift(S_C)) was "
+                    "sampled: its components must all be contractible for the Intersection Condition (§4.4)"}};
   r["max_height_mm"] = maxHeight;
   if (d.method == ReconstructionMethod::section_voronoi)
     r["section_heights"] = {

@@ -10,7 +10,6 @@
 #include <string>
 #include <vector>
 
-#include "geometry/sampling/intersection_condition.h"
 #include "geometry/sampling/sampling_conditions.h"
 #include "geometry/sampling/slice_advice.h"
 #include "io/run_config.h"
@@ -21,7 +20,6 @@ namespace xsect {
 
 struct SamplingStage {
   SamplingDiagnosis diagnosis;
-  IntersectionConditionCheck intersection;   ///< method 1: the Intersection Condition on the data
   Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  ///< the end planes' box, mm
   std::vector<AdvisedSlice> advice;
   std::vector<PoseRecord> advice_poses;      ///< the advice as image poses at the input's pixel size

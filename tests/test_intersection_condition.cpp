@@ -1,14 +1,12 @@
 // The Intersection Condition shown on the data (thesis ch. 1 §4.4; intersection_condition.h) on
-// two-plane slabs whose lift(S_C) is known: contractible (overlapping discs; two discs joined by
-// one bar) is shown; a piece with a hole (an annulus), a lift intersection in two components (a
-// C-shaped section under a bar crossing both its arms) and a cycle of four pieces (two discs under
-// two bars) are not.
+// two-plane slabs whose R_C is known: contractible components (overlapping discs, two discs joined
+// by one bar, an annulus under a disc, two separate discs) are shown; a tube (annuli on both
+// planes), a C-shaped section under a bar crossing both its arms and two discs under two bars
+// (loops) are not.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "geometry/arrangement/connectivity_graph.h"
-#include "geometry/arrangement/section_arrangement.h"
 #include "geometry/sampling/intersection_condition.h"
 #include "section_fixtures.h"
 
@@ -43,60 +41,53 @@ Section cShape(double rIn, double rOut, double gapDeg) {
   return s;
 }
 
-struct Slab {
-  IntersectionConditionCheck check;
-  bool slabShown = false;
-};
-
-/// Planes z = 0 and z = 1 holding `low` and `high`, closed by a box of half side 5.
-Slab slab(const std::vector<Section>& low, const std::vector<Section>& high) {
-  std::vector<CuttingPlane> planes(2);
-  planes[0].plane = test::axisPlane(2, 0);
-  planes[0].sections = low;
-  planes[1].plane = test::axisPlane(2, 1);
-  planes[1].sections = high;
+/// Whether the Intersection Condition is shown in the slab cell between z = 0 (holding `low`) and
+/// z = 1 (holding `high`), closed by a box of half side 2.5: R_C's components contractible.
+CellReconstructionTopology slab(const std::vector<Section>& low, const std::vector<Section>& high) {
+  std::vector<Plane> planes = {test::axisPlane(2, 0), test::axisPlane(2, 1)};
+  std::vector<SectionDistanceField> fields = {sectionDistanceField(low, 0.02, 0.6), sectionDistanceField(high, 0.02, 0.6)};
+  std::vector<int> sides = {1, -1};
   for (int axis = 0; axis < 3; ++axis)
-    for (const double o : {-5.0, 5.0}) {
-      CuttingPlane e;
-      e.plane = test::axisPlane(axis, o);
-      planes.push_back(e);
+    for (const double o : {-2.5, 2.5}) {
+      planes.push_back(test::axisPlane(axis, o));
+      fields.push_back(sectionDistanceField({}, 0.02, 0.6));
+      sides.push_back(o < 0 ? 1 : -1);
     }
-  SectionScene scene;
-  scene.planes = planes;
-  scene.real_planes = 2;
-  for (const CuttingPlane& p : planes) scene.fields.push_back(sectionDistanceField(p.sections, 0.05, 0.6));
-  const SectionArrangement arr = arrangeSections(planes, 0.05);
-  const ConnectivityGraphs g = connectivityGraphs(scene, arr, {}, false);
-  Slab out;
-  out.check = checkIntersectionCondition(planes, arr, g.lift_section, g.lift_length_mm);
-  for (const SubSection& s : arr.sub_sections)
-    if (s.plane == 0 && s.side == 1) out.slabShown = out.check.shown[std::size_t(s.cell)] != 0;
-  return out;
+  CellTopologyParams p;
+  p.lattice_points = 40000;
+  return cellReconstructionTopology(planes, fields, sides, Vec3(0.1, 0.2, 0.5), Vec3::Constant(-3), Vec3::Constant(3), p);
 }
 
 }  // namespace
 
-TEST(IntersectionCondition, ContractibleLiftsAreShown) {
-  EXPECT_TRUE(slab({disc({0, 0}, 1)}, {disc({0.5, 0}, 1)}).slabShown);
-  // Two discs joined by one bar: a tree of three pieces.
-  EXPECT_TRUE(slab({disc({-1.5, 0}, 0.8), disc({1.5, 0}, 0.8)}, {rectangle({-2.5, 0.3}, {2.5, 0.7})}).slabShown);
-}
-
-TEST(IntersectionCondition, AHoleASplitIntersectionAndACycleAreNot) {
+TEST(IntersectionCondition, ContractibleReconstructionsAreShown) {
+  const CellReconstructionTopology t = slab({disc({0, 0}, 1)}, {disc({0.5, 0}, 1)});
+  EXPECT_TRUE(t.sampled);
+  EXPECT_EQ(t.betti, (Betti{1, 0, 0}));
+  EXPECT_TRUE(t.contractible());
+  // Two discs joined by one bar: a tree.
+  EXPECT_TRUE(slab({disc({-1.5, 0}, 0.8), disc({1.5, 0}, 0.8)}, {rectangle({-2.2, 0.3}, {2.2, 0.7})}).contractible());
+  // An annulus under a disc: a cup, contractible although a piece has a hole.
   Section annulus = disc({0, 0}, 2);
   annulus.holes.push_back(test::circle({0, 0}, 1, 96, false));
-  const Slab hole = slab({annulus}, {disc({0, 0}, 2.5)});
-  EXPECT_FALSE(hole.slabShown);
-  EXPECT_GE(hole.check.cells_with_holes, 1);
+  EXPECT_TRUE(slab({annulus}, {disc({0, 0}, 2)}).contractible());
+  // Two separate discs over nothing: two components, each contractible.
+  const CellReconstructionTopology two = slab({disc({-1.5, 0}, 0.8), disc({1.5, 0}, 0.8)}, {});
+  EXPECT_EQ(two.betti, (Betti{2, 0, 0}));
+  EXPECT_TRUE(two.contractible());
+}
 
-  const Slab split = slab({cShape(1.4, 2, 20)}, {rectangle({-0.3, -2.5}, {0.3, 2.5})});
-  EXPECT_FALSE(split.slabShown);
-  EXPECT_GE(split.check.cells_with_cycles, 1);
-  // The same bar across one arm only: one component.
-  EXPECT_TRUE(slab({cShape(1.4, 2, 20)}, {rectangle({-0.3, 0.5}, {0.3, 2.5})}).slabShown);
-
-  const Slab cycle = slab({disc({-1.5, 0}, 0.8), disc({1.5, 0}, 0.8)},
-                          {rectangle({-2.5, 0.3}, {2.5, 0.7}), rectangle({-2.5, -0.7}, {2.5, -0.3})});
-  EXPECT_FALSE(cycle.slabShown);
-  EXPECT_GE(cycle.check.cells_with_cycles, 1);
+TEST(IntersectionCondition, LoopsThroughTheCellAreNot) {
+  Section annulus = disc({0, 0}, 2);
+  annulus.holes.push_back(test::circle({0, 0}, 1, 96, false));
+  const CellReconstructionTopology tube = slab({annulus}, {annulus});
+  EXPECT_EQ(tube.betti, (Betti{1, 1, 0}));
+  EXPECT_FALSE(tube.contractible());
+  // A C-shaped section under a bar crossing both its arms: the lifts meet twice, a loop.
+  EXPECT_FALSE(slab({cShape(1.4, 2, 20)}, {rectangle({-0.3, -2.2}, {0.3, 2.2})}).contractible());
+  EXPECT_TRUE(slab({cShape(1.4, 2, 20)}, {rectangle({-0.3, 0.5}, {0.3, 2.2})}).contractible());
+  // Two discs under two bars: a cycle of four pieces (thesis Fig. 1.11's torus).
+  EXPECT_FALSE(slab({disc({-1.5, 0}, 0.8), disc({1.5, 0}, 0.8)},
+                    {rectangle({-2.2, 0.3}, {2.2, 0.7}), rectangle({-2.2, -0.7}, {2.2, -0.3})})
+                   .contractible());
 }

@@ -89,8 +89,6 @@ ConnectivityGraphs connectivityGraphs(const SectionScene& scene, const SectionAr
     }
   });
   tbb::enumerable_thread_specific<ConnectivityGraphs> local;
-  std::vector<std::int32_t> liftSection(2 * arr.points.size(), -1);
-  std::vector<float> liftLength(2 * arr.points.size(), 0.f);
   tbb::parallel_for(std::size_t(0), arr.points.size(), [&](std::size_t q) {
     const SectionPoint& sp = arr.points[q];
     if (sp.kind == SectionPoint::trace) return;
@@ -117,11 +115,7 @@ ConnectivityGraphs connectivityGraphs(const SectionScene& scene, const SectionAr
       }
       if (bq >= 0) {
         const int b = sectionAt(planes[std::size_t(bq)], boxes[std::size_t(bq)], a + best * n);
-        if (b >= 0) {
-          out.g.push_back(edge(sp.plane, sp.section, bq, b, cell));
-          liftSection[2 * q + std::size_t(side)] = ids.of(bq, b);
-          liftLength[2 * q + std::size_t(side)] = float(best);
-        }
+        if (b >= 0) out.g.push_back(edge(sp.plane, sp.section, bq, b, cell));
       }
       if (!query) continue;
       // Method 2: the ray from a lies in A's lift up to method 1's lift point (proof of Theorem
@@ -146,8 +140,6 @@ ConnectivityGraphs connectivityGraphs(const SectionScene& scene, const SectionAr
     }
   });
   ConnectivityGraphs all;
-  all.lift_section = std::move(liftSection);
-  all.lift_length_mm = std::move(liftLength);
   for (auto& l : local) {
     all.g.insert(all.g.end(), l.g.begin(), l.g.end());
     all.g_prime.insert(all.g_prime.end(), l.g_prime.begin(), l.g_prime.end());

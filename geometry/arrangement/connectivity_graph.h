@@ -34,12 +34,6 @@ struct GraphEdge {
 struct ConnectivityGraphs {
   std::vector<GraphEdge> g;        ///< method 1, sorted, unique
   std::vector<GraphEdge> g_prime;  ///< method 2, sorted, unique
-  /// Method 1's lift of each section point a, per side of its plane (index 2q + side, side 0 the
-  /// negative one, as SectionPoint::cell): the section (SectionIds) whose lift meets A's at lift(a),
-  /// −1 when none (and for trace points); and |a − lift(a)|, mm. The Intersection Condition's
-  /// check (intersection_condition.h) reads them.
-  std::vector<std::int32_t> lift_section;
-  std::vector<float> lift_length_mm;
 };
 
 /// @param scene        the cutting planes (real and virtual, as given to arrangeSections) and

@@ -1,53 +1,51 @@
 // The Intersection Condition (thesis ch. 1 §4.4, Def. 25) shown on the data, per cell, for
 // method 1. The thesis' sufficient form (§4.4): every connected component of lift(S_C) is
-// contractible. Then π1(lift(S_C)) is trivial, so the lift map L_* is onto (Def. 25 holds: under
+// contractible. Then π1(lift(S_C)) is trivial and the lift map L_* is onto (Def. 25 holds: under
 // the Separation Condition the sections whose lifts meet are joined in M_C, and every loop is
-// trivial), and with the Separation Condition R is homotopy equivalent (Thm 12, 14),
-// homeomorphic and isotopic (Thm 16) to O.
+// trivial), so with the Separation Condition R is homotopy equivalent (Thm 12, 14), homeomorphic
+// and isotopic (Thm 16) to O.
 //
-// lift(S_C) is the union of the lifts of the pieces of the sections on ∂C (a piece: a connected
-// component of a section ∩ a face of C), each homeomorphic to its piece. The components of such a
-// union are contractible when (peeling leaves off a tree, Mayer-Vietoris):
-//  (i)   every piece is simply connected. A section ∩ a convex face has simply connected
-//        components unless one of the section's holes lies wholly inside the face (no plane
-//        separates the hole's vertices);
-//  (ii)  every nonempty lift(P) ∩ lift(P') is connected. It lies on the ridge of C's medial axis
-//        between the two faces, where it is the intersection of two simply connected planar sets
-//        (pulled back by the two orthogonal projections), so its components are simply connected;
-//  (iii) the graph of the pieces, with one edge per component of those intersections, is a forest
-//        (so no three lifts meet either).
-// The pieces and the components of (ii) are found on the arrangement's section points (lattice
-// samples at spacing s, contour vertices, trace points), points within 1.5 s taken as connected:
-// like the connectivity graphs, the check holds at the sampling's resolution (a connection or a
-// gap narrower than s can be missed). A component of lift(P) ∩ lift(P') is counted on the points
-// of P whose method-1 lift lands in P' (their lifts are the intersection, projected on P's plane),
-// and from P' likewise; the larger count is taken. A cell is not shown (left undetermined) when
-// any of (i)-(iii) fails, or when a lift lands where no point of the section it lands in lies
-// within 1.5 s.
+// lift(S_C) is checked through R_C, the reconstruction within the cell, which is homotopy
+// equivalent to it (§4.4: R_C deformation retracts on lift(S_C) along the segments [x, lift(x)]):
+//     R_C = {x ∈ C : np(x), x's nearest point of ∂C, lies in a section},
+// np(x) being x's projection on its nearest plane of C (C convex). R_C is sampled on a lattice of
+// the cell's box along its principal axes (about `lattice_points` points, isotropic), and the
+// Betti numbers of the union of the closed lattice cubes whose centres lie in R_C are computed
+// (voxelBetti): the components are contractible when b1 = b2 = 0. Like any sampling this holds at the lattice's
+// resolution (a handle or a gap thinner than its spacing can be missed); a cell that holds fewer
+// than `min_inside` lattice points (a sliver) is not sampled, and nothing is shown there.
 #pragma once
 
-#include <cstdint>
 #include <vector>
 
-#include "geometry/arrangement/section_arrangement.h"
 #include "geometry/core/types.h"
+#include "geometry/scene/section_distance_field.h"
 
 namespace xsect {
 
-struct IntersectionConditionCheck {
-  std::vector<std::uint8_t> shown;  ///< per arrangement cell: 1 when the condition is shown there
-  int cells_with_holes = 0;         ///< a piece with a hole (i)
-  int cells_with_cycles = 0;        ///< the pieces' graph has a cycle or a disconnected intersection (ii-iii)
-  int cells_unlocated = 0;          ///< a lift landing far from every point of its section
+struct CellReconstructionTopology {
+  bool sampled = false;     ///< the cell was built and held enough lattice points
+  Betti betti{0, 0, 0};     ///< of R_C's sampling
+  int points_inside = 0;    ///< lattice points in C
+  double spacing_mm = 0;    ///< the lattice's spacing
+  /// The Intersection Condition shown: every component of R_C (≃ lift(S_C)) contractible.
+  bool contractible() const { return sampled && betti[1] == 0 && betti[2] == 0; }
 };
 
-/// @param planes        the planes the arrangement was built on.
-/// @param lift_section, lift_length_mm  method 1's lifts of the arrangement's points
-///                      (ConnectivityGraphs, connectivity_graph.h): 2 per point; other sizes
-///                      show nothing.
-IntersectionConditionCheck checkIntersectionCondition(const std::vector<CuttingPlane>& planes,
-                                                      const SectionArrangement& arrangement,
-                                                      const std::vector<std::int32_t>& lift_section,
-                                                      const std::vector<float>& lift_length_mm);
+struct CellTopologyParams {
+  int lattice_points = 2048;  ///< points of the lattice over the cell's box (about; 8 times more for a cell holding too few)
+  int min_inside = 64;        ///< fewer lattice points inside the cell: not sampled
+};
+
+/// @param planes  all planes (unit normals) and their f_P rasters (section_distance_field.h), one
+///                per plane (a plane without a raster holds no section).
+/// @param sides   the cell's side of each plane (+1: the normal's side).
+/// @param interior a point strictly inside the cell, mm.
+/// @param lo, hi  a box that closes the cell (the end planes' box, padded), mm.
+CellReconstructionTopology cellReconstructionTopology(const std::vector<Plane>& planes,
+                                                      const std::vector<SectionDistanceField>& fields,
+                                                      const std::vector<int>& sides, const Vec3& interior,
+                                                      const Vec3& lo, const Vec3& hi,
+                                                      const CellTopologyParams& params = {});
 
 }  // namespace xsect

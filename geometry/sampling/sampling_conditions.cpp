@@ -156,6 +156,31 @@ bool needsExactHeight(const CellSampling& c, ReconstructionMethod method, const 
   return straddles(c.height_lo_mm, c.height_hi_mm, d) || straddles(c.height_lo_mm, c.height_hi_mm, t);
 }
 
+enum class Interior { found, none };
+
+/// The cell's sign vector and a point strictly inside it: the lattice point or ball centre it holds
+/// when that lies off every plane (its distance to them, height_lo_mm, > 0), else the centre of its
+/// Chebyshev ball. `none`: the exact program finds no ball (beyond rounding) in the box, so the sign
+/// vector bounds no open region there (a point where many planes meet, e.g. a fan's axis, keyed as
+/// a cell), and nothing of the object or of R lies in it.
+Interior cellInterior(const CellSampling& c, const std::vector<Plane>& ps, const CellKeys& keys,
+                      const std::vector<std::pair<int, int>>& arrPlaneSide, const Vec3& lo, const Vec3& hi,
+                      std::vector<int>* sides, Vec3* interior) {
+  const bool inside = c.scanned >= 0 || c.height_exact;
+  if (inside) {
+    *sides = keys.sides(c.centre);
+  } else {  // the section point that keyed the cell: on its own plane, on the cell's side
+    const auto& [plane, side] = arrPlaneSide[std::size_t(c.arrangement_cell)];
+    *sides = keys.sides(c.centre, plane, side);
+  }
+  *interior = c.centre;
+  if (inside && c.height_lo_mm > 0) return Interior::found;
+  const CellHeight h = cellHeight(ps, *sides, lo, hi, false);
+  if (h.open || !(h.height > 1e-9 * (hi - lo).norm())) return Interior::none;
+  *interior = h.centre;
+  return Interior::found;
+}
+
 /// Method 2: upper bounds of h'_C (section_cell_height.h) for the cells with sections where they
 /// may show a condition (every prior it needs given, the lower bound below it), then for the
 /// worst cells, within the budget. `arrPlaneSide[k]`: the plane and side of the point that keyed
@@ -205,16 +230,10 @@ void boundSectionHeights(SamplingDiagnosis& out, const std::vector<Plane>& ps, c
   tbb::parallel_for(std::size_t(0), todo.size(), [&](std::size_t e) {
     CellSampling& c = out.cells[std::size_t(todo[e])];
     std::vector<int> sides;
-    Vec3 interior = c.centre;
-    if (c.scanned >= 0 || c.height_exact) {
-      sides = keys.sides(c.centre);
-    } else {  // no lattice point inside: its Chebyshev ball gives one
-      const auto& [plane, side] = arrPlaneSide[std::size_t(c.arrangement_cell)];
-      sides = keys.sides(c.centre, plane, side);
-      const CellHeight h = cellHeight(ps, sides, lo - pad, hi + pad, false);
-      if (h.open || !(h.height > 0)) return;
-      interior = h.centre;
-    }
+    Vec3 interior;
+    const Interior found = cellInterior(c, ps, keys, arrPlaneSide, lo - pad, hi + pad, &sides, &interior);
+    if (found == Interior::none) c.section_height_hi_mm = c.height_lo_mm;  // no open region: nothing to reach
+    if (found != Interior::found) return;
     const SectionHeightBound b = sectionHeightBound(ps, sides, interior, lo - pad, hi + pad,
                                                     pointsOf[std::size_t(c.arrangement_cell)],
                                                     target[std::size_t(todo[e])], resolution, params.section_height);
@@ -227,6 +246,56 @@ void boundSectionHeights(SamplingDiagnosis& out, const std::vector<Plane>& ps, c
     if (c.arrangement_cell < 0) continue;
     out.section_height_cells += std::isfinite(c.section_height_hi_mm);
     out.section_height_max_mm = std::max(out.section_height_max_mm, c.section_height_hi_mm);
+  }
+}
+
+/// Method 1: the Intersection Condition on the data (intersection_condition.h) in the cells with
+/// sections where C1 is shown, largest heights first, within the budget; cells without sections
+/// hold it trivially.
+void checkIntersection(SamplingDiagnosis& out, const std::vector<Plane>& ps,
+                       const std::vector<SectionDistanceField>& fields, const CellKeys& keys,
+                       const std::vector<std::pair<int, int>>& arrPlaneSide, const Vec3& lo, const Vec3& hi,
+                       const SamplingParams& params) {
+  std::vector<int> todo;
+  for (std::size_t i = 0; i < out.cells.size(); ++i) {
+    CellSampling& c = out.cells[i];
+    c.intersection = c.arrangement_cell < 0 ? SamplingVerdict::satisfied : SamplingVerdict::undetermined;
+    if (c.arrangement_cell >= 0 && c.density.verdict == SamplingVerdict::satisfied) todo.push_back(int(i));
+  }
+  std::sort(todo.begin(), todo.end(), [&](int a, int b) {
+    const double ha = out.cells[std::size_t(a)].height_hi_mm, hb = out.cells[std::size_t(b)].height_hi_mm;
+    return ha != hb ? ha > hb : a < b;
+  });
+  if (todo.size() > std::size_t(params.intersection_cells)) {
+    out.intersection_unsampled += int(todo.size()) - params.intersection_cells;
+    todo.resize(std::size_t(params.intersection_cells));
+  }
+  const Vec3 pad = Vec3::Constant(1e-6 * (hi - lo).norm());
+  std::vector<CellReconstructionTopology> topo(todo.size());
+  tbb::parallel_for(std::size_t(0), todo.size(), [&](std::size_t e) {
+    CellSampling& c = out.cells[std::size_t(todo[e])];
+    std::vector<int> sides;
+    Vec3 interior;
+    const Interior found = cellInterior(c, ps, keys, arrPlaneSide, lo - pad, hi + pad, &sides, &interior);
+    if (found == Interior::none) {  // no open region: R_C is empty, the condition holds trivially
+      topo[e].sampled = true;
+      return;
+    }
+    if (found != Interior::found) return;
+    topo[e] = cellReconstructionTopology(ps, fields, sides, interior, lo - pad, hi + pad, params.cell_topology);
+  });
+  for (std::size_t e = 0; e < todo.size(); ++e) {
+    CellSampling& c = out.cells[std::size_t(todo[e])];
+    if (!topo[e].sampled) {
+      ++out.intersection_unsampled;
+      continue;
+    }
+    ++out.intersection_checked;
+    if (topo[e].contractible()) {
+      c.intersection = SamplingVerdict::satisfied;
+    } else {
+      ++out.intersection_not_contractible;
+    }
   }
 }
 
@@ -244,7 +313,6 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
                                    const std::vector<SectionDistanceField>& fields, const SectionArrangement& arrangement,
                                    ReconstructionMethod method, const SamplingPrior& prior, const Vec3& lo,
                                    const Vec3& hi, double voxel_mm, double tolerance_mm,
-                                   const std::vector<std::uint8_t>& intersection_shown,
                                    const SamplingParams& params) {
   SamplingDiagnosis out;
   out.method = method;
@@ -341,18 +409,6 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
     c.centre = arrPoint[cell];
     cellOfKey.emplace(c.key, int(out.cells.size()));
     out.cells.push_back(c);
-  }
-
-  // The Intersection Condition as shown on the data (method 1): every arrangement cell of a
-  // diagnosis cell shown; a cell without sections holds it trivially.
-  const bool intersectionChecked = method == ReconstructionMethod::nearest_plane &&
-                                   intersection_shown.size() == candidates.size();
-  if (intersectionChecked) {
-    std::vector<char> notShown(out.cells.size(), 0);
-    for (std::size_t cell = 0; cell < candidates.size(); ++cell)
-      if (cellOfArrangement[cell] >= 0 && !intersection_shown[cell]) notShown[std::size_t(cellOfArrangement[cell])] = 1;
-    for (std::size_t i = 0; i < out.cells.size(); ++i)
-      out.cells[i].intersection = notShown[i] ? SamplingVerdict::undetermined : SamplingVerdict::satisfied;
   }
 
   // Angles and reach bounds where contours cross, given to the four cells around each crossing.
@@ -462,14 +518,18 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
   if (method == ReconstructionMethod::section_voronoi) {
     boundSectionHeights(out, ps, keys, planes, arrangement, arrPlaneSide, lo, hi, params);
     for (CellSampling& c : out.cells) evaluate(c, method, prior);
+  } else {
+    checkIntersection(out, ps, fields, keys, arrPlaneSide, lo, hi, params);
+    for (CellSampling& c : out.cells) evaluate(c, method, prior);
   }
 
   // Verdicts over all cells. A cell met neither by the lattice nor by a section holds no section and
   // has h_C ≤ ρ: for the guarantee, ρ must pass a cell without sections' conditions.
   out.density = out.transversality = SamplingVerdict::satisfied;
-  out.intersection = intersectionChecked ? SamplingVerdict::satisfied : SamplingVerdict::undetermined;
+  const bool m1 = method == ReconstructionMethod::nearest_plane;
+  out.intersection = m1 ? SamplingVerdict::satisfied : SamplingVerdict::undetermined;
   // Method 1: every cell shows C2 or, in its place, the Intersection Condition.
-  bool intersectionEverywhere = intersectionChecked;
+  bool intersectionEverywhere = m1;
   for (const CellSampling& c : out.cells) {
     out.density = combine(out.density, c.density.verdict);
     out.transversality = combine(out.transversality, c.transversality.verdict);
@@ -513,8 +573,8 @@ std::vector<std::string> samplingConsequences(const SamplingDiagnosis& d) {
                        "every component of its boundary is cut by a plane (Prop. 2)"
                      : "Weak Density Condition: every component of the object's boundary is cut by a plane");
   if (m1 && d.intersection == SamplingVerdict::satisfied)
-    out.push_back("Intersection Condition shown on the data (§4.4: every component of lift(S_C) contractible, "
-                  "at the sections' sample spacing)");
+    out.push_back("Intersection Condition shown on the data (§4.4: in every cell, the components of R_C, "
+                  "homotopy equivalent to lift(S_C), are contractible, at the resolution of a lattice per cell)");
   if (d.verdict == SamplingVerdict::satisfied)
     out.push_back(m1 ? std::string(d.transversality == SamplingVerdict::satisfied
                                        ? "Transversality Condition (Thm 15), so the Intersection Condition holds"

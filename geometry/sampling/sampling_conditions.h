@@ -44,6 +44,7 @@
 #include "geometry/core/types.h"
 #include "geometry/sampling/cell_scan.h"
 #include "geometry/sampling/contour_crossings.h"
+#include "geometry/sampling/intersection_condition.h"
 #include "geometry/sampling/neighbour_angles.h"
 #include "geometry/sampling/reach_bound.h"
 #include "geometry/sampling/section_cell_height.h"
@@ -75,6 +76,10 @@ struct SamplingParams {
   /// Method 2: at most this many cells get an upper bound of h'_C (section_cell_height.h), those
   /// that may be shown first, worst first; the others keep +inf (their conditions are not shown).
   int section_height_cells = 20000;
+  CellTopologyParams cell_topology;
+  /// Method 1: at most this many cells get their R_C sampled for the Intersection Condition (those
+  /// where C1 is shown, worst first); the others are left undetermined.
+  int intersection_cells = 20000;
 };
 
 /// One condition in one cell.
@@ -111,7 +116,8 @@ struct CellSampling {
   ConditionCheck transversality; ///< C2 / C'3
   /// Method 1: the Intersection Condition shown on the data in this cell (intersection_condition.h):
   /// `satisfied` (also for a cell without sections: S_C is empty), else `undetermined` (the data
-  /// cannot show it violated: Fig. 1.11's torus and twisted cylinder have the same sections).
+  /// cannot show it violated: Fig. 1.11's torus and twisted cylinder have the same sections). Only
+  /// checked where C1 is shown (alone it gives nothing).
   SamplingVerdict intersection = SamplingVerdict::undetermined;
   SamplingVerdict verdict = SamplingVerdict::undetermined;
   /// height / critical value of the strongest condition known for the cell (NaN: none known).
@@ -128,8 +134,11 @@ struct SamplingDiagnosis {
   SamplingVerdict density = SamplingVerdict::undetermined;  ///< over all cells
   SamplingVerdict transversality = SamplingVerdict::undetermined;
   /// Method 1: the Intersection Condition shown on the data in every cell (undetermined when
-  /// not checked: method 2, or no lifts given).
+  /// not checked: method 2).
   SamplingVerdict intersection = SamplingVerdict::undetermined;
+  int intersection_checked = 0;          ///< cells whose R_C was sampled (intersection_condition.h)
+  int intersection_not_contractible = 0; ///< of them, R_C with a component not contractible
+  int intersection_unsampled = 0;        ///< cells too thin for the lattice, or over the budget
   std::vector<int> deciding;     ///< cells that decide the verdict, worst first (at most 20)
   int largest_empty_cell = -1;   ///< the cell without sections with the largest height (Prop. 2)
   double reach_interior_bound_mm = std::numeric_limits<double>::infinity();  ///< data, over all crossings
@@ -154,13 +163,10 @@ struct SamplingDiagnosis {
 /// @param lo, hi  the end planes' box, mm.
 /// @param voxel_mm the reconstruction's voxel (the lattice's finest spacing).
 /// @param tolerance_mm how far contours may miss each other at a crossing (contour_crossings.h).
-/// @param intersection_shown per arrangement cell, 1 where the Intersection Condition was shown on
-///                the data (checkIntersectionCondition, method 1); empty: not checked.
 SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
                                    const std::vector<SectionDistanceField>& fields, const SectionArrangement& arrangement,
                                    ReconstructionMethod method, const SamplingPrior& prior, const Vec3& lo,
                                    const Vec3& hi, double voxel_mm, double tolerance_mm,
-                                   const std::vector<std::uint8_t>& intersection_shown = {},
                                    const SamplingParams& params = {});
 
 /// The thesis' consequences that the verdicts shown give, in words (e.g. "sections joined as in

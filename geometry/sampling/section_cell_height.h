@@ -4,8 +4,7 @@
 // the sections there. Method 2's conditions (C'1) h'_C < reach_e and (C'3) h'_C < ½(1 − sin α_a)
 // reach(a) need this upper bound to be shown.
 //
-// How: the cell is built as a convex polytope (CGAL's halfspace intersection of the planes that
-// can reach it, the end planes included) around a point strictly inside it. d(x, S_C) is bounded
+// How: the cell is built as a convex polytope (cell_polytope.h) around a point strictly inside it. d(x, S_C) is bounded
 // from above by u(x), the distance to the nearest of given points of S_C (contour vertices, trace
 // points, lattice samples inside the sections: every one lies in S_C, so u ≥ d). u is 1-Lipschitz,
 // so over a box of centre c and half diagonal r, d ≤ u(c) + r. Boxes are split (branch and bound,
