@@ -188,8 +188,9 @@ json samplingSummaryJson(const SamplingStage& s) {
         {"cells_bounded", d.section_height_cells},
         {"max_mm", finite(d.section_height_max_mm)},
         {"meaning", "h'_C (Def. 31), the largest distance of a point of a cell to the sections on its boundary, "
-                    "bounded from above; null where a cell with sections was not bounded. Under the conditions "
-                    "the Hausdorff distance to the object is at most its max (Thm 20)"}};
+                    "bounded from above; null where a cell with sections was not bounded. Under C'1 and the Weak "
+                    "Transversality Condition (C'2, not checked) the Hausdorff distance to the object is at most "
+                    "its max (Thm 20)"}};
   r["lattice_spacing_mm"] = d.scan.lattice.voxel;
   r["end_box_mm"] = {vecJson(s.lo), vecJson(s.hi)};
   r["assumes"] = "the object lies inside the end planes' box; its boundary is smooth; the contours are its sections";

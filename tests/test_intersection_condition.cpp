@@ -43,8 +43,9 @@ Section cShape(double rIn, double rOut, double gapDeg) {
 
 /// Whether the Intersection Condition is shown in the slab cell between z = 0 (holding `low`) and
 /// z = 1 (holding `high`), closed by a box of half side 2.5: R_C's components contractible.
-CellReconstructionTopology slab(const std::vector<Section>& low, const std::vector<Section>& high) {
-  std::vector<Plane> planes = {test::axisPlane(2, 0), test::axisPlane(2, 1)};
+CellReconstructionTopology slab(const std::vector<Section>& low, const std::vector<Section>& high,
+                                double thickness = 1) {
+  std::vector<Plane> planes = {test::axisPlane(2, 0), test::axisPlane(2, thickness)};
   std::vector<SectionDistanceField> fields = {sectionDistanceField(low, 0.02, 0.6), sectionDistanceField(high, 0.02, 0.6)};
   std::vector<int> sides = {1, -1};
   for (int axis = 0; axis < 3; ++axis)
@@ -54,8 +55,9 @@ CellReconstructionTopology slab(const std::vector<Section>& low, const std::vect
       sides.push_back(o < 0 ? 1 : -1);
     }
   CellTopologyParams p;
-  p.lattice_points = 40000;
-  return cellReconstructionTopology(planes, fields, sides, Vec3(0.1, 0.2, 0.5), Vec3::Constant(-3), Vec3::Constant(3), p);
+  p.max_spacing_mm = 0.05;
+  return cellReconstructionTopology(planes, fields, sides, Vec3(0.1, 0.2, 0.5 * thickness), Vec3::Constant(-3),
+                                    Vec3::Constant(3), p);
 }
 
 }  // namespace
@@ -86,6 +88,12 @@ TEST(IntersectionCondition, LoopsThroughTheCellAreNot) {
   // A C-shaped section under a bar crossing both its arms: the lifts meet twice, a loop.
   EXPECT_FALSE(slab({cShape(1.4, 2, 20)}, {rectangle({-0.3, -2.2}, {0.3, 2.2})}).contractible());
   EXPECT_TRUE(slab({cShape(1.4, 2, 20)}, {rectangle({-0.3, 0.5}, {0.3, 2.2})}).contractible());
+  // A slab 50 times thinner than wide, the C's gap closed by a patch on the other plane: the lattice
+  // keeps layers near both planes (no single layer on the bisector, where one plane would win).
+  for (const double t : {1.0, 0.05}) {
+    EXPECT_FALSE(slab({cShape(1.4, 2, 20)}, {rectangle({1.2, -0.8}, {2.2, 0.8})}, t).contractible()) << t;
+    EXPECT_TRUE(slab({cShape(1.4, 2, 20)}, {rectangle({1.2, 0.2}, {2.2, 0.8})}, t).contractible()) << t;
+  }
   // Two discs under two bars: a cycle of four pieces (thesis Fig. 1.11's torus).
   EXPECT_FALSE(slab({disc({-1.5, 0}, 0.8), disc({1.5, 0}, 0.8)},
                     {rectangle({-2.2, 0.3}, {2.2, 0.7}), rectangle({-2.2, -0.7}, {2.2, -0.3})})

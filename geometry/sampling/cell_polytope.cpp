@@ -73,9 +73,10 @@ CellPolytope cellPolytope(const std::vector<Plane>& planes, const std::vector<in
     used = std::min(order.size(), std::max(reach, 2 * used));
   }
   out.vertices = std::move(vs);
-  // The facets' planes: those a vertex lies on (within rounding); the others do not touch the cell.
+  // The facets' planes: those a vertex lies on (within the rounding of the vertices, which CGAL
+  // constructs in doubles: relative to the coordinates' magnitude and the cell's size).
   double scale = 0;
-  for (const Vec3& v : out.vertices) scale = std::max(scale, (v - interior).norm());
+  for (const Vec3& v : out.vertices) scale = std::max({scale, (v - interior).norm(), v.cwiseAbs().maxCoeff()});
   const double eps = 1e-7 * std::max(scale, 1e-300);
   for (std::size_t u = 0; u < used; ++u) {
     const int j = order[u];

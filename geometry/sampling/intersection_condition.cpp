@@ -15,25 +15,23 @@ namespace xsect {
 
 namespace {
 
-/// R_C sampled on the lattice of spacing h over the box [llo, llo + extent] of the frame (mean,
-/// axes); `inside` and the count of lattice points in C (betti left zero).
+/// R_C sampled at the centres of n[k] equal steps along each axis of the box [llo, llo + extent]
+/// of the frame (mean, axes), with one empty layer around; the count of lattice points in C.
 CellReconstructionTopology sampleCell(const std::vector<Plane>& planes, const std::vector<SectionDistanceField>& fields,
                                       const std::vector<int>& sides, const Vec3& lo, const Vec3& hi,
                                       const CellPolytope& cell, const Vec3& mean, const Eigen::Matrix3d& axes,
-                                      const Vec3& llo, const Vec3& extent, double h,
-                                      std::vector<std::uint8_t>* insideOut, GridSpec* gridOut) {
+                                      const Vec3& llo, const Vec3& extent, const std::array<int, 3>& n,
+                                      std::vector<std::uint8_t>* inside, GridSpec* grid) {
   CellReconstructionTopology out;
-  GridSpec grid;
-  grid.voxel = h;
-  for (int k = 0; k < 3; ++k) grid.dims[std::size_t(k)] = std::max(1, int(std::ceil(extent[k] / h))) + 2;
-  // The inner points centred on the box; lattice point (0, 0, 0) one spacing before the first.
-  const Vec3 span = h * Vec3(grid.dims[0] - 3, grid.dims[1] - 3, grid.dims[2] - 3);
-  const Vec3 first = llo + 0.5 * (extent - span);
-  std::vector<std::uint8_t> inside(std::size_t(grid.count()), 0);
-  for (int k = 1; k + 1 < grid.dims[2]; ++k)
-    for (int j = 1; j + 1 < grid.dims[1]; ++j)
-      for (int i = 1; i + 1 < grid.dims[0]; ++i) {
-        const Vec3 x = mean + axes * (first + h * Vec3(i - 1, j - 1, k - 1));
+  grid->voxel = 1;  // only the lattice's combinatorics count (voxelBetti)
+  for (int k = 0; k < 3; ++k) grid->dims[std::size_t(k)] = n[std::size_t(k)] + 2;
+  const Vec3 step(extent[0] / n[0], extent[1] / n[1], extent[2] / n[2]);
+  inside->assign(std::size_t(grid->count()), 0);
+  for (int k = 1; k <= n[2]; ++k)
+    for (int j = 1; j <= n[1]; ++j)
+      for (int i = 1; i <= n[0]; ++i) {
+        const Vec3 local = llo + step.cwiseProduct(Vec3(i - 0.5, j - 0.5, k - 0.5));
+        const Vec3 x = mean + axes * local;
         // In C, and the plane of C nearest to x (its projection lies on that facet).
         int nearest = -1;
         double best = 0;
@@ -51,11 +49,9 @@ CellReconstructionTopology sampleCell(const std::vector<Plane>& planes, const st
         ++out.points_inside;
         if (std::size_t(nearest) >= fields.size()) continue;
         const Vec2 q = planes[std::size_t(nearest)].toPlane(x);
-        if (fields[std::size_t(nearest)].sample(q.x(), q.y()) < 0) inside[std::size_t(grid.index(i, j, k))] = 1;
+        if (fields[std::size_t(nearest)].sample(q.x(), q.y()) < 0) (*inside)[std::size_t(grid->index(i, j, k))] = 1;
       }
-  out.spacing_mm = h;
-  *insideOut = std::move(inside);
-  *gridOut = grid;
+  out.spacing_mm = step.maxCoeff();
   return out;
 }
 
@@ -70,8 +66,7 @@ CellReconstructionTopology cellReconstructionTopology(const std::vector<Plane>& 
   const CellPolytope cell = cellPolytope(planes, sides, interior, lo, hi);
   if (cell.empty()) return out;
   // The lattice lies in the frame of the vertices' principal axes, so that thin cells (the wedges
-  // of a fan) fill their box; cubes of side h at about `lattice_points` points over the box, plus
-  // one empty layer around (the closed cubes of R_C never touch the grid's border).
+  // of a fan) fill their box.
   Vec3 mean = Vec3::Zero();
   for (const Vec3& v : cell.vertices) mean += v;
   mean /= double(cell.vertices.size());
@@ -84,39 +79,35 @@ CellReconstructionTopology cellReconstructionTopology(const std::vector<Plane>& 
     llo = llo.cwiseMin(l), lhi = lhi.cwiseMax(l);
   }
   const Vec3 extent = lhi - llo;
-  // About `points` lattice points: h such that the product over the axes of max(1, extent / h) is
-  // `points` (an axis thinner than h holds one layer). A cell holding too few is sampled once more,
-  // 8 times finer.
+  // Spacing: at most max_spacing_mm (the reconstruction's voxel), finer for a small cell (about
+  // min_points over its box); at least kLayers steps along every axis, an even number so that no
+  // layer lies on the bisector of two parallel facets (where the nearest facet is a tie).
+  constexpr int kLayers = 4;
+  double h = std::cbrt(std::max(extent.prod(), 0.0) / double(std::max(params.min_points, 8)));
+  if (params.max_spacing_mm > 0) h = std::min(h, params.max_spacing_mm);
+  if (!(h > 0) || !std::isfinite(h)) return out;
+  // A cell whose lattice holds too few points, or none of R_C although the cell holds sections
+  // (a piece of section narrower than the spacing), is sampled again 4 times finer.
   std::vector<std::uint8_t> inside;
   GridSpec grid;
-  for (const int points : {std::max(params.lattice_points, 8), 8 * std::max(params.lattice_points, 8)}) {
-    double h = 0, product = 1;
-    int axesLeft = 3;
-    std::array<bool, 3> thin{false, false, false};
-    for (int round = 0; round < 3; ++round) {
-      product = 1;
-      axesLeft = 0;
-      for (int k = 0; k < 3; ++k)
-        if (!thin[std::size_t(k)]) product *= std::max(extent[k], 1e-300), ++axesLeft;
-      h = std::pow(product / double(points), 1.0 / double(axesLeft));
-      bool changed = false;
-      for (int k = 0; k < 3; ++k)
-        if (!thin[std::size_t(k)] && extent[k] < h && axesLeft > 1) thin[std::size_t(k)] = changed = true;
-      if (!changed) break;
+  int in = 0;
+  for (const double refine : {1.0, 0.25}) {
+    std::array<int, 3> n{};
+    double total = 1;
+    for (int k = 0; k < 3; ++k) {
+      const double steps = std::ceil(extent[k] / (refine * h));
+      n[std::size_t(k)] = steps > 1e6 ? 1000000 : std::max(kLayers, int(steps) + int(steps) % 2);
+      total *= double(n[std::size_t(k)]);
     }
-    if (!(h > 0) || !std::isfinite(h)) return out;
-    out = sampleCell(planes, fields, sides, lo, hi, cell, mean, axes, llo, extent, h, &inside, &grid);
-    if (out.points_inside >= params.min_inside) break;
+    if (total > double(params.max_points)) break;  // too large to sample: not shown
+    out = sampleCell(planes, fields, sides, lo, hi, cell, mean, axes, llo, extent, n, &inside, &grid);
+    in = int(std::count(inside.begin(), inside.end(), std::uint8_t(1)));
+    if (out.points_inside >= params.min_inside && in > 0) break;
   }
-  if (out.points_inside < params.min_inside) {
-    out.sampled = false;
-    return out;
-  }
+  if (out.points_inside < params.min_inside || in == 0) return out;
   out.sampled = true;
-  // R_C empty, or all of the (convex) cell: nothing to count.
-  const int in = int(std::count(inside.begin(), inside.end(), std::uint8_t(1)));
-  if (in == 0 || in == out.points_inside) {
-    out.betti = {in > 0 ? 1 : 0, 0, 0};
+  if (in == out.points_inside) {  // all of the (convex) cell
+    out.betti = {1, 0, 0};
     return out;
   }
   out.betti = voxelBetti(inside, grid);

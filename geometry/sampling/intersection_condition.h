@@ -9,13 +9,17 @@
 // equivalent to it (§4.4: R_C deformation retracts on lift(S_C) along the segments [x, lift(x)]):
 //     R_C = {x ∈ C : np(x), x's nearest point of ∂C, lies in a section},
 // np(x) being x's projection on its nearest plane of C (C convex). R_C is sampled on a lattice of
-// the cell's box along its principal axes (about `lattice_points` points, isotropic), and the
-// Betti numbers of the union of the closed lattice cubes whose centres lie in R_C are computed
-// (voxelBetti): the components are contractible when b1 = b2 = 0. Like any sampling this holds at the lattice's
-// resolution (a handle or a gap thinner than its spacing can be missed); a cell that holds fewer
-// than `min_inside` lattice points (a sliver) is not sampled, and nothing is shown there.
+// the cell's box along its principal axes, at the reconstruction's voxel size (finer for a small
+// cell; at least 4 layers along every axis, an even number so that no layer lies on the bisector
+// of two parallel facets), and the Betti numbers of the union of the closed lattice cubes whose
+// centres lie in R_C are computed (voxelBetti): the components are contractible when b1 = b2 = 0.
+// Like the reconstruction itself this holds at the voxel's resolution (a handle or a gap thinner
+// than it can be missed). A cell holding fewer than `min_inside` lattice points, or whose lattice
+// meets no point of R_C although the cell holds sections, is sampled again 4 times finer; if it
+// still does, or its lattice would exceed `max_points`, nothing is shown there.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "geometry/core/types.h"
@@ -33,8 +37,12 @@ struct CellReconstructionTopology {
 };
 
 struct CellTopologyParams {
-  int lattice_points = 2048;  ///< points of the lattice over the cell's box (about; 8 times more for a cell holding too few)
-  int min_inside = 64;        ///< fewer lattice points inside the cell: not sampled
+  /// The lattice's largest spacing, mm (the reconstruction's voxel: the check resolves what the
+  /// reconstruction does); 0: none.
+  double max_spacing_mm = 0;
+  int min_points = 2048;       ///< a smaller cell gets about this many points over its box
+  int min_inside = 64;         ///< fewer lattice points inside the cell: not sampled
+  std::int64_t max_points = 4000000;  ///< a larger lattice is not sampled (nothing shown)
 };
 
 /// @param planes  all planes (unit normals) and their f_P rasters (section_distance_field.h), one

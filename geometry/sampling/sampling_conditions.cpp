@@ -156,38 +156,52 @@ bool needsExactHeight(const CellSampling& c, ReconstructionMethod method, const 
   return straddles(c.height_lo_mm, c.height_hi_mm, d) || straddles(c.height_lo_mm, c.height_hi_mm, t);
 }
 
-enum class Interior { found, none };
+/// The section point that keyed an arrangement cell met by no lattice point: its plane and the
+/// cell's side of it, for a trace point also the plane it lies on and the side taken, and whether
+/// it lies off every other plane (then its other signs are not rounding's choice).
+struct KeyPoint {
+  int plane = -1, side = 0;
+  int trace_plane = -1, trace_side = 0;
+  bool generic = false;
+  /// The cell's sign vector as this point gives it.
+  std::vector<int> sides(const CellKeys& keys, const Vec3& x) const {
+    std::vector<int> out = keys.sides(x, plane, side);
+    if (trace_plane >= 0) out[std::size_t(trace_plane)] = trace_side;
+    return out;
+  }
+};
+
+enum class Interior { found, none, unknown };
 
 /// The cell's sign vector and a point strictly inside it: the lattice point or ball centre it holds
 /// when that lies off every plane (its distance to them, height_lo_mm, > 0), else the centre of its
-/// Chebyshev ball. `none`: the exact program finds no ball (beyond rounding) in the box, so the sign
-/// vector bounds no open region there (a point where many planes meet, e.g. a fan's axis, keyed as
-/// a cell), and nothing of the object or of R lies in it.
+/// Chebyshev ball, which must lie in the cell keyed. `none`: the exact program finds no ball (beyond
+/// rounding) in the box and the key came from a point on several planes at once (a fan's axis),
+/// whose signs against them rounding chose: no open region has them, so the cell holds nothing of
+/// the object or of R, its points lying on the closures of the cells around. `unknown`: no interior
+/// point found otherwise (nothing may be shown there).
 Interior cellInterior(const CellSampling& c, const std::vector<Plane>& ps, const CellKeys& keys,
-                      const std::vector<std::pair<int, int>>& arrPlaneSide, const Vec3& lo, const Vec3& hi,
+                      const std::vector<KeyPoint>& keyPoints, const Vec3& lo, const Vec3& hi,
                       std::vector<int>* sides, Vec3* interior) {
   const bool inside = c.scanned >= 0 || c.height_exact;
-  if (inside) {
-    *sides = keys.sides(c.centre);
-  } else {  // the section point that keyed the cell: on its own plane, on the cell's side
-    const auto& [plane, side] = arrPlaneSide[std::size_t(c.arrangement_cell)];
-    *sides = keys.sides(c.centre, plane, side);
-  }
+  const KeyPoint* key = inside || c.arrangement_cell < 0 ? nullptr : &keyPoints[std::size_t(c.arrangement_cell)];
+  *sides = key ? key->sides(keys, c.centre) : keys.sides(c.centre);
   *interior = c.centre;
   if (inside && c.height_lo_mm > 0) return Interior::found;
   const CellHeight h = cellHeight(ps, *sides, lo, hi, false);
-  if (h.open || !(h.height > 1e-9 * (hi - lo).norm())) return Interior::none;
+  if (h.open || !(h.height > 1e-9 * (hi - lo).norm())) return key && !key->generic ? Interior::none : Interior::unknown;
+  if (keys.of(h.centre) != c.key) return Interior::unknown;
   *interior = h.centre;
   return Interior::found;
 }
 
 /// Method 2: upper bounds of h'_C (section_cell_height.h) for the cells with sections where they
 /// may show a condition (every prior it needs given, the lower bound below it), then for the
-/// worst cells, within the budget. `arrPlaneSide[k]`: the plane and side of the point that keyed
+/// worst cells, within the budget. `keyPoints[k]`: the point that keyed
 /// arrangement cell k (for cells met by no lattice point).
 void boundSectionHeights(SamplingDiagnosis& out, const std::vector<Plane>& ps, const CellKeys& keys,
                          const std::vector<CuttingPlane>& planes, const SectionArrangement& arrangement,
-                         const std::vector<std::pair<int, int>>& arrPlaneSide, const Vec3& lo, const Vec3& hi,
+                         const std::vector<KeyPoint>& keyPoints, const Vec3& lo, const Vec3& hi,
                          const SamplingParams& params) {
   // The points of S_C, per arrangement cell (a trace point bounds up to four cells).
   const std::size_t nArr = std::size_t(std::max(arrangement.cells, 0));
@@ -231,7 +245,7 @@ void boundSectionHeights(SamplingDiagnosis& out, const std::vector<Plane>& ps, c
     CellSampling& c = out.cells[std::size_t(todo[e])];
     std::vector<int> sides;
     Vec3 interior;
-    const Interior found = cellInterior(c, ps, keys, arrPlaneSide, lo - pad, hi + pad, &sides, &interior);
+    const Interior found = cellInterior(c, ps, keys, keyPoints, lo - pad, hi + pad, &sides, &interior);
     if (found == Interior::none) c.section_height_hi_mm = c.height_lo_mm;  // no open region: nothing to reach
     if (found != Interior::found) return;
     const SectionHeightBound b = sectionHeightBound(ps, sides, interior, lo - pad, hi + pad,
@@ -254,8 +268,10 @@ void boundSectionHeights(SamplingDiagnosis& out, const std::vector<Plane>& ps, c
 /// hold it trivially.
 void checkIntersection(SamplingDiagnosis& out, const std::vector<Plane>& ps,
                        const std::vector<SectionDistanceField>& fields, const CellKeys& keys,
-                       const std::vector<std::pair<int, int>>& arrPlaneSide, const Vec3& lo, const Vec3& hi,
+                       const std::vector<KeyPoint>& keyPoints, const Vec3& lo, const Vec3& hi, double voxel_mm,
                        const SamplingParams& params) {
+  CellTopologyParams tp = params.cell_topology;
+  if (!(tp.max_spacing_mm > 0)) tp.max_spacing_mm = voxel_mm;
   std::vector<int> todo;
   for (std::size_t i = 0; i < out.cells.size(); ++i) {
     CellSampling& c = out.cells[i];
@@ -276,13 +292,13 @@ void checkIntersection(SamplingDiagnosis& out, const std::vector<Plane>& ps,
     CellSampling& c = out.cells[std::size_t(todo[e])];
     std::vector<int> sides;
     Vec3 interior;
-    const Interior found = cellInterior(c, ps, keys, arrPlaneSide, lo - pad, hi + pad, &sides, &interior);
+    const Interior found = cellInterior(c, ps, keys, keyPoints, lo - pad, hi + pad, &sides, &interior);
     if (found == Interior::none) {  // no open region: R_C is empty, the condition holds trivially
       topo[e].sampled = true;
       return;
     }
     if (found != Interior::found) return;
-    topo[e] = cellReconstructionTopology(ps, fields, sides, interior, lo - pad, hi + pad, params.cell_topology);
+    topo[e] = cellReconstructionTopology(ps, fields, sides, interior, lo - pad, hi + pad, tp);
   });
   for (std::size_t e = 0; e < todo.size(); ++e) {
     CellSampling& c = out.cells[std::size_t(todo[e])];
@@ -371,7 +387,7 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
   std::vector<std::uint64_t> arrKey(candidates.size(), 0);
   std::vector<Vec3> arrPoint(candidates.size(), Vec3::Zero());
   std::vector<char> arrFound(candidates.size(), 0);
-  std::vector<std::pair<int, int>> arrPlaneSide(candidates.size(), {-1, 0});  // the point's plane, side
+  std::vector<KeyPoint> keyPoints(candidates.size());
   const double tiny = 1e-9 * (hi - lo).norm();
   tbb::parallel_for(std::size_t(0), candidates.size(), [&](std::size_t cell) {
     for (const Candidate& cand : candidates[cell]) {
@@ -379,18 +395,23 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
       const Vec3 x = planes[std::size_t(s.plane)].plane.toWorld(s.p);
       double clearance = 0;
       std::uint64_t k = keys.of(x, s.plane, cand.side ? 1 : -1, &clearance);
+      KeyPoint kp{s.plane, cand.side ? 1 : -1};
       if (cand.traceSide != 0) {  // on the trace plane too: its side forced, the clearance from the rest
         k = keys.onSide(k, x, s.trace_plane, cand.traceSide);
-        clearance = tiny * 2;  // the other planes are not checked for trace points
+        kp.trace_plane = s.trace_plane;
+        kp.trace_side = cand.traceSide;
+        clearance = std::numeric_limits<double>::infinity();
+        for (std::size_t j = 0; j < ps.size(); ++j)
+          if (int(j) != s.plane && int(j) != s.trace_plane) clearance = std::min(clearance, std::abs(ps[j].signedDistance(x)));
       }
-      if (clearance > tiny || !arrFound[cell])
-        arrKey[cell] = k, arrPoint[cell] = x, arrFound[cell] = 1, arrPlaneSide[cell] = {s.plane, cand.side ? 1 : -1};
-      if (clearance > tiny) break;
+      kp.generic = clearance > tiny;
+      if (kp.generic || !arrFound[cell]) arrKey[cell] = k, arrPoint[cell] = x, arrFound[cell] = 1, keyPoints[cell] = kp;
+      if (kp.generic) break;
     }
   });
   std::vector<int> cellOfArrangement(candidates.size(), -1);
   for (std::size_t cell = 0; cell < candidates.size(); ++cell) {
-    if (!arrFound[cell]) {  // only trace points: the cell is not told apart, nothing is shown
+    if (!arrFound[cell]) {  // no point of it listed (not expected): nothing is shown
       ++out.unmatched_cells;
       continue;
     }
@@ -496,13 +517,9 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
   const Vec3 pad = Vec3::Constant(std::max(scan.lattice.voxel, 1e-6 * (hi - lo).norm()));
   tbb::parallel_for(std::size_t(0), exact.size(), [&](std::size_t e) {
     CellSampling& c = out.cells[std::size_t(exact[e])];
-    std::vector<int> sides;
-    if (c.scanned >= 0) {
-      sides = keys.sides(c.centre);
-    } else {  // the section point that keyed the cell: on its own plane, on the cell's side
-      const auto& [plane, side] = arrPlaneSide[std::size_t(c.arrangement_cell)];
-      sides = keys.sides(c.centre, plane, side);
-    }
+    // The signs of its lattice point, or those the section point that keyed it gives.
+    const std::vector<int> sides = c.scanned >= 0 ? keys.sides(c.centre)
+                                                  : keyPoints[std::size_t(c.arrangement_cell)].sides(keys, c.centre);
     const CellHeight h = cellHeight(ps, sides, lo - pad, hi + pad, false);
     // A ball outside the lattice's bounds means the sign vector named another cell (or none):
     // the bounds stay.
@@ -516,10 +533,10 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
   for (int i : exact) out.exact_cells += out.cells[std::size_t(i)].height_exact;
   for (int i : exact) evaluate(out.cells[std::size_t(i)], method, prior);
   if (method == ReconstructionMethod::section_voronoi) {
-    boundSectionHeights(out, ps, keys, planes, arrangement, arrPlaneSide, lo, hi, params);
+    boundSectionHeights(out, ps, keys, planes, arrangement, keyPoints, lo, hi, params);
     for (CellSampling& c : out.cells) evaluate(c, method, prior);
   } else {
-    checkIntersection(out, ps, fields, keys, arrPlaneSide, lo, hi, params);
+    checkIntersection(out, ps, fields, keys, keyPoints, lo, hi, voxel_mm, params);
     for (CellSampling& c : out.cells) evaluate(c, method, prior);
   }
 
@@ -542,7 +559,7 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
   evaluate(unmet, method, prior);
   // An unmet cell's height is only bounded above (≤ ρ): it can show a condition, never a violation.
   const auto unmetVerdict = [](SamplingVerdict v) {
-    return v == SamplingVerdict::violated ? SamplingVerdict::satisfied : v;
+    return v == SamplingVerdict::violated ? SamplingVerdict::undetermined : v;
   };
   out.density = combine(out.density, unmetVerdict(unmet.density.verdict));
   out.transversality = combine(out.transversality, unmetVerdict(unmet.transversality.verdict));
@@ -581,11 +598,14 @@ std::vector<std::string> samplingConsequences(const SamplingDiagnosis& d) {
                                        : "Separation and Intersection Conditions") +
                            ": the reconstruction is homotopy equivalent (Thm 14), homeomorphic and isotopic "
                            "(Thm 16) to the object"
-                     : "the reconstruction is homotopy equivalent, homeomorphic and isotopic to the object "
-                       "(Thm 23-24), within Hausdorff distance max h'_C (Thm 20)" +
+                     : "Weak Density and Transversality Conditions: the reconstruction is homotopy equivalent, "
+                       "homeomorphic and isotopic to the object (Thm 23-24); its Hausdorff distance to the object "
+                       "is at most max h'_C" +
                            (std::isfinite(d.section_height_max_mm)
                                 ? " <= " + std::to_string(d.section_height_max_mm) + " mm"
-                                : std::string()));
+                                : std::string()) +
+                           " (Thm 20) if the Weak Transversality Condition (C'2) holds too, which the data cannot "
+                           "show (C'3 is the more restrictive for piecewise linear shapes, remark after Def. 32)");
   return out;
 }
 

@@ -4,7 +4,8 @@
 // Transversality Condition (C2) h_C < ½(1 − sin α_C)·reach_C(O) (Thm 15: with C1, R is homotopy
 // equivalent, homeomorphic and isotopic to O). Method 2 (ch. 2 §3): the Weak Density Condition
 // (C'1) h'_C < reach_e(O_C) and the Transversality Condition (C'3) h'_C < ½(1 − sin α_a)·reach(a)
-// (Thm 19-24: the same connectivity, homotopy, homeomorphism, and d_H(O, R') ≤ max h'_C).
+// (Thm 23-24: homotopy equivalence, homeomorphism; d_H(O, R') ≤ max h'_C, Thm 20, also needs the
+// Weak Transversality Condition C'2, which concerns ∂O between the planes and is not checked).
 //
 // Definitions written down where the thesis leaves a choice:
 //  - Cells are those of all cutting planes and the six end planes (end_planes.h): the conditions are
