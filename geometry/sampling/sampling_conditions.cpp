@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "geometry/sampling/cell_height.h"
+#include "geometry/sampling/cell_interior.h"
 
 namespace xsect {
 
@@ -154,45 +155,6 @@ bool needsExactHeight(const CellSampling& c, ReconstructionMethod method, const 
   Critical d, t;
   criticalsOf(c, method, prior, &d, &t);
   return straddles(c.height_lo_mm, c.height_hi_mm, d) || straddles(c.height_lo_mm, c.height_hi_mm, t);
-}
-
-/// The section point that keyed an arrangement cell met by no lattice point: its plane and the
-/// cell's side of it, for a trace point also the plane it lies on and the side taken, and whether
-/// it lies off every other plane (then its other signs are not rounding's choice).
-struct KeyPoint {
-  int plane = -1, side = 0;
-  int trace_plane = -1, trace_side = 0;
-  bool generic = false;
-  /// The cell's sign vector as this point gives it.
-  std::vector<int> sides(const CellKeys& keys, const Vec3& x) const {
-    std::vector<int> out = keys.sides(x, plane, side);
-    if (trace_plane >= 0) out[std::size_t(trace_plane)] = trace_side;
-    return out;
-  }
-};
-
-enum class Interior { found, none, unknown };
-
-/// The cell's sign vector and a point strictly inside it: the lattice point or ball centre it holds
-/// when that lies off every plane (its distance to them, height_lo_mm, > 0), else the centre of its
-/// Chebyshev ball, which must lie in the cell keyed. `none`: the exact program finds no ball (beyond
-/// rounding) in the box and the key came from a point on several planes at once (a fan's axis),
-/// whose signs against them rounding chose: no open region has them, so the cell holds nothing of
-/// the object or of R, its points lying on the closures of the cells around. `unknown`: no interior
-/// point found otherwise (nothing may be shown there).
-Interior cellInterior(const CellSampling& c, const std::vector<Plane>& ps, const CellKeys& keys,
-                      const std::vector<KeyPoint>& keyPoints, const Vec3& lo, const Vec3& hi,
-                      std::vector<int>* sides, Vec3* interior) {
-  const bool inside = c.scanned >= 0 || c.height_exact;
-  const KeyPoint* key = inside || c.arrangement_cell < 0 ? nullptr : &keyPoints[std::size_t(c.arrangement_cell)];
-  *sides = key ? key->sides(keys, c.centre) : keys.sides(c.centre);
-  *interior = c.centre;
-  if (inside && c.height_lo_mm > 0) return Interior::found;
-  const CellHeight h = cellHeight(ps, *sides, lo, hi, false);
-  if (h.open || !(h.height > 1e-9 * (hi - lo).norm())) return key && !key->generic ? Interior::none : Interior::unknown;
-  if (keys.of(h.centre) != c.key) return Interior::unknown;
-  *interior = h.centre;
-  return Interior::found;
 }
 
 /// Method 2: upper bounds of h'_C (section_cell_height.h) for the cells with sections where they
