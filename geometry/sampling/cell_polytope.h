@@ -16,12 +16,6 @@ struct CellPolytope {
   std::vector<int> planes;     ///< the planes a vertex lies on (its facets', nearest first), box faces aside
   Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  ///< bounding box of the vertices, mm
   bool empty() const { return vertices.size() < 4; }
-  /// Whether x lies in the cell (within `slack` mm of each of its planes).
-  bool contains(const std::vector<Plane>& all, const std::vector<int>& sides, const Vec3& x, double slack = 0) const {
-    for (const int j : planes)
-      if (double(sides[std::size_t(j)]) * all[std::size_t(j)].signedDistance(x) < -slack) return false;
-    return true;
-  }
 };
 
 /// @param planes    all planes, unit normals.

@@ -139,7 +139,7 @@ struct SamplingDiagnosis {
   SamplingVerdict intersection = SamplingVerdict::undetermined;
   int intersection_checked = 0;          ///< cells whose R_C was sampled (intersection_condition.h)
   int intersection_not_contractible = 0; ///< of them, R_C with a component not contractible
-  int intersection_unsampled = 0;        ///< cells too thin for the lattice, or over the budget
+  int intersection_unsampled = 0;        ///< cells not sampled: too thin, no interior point found, over the budget
   std::vector<int> deciding;     ///< cells that decide the verdict, worst first (at most 20)
   int largest_empty_cell = -1;   ///< the cell without sections with the largest height (Prop. 2)
   double reach_interior_bound_mm = std::numeric_limits<double>::infinity();  ///< data, over all crossings
@@ -151,10 +151,10 @@ struct SamplingDiagnosis {
   int exact_cells = 0;           ///< Chebyshev balls solved
   int section_height_cells = 0;  ///< method 2: cells whose h'_C was bounded from above
   /// Method 2: max over the cells with sections of the bound of h'_C (+inf when a cell has none):
-  /// under the conditions, d_H(O, R') ≤ max h'_C (Thm 20).
+  /// under C'1 and C'2 (the latter not checked), d_H(O, R') ≤ max h'_C (Thm 20).
   double section_height_max_mm = std::numeric_limits<double>::infinity();
-  /// Cells holding sections that only trace points reach (not told apart from their neighbours):
-  /// when any, nothing is shown satisfied.
+  /// Arrangement cells that no section point keyed (not expected): when any, nothing is shown
+  /// satisfied.
   int unmatched_cells = 0;
   bool prior_contradicted = false;  ///< a prior reach exceeds a data bound
 };
