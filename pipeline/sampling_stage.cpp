@@ -78,7 +78,7 @@ json cellJson(const SamplingStage& s, int id) {
             {"alpha_max_deg", finite(c.alpha_max_deg)}};
   if (s.diagnosis.method == ReconstructionMethod::section_voronoi && c.arrangement_cell >= 0) {
     j["section_height_mm"] = finite(c.section_height_hi_mm);
-    j["section_height_farthest_mm"] = vecJson(c.section_farthest);
+    j["section_height_farthest_mm"] = std::isfinite(c.section_height_hi_mm) ? vecJson(c.section_farthest) : json(nullptr);
   }
   return j;
 }

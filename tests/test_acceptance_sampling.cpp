@@ -4,7 +4,8 @@
 //    reach as the prior (and α = 0 where it holds by construction: planes through the axis of a
 //    solid of revolution), a result whose Betti numbers differ from the truth is never `satisfied`.
 //  - Assurance where it is due: three dense fans whose conditions hold by construction are
-//    `satisfied`, with the right topology.
+//    `satisfied`, with the right topology; with the true reach alone, dense multi-axial stacks of
+//    three shapes (two seeds each) are `satisfied` through the Intersection Condition on the data.
 //  - Proof from the data alone: OReX Elephant and hand_ok are `violated` without any prior, naming
 //    a cell (skipped without ../shared/data).
 //  - Following the advice works and beats chance: 12 sparse random-plane configurations (three
@@ -206,6 +207,26 @@ TEST(AcceptanceSampling, DenseFansAreSatisfiedWithTheirTrueReach) {
     EXPECT_FALSE(fs::exists(dir / "out/advice.yaml")) << "no advice when satisfied";
     fs::remove_all(dir);
   }
+}
+
+// The Intersection Condition shown on the data (§4.4) takes C2's place: with the true reach alone
+// (no bound on α, so C2 cannot be shown), dense multi-axial stacks of three shapes, two seeds each
+// (each seed rotates the shape against the planes), are `satisfied` through it.
+TEST(AcceptanceSampling, ReachAloneSufficesThroughTheIntersectionCondition) {
+  for (const char* shape : {kTorus, kSphere, kHollow})
+    for (int seed : {1, 2}) {
+      const Config cfg = pattern("reach-alone", shape, "{kind: multiaxial, count: 20}", seed);
+      const fs::path dir = phantom(cfg.name, cfg.spec);
+      const Truth t = truthOf(dir);
+      const nlohmann::json r = run(dir, "out", priorSets(t, false));
+      const nlohmann::json& s = r["sampling"];
+      EXPECT_EQ(bettiOf(r), t.betti) << cfg.name;
+      EXPECT_NE(s["conditions"]["C2 transversality"], "satisfied") << cfg.name;
+      EXPECT_EQ(s["conditions"]["intersection_on_data"], "satisfied") << cfg.name << "\n" << s["cells"].dump(1);
+      EXPECT_EQ(s["verdict"], "satisfied") << cfg.name;
+      EXPECT_GT(s["cells"]["intersection_on_data"]["checked"].get<int>(), 100) << cfg.name;
+      fs::remove_all(dir);
+    }
 }
 
 TEST(AcceptanceSampling, OReXSparseSetsAreViolatedFromTheDataAlone) {

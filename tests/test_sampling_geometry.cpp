@@ -212,6 +212,34 @@ TEST(SamplingGeometry, NeighbourAnglesFollowTheSphere) {
   EXPECT_GT(checked, 100);
 }
 
+// A point on two planes (where a contour crosses a trace) keyed with both sides forced is the
+// point moved a little into that quadrant; the clearance leaves both planes out.
+TEST(SamplingGeometry, CellKeysForceTheSidesOfTwoPlanes) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> g;
+  std::vector<Plane> planes;
+  for (int k = 0; k < 9; ++k) planes.push_back(planeThrough(Vec3(g(rng), g(rng), g(rng)), Vec3(g(rng), g(rng), g(rng))));
+  const CellKeys keys(planes);
+  for (int a = 0; a < 9; ++a)
+    for (int b = 0; b < 9; ++b) {
+      if (a == b) continue;
+      // A point on both planes: on their common line, near the origin.
+      const Vec3 d = planes[a].normal.cross(planes[b].normal).normalized();
+      Eigen::Matrix3d m;
+      m << planes[a].normal.transpose(), planes[b].normal.transpose(), d.transpose();
+      const Vec3 x = m.colPivHouseholderQr().solve(
+          Vec3(planes[a].normal.dot(planes[a].origin), planes[b].normal.dot(planes[b].origin), 0));
+      for (const int sa : {-1, 1})
+        for (const int sb : {-1, 1}) {
+          const Vec3 moved = x + 1e-7 * (sa * planes[a].normal + sb * planes[b].normal);
+          double clearance = 0;
+          EXPECT_EQ(keys.of(x, a, sa, &clearance, b, sb), keys.of(moved)) << a << " " << b;
+          EXPECT_EQ(keys.sides(x, a, sa, b, sb), keys.sides(moved)) << a << " " << b;
+          EXPECT_GT(clearance, 1e-6) << "planes a and b are not counted";
+        }
+    }
+}
+
 TEST(SamplingGeometry, SectionHeightBoundsMethod2sHeight) {
   // The unit cube, its faces' normals outward: the cell lies on their negative sides.
   std::vector<Plane> cube;

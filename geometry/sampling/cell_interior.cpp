@@ -6,9 +6,7 @@
 namespace xsect {
 
 std::vector<int> KeyPoint::sides(const CellKeys& keys, const Vec3& x) const {
-  std::vector<int> out = keys.sides(x, plane, side);
-  if (trace_plane >= 0) out[std::size_t(trace_plane)] = trace_side;
-  return out;
+  return keys.sides(x, plane, side, trace_plane, trace_side);
 }
 
 Interior cellInterior(const CellSampling& c, const std::vector<Plane>& ps, const CellKeys& keys,

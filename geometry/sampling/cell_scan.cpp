@@ -3,6 +3,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -40,27 +41,37 @@ inline void accumulate(const double* nx, const double* ny, const double* nz, con
 
 }  // namespace
 
-std::uint64_t CellKeys::of(const Vec3& x, int onPlane, int side, double* clearance) const {
+std::uint64_t CellKeys::of(const Vec3& x, int onPlane, int side, double* clearance, int onPlane2, int side2) const {
   std::uint64_t k = 0;
   double c = std::numeric_limits<double>::infinity();
   const std::size_t n = keys_.size();
-  const std::size_t own = onPlane >= 0 ? std::size_t(onPlane) : n;
-  accumulate(nx_.data(), ny_.data(), nz_.data(), offsets_.data(), keys_.data(), 0, std::min(own, n), x.x(), x.y(),
-             x.z(), &k, &c);
-  if (own < n) {  // its own plane: the side asked for, and not counted in the clearance
-    if (side > 0) k ^= keys_[own];
-    accumulate(nx_.data(), ny_.data(), nz_.data(), offsets_.data(), keys_.data(), own + 1, n, x.x(), x.y(), x.z(),
-               &k, &c);
+  // The planes x lies on, in order: their sides as asked, and not counted in the clearance.
+  std::array<std::pair<std::size_t, int>, 2> forced{{{onPlane >= 0 ? std::size_t(onPlane) : n, side},
+                                                    {onPlane2 >= 0 ? std::size_t(onPlane2) : n, side2}}};
+  if (forced[1].first < forced[0].first) std::swap(forced[0], forced[1]);
+  std::size_t from = 0;
+  for (const auto& [plane, s] : forced) {
+    const std::size_t to = std::min(plane, n);
+    if (from < to)
+      accumulate(nx_.data(), ny_.data(), nz_.data(), offsets_.data(), keys_.data(), from, to, x.x(), x.y(), x.z(),
+                 &k, &c);
+    from = std::max(from, to);
+    if (plane >= n) break;
+    if (s > 0 && plane >= from) k ^= keys_[plane];
+    from = std::max(from, plane + 1);
   }
+  if (from < n)
+    accumulate(nx_.data(), ny_.data(), nz_.data(), offsets_.data(), keys_.data(), from, n, x.x(), x.y(), x.z(), &k,
+               &c);
   if (clearance) *clearance = c;
   return k;
 }
 
-std::vector<int> CellKeys::sides(const Vec3& x, int onPlane, int side) const {
+std::vector<int> CellKeys::sides(const Vec3& x, int onPlane, int side, int onPlane2, int side2) const {
   std::vector<int> s(keys_.size());
   for (std::size_t j = 0; j < keys_.size(); ++j) {
     const double d = nx_[j] * x.x() + ny_[j] * x.y() + nz_[j] * x.z() - offsets_[j];
-    s[j] = (int(j) == onPlane ? side > 0 : d > 0) ? 1 : -1;
+    s[j] = (int(j) == onPlane ? side > 0 : int(j) == onPlane2 ? side2 > 0 : d > 0) ? 1 : -1;
   }
   return s;
 }

@@ -26,17 +26,13 @@ class CellKeys {
  public:
   explicit CellKeys(const std::vector<Plane>& planes);
   /// The key of the cell holding x. `onPlane` (if ≥ 0) is a plane x lies on, taken on side
-  /// `side` (+1: the normal's side, −1 the other), whatever rounding says.
+  /// `side` (+1: the normal's side, −1 the other), whatever rounding says; `onPlane2`, `side2` a
+  /// second one (a point where a contour crosses another plane's trace).
   /// `clearance`, if given, receives the least distance of x to the other planes (mm).
-  std::uint64_t of(const Vec3& x, int onPlane = -1, int side = 0, double* clearance = nullptr) const;
-  /// Key `k` of a point of `plane` taken on its side `side` instead (x: the point, to read its side).
-  std::uint64_t onSide(std::uint64_t k, const Vec3& x, int plane, int side) const {
-    const std::size_t j = std::size_t(plane);
-    const bool positive = nx_[j] * x.x() + ny_[j] * x.y() + nz_[j] * x.z() - offsets_[j] > 0;
-    return positive == (side > 0) ? k : k ^ keys_[j];
-  }
+  std::uint64_t of(const Vec3& x, int onPlane = -1, int side = 0, double* clearance = nullptr, int onPlane2 = -1,
+                   int side2 = 0) const;
   /// The signs (+1 / −1) of x against every plane, with the same convention.
-  std::vector<int> sides(const Vec3& x, int onPlane = -1, int side = 0) const;
+  std::vector<int> sides(const Vec3& x, int onPlane = -1, int side = 0, int onPlane2 = -1, int side2 = 0) const;
   std::uint64_t key(std::size_t plane) const { return keys_[plane]; }
 
  private:

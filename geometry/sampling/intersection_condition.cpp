@@ -51,7 +51,6 @@ CellReconstructionTopology sampleCell(const std::vector<Plane>& planes, const st
         const Vec2 q = planes[std::size_t(nearest)].toPlane(x);
         if (fields[std::size_t(nearest)].sample(q.x(), q.y()) < 0) (*inside)[std::size_t(grid->index(i, j, k))] = 1;
       }
-  out.spacing_mm = step.maxCoeff();
   return out;
 }
 

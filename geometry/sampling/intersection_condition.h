@@ -31,7 +31,6 @@ struct CellReconstructionTopology {
   bool sampled = false;     ///< the cell was built and held enough lattice points
   Betti betti{0, 0, 0};     ///< of R_C's sampling
   int points_inside = 0;    ///< lattice points in C
-  double spacing_mm = 0;    ///< the lattice's spacing
   /// The Intersection Condition shown: every component of R_C (≃ lift(S_C)) contractible.
   bool contractible() const { return sampled && betti[1] == 0 && betti[2] == 0; }
 };

@@ -165,16 +165,6 @@ void boundSectionHeights(SamplingDiagnosis& out, const std::vector<Plane>& ps, c
                          const std::vector<CuttingPlane>& planes, const SectionArrangement& arrangement,
                          const std::vector<KeyPoint>& keyPoints, const Vec3& lo, const Vec3& hi,
                          const SamplingParams& params) {
-  // The points of S_C, per arrangement cell (a trace point bounds up to four cells).
-  const std::size_t nArr = std::size_t(std::max(arrangement.cells, 0));
-  std::vector<std::vector<Vec3>> pointsOf(nArr);
-  for (const SectionPoint& s : arrangement.points) {
-    const Vec3 x = planes[std::size_t(s.plane)].plane.toWorld(s.p);
-    for (int k = 0; k < 2; ++k) {
-      if (s.cell[std::size_t(k)] >= 0) pointsOf[std::size_t(s.cell[std::size_t(k)])].push_back(x);
-      if (s.cell_alt[std::size_t(k)] >= 0) pointsOf[std::size_t(s.cell_alt[std::size_t(k)])].push_back(x);
-    }
-  }
   std::vector<int> decisive, worst;
   std::vector<double> target(out.cells.size(), 0.0);
   for (std::size_t i = 0; i < out.cells.size(); ++i) {
@@ -201,6 +191,15 @@ void boundSectionHeights(SamplingDiagnosis& out, const std::vector<Plane>& ps, c
                         decisive.begin() + std::ptrdiff_t(std::min<std::size_t>(decisive.size(),
                                                                                 std::size_t(params.section_height_cells))));
   todo.insert(todo.end(), worst.begin(), worst.begin() + std::ptrdiff_t(shownWorst));
+  // The points of S_C of the arrangement cells to bound (a trace point bounds up to four cells).
+  std::vector<int> slot(std::size_t(std::max(arrangement.cells, 0)), -1);
+  for (std::size_t e = 0; e < todo.size(); ++e) slot[std::size_t(out.cells[std::size_t(todo[e])].arrangement_cell)] = int(e);
+  std::vector<std::vector<Vec3>> pointsOf(todo.size());
+  for (const SectionPoint& s : arrangement.points)
+    for (int k = 0; k < 2; ++k)
+      for (const int cell : {s.cell[std::size_t(k)], s.cell_alt[std::size_t(k)]})
+        if (cell >= 0 && slot[std::size_t(cell)] >= 0)
+          pointsOf[std::size_t(slot[std::size_t(cell)])].push_back(planes[std::size_t(s.plane)].plane.toWorld(s.p));
   const double resolution = std::max(arrangement.sample_spacing_mm, 1e-9 * (hi - lo).norm());
   const Vec3 pad = Vec3::Constant(1e-6 * (hi - lo).norm());
   tbb::parallel_for(std::size_t(0), todo.size(), [&](std::size_t e) {
@@ -210,11 +209,9 @@ void boundSectionHeights(SamplingDiagnosis& out, const std::vector<Plane>& ps, c
     const Interior found = cellInterior(c, ps, keys, keyPoints, lo - pad, hi + pad, &sides, &interior);
     if (found == Interior::none) c.section_height_hi_mm = c.height_lo_mm;  // no open region: nothing to reach
     if (found != Interior::found) return;
-    const SectionHeightBound b = sectionHeightBound(ps, sides, interior, lo - pad, hi + pad,
-                                                    pointsOf[std::size_t(c.arrangement_cell)],
+    const SectionHeightBound b = sectionHeightBound(ps, sides, interior, lo - pad, hi + pad, pointsOf[e],
                                                     target[std::size_t(todo[e])], resolution, params.section_height);
-    // h'_C ≥ h_C: a bound below the lower bound of h_C only reflects rounding.
-    c.section_height_hi_mm = std::max(b.upper_mm, c.height_lo_mm);
+    c.section_height_hi_mm = b.upper_mm;  // ≥ h'_C ≥ h_C: sampling.json lets a test check it
     c.section_farthest = b.farthest;
   });
   out.section_height_max_mm = 0;
@@ -355,17 +352,11 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
     for (const Candidate& cand : candidates[cell]) {
       const SectionPoint& s = arrangement.points[std::size_t(cand.point)];
       const Vec3 x = planes[std::size_t(s.plane)].plane.toWorld(s.p);
-      double clearance = 0;
-      std::uint64_t k = keys.of(x, s.plane, cand.side ? 1 : -1, &clearance);
+      // A trace point lies on the trace plane too: its side forced as well.
       KeyPoint kp{s.plane, cand.side ? 1 : -1};
-      if (cand.traceSide != 0) {  // on the trace plane too: its side forced, the clearance from the rest
-        k = keys.onSide(k, x, s.trace_plane, cand.traceSide);
-        kp.trace_plane = s.trace_plane;
-        kp.trace_side = cand.traceSide;
-        clearance = std::numeric_limits<double>::infinity();
-        for (std::size_t j = 0; j < ps.size(); ++j)
-          if (int(j) != s.plane && int(j) != s.trace_plane) clearance = std::min(clearance, std::abs(ps[j].signedDistance(x)));
-      }
+      if (cand.traceSide != 0) kp.trace_plane = s.trace_plane, kp.trace_side = cand.traceSide;
+      double clearance = 0;
+      const std::uint64_t k = keys.of(x, kp.plane, kp.side, &clearance, kp.trace_plane, kp.trace_side);
       kp.generic = clearance > tiny;
       if (kp.generic || !arrFound[cell]) arrKey[cell] = k, arrPoint[cell] = x, arrFound[cell] = 1, keyPoints[cell] = kp;
       if (kp.generic) break;
