@@ -24,7 +24,8 @@ const std::set<std::string> kKnownKeys = {
     "segmentation.open_radius_px", "segmentation.close_radius_px", "segmentation.min_area_mm2",
     "segmentation.simplify_mm", "segmentation.merge_labels", "conformity", "conformity.enforce",
     "conformity.mode", "conformity.max_correction_mm", "conformity.band_mm", "conformity.min_angle_deg",
-    "conformity.flag_mm", "conformity.drop_flagged", "conformity.pose_smoothing_frames", "reconstruction",
+    "conformity.flag_mm", "conformity.drop_flagged", "conformity.pose_smoothing_frames", "conformity.pose_correction",
+    "conformity.pose_sigma_mm", "conformity.pose_sigma_deg", "reconstruction",
     "reconstruction.method", "reconstruction.voxel_size_mm", "reconstruction.voxel_budget", "reconstruction.end_margin_mm",
     "reconstruction.conformal_mesh",
     "smoothing", "smoothing.method", "smoothing.exponent", "smoothing.cap_mm",
@@ -161,6 +162,17 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
     positive("max_correction_mm", &f.max_correction_mm);
     positive("band_mm", &f.band_mm);
     positive("flag_mm", &f.flag_mm);
+    if (s["pose_correction"])
+      f.pose_correction = yamlChoice(s["pose_correction"], path, "conformity.pose_correction",
+                                     kPoseCorrectionKinds, "pose correction");
+    for (const auto& [k, out] : {std::pair{"pose_sigma_mm", &f.pose_sigma_mm}, std::pair{"pose_sigma_deg", &f.pose_sigma_deg}}) {
+      const YAML::Node v = s[k];
+      if (!v || (v.IsScalar() && v.Scalar() == "auto")) continue;
+      const double x = yamlNumber(v, path, std::string("conformity.") + k);
+      if (!(x > 0) || !std::isfinite(x))
+        throw InputError(path, std::string("conformity.") + k, "must be a positive number or 'auto'", yamlLine(v));
+      *out = x;
+    }
     if (const YAML::Node n = s["pose_smoothing_frames"]) {
       f.pose_smoothing_frames = yamlInteger(n, path, "conformity.pose_smoothing_frames", 0, 1000);
       if (f.pose_smoothing_frames > 0 && c.input_kind != InputKind::slices && c.input_kind != InputKind::plus_sequence)

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "geometry/conformity/consensus_mode.h"
+#include "geometry/conformity/pose_correction_kind.h"
 #include "geometry/core/named_choice.h"
 #include "geometry/core/reconstruction_method.h"
 #include "segmentation/segment_slice.h"
@@ -50,6 +51,12 @@ struct RunConfig {
     /// Tracked sweeps: the poses are smoothed over this many frames on each side, in the slices'
     /// order (geometry/conformity/pose_smoothing.h); 0 = off.
     int pose_smoothing_frames = 0;
+    /// Per-slice pose corrections estimated from the disagreement along the common lines
+    /// (geometry/conformity/pose_correction.h), applied before the measurement.
+    PoseCorrectionKind pose_correction = PoseCorrectionKind::none;
+    /// The corrections' prior standard deviations (mm, degrees); empty = auto, from the
+    /// disagreement measured on the recorded poses (any units).
+    std::optional<double> pose_sigma_mm, pose_sigma_deg;
   } conformity;
   ReconstructionMethod reconstruction_method = ReconstructionMethod::nearest_plane;
   /// The voxel size, mm: the configuration's, or, when voxel_size_auto, 0 until the run resolves

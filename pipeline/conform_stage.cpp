@@ -92,6 +92,42 @@ PoseSmoothingSummary smoothPoses(int halfWindow, std::vector<CuttingPlane>& plan
   return s;
 }
 
+/// Pose correction (geometry/conformity/pose_correction.h): the planes move, their sections with
+/// them; the rows get the per-slice corrections.
+PoseCorrectionSummary correctSlicePoses(const RunConfig::Conformity& settings, std::vector<CuttingPlane>& planes,
+                                        std::vector<SliceConformity>& rows) {
+  PoseCorrectionSummary s;
+  if (settings.pose_correction == PoseCorrectionKind::none) return s;
+  s.uncorrected = pairsSummary(planePairTraces(planes, settings.min_angle_deg, false).pairs);
+  PoseCorrectionParams params;
+  params.kind = settings.pose_correction;
+  params.sigma_mm = settings.pose_sigma_mm;
+  params.sigma_deg = settings.pose_sigma_deg;
+  params.min_angle_deg = settings.min_angle_deg;
+  params.sweep_half_window = settings.pose_smoothing_frames;
+  s.fit = correctPoses(planes, params);
+  for (std::size_t i = 0; i < planes.size(); ++i) {
+    planes[i].plane = s.fit.planes[i];
+    rows[i].correction = s.fit.slices[i];
+  }
+  s.fit.planes.clear();
+  s.applied = true;
+  return s;
+}
+
+/// The rigid motion taking plane `from` onto plane `to` (frames and origins).
+Mat4 motionBetween(const Plane& from, const Plane& to) {
+  const auto frame = [](const Plane& p) {
+    Mat4 f = Mat4::Identity();
+    f.block<3, 1>(0, 0) = p.u;
+    f.block<3, 1>(0, 1) = p.v;
+    f.block<3, 1>(0, 2) = p.normal;
+    f.block<3, 1>(0, 3) = p.origin;
+    return f;
+  };
+  return frame(to) * frame(from).inverse();
+}
+
 /// The five worst pairs by largest endpoint mismatch (ties in pair order).
 std::vector<WorstPair> worstPairs(const std::vector<PlanePairTraces>& pairs, const std::vector<CuttingPlane>& planes) {
   std::vector<std::size_t> order(pairs.size());
@@ -176,7 +212,18 @@ ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<Cut
     s.name = p.name;
     r.slices.push_back(s);
   }
+  std::vector<Plane> read;
+  for (const CuttingPlane& p : planes) read.push_back(p.plane);
   r.pose = smoothPoses(settings.pose_smoothing_frames, planes, r.slices);
+  r.correction = correctSlicePoses(settings, planes, r.slices);
+  if (r.pose.applied || r.correction.applied)
+    for (std::size_t i = 0; i < planes.size(); ++i) {
+      const Mat4 m = motionBetween(read[i], planes[i].plane);
+      std::vector<int> members{planes[i].slice};
+      for (const CoincidentConsensus& c : r.coincident)
+        if (!c.slices.empty() && c.slices.front() == planes[i].slice) members = c.slices;
+      for (const int slice : members) r.pose_changes.push_back({slice, m});
+    }
 
   r.search = planePairTraces(planes, settings.min_angle_deg, settings.enforce);
   const std::vector<SliceDisagreement> before = sliceStats(r.search.pairs, planes.size());

@@ -15,6 +15,7 @@
 
 #include "geometry/arrangement/plane_pair_traces.h"
 #include "geometry/conformity/conformity_enforcement.h"
+#include "geometry/conformity/pose_correction.h"
 #include "geometry/core/types.h"
 #include "io/run_config.h"
 #include "segmentation/coincident_consensus.h"
@@ -43,6 +44,7 @@ struct SliceConformity {
   bool measured_after = false;          ///< enforcement ran and the slice was kept
   SliceDisagreement after;
   double pose_shift_mm = 0, pose_rotation_deg = 0, pose_weight = 1;
+  SliceCorrection correction;           ///< pose correction (when conformity.pose_correction)
   bool flagged = false, dropped = false;
 };
 
@@ -54,6 +56,20 @@ struct PoseSmoothingSummary {
   std::vector<int> outlier_slices;      ///< off the trajectory: put back onto it (weight 0)
 };
 
+/// The pose correction's summary (the per-slice corrections are in the rows).
+struct PoseCorrectionSummary {
+  bool applied = false;
+  PoseCorrection fit;                   ///< without its planes (moved into the stage's)
+  PairsSummary uncorrected;             ///< the pairs' disagreement on the recorded (or smoothed) poses
+};
+
+/// A slice's pose as used, against the one read: x -> transform x (world), for
+/// corrected_slices.yaml. Coincident observations share their plane's.
+struct PoseChange {
+  int slice = -1;
+  Mat4 transform = Mat4::Identity();
+};
+
 struct WorstPair {
   int slice_a = -1, slice_b = -1;
   double max_mismatch_mm = 0, symmetric_difference_mm = 0;
@@ -62,6 +78,8 @@ struct WorstPair {
 struct ConformityResult {
   std::vector<CoincidentConsensus> coincident;
   PoseSmoothingSummary pose;
+  PoseCorrectionSummary correction;
+  std::vector<PoseChange> pose_changes; ///< every slice read whose pose smoothing or correction moved
   std::size_t pairs_measured = 0;       ///< before any slice was dropped
   PlanePairSearch search;               ///< the pairs of the kept slices
   PairsSummary before;                  ///< over the pairs measured

@@ -1,5 +1,6 @@
 // Stage 3's report (see conform_stage.h): report.json "conformity", conformity.json, the lines
 // for the terminal and the warnings, from the stage's typed result.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -64,6 +65,57 @@ json poseJson(const PoseSmoothingSummary& p) {
           {"outlier_slices", p.outlier_slices}};
 }
 
+json correctionJson(const SliceCorrection& c) {
+  return {{"shift_mm", c.shift_mm},
+          {"rotation_deg", c.rotation_deg},
+          {"translation_mm", vecJson(c.translation)},
+          {"rotation_vector_deg", vecJson(c.rotation * (180.0 / M_PI))},
+          {"pivot_mm", vecJson(c.pivot)},
+          {"sigma_shift_mm", c.sigma_shift_mm},
+          {"sigma_rotation_deg", c.sigma_rotation_deg},
+          {"unobservable", c.unobservable},
+          {"crossings_before", c.crossings_before},
+          {"crossings_after", c.crossings_after},
+          {"gap_before_mm", c.gap_before_mm},
+          {"gap_after_mm", c.gap_after_mm},
+          {"outlier", c.outlier}};
+}
+
+json poseCorrectionJson(const RunConfig::Conformity& settings, const PoseCorrectionSummary& c) {
+  if (!c.applied) return nullptr;
+  const PoseCorrection& f = c.fit;
+  double meanShift = 0, maxShift = 0, meanRot = 0, maxRot = 0;
+  for (const SliceCorrection& s : f.slices) {
+    meanShift += s.shift_mm;
+    meanRot += s.rotation_deg;
+    maxShift = std::max(maxShift, s.shift_mm);
+    maxRot = std::max(maxRot, s.rotation_deg);
+  }
+  const double n = std::max<double>(1, double(f.slices.size()));
+  return {{"kind", nameOf(kPoseCorrectionKinds, settings.pose_correction)},
+          {"sigma_mm", f.sigma_mm},
+          {"sigma_deg", f.sigma_deg},
+          {"sigma_auto", !settings.pose_sigma_mm || !settings.pose_sigma_deg},
+          {"noise_mm", f.noise_mm},
+          {"gate_mm", f.gate_mm},
+          {"robust_scale_mm", f.robust_scale_mm},
+          {"rounds", f.rounds},
+          {"converged", f.converged},
+          {"crossings_before", f.crossings_before},
+          {"crossings_after", f.crossings_after},
+          {"gap_rms_before_mm", f.gap_before_mm},
+          {"gap_rms_after_mm", f.gap_after_mm},
+          {"gap_median_before_mm", f.median_gap_before_mm},
+          {"gap_median_after_mm", f.median_gap_after_mm},
+          {"mean_shift_mm", meanShift / n},
+          {"max_shift_mm", maxShift},
+          {"mean_rotation_deg", meanRot / n},
+          {"max_rotation_deg", maxRot},
+          {"outliers", f.outliers},
+          {"slices_with_unobservable", f.slices_with_unobservable},
+          {"uncorrected", summaryJson(c.uncorrected)}};
+}
+
 json slicesJson(const ConformityResult& r) {
   json slices = json::array();
   for (const SliceConformity& s : r.slices)
@@ -75,6 +127,7 @@ json slicesJson(const ConformityResult& r) {
                       {"pose_shift_mm", s.pose_shift_mm},
                       {"pose_rotation_deg", s.pose_rotation_deg},
                       {"pose_weight", s.pose_weight},
+                      {"pose_correction", r.correction.applied ? correctionJson(s.correction) : json(nullptr)},
                       {"flagged", s.flagged},
                       {"dropped", s.dropped}});
   return slices;
@@ -137,6 +190,7 @@ json conformitySummaryJson(const RunConfig::Conformity& settings, const Conformi
           {"min_angle_deg", settings.min_angle_deg},
           {"flag_mm", settings.flag_mm},
           {"pose_smoothing", poseJson(r.pose)},
+          {"pose_correction", poseCorrectionJson(settings, r.correction)},
           {"typical_slice_mismatch_mm", r.typical_mismatch_mm},
           {"flagged_above_mm", r.flagged_above_mm},
           {"drop_flagged", settings.drop_flagged},
@@ -180,6 +234,13 @@ std::string conformityTerminalSummary(const RunConfig::Conformity& settings, con
               : "; " + std::to_string(p.outlier_slices.size()) +
                     " slice(s) off the trajectory, put back onto it (conformity.json pose_weight 0)") +
          "\n";
+  if (r.correction.applied) {
+    const PoseCorrection& f = r.correction.fit;
+    s += std::string("conformity: poses corrected (") + nameOf(kPoseCorrectionKinds, settings.pose_correction) + ") from " +
+         std::to_string(f.crossings_before) + " contour crossings: gap median " + mm(f.median_gap_before_mm) + " -> " +
+         mm(f.median_gap_after_mm) + " in " + std::to_string(f.rounds) + " rounds" +
+         (f.outliers ? "; " + std::to_string(f.outliers) + " outlier slice(s)" : "") + "\n";
+  }
   s += "conformity: " + std::to_string(r.pairs_measured) + " pairs of slices meet at " +
        number(settings.min_angle_deg) + "° or more" +
        (r.search.pairs_near_parallel
@@ -220,6 +281,21 @@ std::vector<std::string> conformityWarnings(const RunConfig::Conformity& setting
                 mm(r.flagged_above_mm) + " or more (median over their pairs; conformity.flag_mm or " +
                 "3 times the typical slice's): probable tracking or segmentation failures: slice " + list +
                 (settings.drop_flagged ? " (dropped)" : " (set conformity.drop_flagged: true to leave them out)"));
+  }
+  if (r.correction.applied) {
+    std::string outliers, unobservable;
+    for (const SliceConformity& s : r.slices) {
+      if (s.correction.outlier) outliers += (outliers.empty() ? "" : ", ") + std::to_string(s.slice);
+      if (!s.correction.unobservable.empty()) unobservable += (unobservable.empty() ? "" : ", ") + std::to_string(s.slice);
+    }
+    if (!outliers.empty())
+      w.push_back("pose correction: slice " + outliers +
+                  " disagreed with the slices it crosses far more than the others (probable tracking glitch or segmentation failure): corrected against them with theirs held, so that it moves none of them");
+    if (!unobservable.empty())
+      w.push_back("pose correction: no crossing constrains some motions of slice " + unobservable +
+                  " (conformity.json slices[].pose_correction.unobservable); those were left uncorrected");
+    if (!r.correction.fit.converged)
+      w.push_back("pose correction did not converge in " + std::to_string(r.correction.fit.rounds) + " rounds");
   }
   if (r.pairs_over_max)
     w.push_back(std::to_string(r.pairs_over_max) + " pair(s) of slices disagree by more than conformity.max_correction_mm (" +

@@ -36,6 +36,7 @@ RunInputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress)
                                    &in.labelled);
   in.slices = int(in.planes.size());
   clock.end("segment");
+  in.slice_records = std::move(slices);
   progress.stage("conform");
   ConformStage conform = conformStage(c.conformity, std::move(in.planes), std::move(in.labelled));
   in.planes = std::move(conform.planes);

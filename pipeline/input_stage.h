@@ -8,6 +8,7 @@
 
 #include "geometry/core/types.h"
 #include "io/run_config.h"
+#include "io/slices_file.h"
 #include "pipeline/conform_stage.h"
 #include "pipeline/commands.h"
 #include "pipeline/progress.h"
@@ -25,6 +26,8 @@ struct RunInputs {
   double threshold = 0;                         ///< grey threshold applied (slices input)
   std::vector<std::vector<Section>> labelled;   ///< segmentation labels: per plane, per label
   ConformityResult conformity;                  ///< stage 3's measurements (conform_stage.h)
+  /// The slices as read (input.slices; repeats merged): CuttingPlane::slice indexes them.
+  std::vector<SliceRecord> slice_records;
 };
 
 /// Reads options.config (with its overrides) and its input (slices.yaml and images, or a .csl),

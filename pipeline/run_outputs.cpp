@@ -112,6 +112,18 @@ void writeRunOutputs(const RunResults& r, const RunOptions& o, const StageClock&
   writeTextFile(out.file("conformity.json").string(),
                 conformityDetailsJson(c.conformity, r.inputs.conformity).dump(2) + "\n");
   writeTextFile(out.file("sampling.json").string(), samplingDetailsJson(r.sampling).dump(1) + "\n");
+  if (!r.inputs.slice_records.empty() && !r.inputs.conformity.pose_changes.empty()) {
+    // The input's slices with the poses the run used (smoothed, corrected), images by absolute
+    // path so that the file can be run from the output folder.
+    std::vector<SliceRecord> corrected = r.inputs.slice_records;
+    for (SliceRecord& s : corrected) {
+      s.image = s.image_resolved;
+      if (s.fov_resolved) s.fov = s.fov_resolved;
+    }
+    for (const PoseChange& p : r.inputs.conformity.pose_changes)
+      corrected[std::size_t(p.slice)].image_to_world = p.transform * corrected[std::size_t(p.slice)].image_to_world;
+    writeSlicesFile(out.file("corrected_slices.yaml").string(), corrected);
+  }
   const GridSpec& g = labels.grid();
   writeScalarVolumeNrrd(
       out.file("sampling.nrrd").string(), g,

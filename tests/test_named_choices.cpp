@@ -34,6 +34,7 @@ TEST(NamedChoices, EveryTableRoundTrips) {
   expectRoundTrip(kSmoothingMethods);
   expectRoundTrip(kReconstructionMethods);
   expectRoundTrip(kConsensusModes);
+  expectRoundTrip(kPoseCorrectionKinds);
   expectRoundTrip(kSegmentationMethods);
   expectRoundTrip(kShapeKinds);
   expectRoundTrip(kPatternKinds);

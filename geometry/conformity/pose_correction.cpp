@@ -1,0 +1,445 @@
+// Robust least-squares pose correction from contour piercing distances (see pose_correction.h).
+// Ceres Solver lives only in this translation unit.
+#include "geometry/conformity/pose_correction.h"
+
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <memory>
+#include <sstream>
+
+#include "geometry/arrangement/plane_pair_traces.h"
+#include "geometry/conformity/contour_piercings.h"
+#include "geometry/core/median.h"
+
+namespace xsect {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+/// A direction is observable when its crossings' information is at least this fraction of the
+/// prior's: below it, the posterior takes less than 5% of that component from the data
+/// (shrinkage λ / (1 + λ)), and the correction there would be the prior's, not a measurement.
+constexpr double kObservable = 0.05;
+
+/// x -> pivot + R(w) (x - pivot) + t, and the direction R(w) d.
+template <typename T>
+void moved(const T* w, const T* t, const Vec3& x, const Vec3& pivot, T* out) {
+  const T rel[3] = {T(x.x() - pivot.x()), T(x.y() - pivot.y()), T(x.z() - pivot.z())};
+  ceres::AngleAxisRotatePoint(w, rel, out);
+  for (int k = 0; k < 3; ++k) out[k] += T(pivot[k]) + t[k];
+}
+template <typename T>
+void turned(const T* w, const Vec3& d, T* out) {
+  const T dd[3] = {T(d.x()), T(d.y()), T(d.z())};
+  ceres::AngleAxisRotatePoint(w, dd, out);
+}
+
+/// The piercing distance (contour_piercings.h) after increments (w, t) of both slices, / noise:
+/// the contour of `from` moved and turned, followed along its tangent to the moved plane `to`,
+/// measured along the moved contour normal of `to`.
+struct PiercingCost {
+  ContourPiercing obs;
+  Vec3 pivot_from, pivot_to;
+  double inv_noise;
+  template <typename T>
+  bool operator()(const T* wf, const T* tf, const T* wt, const T* tt, T* r) const {
+    T p[3], d[3], q[3], m[3], n[3];
+    moved(wf, tf, obs.point, pivot_from, p);
+    turned(wf, obs.tangent, d);
+    moved(wt, tt, obs.nearest, pivot_to, q);
+    turned(wt, obs.contour_normal, m);
+    turned(wt, obs.plane_normal, n);
+    T pq = T(0), nd = T(0);
+    for (int k = 0; k < 3; ++k) pq += n[k] * (p[k] - q[k]), nd += n[k] * d[k];
+    const T s = -pq / nd;
+    r[0] = T(0);
+    for (int k = 0; k < 3; ++k) r[0] += (p[k] + s * d[k] - q[k]) * m[k];
+    r[0] *= T(inv_noise);
+    return true;
+  }
+};
+
+/// The prior on a slice's total correction (accumulated + increment).
+struct PriorCost {
+  Vec3 w0, t0;
+  double inv_rad, inv_mm;
+  template <typename T>
+  bool operator()(const T* w, const T* t, T* r) const {
+    for (int k = 0; k < 3; ++k) {
+      r[k] = (T(w0[k]) + w[k]) * inv_rad;
+      r[3 + k] = (T(t0[k]) + t[k]) * inv_mm;
+    }
+    return true;
+  }
+};
+
+/// Consecutive frames of a sweep: their total corrections differ little.
+struct TieCost {
+  Vec3 dw0, dt0;  ///< accumulated difference (frame i - frame j)
+  double inv_rad, inv_mm;
+  template <typename T>
+  bool operator()(const T* wi, const T* ti, const T* wj, const T* tj, T* r) const {
+    for (int k = 0; k < 3; ++k) {
+      r[k] = (T(dw0[k]) + wi[k] - wj[k]) * inv_rad;
+      r[3 + k] = (T(dt0[k]) + ti[k] - tj[k]) * inv_mm;
+    }
+    return true;
+  }
+};
+
+Vec3 rotationVector(const Eigen::Matrix3d& R) {
+  const Eigen::AngleAxisd aa(R);
+  return aa.angle() * aa.axis();
+}
+Eigen::Matrix3d rotationMatrix(const Vec3& w) {
+  const double a = w.norm();
+  return a > 0 ? Eigen::AngleAxisd(a, w / a).toRotationMatrix() : Eigen::Matrix3d::Identity();
+}
+
+Plane movedPlane(const Plane& p, const Eigen::Matrix3d& R, const Vec3& pivot, const Vec3& t) {
+  Plane q;
+  q.origin = pivot + R * (p.origin - pivot) + t;
+  q.u = R * p.u;
+  q.v = R * p.v;
+  q.normal = R * p.normal;
+  return q;
+}
+
+double rms(const std::vector<double>& g) {
+  double s = 0;
+  for (const double x : g) s += x * x;
+  return g.empty() ? 0.0 : std::sqrt(s / double(g.size()));
+}
+std::vector<double> absolute(std::vector<double> g) {
+  for (double& x : g) x = std::abs(x);
+  return g;
+}
+
+/// Piercing distances, per slice (both slices of each) and in all.
+struct GapStats {
+  std::vector<std::vector<double>> per_slice;
+  std::vector<double> all;
+};
+GapStats gapStats(const std::vector<ContourPiercing>& observations, std::size_t slices) {
+  GapStats s;
+  s.per_slice.resize(slices);
+  for (const ContourPiercing& o : observations) {
+    const double g = piercingDistance(o);
+    s.all.push_back(g);
+    s.per_slice[std::size_t(o.from)].push_back(g);
+    s.per_slice[std::size_t(o.to)].push_back(g);
+  }
+  return s;
+}
+
+/// "translation along normal", or along a direction given in (u, v, normal).
+std::string directionName(const char* kind, const char* prep, const Vec3& local) {
+  static const char* axes[3] = {"u", "v", "normal"};
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(local[k]) > 0.98) return std::string(kind) + " " + prep + " " + axes[k];
+  std::ostringstream s;
+  s.precision(2);
+  s << std::fixed << kind << " " << prep << " (" << local.x() << ", " << local.y() << ", " << local.z()
+    << ") in (u, v, normal)";
+  return s.str();
+}
+
+}  // namespace
+
+Mat4 SliceCorrection::transform() const {
+  const Eigen::Matrix3d R = rotationMatrix(rotation);
+  Mat4 m = Mat4::Identity();
+  m.block<3, 3>(0, 0) = R;
+  m.block<3, 1>(0, 3) = pivot - R * pivot + translation;
+  return m;
+}
+
+Plane correctedPlane(const Plane& recorded, const SliceCorrection& c) {
+  return movedPlane(recorded, rotationMatrix(c.rotation), c.pivot, c.translation);
+}
+
+PoseCorrection correctPoses(const std::vector<CuttingPlane>& input, const PoseCorrectionParams& params) {
+  const std::size_t n = input.size();
+  PoseCorrection out;
+  out.slices.resize(n);
+  for (const CuttingPlane& p : input) out.planes.push_back(p.plane);
+  if (params.kind == PoseCorrectionKind::none || n < 2) return out;
+  const bool rigid = params.kind == PoseCorrectionKind::rigid;
+
+  // Pivots, radii, the measurement scale.
+  std::vector<double> pixels, radii;
+  Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+  for (std::size_t i = 0; i < n; ++i) {
+    const CuttingPlane& p = input[i];
+    Vec3 sum = Vec3::Zero();
+    std::size_t count = 0;
+    for (const Section& s : p.sections)
+      for (const Vec2& q : s.outer) {
+        const Vec3 x = p.plane.toWorld(q);
+        sum += x;
+        ++count;
+        lo = lo.cwiseMin(x);
+        hi = hi.cwiseMax(x);
+      }
+    out.slices[i].pivot = count ? Vec3(sum / double(count)) : p.plane.toWorld(0.5 * (p.extent.min + p.extent.max));
+    if (count) {
+      std::vector<double> r;
+      for (const Section& s : p.sections)
+        for (const Vec2& q : s.outer) r.push_back((p.plane.toWorld(q) - out.slices[i].pivot).norm());
+      radii.push_back(upperMedian(r));
+    }
+    if (p.pixel_mm > 0) pixels.push_back(p.pixel_mm);
+  }
+  const double extent = (hi - lo).allFinite() && hi.x() >= lo.x() ? (hi - lo).norm() : 1.0;
+  out.noise_mm = pixels.empty() ? 1e-3 * extent : 0.5 * upperMedian(pixels);
+  const double radius = radii.empty() ? extent : std::max(upperMedian(radii), out.noise_mm);
+
+  std::vector<CuttingPlane> planes = input;  // the current poses
+  const PlanePairSearch first = planePairTraces(planes, params.min_angle_deg, false);
+  std::vector<double> mismatch;
+  for (const PlanePairTraces& p : first.pairs) mismatch.push_back(p.disagreement.max_endpoint_mismatch_mm);
+  out.sigma_mm = params.sigma_mm ? *params.sigma_mm
+                                 : std::max(mismatch.empty() ? 0.0 : upperMedian(mismatch), out.noise_mm);
+  out.sigma_deg = params.sigma_deg ? *params.sigma_deg : std::min(10.0, out.sigma_mm / radius / kDeg);
+  out.gate_mm = 3 * out.sigma_mm + 4 * out.noise_mm;
+  const double sigmaRad = out.sigma_deg * kDeg;
+
+  PiercingParams cp;
+  cp.gate_mm = out.gate_mm;
+  cp.arc_mm = 2 * out.noise_mm;  // a pixel each side
+
+  // Sweeps: consecutive frames whose normals are within 5° are tied.
+  std::vector<std::pair<std::size_t, std::size_t>> ties;
+  if (params.sweep_half_window > 0)
+    for (std::size_t i = 0; i + 1 < n; ++i)
+      if (input[i].plane.normal.dot(input[i + 1].plane.normal) > std::cos(5 * kDeg)) ties.emplace_back(i, i + 1);
+  const double tieScale = 1.0 / double(std::max(1, params.sweep_half_window));
+
+  std::vector<Eigen::Matrix3d> R(n, Eigen::Matrix3d::Identity());
+  std::vector<Vec3> T(n, Vec3::Zero());
+  std::vector<std::array<double, 3>> w(n), t(n);
+  std::vector<ContourPiercing> observations;
+
+  // Outlier slices (a tracker glitch): a slice whose median disagreement over its pairs (their
+  // largest endpoint mismatch) exceeds 3 times the typical slice's and the gate, with at least 3
+  // pairs. Stage 1 corrects the other slices from the piercings among themselves; stage 2 corrects
+  // the outliers against them, held where stage 1 put them: an outlier cannot drag its partners.
+  std::vector<std::vector<double>> pairMismatch(n);
+  for (const PlanePairTraces& p : first.pairs)
+    for (const int i : {p.a, p.b}) pairMismatch[std::size_t(i)].push_back(p.disagreement.max_endpoint_mismatch_mm);
+  std::vector<double> sliceMedians;
+  for (const auto& m : pairMismatch)
+    if (!m.empty()) sliceMedians.push_back(upperMedian(m));
+  const double typical = sliceMedians.empty() ? 0.0 : upperMedian(sliceMedians);
+  std::vector<char> outlier(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    outlier[i] = pairMismatch[i].size() >= 3 && upperMedian(pairMismatch[i]) > std::max(3 * typical, out.gate_mm);
+  const bool anyOutlier = std::find(outlier.begin(), outlier.end(), 1) != outlier.end();
+
+  int round = 0;
+  bool converged = true;  // every stage
+  for (int stage = 0; stage < (anyOutlier ? 2 : 1); ++stage) {
+    // free[i]: slice i's correction is estimated in this stage; an observation counts when it
+    // involves a free slice and, in stage 1, no outlier.
+    std::vector<char> free(n);
+    for (std::size_t i = 0; i < n; ++i) free[i] = stage == 0 ? !outlier[i] : outlier[i];
+    const auto counts = [&](const ContourPiercing& o) {
+      const std::size_t a = std::size_t(o.from), b = std::size_t(o.to);
+      return stage == 0 ? !outlier[a] && !outlier[b] : bool(outlier[a] || outlier[b]);
+    };
+    bool stageConverged = false;
+    for (int stageRound = 0; stageRound < params.max_rounds; ++stageRound, ++round) {
+    const std::vector<PlanePairTraces> pairs =
+        round == 0 ? first.pairs : planePairTraces(planes, params.min_angle_deg, false).pairs;
+    observations = contourPiercings(planes, pairs, cp);
+    const GapStats gaps = gapStats(observations, n);
+    if (round == 0) {
+      out.crossings_before = int(observations.size());
+      out.gap_before_mm = rms(gaps.all);
+      out.median_gap_before_mm = gaps.all.empty() ? 0.0 : upperMedian(absolute(gaps.all));
+      for (std::size_t i = 0; i < n; ++i) {
+        out.slices[i].crossings_before = int(gaps.per_slice[i].size());
+        out.slices[i].gap_before_mm = rms(gaps.per_slice[i]);
+      }
+    }
+    std::vector<ContourPiercing> counted;
+    for (const ContourPiercing& o : observations)
+      if (counts(o)) counted.push_back(o);
+    if (counted.empty()) {
+      stageConverged = true;  // nothing to estimate
+      break;
+    }
+    std::vector<double> distances;
+    for (const ContourPiercing& o : counted) distances.push_back(std::abs(piercingDistance(o)));
+    const double spread = 1.4826 * upperMedian(distances);
+    out.robust_scale_mm = std::max(3 * spread, 3 * out.noise_mm);
+    const bool translationOnly = !rigid || stageRound == 0;
+
+    ceres::Problem::Options po;
+    po.loss_function_ownership = ceres::TAKE_OWNERSHIP;
+    ceres::Problem problem(po);
+    for (std::size_t i = 0; i < n; ++i) w[i] = t[i] = {0, 0, 0};
+    std::vector<char> used(n, 0);
+    const auto block = [&](std::size_t i) {
+      if (!used[i]) {
+        used[i] = 1;
+        problem.AddParameterBlock(w[i].data(), 3);
+        problem.AddParameterBlock(t[i].data(), 3);
+      }
+    };
+    for (const ContourPiercing& m : counted) block(std::size_t(m.from)), block(std::size_t(m.to));
+    for (const auto& [i, j] : ties) block(i), block(j);
+    for (const ContourPiercing& m : counted) {
+      const std::size_t a = std::size_t(m.from), b = std::size_t(m.to);
+      auto* cost = new ceres::AutoDiffCostFunction<PiercingCost, 1, 3, 3, 3, 3>(
+          new PiercingCost{m, out.slices[a].pivot + T[a], out.slices[b].pivot + T[b], 1.0 / out.noise_mm});
+      problem.AddResidualBlock(cost, new ceres::CauchyLoss(out.robust_scale_mm / out.noise_mm), w[a].data(),
+                               t[a].data(), w[b].data(), t[b].data());
+    }
+    for (const auto& [i, j] : ties) {
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<TieCost, 6, 3, 3, 3, 3>(new TieCost{
+                                   rotationVector(R[i]) - rotationVector(R[j]), T[i] - T[j],
+                                   1.0 / (tieScale * sigmaRad), 1.0 / (tieScale * out.sigma_mm)}),
+                               nullptr, w[i].data(), t[i].data(), w[j].data(), t[j].data());
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!used[i]) continue;
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PriorCost, 6, 3, 3>(new PriorCost{
+                                   rotationVector(R[i]), T[i], 1.0 / sigmaRad, 1.0 / out.sigma_mm}),
+                               nullptr, w[i].data(), t[i].data());
+      if (translationOnly || !free[i]) problem.SetParameterBlockConstant(w[i].data());
+      if (!free[i]) problem.SetParameterBlockConstant(t[i].data());
+    }
+    ceres::Solver::Options so;
+    so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+    std::string why;
+    if (!so.IsValid(&why)) so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+    so.num_threads = 1;
+    so.max_num_iterations = 50;
+    so.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(so, &problem, &summary);
+
+    double largestMove = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!used[i] || !free[i]) continue;
+      const Vec3 dw(w[i][0], w[i][1], w[i][2]), dt(t[i][0], t[i][1], t[i][2]);
+      const Eigen::Matrix3d dR = rotationMatrix(dw);
+      planes[i].plane = movedPlane(planes[i].plane, dR, out.slices[i].pivot + T[i], dt);
+      R[i] = dR * R[i];
+      T[i] += dt;
+      largestMove = std::max(largestMove, dt.norm() + dw.norm() * radius);
+    }
+    out.rounds = round + 1;
+    if ((!translationOnly || !rigid) && largestMove < 0.1 * out.noise_mm) {
+      stageConverged = true;
+      ++round;
+      break;
+    }
+    }
+    converged = converged && stageConverged;
+  }
+  out.converged = converged;
+  for (std::size_t i = 0; i < n; ++i) out.slices[i].outlier = outlier[i];
+
+  // Observability and uncertainty, per slice, from its own crossings at the solution.
+  observations = contourPiercings(planes, planePairTraces(planes, params.min_angle_deg, false).pairs, cp);
+  const GapStats solved = gapStats(observations, n);
+  const double spread = solved.all.empty() ? out.noise_mm : std::max(out.noise_mm, 1.4826 * upperMedian(absolute(solved.all)));
+  const double scale = std::max(3 * spread, 3 * out.noise_mm);
+  ceres::CauchyLoss loss(scale);
+  const int dof = rigid ? 6 : 3;
+  std::vector<Eigen::Matrix<double, 6, 6>> info(n, Eigen::Matrix<double, 6, 6>::Zero());
+  for (const ContourPiercing& m : observations) {
+    const std::size_t a = std::size_t(m.from), b = std::size_t(m.to);
+    const ceres::AutoDiffCostFunction<PiercingCost, 1, 3, 3, 3, 3> cost(
+        new PiercingCost{m, out.slices[a].pivot + T[a], out.slices[b].pivot + T[b], 1.0});
+    const double zero[3] = {0, 0, 0};
+    const double* params4[4] = {zero, zero, zero, zero};
+    double r = 0, j0[3], j1[3], j2[3], j3[3];
+    double* jac[4] = {j0, j1, j2, j3};
+    cost.Evaluate(params4, &r, jac);
+    double rho[3];
+    loss.Evaluate(r * r, rho);
+    const double weight = rho[1] / (spread * spread);  // robust weight, in 1 / mm²
+    for (const auto& [slice, jw, jt] : {std::tuple{a, j0, j1}, std::tuple{b, j2, j3}}) {
+      const Plane& pl = input[slice].plane;
+      Eigen::Matrix3d frame;
+      frame << pl.u, pl.v, pl.normal;
+      Eigen::Matrix<double, 1, 6> row;
+      row.head<3>() = Eigen::RowVector3d(jw[0], jw[1], jw[2]) * frame;
+      row.tail<3>() = Eigen::RowVector3d(jt[0], jt[1], jt[2]) * frame;
+      info[slice] += weight * row.transpose() * row;
+    }
+  }
+  const Eigen::Matrix<double, 6, 1> priorScale =
+      (Eigen::Matrix<double, 6, 1>() << sigmaRad, sigmaRad, sigmaRad, out.sigma_mm, out.sigma_mm, out.sigma_mm)
+          .finished();
+  for (std::size_t i = 0; i < n; ++i) {
+    SliceCorrection& c = out.slices[i];
+    const Plane& rec = input[i].plane;
+    Eigen::Matrix3d frame;
+    frame << rec.u, rec.v, rec.normal;
+    // The correction in the slice's frame, scaled by the prior: [rotation; translation].
+    Eigen::Matrix<double, 6, 1> local;
+    local.head<3>() = frame.transpose() * rotationVector(R[i]);
+    local.tail<3>() = frame.transpose() * T[i];
+    const int first6 = rigid ? 0 : 3;
+    const Eigen::MatrixXd H = info[i].block(first6, first6, dof, dof);
+    const Eigen::VectorXd s = priorScale.segment(first6, dof);
+    const Eigen::MatrixXd scaled = s.asDiagonal() * H * s.asDiagonal();
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scaled);
+    Eigen::VectorXd x = s.cwiseInverse().asDiagonal() * local.segment(first6, dof);
+    for (int k = 0; k < dof; ++k) {
+      if (eig.eigenvalues()[k] >= kObservable) continue;
+      const Eigen::VectorXd v = eig.eigenvectors().col(k);
+      x -= v * v.dot(x);
+      // Name it by its larger part (rotation or translation).
+      const Eigen::VectorXd dir = s.asDiagonal() * v;
+      const bool isRotation = rigid && dir.head<3>().norm() / sigmaRad > dir.tail<3>().norm() / out.sigma_mm;
+      const Vec3 part = isRotation ? Vec3(v.head<3>()) : Vec3(v.tail<3>());
+      c.unobservable.push_back(isRotation ? directionName("rotation", "about", part.normalized())
+                                          : directionName("translation", "along", part.normalized()));
+    }
+    local.segment(first6, dof) = s.asDiagonal() * x;
+    if (!rigid) local.head<3>().setZero();
+    c.rotation = frame * local.head<3>();
+    c.translation = frame * local.tail<3>();
+    c.shift_mm = c.translation.norm();
+    c.rotation_deg = c.rotation.norm() / kDeg;
+    // Uncertainty: (H / s² + prior)^-1, here H already carries 1 / spread².
+    Eigen::MatrixXd A = H;
+    for (int k = 0; k < dof; ++k) A(k, k) += 1.0 / (s[k] * s[k]);
+    const Eigen::MatrixXd cov = A.inverse();
+    if (rigid) {
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> rot(cov.topLeftCorner(3, 3));
+      c.sigma_rotation_deg = std::sqrt(std::max(0.0, rot.eigenvalues()[2])) / kDeg;
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> tr(cov.bottomRightCorner(3, 3));
+    c.sigma_shift_mm = std::sqrt(std::max(0.0, tr.eigenvalues()[2]));
+    if (!c.unobservable.empty()) ++out.slices_with_unobservable;
+    out.planes[i] = correctedPlane(rec, c);
+  }
+
+  // The piercing distances on the corrected poses (unobservable parts removed).
+  planes = input;
+  for (std::size_t i = 0; i < n; ++i) planes[i].plane = out.planes[i];
+  observations = contourPiercings(planes, planePairTraces(planes, params.min_angle_deg, false).pairs, cp);
+  const GapStats after = gapStats(observations, n);
+  out.crossings_after = int(observations.size());
+  out.gap_after_mm = rms(after.all);
+  out.median_gap_after_mm = after.all.empty() ? 0.0 : upperMedian(absolute(after.all));
+  for (std::size_t i = 0; i < n; ++i) {
+    SliceCorrection& c = out.slices[i];
+    c.crossings_after = int(after.per_slice[i].size());
+    c.gap_after_mm = rms(after.per_slice[i]);
+    out.outliers += c.outlier;
+  }
+  return out;
+}
+
+}  // namespace xsect
