@@ -79,7 +79,8 @@ struct ConformityResult {
   std::vector<CoincidentConsensus> coincident;
   PoseSmoothingSummary pose;
   PoseCorrectionSummary correction;
-  std::vector<PoseChange> pose_changes; ///< every slice read whose pose smoothing or correction moved
+  /// With pose smoothing or correction: every slice read (dropped ones too), its pose as used.
+  std::vector<PoseChange> pose_changes;
   std::size_t pairs_measured = 0;       ///< before any slice was dropped
   PlanePairSearch search;               ///< the pairs of the kept slices
   PairsSummary before;                  ///< over the pairs measured

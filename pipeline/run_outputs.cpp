@@ -113,12 +113,14 @@ void writeRunOutputs(const RunResults& r, const RunOptions& o, const StageClock&
                 conformityDetailsJson(c.conformity, r.inputs.conformity).dump(2) + "\n");
   writeTextFile(out.file("sampling.json").string(), samplingDetailsJson(r.sampling).dump(1) + "\n");
   if (!r.inputs.slice_records.empty() && !r.inputs.conformity.pose_changes.empty()) {
-    // The input's slices with the poses the run used (smoothed, corrected), images by absolute
-    // path so that the file can be run from the output folder.
+    // The input's slices with the poses the run used (smoothed, corrected), images relative to
+    // the output folder so that the file can be run from there.
     std::vector<SliceRecord> corrected = r.inputs.slice_records;
+    const fs::path outAbs = fs::absolute(outDir).lexically_normal();
+    const auto fromOut = [&](const std::string& p) { return fs::path(p).lexically_normal().lexically_relative(outAbs).string(); };
     for (SliceRecord& s : corrected) {
-      s.image = s.image_resolved;
-      if (s.fov_resolved) s.fov = s.fov_resolved;
+      s.image = fromOut(s.image_resolved);
+      if (s.fov_resolved) s.fov = fromOut(*s.fov_resolved);
     }
     for (const PoseChange& p : r.inputs.conformity.pose_changes)
       corrected[std::size_t(p.slice)].image_to_world = p.transform * corrected[std::size_t(p.slice)].image_to_world;

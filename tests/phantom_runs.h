@@ -52,4 +52,14 @@ inline std::vector<CuttingPlane> sectionsOf(const std::filesystem::path& config)
   return sectionsFromSlices(readSlicesFile(c.input_path, &warnings), c.input_path, c.segmentation, &warnings);
 }
 
+/// A torus (tube radius 15 mm) cut by three orthogonal stacks of 10 planes. With jitter, the
+/// recorded poses differ from the true ones by σ = 1 mm per axis and 1°, as a tracker would.
+inline std::string torusSpec(int seed, bool jitter) {
+  return "seed: " + std::to_string(seed) +
+         "\nshape: {kind: torus, params: {major_radius: 40, minor_radius: 15}, rotation_deg: [20, 10, 0]}\n"
+         "pattern: {kind: multiaxial, count: 10}\nimage: {pixel_mm: 0.5}\n" +
+         (jitter ? "degradations: {pose_jitter_mm: 1, pose_jitter_deg: 1}\n" : "") +
+         "config: {reconstruction: {voxel_size_mm: 0.5}}\n";
+}
+
 }  // namespace xsect::test

@@ -33,6 +33,7 @@ using test::eval;
 using test::phantom;
 using test::readJson;
 using test::run;
+using test::torusSpec;
 
 struct PoseErrors {
   double section_distance_mm = 0;  ///< mean |signed distance to the truth| of the contour vertices
@@ -67,14 +68,6 @@ PoseErrors poseErrors(const fs::path& dir, const fs::path& poses) {
   return {distance / double(placed.size()), std::sqrt(sq / double(placed.size()))};
 }
 
-std::string torusSpec(int seed) {
-  return "seed: " + std::to_string(seed) +
-         "\nshape: {kind: torus, params: {major_radius: 40, minor_radius: 15}, rotation_deg: [20, 10, 0]}\n"
-         "pattern: {kind: multiaxial, count: 10}\nimage: {pixel_mm: 0.5}\n"
-         "degradations: {pose_jitter_mm: 1, pose_jitter_deg: 1}\n"
-         "config: {reconstruction: {voxel_size_mm: 0.5}}\n";
-}
-
 }  // namespace
 
 // configs/phantoms/torus-multiaxial-jitter.yaml (σ = 1 mm per axis, 1°) with seeds 1-10, every
@@ -83,7 +76,7 @@ TEST(AcceptancePoseCorrection, JitteredTorusSeedsOneToTen) {
   int rightTopology = 0;
   for (int seed = 1; seed <= 10; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
-    const fs::path dir = phantom("pose-torus-" + std::to_string(seed), torusSpec(seed));
+    const fs::path dir = phantom("pose-torus-" + std::to_string(seed), torusSpec(seed, true));
     const json plain = run(dir, "plain", "");
     const json rigid = run(dir, "rigid", "--set conformity.pose_correction=rigid");
     const json exact = run(dir, "exact", "--set input.slices=" + (dir / "ph/true_poses.yaml").string());
@@ -157,8 +150,7 @@ TEST(AcceptancePoseCorrection, CardiacLikeStackShiftedSliceBySlice) {
 // No harm: slices with their true poses are left where they are, and the surface is unchanged.
 TEST(AcceptancePoseCorrection, PhantomsWithoutJitterAreLeftAlone) {
   for (const std::string spec :
-       {std::string("seed: 3\nshape: {kind: torus, params: {major_radius: 40, minor_radius: 15}, rotation_deg: [20, 10, 0]}\n"
-                    "pattern: {kind: multiaxial, count: 10}\nimage: {pixel_mm: 0.5}\nconfig: {reconstruction: {voxel_size_mm: 0.5}}\n"),
+       {torusSpec(3, false),
         std::string("seed: 6\nshape: {kind: hollow_sphere, params: {outer_radius: 12, inner_radius: 7}}\n"
                     "pattern: {kind: multiaxial, count: 12}\nimage: {pixel_mm: 0.25}\nconfig: {reconstruction: {voxel_size_mm: 0.4}}\n"),
         std::string("seed: 4\nshape: {kind: genus2, params: {disk_radius: 20, hole_radius: 5, hole_offset: 8, offset_radius: 2.5}, "
@@ -210,8 +202,7 @@ TEST(AcceptancePoseCorrection, AParallelSweepIsUnobservableAndLeftAsItIs) {
 // A tracker glitch: one slice 10 mm off among correct ones does not drag the slices it crosses.
 TEST(AcceptancePoseCorrection, ATrackerGlitchDoesNotMoveItsPartners) {
   const fs::path dir = phantom("pose-glitch",
-                               "seed: 3\nshape: {kind: torus, params: {major_radius: 40, minor_radius: 15}, rotation_deg: [20, 10, 0]}\n"
-                               "pattern: {kind: multiaxial, count: 10}\nimage: {pixel_mm: 0.5}\nconfig: {reconstruction: {voxel_size_mm: 0.5}}\n");
+                               torusSpec(3, false));
   const fs::path listing = dir / "ph/slices.yaml";
   std::vector<SliceRecord> slices = readSlicesFile(listing.string(), nullptr);
   ASSERT_GT(slices.size(), 24u);

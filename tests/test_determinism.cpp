@@ -1,6 +1,6 @@
 // Output is deterministic: the same inputs and configuration give byte-identical meshes, graphs
 // label volumes, conformity reports and (smoothing) level sets whatever the thread count, with
-// either method and with conformity enforced (report.json differs only in timings; manifest.json records threads).
+// either method, with conformity enforced and with pose correction (report.json differs only in timings; manifest.json records threads).
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -21,13 +21,14 @@ TEST(Determinism, SameBytesWhateverTheThreadCount) {
                          " output: {mesh: [ply, stl, obj]}}\n");
   auto r = xsect::test::runXsect("phantom " + (dir / "spec.yaml").string() + " --out " + (dir / "ph").string() + " --quiet");
   ASSERT_EQ(r.code, 0) << r.err;
-  for (const std::string method : {"nearest_plane", "section_voronoi", "shepard", "level_set", "conform"}) {
+  for (const std::string method : {"nearest_plane", "section_voronoi", "shepard", "level_set", "conform", "pose"}) {
     SCOPED_TRACE(method);
     // level_set: with adaptive meshing and the automatic voxel size.
     const std::string set = method == "shepard"     ? " --set smoothing.method=shepard"
                             : method == "level_set" ? " --set smoothing.method=level_set --set smoothing.adaptivity=0.5"
                                                       " --set reconstruction.voxel_size_mm=auto"
                             : method == "conform"   ? " --set conformity.enforce=true --set conformity.mode=average"
+                            : method == "pose"      ? " --set conformity.pose_correction=rigid"
                                                     : " --set reconstruction.method=" + method;
     for (const char* t : {"1", "2", "3"}) {
       r = xsect::test::runXsect("run " + (dir / "ph/config.yaml").string() + " --out " +
@@ -38,6 +39,7 @@ TEST(Determinism, SameBytesWhateverTheThreadCount) {
     if (method == "shepard" || method == "level_set") files.insert(files.end(), {"level_set.vdb", "mesh_unsmoothed.ply"});
     files.insert(files.end(), {"conformity.json", "sampling.json", "sampling.nrrd"});
     if (fs::exists(dir / (method + "1") / "advice.yaml")) files.push_back("advice.yaml");
+    if (method == "pose") files.push_back("corrected_slices.yaml");
     for (const std::string& f : files) {
       const std::string a = slurp(dir / (method + "1") / f);
       EXPECT_GT(a.size(), 100u) << f;

@@ -129,8 +129,11 @@ std::vector<ContourPiercing> contourPiercings(const std::vector<CuttingPlane>& p
         Vec2 q, tq;
         if (!nearestContourPoint(pt.sections, lt.at(c.t), params.arc_mm, &q, &tq)) continue;
         if ((q - lt.at(c.t)).norm() > params.gate_mm) continue;
+        // Too oblique to plane `to` (nearly parallel pairs) to follow the contour into it.
+        if (std::abs(pt.plane.normal.dot(p.tangent)) < 0.02) continue;
         p.nearest = pt.plane.toWorld(q);
         const Vec3 tangentTo = tq.x() * pt.plane.u + tq.y() * pt.plane.v;
+        if (!(tangentTo.norm() > 0)) continue;
         p.plane_normal = pt.plane.normal;
         p.contour_normal = pt.plane.normal.cross(tangentTo).normalized();
         perPair[k].push_back(p);

@@ -55,6 +55,7 @@ struct PiercingCost {
     turned(wt, obs.plane_normal, n);
     T pq = T(0), nd = T(0);
     for (int k = 0; k < 3; ++k) pq += n[k] * (p[k] - q[k]), nd += n[k] * d[k];
+    if (ceres::abs(nd) < T(1e-9)) return false;  // the contour runs along plane `to`
     const T s = -pq / nd;
     r[0] = T(0);
     for (int k = 0; k < 3; ++k) r[0] += (p[k] + s * d[k] - q[k]) * m[k];
@@ -167,7 +168,10 @@ PoseCorrection correctPoses(const std::vector<CuttingPlane>& input, const PoseCo
   PoseCorrection out;
   out.slices.resize(n);
   for (const CuttingPlane& p : input) out.planes.push_back(p.plane);
-  if (params.kind == PoseCorrectionKind::none || n < 2) return out;
+  if (params.kind == PoseCorrectionKind::none || n < 2) {
+    out.converged = true;  // nothing to estimate
+    return out;
+  }
   const bool rigid = params.kind == PoseCorrectionKind::rigid;
 
   // Pivots, radii, the measurement scale.
@@ -323,6 +327,10 @@ PoseCorrection correctPoses(const std::vector<CuttingPlane>& input, const PoseCo
     so.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
+    if (!summary.IsSolutionUsable()) {
+      stageConverged = false;
+      break;
+    }
 
     double largestMove = 0;
     for (std::size_t i = 0; i < n; ++i) {
@@ -376,6 +384,11 @@ PoseCorrection correctPoses(const std::vector<CuttingPlane>& input, const PoseCo
       info[slice] += weight * row.transpose() * row;
     }
   }
+  // A sweep's tie constrains both frames it joins (its own-block information).
+  for (const auto& [i, j] : ties)
+    for (const std::size_t k : {i, j})
+      for (int d = 0; d < 6; ++d)
+        info[k](d, d) += 1.0 / std::pow(tieScale * (d < 3 ? sigmaRad : out.sigma_mm), 2);
   const Eigen::Matrix<double, 6, 1> priorScale =
       (Eigen::Matrix<double, 6, 1>() << sigmaRad, sigmaRad, sigmaRad, out.sigma_mm, out.sigma_mm, out.sigma_mm)
           .finished();

@@ -22,7 +22,8 @@
 //  4. outlier slices (a tracker glitch: the median of its pairs' largest endpoint mismatch above 3
 //     times the typical slice's and the gate) are left out of the rounds above, then corrected in
 //     rounds of their own against the others held fixed: they cannot drag their partners;
-//  rounds repeat until no slice's sections move by more than noise / 10 (at most max_rounds).
+//  rounds repeat until no increment moves a point within the median slice radius of its pivot by
+//  more than noise / 10 (at most max_rounds per stage).
 // Solved by Ceres (sparse normal Cholesky, one thread: deterministic).
 //
 // Observability: per slice, the information its own piercings give about its 6 (or 3) motions
