@@ -48,9 +48,8 @@ SCENARIOS = {
     "multiaxial-jitter-conform": ("torus-multiaxial-jitter.yaml", ["conformity.enforce=true",
                                                                    "conformity.max_correction_mm=100"]),
     "freehand-400-conform": ("vessel-tree-freehand.yaml", ["conformity.enforce=true"]),
-    # pose correction (issue 19): the jittered torus (σ = 1 mm, 1°), and two crossing sweeps of
-    # 200 frames each (0.2 mm, 0.2°) whose crossings pin each other's poses
-    "multiaxial-jitter": ("torus-multiaxial-jitter.yaml", []),
+    # pose correction (issue 19): the jittered torus (against multiaxial-jitter above), and two
+    # crossing sweeps of 200 frames each (0.2 mm, 0.2°) whose crossings pin each other's poses
     "multiaxial-jitter-rigid": ("torus-multiaxial-jitter.yaml", ["conformity.pose_correction=rigid"]),
     "freehand-2x200": ("vessel-tree-two-sweeps.yaml", ["conformity.pose_correction=none"]),
     "freehand-2x200-rigid": ("vessel-tree-two-sweeps.yaml", []),
