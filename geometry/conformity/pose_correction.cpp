@@ -373,7 +373,9 @@ PoseCorrection correctPoses(const std::vector<CuttingPlane>& input, const PoseCo
     cost.Evaluate(params4, &r, jac);
     double rho[3];
     loss.Evaluate(r * r, rho);
-    const double weight = rho[1] / (spread * spread);  // robust weight, in 1 / mm²
+    // Weighted as the fit weighs it (1 / noise²), so that the observability test judges the
+    // information the fit actually drew from the data; robust weight in 1 / mm².
+    const double weight = rho[1] / (out.noise_mm * out.noise_mm);
     for (const auto& [slice, jw, jt] : {std::tuple{a, j0, j1}, std::tuple{b, j2, j3}}) {
       const Plane& pl = input[slice].plane;
       Eigen::Matrix3d frame;
@@ -385,10 +387,11 @@ PoseCorrection correctPoses(const std::vector<CuttingPlane>& input, const PoseCo
     }
   }
   // A sweep's tie constrains both frames it joins (its own-block information).
+  std::vector<Eigen::Matrix<double, 6, 6>> tieInfo(n, Eigen::Matrix<double, 6, 6>::Zero());
   for (const auto& [i, j] : ties)
     for (const std::size_t k : {i, j})
       for (int d = 0; d < 6; ++d)
-        info[k](d, d) += 1.0 / std::pow(tieScale * (d < 3 ? sigmaRad : out.sigma_mm), 2);
+        tieInfo[k](d, d) += 1.0 / std::pow(tieScale * (d < 3 ? sigmaRad : out.sigma_mm), 2);
   const Eigen::Matrix<double, 6, 1> priorScale =
       (Eigen::Matrix<double, 6, 1>() << sigmaRad, sigmaRad, sigmaRad, out.sigma_mm, out.sigma_mm, out.sigma_mm)
           .finished();
@@ -402,7 +405,9 @@ PoseCorrection correctPoses(const std::vector<CuttingPlane>& input, const PoseCo
     local.head<3>() = frame.transpose() * rotationVector(R[i]);
     local.tail<3>() = frame.transpose() * T[i];
     const int first6 = rigid ? 0 : 3;
-    const Eigen::MatrixXd H = info[i].block(first6, first6, dof, dof);
+    const Eigen::MatrixXd Hdata = info[i].block(first6, first6, dof, dof);
+    const Eigen::MatrixXd Hties = tieInfo[i].block(first6, first6, dof, dof);
+    const Eigen::MatrixXd H = Hdata + Hties;
     const Eigen::VectorXd s = priorScale.segment(first6, dof);
     const Eigen::MatrixXd scaled = s.asDiagonal() * H * s.asDiagonal();
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scaled);
@@ -424,8 +429,8 @@ PoseCorrection correctPoses(const std::vector<CuttingPlane>& input, const PoseCo
     c.translation = frame * local.tail<3>();
     c.shift_mm = c.translation.norm();
     c.rotation_deg = c.rotation.norm() / kDeg;
-    // Uncertainty: (H / s² + prior)^-1, here H already carries 1 / spread².
-    Eigen::MatrixXd A = H;
+    // Uncertainty: (JᵀJ / s² + prior)^-1 with s the distances' spread (H carries 1 / noise²).
+    Eigen::MatrixXd A = Hdata * std::pow(out.noise_mm / spread, 2) + Hties;
     for (int k = 0; k < dof; ++k) A(k, k) += 1.0 / (s[k] * s[k]);
     const Eigen::MatrixXd cov = A.inverse();
     if (rigid) {
