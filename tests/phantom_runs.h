@@ -52,6 +52,16 @@ inline std::vector<CuttingPlane> sectionsOf(const std::filesystem::path& config)
   return sectionsFromSlices(readSlicesFile(c.input_path, &warnings), c.input_path, c.segmentation, &warnings);
 }
 
+/// `xsect run` of the phantom in dir with `--set <bad>` must exit 2, name the key, and write nothing.
+inline void expectRefused(const std::filesystem::path& dir, const std::string& bad) {
+  const std::filesystem::path out = dir / "out";
+  const auto r = runXsect("run " + (dir / "ph/config.yaml").string() + " --out " + out.string() + " --set " + bad);
+  EXPECT_EQ(r.code, 2) << bad << "\n" << r.err;
+  const std::string key = bad.substr(0, bad.find('='));
+  EXPECT_NE(r.err.find(key), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out)) << bad;
+}
+
 /// A torus (tube radius 15 mm) cut by three orthogonal stacks of 10 planes. With jitter, the
 /// recorded poses differ from the true ones by σ = 1 mm per axis and 1°, as a tracker would.
 inline std::string torusSpec(int seed, bool jitter) {

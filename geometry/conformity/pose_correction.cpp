@@ -15,6 +15,7 @@
 #include "geometry/arrangement/plane_pair_traces.h"
 #include "geometry/conformity/contour_piercings.h"
 #include "geometry/core/median.h"
+#include "geometry/core/rotation_vector.h"
 
 namespace xsect {
 namespace {
@@ -92,14 +93,6 @@ struct TieCost {
   }
 };
 
-Vec3 rotationVector(const Eigen::Matrix3d& R) {
-  const Eigen::AngleAxisd aa(R);
-  return aa.angle() * aa.axis();
-}
-Eigen::Matrix3d rotationMatrix(const Vec3& w) {
-  const double a = w.norm();
-  return a > 0 ? Eigen::AngleAxisd(a, w / a).toRotationMatrix() : Eigen::Matrix3d::Identity();
-}
 
 Plane movedPlane(const Plane& p, const Eigen::Matrix3d& R, const Vec3& pivot, const Vec3& t) {
   Plane q;
@@ -152,7 +145,7 @@ std::string directionName(const char* kind, const char* prep, const Vec3& local)
 }  // namespace
 
 Mat4 SliceCorrection::transform() const {
-  const Eigen::Matrix3d R = rotationMatrix(rotation);
+  const Eigen::Matrix3d R = rotationFromVector(rotation);
   Mat4 m = Mat4::Identity();
   m.block<3, 3>(0, 0) = R;
   m.block<3, 1>(0, 3) = pivot - R * pivot + translation;
@@ -160,7 +153,7 @@ Mat4 SliceCorrection::transform() const {
 }
 
 Plane correctedPlane(const Plane& recorded, const SliceCorrection& c) {
-  return movedPlane(recorded, rotationMatrix(c.rotation), c.pivot, c.translation);
+  return movedPlane(recorded, rotationFromVector(c.rotation), c.pivot, c.translation);
 }
 
 PoseCorrection correctPoses(const std::vector<CuttingPlane>& input, const PoseCorrectionParams& params) {
@@ -336,7 +329,7 @@ PoseCorrection correctPoses(const std::vector<CuttingPlane>& input, const PoseCo
     for (std::size_t i = 0; i < n; ++i) {
       if (!used[i] || !free[i]) continue;
       const Vec3 dw(w[i][0], w[i][1], w[i][2]), dt(t[i][0], t[i][1], t[i][2]);
-      const Eigen::Matrix3d dR = rotationMatrix(dw);
+      const Eigen::Matrix3d dR = rotationFromVector(dw);
       planes[i].plane = movedPlane(planes[i].plane, dR, out.slices[i].pivot + T[i], dt);
       R[i] = dR * R[i];
       T[i] += dt;

@@ -2,6 +2,7 @@
 #include "geometry/conformity/pose_smoothing.h"
 
 #include "geometry/core/median.h"
+#include "geometry/core/rotation_vector.h"
 
 #include <Eigen/Geometry>
 
@@ -27,15 +28,6 @@ Eigen::Matrix3d rotationOf(const Plane& p) {
   return r;
 }
 
-Vec3 logOf(const Eigen::Matrix3d& r) {
-  const Eigen::AngleAxisd aa(r);
-  return aa.angle() * aa.axis();
-}
-
-Eigen::Matrix3d expOf(const Vec3& w) {
-  const double angle = w.norm();
-  return angle > 0 ? Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() : Eigen::Matrix3d::Identity();
-}
 
 }  // namespace
 
@@ -133,9 +125,9 @@ PoseSmoothing smoothPoseTrajectory(const std::vector<Plane>& planes, const std::
       for (int q = 0; q < m; ++q) {
         const Plane& pj = planes[std::size_t(used[std::size_t(q)])];
         point += ell(q) * pj.toWorld(c);
-        omega += ell(q) * logOf(ri.transpose() * rotationOf(pj));
+        omega += ell(q) * rotationVector(ri.transpose() * rotationOf(pj));
       }
-      const Eigen::Matrix3d r = ri * expOf(omega);
+      const Eigen::Matrix3d r = ri * rotationFromVector(omega);
       Plane& p = out.planes[std::size_t(i)];
       p.u = r.col(0).normalized();
       p.normal = p.u.cross(r.col(1)).normalized();
