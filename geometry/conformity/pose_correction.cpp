@@ -193,6 +193,10 @@ PoseCorrection correctPoses(const std::vector<CuttingPlane>& input, const PoseCo
   }
   const double extent = (hi - lo).allFinite() && hi.x() >= lo.x() ? (hi - lo).norm() : 1.0;
   out.noise_mm = pixels.empty() ? 1e-3 * extent : 0.5 * upperMedian(pixels);
+  if (!(out.noise_mm > 0) || !std::isfinite(out.noise_mm)) {  // no extent: nothing to measure by
+    out.converged = true;
+    return out;
+  }
   const double radius = radii.empty() ? extent : std::max(upperMedian(radii), out.noise_mm);
 
   std::vector<CuttingPlane> planes = input;  // the current poses
