@@ -98,14 +98,14 @@ PoseCorrectionSummary correctSlicePoses(const RunConfig::Conformity& settings, s
                                         std::vector<SliceConformity>& rows) {
   PoseCorrectionSummary s;
   if (settings.pose_correction == PoseCorrectionKind::none) return s;
-  s.uncorrected = pairsSummary(planePairTraces(planes, settings.min_angle_deg, false).pairs);
+  const std::vector<PlanePairTraces> recorded = planePairTraces(planes, settings.min_angle_deg, false).pairs;
+  s.uncorrected = pairsSummary(recorded);
   PoseCorrectionParams params;
   params.kind = settings.pose_correction;
   params.sigma_mm = settings.pose_sigma_mm;
   params.sigma_deg = settings.pose_sigma_deg;
-  params.min_angle_deg = settings.min_angle_deg;
   params.sweep_half_window = settings.pose_smoothing_frames;
-  s.fit = correctPoses(planes, params);
+  s.fit = correctPoses(planes, recorded, params);
   for (std::size_t i = 0; i < planes.size(); ++i) {
     planes[i].plane = s.fit.planes[i];
     rows[i].correction = s.fit.slices[i];

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <optional>
 
 namespace xsect {
 
@@ -72,6 +73,29 @@ std::vector<PlanePairTraces> retrace(const std::vector<PlanePairTraces>& pairs,
     p.trace_b = sectionsTrace(planes[std::size_t(p.b)].sections, lineInPlane(planes[std::size_t(p.b)].plane, p.line));
     p.disagreement = traceDisagreement(p.trace_a, p.trace_b, p.common);
   });
+  return out;
+}
+
+std::vector<PlanePairTraces> commonRegions(const std::vector<PlanePairTraces>& pairs,
+                                           const std::vector<CuttingPlane>& planes) {
+  std::vector<std::optional<PlanePairTraces>> moved(pairs.size());
+  tbb::parallel_for(std::size_t(0), pairs.size(), [&](std::size_t k) {
+    const CuttingPlane &a = planes[std::size_t(pairs[k].a)], &b = planes[std::size_t(pairs[k].b)];
+    const auto line = commonLine(a.plane, b.plane);
+    if (!line) return;
+    const Trace common = intersectTraces(observedTrace(a, lineInPlane(a.plane, *line)),
+                                         observedTrace(b, lineInPlane(b.plane, *line)));
+    if (common.empty()) return;
+    PlanePairTraces p;
+    p.a = pairs[k].a;
+    p.b = pairs[k].b;
+    p.line = *line;
+    p.common = common;
+    moved[k] = std::move(p);
+  });
+  std::vector<PlanePairTraces> out;
+  for (auto& m : moved)
+    if (m) out.push_back(std::move(*m));
   return out;
 }
 

@@ -46,4 +46,10 @@ PlanePairSearch planePairTraces(const std::vector<CuttingPlane>& planes, double 
 std::vector<PlanePairTraces> retrace(const std::vector<PlanePairTraces>& pairs,
                                      const std::vector<CuttingPlane>& planes);
 
+/// The same pairs on moved planes (pose correction): their common lines and common regions
+/// recomputed, their traces not read (left empty, disagreement zero). Pairs whose planes became
+/// parallel or whose observed regions no longer meet are left out.
+std::vector<PlanePairTraces> commonRegions(const std::vector<PlanePairTraces>& pairs,
+                                           const std::vector<CuttingPlane>& planes);
+
 }  // namespace xsect

@@ -156,7 +156,8 @@ Plane correctedPlane(const Plane& recorded, const SliceCorrection& c) {
   return movedPlane(recorded, rotationFromVector(c.rotation), c.pivot, c.translation);
 }
 
-PoseCorrection correctPoses(const std::vector<CuttingPlane>& input, const PoseCorrectionParams& params) {
+PoseCorrection correctPoses(const std::vector<CuttingPlane>& input, const std::vector<PlanePairTraces>& recordedPairs,
+                            const PoseCorrectionParams& params) {
   const std::size_t n = input.size();
   PoseCorrection out;
   out.slices.resize(n);
@@ -200,9 +201,8 @@ PoseCorrection correctPoses(const std::vector<CuttingPlane>& input, const PoseCo
   const double radius = radii.empty() ? extent : std::max(upperMedian(radii), out.noise_mm);
 
   std::vector<CuttingPlane> planes = input;  // the current poses
-  const PlanePairSearch first = planePairTraces(planes, params.min_angle_deg, false);
   std::vector<double> mismatch;
-  for (const PlanePairTraces& p : first.pairs) mismatch.push_back(p.disagreement.max_endpoint_mismatch_mm);
+  for (const PlanePairTraces& p : recordedPairs) mismatch.push_back(p.disagreement.max_endpoint_mismatch_mm);
   out.sigma_mm = params.sigma_mm ? *params.sigma_mm
                                  : std::max(mismatch.empty() ? 0.0 : upperMedian(mismatch), out.noise_mm);
   out.sigma_deg = params.sigma_deg ? *params.sigma_deg : std::min(10.0, out.sigma_mm / radius / kDeg);
@@ -230,7 +230,7 @@ PoseCorrection correctPoses(const std::vector<CuttingPlane>& input, const PoseCo
   // pairs. Stage 1 corrects the other slices from the piercings among themselves; stage 2 corrects
   // the outliers against them, held where stage 1 put them: an outlier cannot drag its partners.
   std::vector<std::vector<double>> pairMismatch(n);
-  for (const PlanePairTraces& p : first.pairs)
+  for (const PlanePairTraces& p : recordedPairs)
     for (const int i : {p.a, p.b}) pairMismatch[std::size_t(i)].push_back(p.disagreement.max_endpoint_mismatch_mm);
   std::vector<double> sliceMedians;
   for (const auto& m : pairMismatch)
@@ -255,7 +255,7 @@ PoseCorrection correctPoses(const std::vector<CuttingPlane>& input, const PoseCo
     bool stageConverged = false;
     for (int stageRound = 0; stageRound < params.max_rounds; ++stageRound, ++round) {
     const std::vector<PlanePairTraces> pairs =
-        round == 0 ? first.pairs : planePairTraces(planes, params.min_angle_deg, false).pairs;
+        round == 0 ? recordedPairs : commonRegions(recordedPairs, planes);
     observations = contourPiercings(planes, pairs, cp);
     const GapStats gaps = gapStats(observations, n);
     if (round == 0) {
@@ -352,7 +352,7 @@ PoseCorrection correctPoses(const std::vector<CuttingPlane>& input, const PoseCo
   for (std::size_t i = 0; i < n; ++i) out.slices[i].outlier = outlier[i];
 
   // Observability and uncertainty, per slice, from its own crossings at the solution.
-  observations = contourPiercings(planes, planePairTraces(planes, params.min_angle_deg, false).pairs, cp);
+  observations = contourPiercings(planes, commonRegions(recordedPairs, planes), cp);
   const GapStats solved = gapStats(observations, n);
   const double spread = solved.all.empty() ? out.noise_mm : std::max(out.noise_mm, 1.4826 * upperMedian(absolute(solved.all)));
   const double scale = std::max(3 * spread, 3 * out.noise_mm);
@@ -443,7 +443,7 @@ PoseCorrection correctPoses(const std::vector<CuttingPlane>& input, const PoseCo
   // The piercing distances on the corrected poses (unobservable parts removed).
   planes = input;
   for (std::size_t i = 0; i < n; ++i) planes[i].plane = out.planes[i];
-  observations = contourPiercings(planes, planePairTraces(planes, params.min_angle_deg, false).pairs, cp);
+  observations = contourPiercings(planes, commonRegions(recordedPairs, planes), cp);
   const GapStats after = gapStats(observations, n);
   out.crossings_after = int(observations.size());
   out.gap_after_mm = rms(after.all);

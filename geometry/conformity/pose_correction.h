@@ -5,8 +5,9 @@
 // contour_piercings.h: the piercing distance, measured in the other plane).
 //
 // The estimate, in rounds (the crossings and nearest contour points change as the poses move):
-//  1. the pairs of slices whose observed regions meet at an angle of at least min_angle_deg are
-//     traced on the current poses, and each contour crossing of either slice gives its piercing
+//  1. the pairs of slices whose observed regions met on the recorded poses, at an angle of at
+//     least conformity.min_angle_deg, have their common lines and regions found again on the
+//     current poses (commonRegions), and each contour crossing of either slice gives its piercing
 //     distance in the other (left out beyond the gate, 3 sigma_mm + 4 noise, from every contour);
 //  2. the corrections minimise
 //        sum over piercings  rho((distance / noise)²)              (Cauchy loss, scale c)
@@ -43,6 +44,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/arrangement/plane_pair_traces.h"
 #include "geometry/conformity/pose_correction_kind.h"
 #include "geometry/core/types.h"
 
@@ -52,7 +54,6 @@ struct PoseCorrectionParams {
   PoseCorrectionKind kind = PoseCorrectionKind::rigid;  ///< none: nothing is estimated
   std::optional<double> sigma_mm;    ///< prior std of a slice's translation, mm; empty = auto
   std::optional<double> sigma_deg;   ///< prior std of a slice's rotation, degrees; empty = auto
-  double min_angle_deg = 5.0;        ///< pairs at a smaller angle give no crossings
   /// > 0: consecutive frames (normals within 5°) are one sweep, whose corrections change by at
   /// most about sigma / sweep_half_window from frame to frame (conformity.pose_smoothing_frames).
   int sweep_half_window = 0;
@@ -96,8 +97,12 @@ struct PoseCorrection {
 /// The plane moved by a correction.
 Plane correctedPlane(const Plane& recorded, const SliceCorrection& c);
 
-/// @param planes  the slices (non-virtual), with sections and observed regions.
+/// @param planes          the slices (non-virtual), with sections and observed regions.
+/// @param recorded_pairs  planePairTraces(planes, min_angle_deg, false).pairs: the pairs measured on
+///                        the recorded poses (their disagreement gives the auto sigma and the
+///                        outliers); later rounds follow the same pairs on the moved planes.
 /// Deterministic whatever the thread count.
-PoseCorrection correctPoses(const std::vector<CuttingPlane>& planes, const PoseCorrectionParams& params);
+PoseCorrection correctPoses(const std::vector<CuttingPlane>& planes,
+                            const std::vector<PlanePairTraces>& recorded_pairs, const PoseCorrectionParams& params);
 
 }  // namespace xsect
