@@ -53,7 +53,14 @@ SCENARIOS = {
     "multiaxial-jitter-rigid": ("torus-multiaxial-jitter.yaml", ["conformity.pose_correction=rigid"]),
     "freehand-2x200": ("vessel-tree-two-sweeps.yaml", ["conformity.pose_correction=none"]),
     "freehand-2x200-rigid": ("vessel-tree-two-sweeps.yaml", []),
+    # a PLUS tracked-ultrasound recording (issue 20): the freehand vessel tree as 400 frames of
+    # 820x616 px (the size of PLUS's N-wire example) in one zlib-compressed .igs.mha with its device
+    # set, read through input.plus_sequence (config_plus.yaml); frames/s of load + segment. Its
+    # Poisson row reads the same phantom's config.yaml (slices.yaml: the same frames and poses)
+    "plus-400": ("vessel-tree-plus-400.yaml", []),
 }
+# The run configuration the phantom folder provides for a scenario (default config.yaml).
+RUN_CONFIG = {"plus-400": "config_plus.yaml"}
 QUICK = ["freehand-400", "multiaxial-3x40", "random-200", "freehand-400-m2", "freehand-400-shepard"]
 BASES = ["freehand-400", "multiaxial-3x40", "random-200", "freehand-400-exact"]
 # Overrides that change what the Poisson baseline sees (the sections, the sampling step).
@@ -206,7 +213,8 @@ def main():
         reports, walls, mems, failed = [], [], [], None
         for r in range(reps):
             out = os.path.join(d, "result")
-            cmd = [a.xsect, "run", os.path.join(d, "phantom", "config.yaml"), "--out", out, "--quiet"]
+            cmd = [a.xsect, "run", os.path.join(d, "phantom", RUN_CONFIG.get(name, "config.yaml")), "--out", out,
+                   "--quiet"]
             for s in sets:
                 cmd += ["--set", s]
             w, m, failed = run(cmd, fatal=False)
@@ -235,6 +243,9 @@ def main():
             stages[stage] = {"wall_s": median([r["timings_s"][stage] for r in reports]),
                              "peak_memory_mb": rep["peak_memory_mb"].get(stage)}
         vps = median([r["throughput"]["reconstruct_voxels_per_s"] for r in reports])
+        # input throughput: frames read and segmented per second (load + segment stages)
+        fps = median([r["counts"]["slices"] / (r["timings_s"]["load"] + r["timings_s"]["segment"])
+                      for r in reports if r["timings_s"].get("load", 0) + r["timings_s"].get("segment", 0) > 0] or [0])
         smooth_eval = [r.get("smoothing", {}).get("evaluate_s") if isinstance(r.get("smoothing"), dict)
                        else None for r in reports]
         results[name] = {
@@ -250,6 +261,7 @@ def main():
             "planes": rep["counts"]["slices"],
             "method": rep["reconstruction"]["method"],
             "voxels_per_s": vps,
+            "load_segment_frames_per_s": fps,
             "evaluate_s": median([r["throughput"]["evaluate_s"] for r in reports]),
             "cells": rep["counts"]["cells"],
             "betti": rep["betti"], "truth_betti": ev.get("truth_betti"),
@@ -277,6 +289,8 @@ def main():
                 label = "method 1" if r["method"] == "nearest_plane" else "method 2"
                 extra = (f"  {label}: {r['voxels_per_s'] / 1e6:.1f} Mvoxel/s "
                          f"({r['voxels'] / 1e6:.2f} Mvoxel, {r['planes']} planes)")
+            if stage == "segment" and r.get("load_segment_frames_per_s"):
+                extra = f"  load + segment: {r['load_segment_frames_per_s']:.0f} frames/s ({r['planes']} frames)"
             if stage == "arrange":
                 extra = f"  {r['cells']} cells with sections, graphs G" + ("" if r["method"] == "nearest_plane" else " and G'")
             if stage == "conform":

@@ -3,71 +3,19 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
 #include "geometry/core/polygon.h"
 #include "geometry/core/ring_validity.h"
+#include "io/contour_plane.h"
 #include "io/input_error.h"
 #include "io/text_file.h"
+#include "io/text_tokens.h"
 
 namespace xsect {
 
-namespace {
-
-/// Whitespace tokens with their line numbers.
-struct Tokens {
-  std::vector<std::pair<std::string, int>> items;
-  std::size_t at = 0;
-  std::string file;
-  const std::pair<std::string, int>& next(const std::string& what) {
-    if (at >= items.size())
-      throw InputError(file, what, "unexpected end of file",
-                       items.empty() ? -1 : items.back().second);
-    return items[at++];
-  }
-  double number(const std::string& what) {
-    const auto& [t, line] = next(what);
-    char* end = nullptr;
-    const double v = std::strtod(t.c_str(), &end);
-    if (end == t.c_str() || *end != '\0' || !std::isfinite(v))
-      throw InputError(file, what, "expected a number, got '" + t + "'", line);
-    return v;
-  }
-  long integer(const std::string& what, long lo) {
-    const auto& [t, line] = next(what);
-    char* end = nullptr;
-    const long v = std::strtol(t.c_str(), &end, 10);
-    if (end == t.c_str() || *end != '\0' || v < lo)
-      throw InputError(file, what, "expected an integer >= " + std::to_string(lo) + ", got '" + t + "'", line);
-    return v;
-  }
-  /// A count checked against what the file can still hold (`tokens_each` tokens per item), before
-  /// anything is allocated for it: a corrupt count is an input error, not an allocation failure.
-  long count(const std::string& what, long lo, long tokens_each) {
-    const long v = integer(what, lo);
-    const long left = long(items.size() - at);
-    if (v > left / tokens_each)
-      throw InputError(file, what,
-                       std::to_string(v) + " items need at least " + std::to_string(tokens_each) +
-                           " values each, but the file holds only " + std::to_string(left) + " more",
-                       items[at - 1].second);
-    return v;
-  }
-};
-
-}  // namespace
-
 std::vector<CuttingPlane> readCslFile(const std::string& path, std::vector<std::string>* warnings) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, "", "cannot open file");
-  Tokens tk;
-  tk.file = path;
-  std::string line;
-  for (int ln = 1; std::getline(in, line); ++ln) {
-    std::istringstream ss(line);
-    for (std::string t; ss >> t;) tk.items.emplace_back(t, ln);
-  }
+  Tokens tk = readTokens(path);
   if (tk.next("header").first != "CSLC") throw InputError(path, "header", "expected 'CSLC'", 1);
   const long nPlanes = tk.count("plane count", 1, 7);  // index, counts, A B C D
   tk.integer("label count", 0);
@@ -85,7 +33,7 @@ std::vector<CuttingPlane> readCslFile(const std::string& path, std::vector<std::
   for (long p = 0; p < nPlanes; ++p) {
     const std::string key = "plane " + std::to_string(p + 1);
     Raw& r = raw[p];
-    r.line = tk.items[std::min(tk.at, tk.items.size() - 1)].second;
+    r.line = tk.line();
     tk.integer(key + " index", 0);
     const long nv = tk.count(key + " vertex count", 0, 3);
     const long nc = tk.count(key + " component count", 0, 5);  // count, label, 3 indices
@@ -127,32 +75,14 @@ std::vector<CuttingPlane> readCslFile(const std::string& path, std::vector<std::
   if (tk.at != tk.items.size())
     throw InputError(path, "", "unexpected content after the last plane", tk.items[tk.at].second);
 
-  const Vec3 centre = 0.5 * (lo + hi);
   std::vector<CuttingPlane> planes(nPlanes);
   for (long p = 0; p < nPlanes; ++p) {
     Raw& r = raw[p];
     CuttingPlane& cp = planes[p];
     cp.slice = int(p);
     cp.name = "plane " + std::to_string(p + 1);
-    Plane& pl = cp.plane;
-    pl.normal = r.n;
-    const int axis = std::abs(r.n.x()) < 0.6 ? 0 : (std::abs(r.n.y()) < 0.6 ? 1 : 2);
-    pl.u = r.n.cross(Vec3::Unit(axis)).normalized();
-    pl.v = pl.normal.cross(pl.u);
-    if (!r.pts.empty()) {
-      Vec3 m = Vec3::Zero();
-      for (const auto& q : r.pts) m += q;
-      m /= double(r.pts.size());
-      pl.origin = m;
-      for (const auto& q : r.pts)
-        if (std::abs(pl.signedDistance(q)) > 1e-3 * (1.0 + (hi - lo).norm()))
-          throw InputError(path, cp.name, "vertices do not lie on one plane", r.line);
-    } else {
-      // empty plane: choose the sign of D that brings it nearer the data
-      const Vec3 a = -r.d * r.n, b = r.d * r.n;
-      const double da = std::abs((centre - a).dot(r.n)), db = std::abs((centre - b).dot(r.n));
-      pl.origin = da <= db ? a : b;
-    }
+    cp.plane = contourPlane(r.n, r.d, r.pts, lo, hi, path, cp.name, r.line);
+    const Plane& pl = cp.plane;
     const auto toPlane = [&](Ring& ring) {
       for (auto& q : ring) q = pl.toPlane(r.pts[std::size_t(q.x())]);
     };

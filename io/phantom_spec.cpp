@@ -220,12 +220,13 @@ std::vector<PhantomPlane> readExtraPlanes(const Reader& r, const YAML::Node& roo
     if (!pl.IsMap())
       throw InputError(r.file, key, "must be a map {point: [x, y, z], normal: [x, y, z]}",
                        lineOf(pl));
-    r.keys(pl, key + ".", {"point", "normal"});
+    r.keys(pl, key + ".", {"point", "normal", "image_centre"});
     for (const char* k : {"point", "normal"})
       if (!pl[k]) throw InputError(r.file, key + "." + k, "missing", lineOf(pl));
     PhantomPlane p;
     p.point = r.vec3(pl, "point", key + ".point", Vec3::Zero());
     p.normal = r.vec3(pl, "normal", key + ".normal", Vec3::UnitZ(), true);
+    if (pl["image_centre"]) p.image_centre = r.vec3(pl, "image_centre", key + ".image_centre", Vec3::Zero());
     out.push_back(p);
   }
   return out;
@@ -237,7 +238,7 @@ PhantomSpec readPhantomSpec(const std::string& path) {
   const Reader r{path};
   const YAML::Node root = loadYamlFile(path);
   if (!root.IsMap()) throw InputError(path, "", "top level must be a map (keys shape, pattern, ...)");
-  r.keys(root, "", {"seed", "shape", "pattern", "image", "degradations", "config"});
+  r.keys(root, "", {"seed", "shape", "pattern", "image", "degradations", "config", "plus"});
   PhantomSpec s;
   s.path = path;
   if (root["seed"]) {
@@ -288,6 +289,8 @@ PhantomSpec readPhantomSpec(const std::string& path) {
                          "must be 0 for a two-label phantom (shape.label_split): its pixel values "
                          "are material labels",
                          lineOf(dg[key]));
+
+  if (root["plus"]) s.plus = yamlBool(root["plus"], path, "plus");
 
   const YAML::Node cfg = r.map(root, "config", "config", false);
   YAML::Emitter out;

@@ -24,7 +24,7 @@
 //                 [sector: false], [sector_angle_deg: auto], [apex_px: height / 4]
 //     any kind:   [extra_planes: [{point: [x, y, z], normal: [nx, ny, nz]}, ...]]  # world frame:
 //                 planes added after the pattern's, each imaged around the projection of the
-//                 bounds' centre
+//                 bounds' centre, or of its own [image_centre: [x, y, z]]
 //   [image:]
 //     [pixel_mm: auto]              # auto = bounding-sphere diameter / 160
 //     [width: auto]                 # pixels, or auto = cover the bounding sphere's projection
@@ -39,9 +39,20 @@
 //     [drop_probability: 0]         # probability that a frame is omitted from slices.yaml
 //   [config:]                       # merged into the generated config.yaml, nested maps or
 //     reconstruction: {voxel_size_mm: 0.25}   # dotted keys ("reconstruction.voxel_size_mm: 0.25")
+//   [plus: false]                   # also write the slices as a PLUS tracked-ultrasound recording:
+//                                   # sequence.igs.mha (the same frames, zlib, MFA; per frame
+//                                   # ProbeToTrackerTransform = recorded image_to_world with the
+//                                   # pixel scaling removed, ReferenceToTrackerTransform = identity,
+//                                   # statuses OK, Timestamp = 0.05 s x pattern index; dropped
+//                                   # frames omitted as in slices.yaml), deviceset.xml (ImageToProbe
+//                                   # = diag(pixel_mm, pixel_mm, pixel_mm, 1); a freehand sector is
+//                                   # written as the PLUS fan FanAnglesDeg/FanOriginPixel/
+//                                   # FanRadius*Pixel, the same mask as images/fov.png; no clip
+//                                   # rectangle) and config_plus.yaml (config.yaml reading them)
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -63,6 +74,9 @@ struct PhantomDegradations {
 struct PhantomPlane {
   Vec3 point = Vec3::Zero();
   Vec3 normal = Vec3::UnitZ();
+  /// The image is centred on this point's projection (default: the bounds' centre's): an image
+  /// that sees only part of the object (issue 20, observed pieces).
+  std::optional<Vec3> image_centre;
 };
 
 struct PhantomSpec {
@@ -74,6 +88,7 @@ struct PhantomSpec {
   ImageSpec image;                  ///< pixel_mm resolved (never auto)
   PhantomDegradations degradations;
   std::string config_yaml;          ///< the spec's `config:` map as YAML text ("{}" if absent)
+  bool plus = false;                ///< `plus:` also write a PLUS recording (sequence.igs.mha, ...)
 };
 
 /// Reads and validates SPEC.yaml. Throws InputError (file, key, line).

@@ -19,7 +19,8 @@ namespace fs = std::filesystem;
 namespace {
 
 const std::set<std::string> kKnownKeys = {
-    "input", "input.slices", "input.csl", "input.contour", "input.plus_sequence",
+    "input", "input.slices", "input.csl", "input.contour", "input.plus_sequence", "input.plus_config",
+    "input.reference_frame",
     "segmentation", "segmentation.method", "segmentation.threshold", "segmentation.sigma_px",
     "segmentation.open_radius_px", "segmentation.close_radius_px", "segmentation.min_area_mm2",
     "segmentation.simplify_mm", "segmentation.merge_labels", "conformity", "conformity.enforce",
@@ -27,7 +28,7 @@ const std::set<std::string> kKnownKeys = {
     "conformity.flag_mm", "conformity.drop_flagged", "conformity.pose_smoothing_frames", "conformity.pose_correction",
     "conformity.pose_sigma_mm", "conformity.pose_sigma_deg", "reconstruction",
     "reconstruction.method", "reconstruction.voxel_size_mm", "reconstruction.voxel_budget", "reconstruction.end_margin_mm",
-    "reconstruction.conformal_mesh",
+    "reconstruction.conformal_mesh", "reconstruction.planes",
     "smoothing", "smoothing.method", "smoothing.exponent", "smoothing.cap_mm",
     "smoothing.adaptivity", "smoothing.keep_connectivity", "smoothing.iterations", "sampling", "sampling.reach_mm",
     "sampling.reach_interior_mm", "sampling.reach_exterior_mm", "sampling.max_angle_deg", "sampling.advice_count",
@@ -119,6 +120,27 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
   if (!isRegularFile(c.input_path))
     throw InputError(path, std::string("input.") + nameOf(kInputKinds, c.input_kind), "file not found: " + c.input_path,
                      yamlLine(input[nameOf(kInputKinds, c.input_kind)]));
+  if (c.input_kind == InputKind::plus_sequence) {
+    // A PLUS recording: the device set's calibration and field of view are needed to place and
+    // mask its frames.
+    if (!input["plus_config"])
+      throw InputError(path, "input.plus_config",
+                       "missing: input.plus_sequence needs the device-set XML (calibration, clip rectangle)",
+                       yamlLine(input));
+    c.plus_config_path = resolvePath(base, yamlString(input["plus_config"], path, "input.plus_config"));
+    if (!isRegularFile(c.plus_config_path))
+      throw InputError(path, "input.plus_config", "file not found: " + c.plus_config_path,
+                       yamlLine(input["plus_config"]));
+    if (input["reference_frame"]) {
+      c.reference_frame = yamlString(input["reference_frame"], path, "input.reference_frame");
+      if (c.reference_frame.empty())
+        throw InputError(path, "input.reference_frame", "must name a coordinate frame", yamlLine(input["reference_frame"]));
+    }
+  } else {
+    for (const char* k : {"plus_config", "reference_frame"})
+      if (input[k])
+        throw InputError(path, std::string("input.") + k, "only for input.plus_sequence", yamlLine(input[k]));
+  }
 
   if (const YAML::Node s = section("segmentation")) {
     auto& p = c.segmentation;
@@ -206,6 +228,14 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
       c.voxel_budget = yamlInteger(n, path, "reconstruction.voxel_budget", 1000, 2000000000);
     if (s["conformal_mesh"])
       c.conformal_mesh = yamlBool(s["conformal_mesh"], path, "reconstruction.conformal_mesh");
+    if (s["planes"]) {
+      c.planes = yamlChoice(s["planes"], path, "reconstruction.planes", kPlaneExtents, "plane extent");
+      c.planes_default = false;
+      if (c.planes == PlaneExtent::observed && c.reconstruction_method != ReconstructionMethod::nearest_plane)
+        throw InputError(path, "reconstruction.planes",
+                         "observed pieces are available for method 1 (nearest_plane); method 2 runs on whole planes",
+                         yamlLine(s["planes"]));
+    }
     if (const YAML::Node m = s["end_margin_mm"]) {
       if (!(m.IsScalar() && m.Scalar() == "auto")) {
         const double v = yamlNumber(m, path, "reconstruction.end_margin_mm");
@@ -287,6 +317,13 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
         add(m);
     }
   }
+  // Observed pieces by default where a slice is an image (its rectangle and field of view say where
+  // it was seen); contour files give all of O ∩ P on each plane. Method 2 runs on whole planes.
+  if (c.planes_default)
+    c.planes = c.reconstruction_method == ReconstructionMethod::nearest_plane &&
+                       (c.input_kind == InputKind::slices || c.input_kind == InputKind::plus_sequence)
+                   ? PlaneExtent::observed
+                   : PlaneExtent::whole;
   YAML::Emitter em;
   em << root;
   c.resolved_yaml = em.c_str();

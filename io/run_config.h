@@ -9,6 +9,7 @@
 #include "geometry/conformity/consensus_mode.h"
 #include "geometry/conformity/pose_correction_kind.h"
 #include "geometry/core/named_choice.h"
+#include "geometry/core/plane_extent.h"
 #include "geometry/core/reconstruction_method.h"
 #include "segmentation/segment_slice.h"
 
@@ -36,6 +37,8 @@ struct RunConfig {
   // input (exactly one)
   InputKind input_kind = InputKind::slices;
   std::string input_path;           ///< resolved against the configuration file
+  std::string plus_config_path;     ///< input.plus_config: the PLUS device-set XML (plus_sequence)
+  std::string reference_frame = "Reference";  ///< input.reference_frame: the frame poses map into
   SegmentationParams segmentation;
   /// Stage 3, conformity along plane intersections (geometry/conformity/conformity_enforcement.h).
   struct Conformity {
@@ -65,6 +68,10 @@ struct RunConfig {
   bool voxel_size_auto = true;                          ///< `auto` (the default)
   std::int64_t voxel_budget = 4000000;                  ///< auto: the largest grid, voxels
   std::optional<double> end_margin_mm;                  ///< empty = auto
+  /// `reconstruction.planes`: whether a slice cuts space only where it was observed (issue 20).
+  /// Default (planes_default): observed for images and PLUS sequences with method 1, else whole.
+  PlaneExtent planes = PlaneExtent::whole;
+  bool planes_default = true;
   bool conformal_mesh = true;  ///< cut the mesh along the planes onto the section contours
   SmoothingMethod smoothing_method = SmoothingMethod::none;
   double smoothing_exponent = 1.0;                      ///< Shepard: g(t) = t^p; +inf allowed

@@ -1,6 +1,7 @@
 // Stages 1-3: load, segment, conform (see input_stage.h).
 #include "pipeline/input_stage.h"
 
+#include "io/contour_file.h"
 #include "io/csl_file.h"
 #include "io/input_error.h"
 #include "io/slices_file.h"
@@ -25,15 +26,21 @@ RunInputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress)
     }
   } else if (c.input_kind == InputKind::csl) {
     in.planes = readCslFile(c.input_path, &in.warnings);
+  } else if (c.input_kind == InputKind::contour) {
+    ContourFile contours = readContourFile(c.input_path, &in.warnings);
+    in.planes = std::move(contours.planes);
+    in.labelled = std::move(contours.labelled);  // one solid per material when there are several
   } else {
-    throw InputError(c.path, std::string("input.") + nameOf(kInputKinds, c.input_kind),
-                     "this input kind is not available in this version (slices | csl)");
+    in.input_files.push_back(c.plus_config_path);
+    in.plus = readPlusSequence(c.input_path, c.plus_config_path, c.reference_frame);
   }
   clock.end("load");
   progress.stage("segment");
   if (c.input_kind == InputKind::slices)
     in.planes = sectionsFromSlices(slices, c.input_path, c.segmentation, &in.warnings, &in.threshold,
                                    &in.labelled);
+  else if (c.input_kind == InputKind::plus_sequence)
+    in.planes = sectionsFromPlusSequence(*in.plus, c.segmentation, &in.warnings, &in.threshold, &in.labelled);
   in.slices = int(in.planes.size());
   clock.end("segment");
   in.slice_records = std::move(slices);

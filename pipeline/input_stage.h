@@ -3,10 +3,12 @@
 // them along the planes' common lines (Introduction §3.1; pipeline/conform_stage.h).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "geometry/core/types.h"
+#include "io/plus_sequence.h"
 #include "io/run_config.h"
 #include "io/slices_file.h"
 #include "pipeline/conform_stage.h"
@@ -28,6 +30,8 @@ struct RunInputs {
   ConformityResult conformity;                  ///< stage 3's measurements (conform_stage.h)
   /// The slices as read (input.slices; repeats merged): CuttingPlane::slice indexes them.
   std::vector<SliceRecord> slice_records;
+  /// input.plus_sequence: the recording's header, device set, kept frames and their poses.
+  std::optional<PlusSequence> plus;
 };
 
 /// Reads options.config (with its overrides) and its input (slices.yaml and images, or a .csl),

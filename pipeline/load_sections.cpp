@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <exception>
+#include <functional>
 #include <map>
 
 #include "geometry/core/plane_of_pose.h"
@@ -134,6 +135,117 @@ void forEachFrame(const std::vector<SliceRecord>& slices, const std::string& lis
     if (e) std::rethrow_exception(e);
 }
 
+/// The pixel axes of a pose that are not orthogonal (a calibration fitted by least squares, as
+/// PLUS's ImageToProbe): segmentation works in (i sx, j sy); this is the exact in-plane map from
+/// there to the plane's (u, v) frame (identity for orthogonal axes).
+Eigen::Matrix2d pixelShear(const Mat4& pose, const Plane& plane) {
+  const Vec3 c1 = pose.block<3, 1>(0, 1);
+  const double sy = c1.norm();
+  Eigen::Matrix2d m;
+  m << 1.0, c1.dot(plane.u) / sy, 0.0, c1.dot(plane.v) / sy;
+  return m;
+}
+
+void shearRing(const Eigen::Matrix2d& m, Ring& ring) {
+  for (Vec2& q : ring) q = m * q;
+}
+
+/// One frame segmented into its cutting plane (stage 2): the plane of its pose, the image
+/// rectangle and field of view, the sections in the plane's (u, v) mm frame. Method labels also
+/// give `labelled`, the sections of each label value; `touches` says whether a section reaches
+/// the edge of the image or field of view.
+CuttingPlane planeOfFrame(int slice, const std::string& name, const Mat4& pose, const Frame& frame,
+                          const std::vector<Ring>* sharedRings, const SegmentationParams& perSlice,
+                          std::vector<Section>* labelled, char* touches) {
+  Vec2 spacing;
+  CuttingPlane cp;
+  cp.slice = slice;
+  cp.name = name;
+  cp.plane = planeOfPose(pose, &spacing);
+  cp.pixel_mm = std::min(spacing.x(), spacing.y());
+  cp.extent.min = Vec2::Zero();
+  cp.extent.max = Vec2((frame.image.cols - 1) * spacing.x(), (frame.image.rows - 1) * spacing.y());
+  cp.field_of_view = sharedRings ? *sharedRings : fieldOfViewRings(frame.fov, spacing);
+  if (!frame.fov.empty() && cv::countNonZero(frame.fov) == 0) cp.extent = PlaneRect{};  // observed nowhere
+  const bool perLabel = perSlice.method == SegmentationMethod::labels && labelled;
+  if (perLabel && !perSlice.merge_labels) *labelled = segmentSlice(frame.image, frame.fov, spacing, perSlice).sections;
+  cv::Mat input = frame.image;
+  if (perSlice.method == SegmentationMethod::labels) {  // the union of the labels: the geometry reconstructed
+    input = cv::Mat(frame.image.size(), CV_8U);
+    input.setTo(0);
+    input.setTo(1, frame.image != 0);
+  }
+  SegmentedSlice seg = segmentSlice(input, frame.fov, spacing, perSlice);
+  cp.sections = std::move(seg.sections);
+  *touches = seg.touches_fov_edge;
+  const Vec3 c0 = pose.block<3, 1>(0, 0), c1 = pose.block<3, 1>(0, 1);
+  if (std::abs(c0.dot(c1)) > 1e-9 * c0.norm() * c1.norm()) {
+    // Skewed pixel axes: every ring through the exact map; the image rectangle becomes a
+    // parallelogram, kept as its bounds and, unless a field of view already says it, its ring.
+    const Eigen::Matrix2d m = pixelShear(pose, cp.plane);
+    const auto shearSections = [&](std::vector<Section>& sections) {
+      for (Section& sec : sections) {
+        shearRing(m, sec.outer);
+        for (Ring& hole : sec.holes) shearRing(m, hole);
+      }
+    };
+    shearSections(cp.sections);
+    if (labelled) shearSections(*labelled);
+    if (cp.field_of_view.empty() && cp.extent.max != cp.extent.min)
+      cp.field_of_view = {Ring{cp.extent.min, Vec2(cp.extent.max.x(), cp.extent.min.y()), cp.extent.max,
+                               Vec2(cp.extent.min.x(), cp.extent.max.y())}};
+    for (Ring& ring : cp.field_of_view) shearRing(m, ring);
+    if (cp.extent.max != cp.extent.min) {
+      Vec2 lo = Vec2::Constant(1e300), hi = -lo;
+      for (const Ring& ring : cp.field_of_view)
+        for (const Vec2& q : ring) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+      cp.extent = {lo, hi};
+    }
+  }
+  return cp;
+}
+
+/// The segmentation of every frame of a series: Otsu's method gives one threshold for the series,
+/// from the histogram pooled over a first reading of the frames (series_threshold.h; integer
+/// counts: the same whatever the order), applied as a fixed threshold.
+/// @param bits        the series' sample depth (8 or 16), from its first frame
+/// @param readFrames  runs its argument on every frame (i, frame), in any order
+SegmentationParams seriesParams(const SegmentationParams& params, int bits,
+                                const std::function<void(const std::function<void(int, const Frame&)>&)>& readFrames,
+                                int n, double* thresholdUsed) {
+  SegmentationParams perSlice = params;
+  if (params.method == SegmentationMethod::otsu && n > 0) {
+    const double scale = seriesGreyScale(bits);
+    std::vector<GreyHistogram> histograms(static_cast<std::size_t>(n));
+    readFrames([&](int i, const Frame& f) {
+      histograms[std::size_t(i)] = observedHistogram(f.image, f.fov, params.sigma_px, scale);
+    });
+    GreyHistogram pooled{};
+    for (const GreyHistogram& h : histograms)
+      for (std::size_t b = 0; b < pooled.size(); ++b) pooled[b] += h[b];
+    perSlice.method = SegmentationMethod::threshold;
+    perSlice.threshold = otsuThresholdOfPooled(pooled, scale);
+    if (thresholdUsed) *thresholdUsed = perSlice.threshold;
+  } else if (thresholdUsed) {
+    *thresholdUsed = params.method == SegmentationMethod::labels ? 0.5 : params.threshold;
+  }
+  return perSlice;
+}
+
+/// "N slice(s) have a section touching the edge..." when any does.
+void touchingWarning(const std::vector<char>& touches, std::vector<std::string>* warnings) {
+  int count = 0;
+  std::string first;
+  for (std::size_t i = 0; i < touches.size(); ++i)
+    if (touches[i]) {
+      if (count++ < 5) first += (first.empty() ? "" : ", ") + std::to_string(i);
+    }
+  if (count)
+    warnings->push_back(std::to_string(count) +
+                        " slice(s) have a section touching the edge of the image or field of view "
+                        "(the object is not fully in view), e.g. slice " + first);
+}
+
 }  // namespace
 
 std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& slices,
@@ -155,63 +267,75 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
     if (slices[i].fov_resolved) greyImageBytes(*slices[i].fov_resolved, listing_file, key + ".fov");
   }
   const SharedFieldsOfView shared = sharedFieldsOfView(slices, listing_file);
-  // Otsu: one threshold for the series, from the pooled histogram (series_threshold.h), pooled
-  // over a first reading of the stream (integer counts: the same whatever the order).
-  SegmentationParams perSlice = params;
-  if (params.method == SegmentationMethod::otsu && n > 0) {
-    // The first frame's depth, from its header (checked above), sets the series' 8-bit scale.
-    const double scale = seriesGreyScale(readImageHeader(slices[0].image_resolved).bits_per_sample);
-    std::vector<GreyHistogram> histograms(static_cast<std::size_t>(n));
-    forEachFrame(slices, listing_file, shared, [&](int i, const Frame& f) {
-      histograms[std::size_t(i)] = observedHistogram(f.image, f.fov, params.sigma_px, scale);
-    });
-    GreyHistogram pooled{};
-    for (const GreyHistogram& h : histograms)
-      for (std::size_t b = 0; b < pooled.size(); ++b) pooled[b] += h[b];
-    perSlice.method = SegmentationMethod::threshold;
-    perSlice.threshold = otsuThresholdOfPooled(pooled, scale);
-    if (thresholdUsed) *thresholdUsed = perSlice.threshold;
-  } else if (thresholdUsed) {
-    *thresholdUsed = params.method == SegmentationMethod::labels ? 0.5 : params.threshold;
-  }
+  SegmentationParams perSlice = seriesParams(params, n > 0 ? readImageHeader(slices[0].image_resolved).bits_per_sample : 8,
+                                             [&](const std::function<void(int, const Frame&)>& each) {
+                                               forEachFrame(slices, listing_file, shared, each);
+                                             },
+                                             n, thresholdUsed);
   if (labelled) labelled->assign(std::size_t(n), {});
   forEachFrame(slices, listing_file, shared, [&](int i, const Frame& frame) {
-    Vec2 spacing;
-    CuttingPlane& cp = planes[i];
-    cp.slice = i;
-    cp.name = slices[i].image;
-    cp.plane = planeOfPose(slices[i].image_to_world, &spacing);
-    cp.pixel_mm = std::min(spacing.x(), spacing.y());
-    cp.extent.min = Vec2::Zero();
-    cp.extent.max = Vec2((frame.image.cols - 1) * spacing.x(), (frame.image.rows - 1) * spacing.y());
-    const std::vector<Ring>* sharedRings = shared.ringsOfSlice[std::size_t(i)];
-    cp.field_of_view = sharedRings ? *sharedRings : fieldOfViewRings(frame.fov, spacing);
-    if (!frame.fov.empty() && cv::countNonZero(frame.fov) == 0) cp.extent = PlaneRect{};  // observed nowhere
-    const bool perLabel = perSlice.method == SegmentationMethod::labels && labelled;
-    if (perLabel && !perSlice.merge_labels)
-      (*labelled)[std::size_t(i)] = segmentSlice(frame.image, frame.fov, spacing, perSlice).sections;
-    cv::Mat input = frame.image;
-    if (perSlice.method == SegmentationMethod::labels) {  // the union of the labels: the geometry reconstructed
-      input = cv::Mat(frame.image.size(), CV_8U);
-      input.setTo(0);
-      input.setTo(1, frame.image != 0);
-    }
-    SegmentedSlice seg = segmentSlice(input, frame.fov, spacing, perSlice);
-    cp.sections = std::move(seg.sections);
-    touches[i] = seg.touches_fov_edge;
+    planes[std::size_t(i)] = planeOfFrame(i, slices[std::size_t(i)].image, slices[std::size_t(i)].image_to_world, frame,
+                                          shared.ringsOfSlice[std::size_t(i)], perSlice,
+                                          labelled ? &(*labelled)[std::size_t(i)] : nullptr, &touches[std::size_t(i)]);
   });
-  if (warnings) {
-    int count = 0;
-    std::string first;
-    for (int i = 0; i < n; ++i)
-      if (touches[i]) {
-        if (count++ < 5) first += (first.empty() ? "" : ", ") + std::to_string(i);
-      }
-    if (count)
-      warnings->push_back(std::to_string(count) +
-                          " slice(s) have a section touching the edge of the image or field of view "
-                          "(the object is not fully in view), e.g. slice " + first);
+  if (warnings) touchingWarning(touches, warnings);
+  return planes;
+}
+
+namespace {
+
+/// Runs work(k, frame) for every kept frame k of a PLUS sequence (k indexes seq.frames). The
+/// compressed stream is read in order, in batches of a few frames per thread, each batch then
+/// worked on in parallel and released: memory holds one batch, not the recording (issue 17).
+void forEachSequenceFrame(const PlusSequence& seq, const std::function<void(int, const Frame&)>& work) {
+  MetaImageFrames reader(seq.header);
+  const int kept = int(seq.frames.size());
+  const int batch = 32;
+  std::vector<Frame> frames;
+  int k = 0;
+  for (int first = 0; first < kept; first += batch) {
+    const int last = std::min(kept, first + batch);
+    frames.assign(std::size_t(last - first), Frame{});
+    for (; k < last; ++k) {
+      while (reader.index() < seq.frames[std::size_t(k)]) reader.next();  // a skipped frame
+      frames[std::size_t(k - first)].image = orientedFrame(seq, reader.next());
+      frames[std::size_t(k - first)].fov = seq.field_of_view;
+    }
+    tbb::parallel_for(first, last, [&](int q) { work(q, frames[std::size_t(q - first)]); });
   }
+}
+
+}  // namespace
+
+std::vector<CuttingPlane> sectionsFromPlusSequence(const PlusSequence& seq, const SegmentationParams& params,
+                                                   std::vector<std::string>* warnings, double* thresholdUsed,
+                                                   std::vector<std::vector<Section>>* labelled) {
+  const int n = int(seq.frames.size());
+  std::vector<CuttingPlane> planes(static_cast<std::size_t>(n));
+  std::vector<char> touches(static_cast<std::size_t>(n), 0);
+  const SegmentationParams perSlice = seriesParams(
+      params, seq.header.pixel == MetaPixelType::uint8 ? 8 : 16,
+      [&](const std::function<void(int, const Frame&)>& each) { forEachSequenceFrame(seq, each); }, n, thresholdUsed);
+  // The field of view is the device set's, one for the recording: traced once per pixel spacing.
+  std::map<std::pair<double, double>, std::vector<Ring>> rings;
+  std::vector<const std::vector<Ring>*> ringsOf(static_cast<std::size_t>(n), nullptr);
+  if (!seq.field_of_view.empty())
+    for (int k = 0; k < n; ++k) {
+      Vec2 spacing;
+      planeOfPose(seq.image_to_reference[std::size_t(k)], &spacing);
+      auto r = rings.find({spacing.x(), spacing.y()});
+      if (r == rings.end())
+        r = rings.emplace(std::make_pair(spacing.x(), spacing.y()), fieldOfViewRings(seq.field_of_view, spacing)).first;
+      ringsOf[std::size_t(k)] = &r->second;
+    }
+  if (labelled) labelled->assign(std::size_t(n), {});
+  forEachSequenceFrame(seq, [&](int k, const Frame& frame) {
+    planes[std::size_t(k)] =
+        planeOfFrame(k, "frame " + std::to_string(seq.frames[std::size_t(k)]), seq.image_to_reference[std::size_t(k)],
+                     frame, ringsOf[std::size_t(k)], perSlice, labelled ? &(*labelled)[std::size_t(k)] : nullptr,
+                     &touches[std::size_t(k)]);
+  });
+  if (warnings) touchingWarning(touches, warnings);
   return planes;
 }
 

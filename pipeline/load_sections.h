@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "geometry/core/types.h"
+#include "io/plus_sequence.h"
 #include "io/slices_file.h"
 #include "segmentation/segment_slice.h"
 
@@ -33,5 +34,12 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
                                              std::vector<std::string>* warnings,
                                              double* thresholdUsed = nullptr,
                                              std::vector<std::vector<Section>>* labelled = nullptr);
+
+/// The same for the kept frames of a PLUS recording (io/plus_sequence.h), in their order: plane k
+/// is seq.frames[k], named "frame N", its pose seq.image_to_reference[k], its field of view the
+/// device set's. The frames are streamed from the sequence file (one batch held at a time).
+std::vector<CuttingPlane> sectionsFromPlusSequence(const PlusSequence& seq, const SegmentationParams& params,
+                                                   std::vector<std::string>* warnings, double* thresholdUsed = nullptr,
+                                                   std::vector<std::vector<Section>>* labelled = nullptr);
 
 }  // namespace xsect

@@ -7,6 +7,12 @@
 //   true_poses.yaml    the same slices with their true poses (what the images were rendered from)
 //   truth.yaml         the analytic shape, its Betti numbers (and each material's) and reach
 //   config.yaml        a run configuration for `xsect run`, merged with the spec's `config:` map
+// and with `plus: true` in the spec, the same slices as a PLUS recording (io/meta_image_writer.h):
+//   sequence.igs.mha   the written frames in order (zlib), per frame ProbeToTrackerTransform (the
+//                      recorded pose without its pixel scaling), ReferenceToTrackerTransform
+//                      (identity), their statuses, ImageStatus (all OK) and Timestamp
+//   deviceset.xml      ImageToProbe = diag(pixel_mm, pixel_mm, pixel_mm, 1), the sector as PLUS fan
+//   config_plus.yaml   config.yaml with input: {plus_sequence: ..., plus_config: ...}
 #include <yaml-cpp/yaml.h>
 
 #include <atomic>
@@ -21,6 +27,7 @@
 #include <tbb/parallel_for.h>
 
 #include "io/input_error.h"
+#include "io/meta_image_writer.h"
 #include "io/text_file.h"
 #include "io/phantom_spec.h"
 #include "io/slices_file.h"
@@ -64,7 +71,8 @@ void mergeValue(YAML::Node base, const std::string& key, const YAML::Node& value
   }
 }
 
-std::string configYaml(const PhantomSpec& spec) {
+/// The run configuration; with `plus`, reading the PLUS recording instead of slices.yaml.
+std::string configYaml(const PhantomSpec& spec, bool plus = false) {
   YAML::Node c(YAML::NodeType::Map);
   c["input"]["slices"] = "slices.yaml";
   const auto& d = spec.degradations;
@@ -87,6 +95,12 @@ std::string configYaml(const PhantomSpec& spec) {
   mesh.push_back("ply");
   c["output"]["mesh"] = mesh;
   mergeInto(c, YAML::Load(spec.config_yaml), spec.path, "config.");
+  if (plus) {
+    YAML::Node in(YAML::NodeType::Map);
+    in["plus_sequence"] = "sequence.igs.mha";
+    in["plus_config"] = "deviceset.xml";
+    c["input"] = in;
+  }
   YAML::Emitter out;
   out << c;
   return std::string(out.c_str()) + "\n";
@@ -102,7 +116,7 @@ SlicePlan phantomPlan(const PhantomSpec& spec) {
   for (const PhantomPlane& p : spec.extra_planes) {
     Vec3 u, v;
     planeFrame(p.normal, &u, &v);
-    const Vec3 n = u.cross(v), c = 0.5 * (bmin + bmax);
+    const Vec3 n = u.cross(v), c = p.image_centre ? *p.image_centre : Vec3(0.5 * (bmin + bmax));
     plan.poses.push_back(
         centredPose(c - (c - p.point).dot(n) * n, u, v, plan.pixel_mm, plan.width, plan.height));
   }
@@ -178,6 +192,86 @@ void sliceRecords(const PhantomSpec& spec, const SlicePlan& plan, const Rendered
   }
 }
 
+/// `x` / p, or a neighbouring double y, chosen so that y * p gives back exactly x when one does
+/// (so that ProbeToTracker * ImageToProbe reproduces the recorded pose bit for bit).
+double divideExactly(double x, double p) {
+  const double y = x / p;
+  if (y * p == x) return y;
+  for (const double cand : {std::nextafter(y, INFINITY), std::nextafter(y, -INFINITY)})
+    if (cand * p == x) return cand;
+  return y;
+}
+
+/// ProbeToTracker of a recorded pose (pixel (i, j, 0, 1) -> mm) for ImageToProbe = diag(p, p, p, 1):
+/// pose * inverse(ImageToProbe), a rigid transform for the phantom's poses (columns u p, v p, n p).
+Mat4 probeToTracker(const Mat4& pose, double p) {
+  Mat4 m = pose;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) m(r, c) = divideExactly(pose(r, c), p) + 0.0;
+  const Eigen::Matrix3d R = m.block<3, 3>(0, 0);
+  if ((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-9 || R.determinant() < 0)
+    throw std::logic_error("phantom: a pose without its pixel scaling is not a rotation");
+  return m;
+}
+
+/// The degrees d with d * (pi / 180) == rad in double arithmetic, as the device-set reader converts.
+double degreesExactly(double rad) {
+  constexpr double kRadPerDeg = 3.14159265358979323846 / 180.0;
+  const double d = rad / kRadPerDeg;
+  for (const double cand : {d, std::nextafter(d, INFINITY), std::nextafter(d, -INFINITY)})
+    if (cand * kRadPerDeg == rad) return cand;
+  return d;
+}
+
+/// sequence.igs.mha, deviceset.xml and config_plus.yaml: the written frames (read back from their
+/// PNG files, one at a time) with the recorded poses of slices.yaml.
+void writePlusRecording(const PhantomSpec& spec, const SlicePlan& plan, const RenderedSeries& series,
+                        const std::vector<SliceRecord>& recorded, const StagedOutput& out) {
+  const double p = plan.pixel_mm;
+  Mat4 imageToProbe = Mat4::Identity();
+  imageToProbe.diagonal().head<3>().setConstant(p);
+  std::vector<int> index;  // pattern index of each written frame
+  for (int i = 0; i < int(plan.poses.size()); ++i)
+    if (!series.dropped[std::size_t(i)]) index.push_back(i);
+  const std::string identity = matrixText(Mat4::Identity());
+  std::vector<MetaFrameFields> fields(recorded.size());
+  for (std::size_t k = 0; k < recorded.size(); ++k) {
+    const Mat4 probe = probeToTracker(recorded[k].image_to_world, p);
+    // Exact in all but rare entries (where no double y has y * p == x: then 1 ulp off).
+    if ((probe * imageToProbe - recorded[k].image_to_world).cwiseAbs().maxCoeff() > 1e-9)
+      throw std::logic_error("phantom: ProbeToTracker * ImageToProbe does not give back the pose");
+    MetaFrameFields& f = fields[k];
+    f["ProbeToTrackerTransform"] = matrixText(probe);
+    f["ProbeToTrackerTransformStatus"] = "OK";
+    f["ReferenceToTrackerTransform"] = identity;
+    f["ReferenceToTrackerTransformStatus"] = "OK";
+    f["ImageStatus"] = "OK";
+    f["Timestamp"] = yamlNumberText(0.05 * index[k]);
+  }
+  writeMetaImageSequence(
+      out.file("sequence.igs.mha").string(), int(recorded.size()),
+      [&](int k) {
+        const std::string file = out.file(recorded[std::size_t(k)].image).string();
+        cv::Mat m = cv::imread(file, cv::IMREAD_UNCHANGED);
+        if (m.empty()) throw std::runtime_error("cannot read back " + file);
+        return m;
+      },
+      fields, true);
+  std::optional<PlusFanMask> fan;
+  if (plan.sector) {
+    const SectorFov& s = *plan.sector;
+    PlusFanMask f;
+    const double deg = degreesExactly(s.half_angle_rad);
+    f.angles_deg = {-deg, deg};
+    f.origin_px = {s.apex_i, s.apex_j};
+    f.radius_start_px = s.near_px;
+    f.radius_stop_px = s.far_px;
+    fan = f;
+  }
+  writePlusDeviceSet(out.file("deviceset.xml").string(), imageToProbe, std::nullopt, std::nullopt, fan);
+  writeTextFile(out.file("config_plus.yaml").string(), configYaml(spec, true));
+}
+
 }  // namespace
 
 int phantomCommand(const PhantomOptions& options) {
@@ -207,6 +301,7 @@ int phantomCommand(const PhantomOptions& options) {
   writeSlicesFile(out.file("true_poses.yaml").string(), truth);
   writeTruthFile(out.file("truth.yaml").string(), shape);
   writeTextFile(out.file("config.yaml").string(), configYaml(spec));
+  if (spec.plus) writePlusRecording(spec, plan, series, recorded, out);
   out.commit();
 
   const int nClipped = int(std::count(series.clipped.begin(), series.clipped.end(), 1));

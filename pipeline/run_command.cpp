@@ -17,6 +17,7 @@
 #include "pipeline/commands.h"
 #include "pipeline/input_stage.h"
 #include "pipeline/json_values.h"
+#include "pipeline/plus_summary.h"
 #include "pipeline/mesh_stage.h"
 #include "pipeline/reconstruct_stage.h"
 #include "pipeline/run_outputs.h"
@@ -93,6 +94,7 @@ int checkCommand(const RunOptions& o) {
   r["config"] = in.config.path;
   r["valid"] = true;
   r["counts"] = {{"slices", in.slices}, {"sections", sections}};
+  if (in.plus) r["plus_sequence"] = plusSequenceJson(*in.plus);
   r["conformity"] = conformitySummaryJson(in.config.conformity, in.conformity);
   if (sections > 0) {
     r["voxel_size"] = voxelSizeJson(resolveVoxelSize(in, true));

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "pipeline/json_values.h"
+#include "pipeline/plus_summary.h"
 #include "pipeline/run_outputs.h"
 
 namespace xsect {
@@ -63,6 +64,8 @@ json reconstructionJson(const RunResults& r) {
   const ReconstructionLayout& layout = r.scene_stage.scene.layout;
   const RunConfig& c = r.inputs.config;
   return {{"method", nameOf(kReconstructionMethods, c.reconstruction_method)},
+          {"planes", nameOf(kPlaneExtents, c.planes)},
+          {"planes_auto", c.planes_default},
           {"voxel_size_mm", c.voxel_size_mm},
           {"voxel_size", voxelSizeJson(r.scene_stage.voxel_size)},
           {"grid_origin_mm", vecJson(rec.field.grid().origin)},
@@ -186,9 +189,10 @@ json reportJson(const RunResults& r, const StageClock& clock) {
   report["voxel_betti"] = rec.voxel_betti;
   report["watertight"] = r.diagnosis.topology.watertight;
   report["counts"] = countsJson(r);
-  if (c.input_kind == InputKind::slices)
+  if (c.input_kind == InputKind::slices || c.input_kind == InputKind::plus_sequence)
     report["segmentation"] = {{"method", nameOf(kSegmentationMethods, c.segmentation.method)},
                               {"threshold_used", r.inputs.threshold}};
+  if (r.inputs.plus) report["plus_sequence"] = plusSequenceJson(*r.inputs.plus);
   report["reconstruction"] = reconstructionJson(r);
   report["materials"] = materialsJson(r);
   report["arrangement"] = {{"cells", a.cells},

@@ -55,6 +55,7 @@ ReconstructionParams reconstructionParams(const RunConfig& c) {
   p.voxel_mm = c.voxel_size_mm;
   p.method = c.reconstruction_method;
   p.end_margin_mm = c.end_margin_mm;
+  p.planes = c.planes;
   return p;
 }
 

@@ -4,6 +4,7 @@ set -euo pipefail
 PKGS=(build-essential cmake ninja-build pkg-config libcgal-dev libopencv-dev libopenvdb-dev
       libboost-iostreams-dev libtbb-dev libyaml-cpp-dev libeigen3-dev libgtest-dev libbenchmark-dev
       nlohmann-json3-dev libcli11-dev zlib1g-dev libssl-dev python3
+      libpugixml-dev  # PLUS device-set XML (io/plus_device_set)
       libceres-dev  # pose correction's robust least squares (geometry/conformity/pose_correction)
       clang libclang-rt-dev)  # clang + its runtimes: libFuzzer, ASan, UBSan (scripts/fuzz.sh)
 missing=()

@@ -18,8 +18,14 @@ namespace {
 /// Planes of `from` that may be nearest somewhere in the box [c - e, c + e]: those whose lower
 /// distance bound does not exceed the smallest upper bound. One pass keeps every plane under the
 /// running smallest upper bound; a second pass over the (few) kept ones applies the final bound.
-void cull(const std::vector<PlaneRow>& rows, const std::vector<int>& from, const Vec3& c,
-          const Vec3& e, std::vector<int>& out, std::vector<double>& lo) {
+/// With observed pieces (issue 20) the distance to P's piece is sqrt(s² + o²), o the in-plane
+/// distance of the projection to the piece: o is 1-Lipschitz, so over the box's projection (a
+/// rectangle of half-diagonal rho about the centre's projection) it lies within o(c) ± rho, up to
+/// the piece's raster slack. Empty pieces are never nearest.
+template <bool kObserved>
+void cull(const std::vector<PlaneRow>& rows, const std::vector<ObservedPiece>* pieces,
+          const std::vector<int>& from, const Vec3& c, const Vec3& e, std::vector<int>& out,
+          std::vector<double>& lo) {
   double minHi = std::numeric_limits<double>::infinity();
   out.clear();
   lo.clear();
@@ -27,9 +33,25 @@ void cull(const std::vector<PlaneRow>& rows, const std::vector<int>& from, const
     const PlaneRow& p = rows[k];
     const double r = p.ax * e.x() + p.ay * e.y() + p.az * e.z();
     const double a = std::abs(p.s(c));
-    const double l = a - r;
+    double l = a - r, hi = a + r;
+    if constexpr (kObserved) {
+      const ObservedPiece& piece = (*pieces)[std::size_t(k)];
+      if (!piece.whole) {
+        const double pa = p.ux * c.x() + p.uy * c.y() + p.uz * c.z() - p.uo;
+        const double pb = p.vx * c.x() + p.vy * c.y() + p.vz * c.z() - p.vo;
+        const double rho = std::hypot(std::abs(p.ux) * e.x() + std::abs(p.uy) * e.y() + std::abs(p.uz) * e.z(),
+                                      std::abs(p.vx) * e.x() + std::abs(p.vy) * e.y() + std::abs(p.vz) * e.z());
+        if (!covers(piece, pa, pb, rho)) {  // covered: o = 0 over the box, the whole plane's bounds
+          double na, nb;
+          const double o = piece.distance(pa, pb, &na, &nb);
+          if (!std::isfinite(o)) continue;
+          l = std::hypot(std::max(0.0, l), std::max(0.0, o - rho - piece.slack));
+          hi = std::hypot(hi, o + rho + piece.slack);
+        }
+      }
+    }
     if (l > minHi) continue;
-    minHi = std::min(minHi, a + r);
+    minHi = std::min(minHi, hi);
     out.push_back(k);
     lo.push_back(l);
   }
@@ -39,16 +61,13 @@ void cull(const std::vector<PlaneRow>& rows, const std::vector<int>& from, const
   out.resize(n);
 }
 
-}  // namespace
-
-void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
-                              const std::vector<SectionDistanceField>& fields, const GridSpec& grid,
-                              const std::function<void(std::int64_t, const NearestPlaneBlock&)>& visitBlock,
-                              bool wholeBlocks, const std::function<void(double)>& progress) {
-  if (planes.empty()) throw std::invalid_argument("method 1: no cutting plane");
-  if (fields.size() != planes.size())
-    throw std::invalid_argument("method 1: one distance raster per plane is required");
-  if (!(grid.voxel > 0)) throw std::invalid_argument("method 1: voxel size must be positive");
+/// forEachNearestPlaneBlock, on whole planes (kObserved false: the thesis' method 1, unchanged) or
+/// on the planes' observed pieces.
+template <bool kObserved>
+void nearestPieceBlocks(const std::vector<CuttingPlane>& planes, const std::vector<SectionDistanceField>& fields,
+                        const std::vector<ObservedPiece>* pieces, const GridSpec& grid,
+                        const std::function<void(std::int64_t, const NearestPlaneBlock&)>& visitBlock,
+                        bool wholeBlocks, const std::function<void(double)>& progress) {
   const std::vector<PlaneRow> rows = planeRows(planes);
   std::vector<int> all(planes.size());
   for (std::size_t i = 0; i < all.size(); ++i) all[i] = int(i);
@@ -75,7 +94,7 @@ void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
     box(i0, j0, k0, std::min(D[0], i0 + kSuper), std::min(D[1], j0 + kSuper),
         std::min(D[2], k0 + kSuper), &c, &e);
     std::vector<double> lo;
-    cull(rows, all, c, e, superCand[s], lo);
+    cull<kObserved>(rows, pieces, all, c, e, superCand[s], lo);
   });
 
   // Pass 2: inside each 8³ box, an octree of boxes (8 -> 4 -> 2) culls the list again at every
@@ -107,28 +126,67 @@ void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
     }
     const double* s0 = w.s0.data();
     const double *nx = w.nx.data(), *ny = w.ny.data(), *nz = w.nz.data();
+    // Observed pieces that all hold the box's projection: their planes are whole over the box.
+    bool covered = true;
+    if constexpr (kObserved) {
+      Vec3 c, e;
+      box(i0, j0, k0, i1, j1, k1, &c, &e);
+      for (std::size_t q = 0; q < m && covered; ++q) {
+        const PlaneRow& r = rows[cand[q]];
+        const double ra = std::abs(r.ux) * e.x() + std::abs(r.uy) * e.y() + std::abs(r.uz) * e.z();
+        const double rb = std::abs(r.vx) * e.x() + std::abs(r.vy) * e.y() + std::abs(r.vz) * e.z();
+        covered = covers((*pieces)[std::size_t(cand[q])], r.ux * c.x() + r.uy * c.y() + r.uz * c.z() - r.uo,
+                         r.vx * c.x() + r.vy * c.y() + r.vz * c.z() - r.vo, std::hypot(ra, rb));
+      }
+    }
     for (int k = k0; k < k1; ++k)
       for (int j = j0; j < j1; ++j)
         for (int i = i0; i < i1; ++i) {
           const double di = i - i0, dj = j - j0, dk = k - k0;
+          const std::size_t o = std::size_t(BlockGrid<float>::offset(i, j, k));
+          const Vec3 x = x0 + h * Vec3(di, dj, dk);
           double best = std::numeric_limits<double>::infinity();
           int bq = 0;
-          for (std::size_t q = 0; q < m; ++q) {
-            const double d = std::abs(s0[q] + nx[q] * di + ny[q] * dj + nz[q] * dk);
-            if (d < best) {
-              best = d;
-              bq = int(q);
+          if (!kObserved || covered) {
+            for (std::size_t q = 0; q < m; ++q) {
+              const double d = std::abs(s0[q] + nx[q] * di + ny[q] * dj + nz[q] * dk);
+              if (d < best) {
+                best = d;
+                bq = int(q);
+              }
             }
+            const int bp = cand[bq];
+            const PlaneRow& r = rows[bp];
+            const double a = r.ux * x.x() + r.uy * x.y() + r.uz * x.z() - r.uo;
+            const double b = r.vx * x.x() + r.vy * x.y() + r.vz * x.z() - r.vo;
+            w.block.value[o] = fields[bp].sample(a, b);
+            w.block.plane_distance[o] = float(best);
+            w.block.nearest_plane[o] = bp;
+          } else if constexpr (kObserved) {
+            // The nearest piece: sqrt(s² + o²) >= |s|, so a plane no nearer than the best is skipped
+            // before its in-plane distance is needed. The value is f_P at the piece's nearest point.
+            double ba = 0, bb = 0;
+            for (std::size_t q = 0; q < m; ++q) {
+              const double sd = std::abs(s0[q] + nx[q] * di + ny[q] * dj + nz[q] * dk);
+              if (!(sd < best)) continue;
+              const PlaneRow& r = rows[cand[q]];
+              const double a = r.ux * x.x() + r.uy * x.y() + r.uz * x.z() - r.uo;
+              const double b = r.vx * x.x() + r.vy * x.y() + r.vz * x.z() - r.vo;
+              double na, nb;
+              const double op = (*pieces)[std::size_t(cand[q])].distance(a, b, &na, &nb);
+              const double d = op > 0 ? std::hypot(sd, op) : sd;
+              if (d < best) {
+                best = d;
+                bq = int(q);
+                ba = na;
+                bb = nb;
+              }
+            }
+            const int bp = m ? cand[bq] : -1;
+            w.block.value[o] = bp >= 0 && std::isfinite(best) ? fields[bp].sample(ba, bb) : fields.back().band;
+            w.block.plane_distance[o] = float(best);
+            w.block.nearest_plane[o] = bp;
           }
-          const int bp = cand[bq];
-          const PlaneRow& r = rows[bp];
-          const Vec3 x = x0 + h * Vec3(di, dj, dk);
-          const double a = r.ux * x.x() + r.uy * x.y() + r.uz * x.z() - r.uo;
-          const double b = r.vx * x.x() + r.vy * x.y() + r.vz * x.z() - r.vo;
-          const std::size_t o = std::size_t(BlockGrid<float>::offset(i, j, k));
-          w.block.value[o] = fields[bp].sample(a, b);
-          w.block.plane_distance[o] = float(best);
-          w.block.nearest_plane[o] = bp;
         }
   };
   // Box of `size` voxels at (i0, j0, k0), candidates `from`; level 0 = 8³.
@@ -144,7 +202,7 @@ void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
           return;
         }
         std::vector<int>& list = w.lists[level];
-        cull(rows, from, c, e, list, w.lo);
+        cull<kObserved>(rows, pieces, from, c, e, list, w.lo);
         if (size <= 2 || list.size() <= 2) {
           evalVoxels(i0, j0, k0, i1, j1, k1, list, w);
           return;
@@ -165,20 +223,32 @@ void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
     Vec3 c, e;
     box(i0, j0, k0, std::min(D[0], i0 + kBlock), std::min(D[1], j0 + kBlock), std::min(D[2], k0 + kBlock), &c, &e);
     std::vector<int>& list = w.lists[3];
-    cull(rows, from, c, e, list, w.lo);
+    cull<kObserved>(rows, pieces, from, c, e, list, w.lo);
     if (list.empty()) return false;
     double lowest = std::numeric_limits<double>::infinity();
     const float band = fields[std::size_t(list[0])].band;
     for (const int k : list) {
       const PlaneRow& r = rows[std::size_t(k)];
-      const double l = std::abs(r.s(c)) - (r.ax * e.x() + r.ay * e.y() + r.az * e.z());
-      if (!(l > near) || fields[std::size_t(k)].band != band) return false;
-      lowest = std::min(lowest, l);
+      double l = std::abs(r.s(c)) - (r.ax * e.x() + r.ay * e.y() + r.az * e.z());
       const double a = r.ux * c.x() + r.uy * c.y() + r.uz * c.z() - r.uo;
       const double b = r.vx * c.x() + r.vy * c.y() + r.vz * c.z() - r.vo;
       const double ra = std::abs(r.ux) * e.x() + std::abs(r.uy) * e.y() + std::abs(r.uz) * e.z();
       const double rb = std::abs(r.vx) * e.x() + std::abs(r.vy) * e.y() + std::abs(r.vz) * e.z();
-      const double pad = 1e-9 * (ra + rb + h);
+      double pad = 1e-9 * (ra + rb + h);
+      if constexpr (kObserved) {
+        // The piece's nearest points to the block lie within o(c) + rho of the block's projection.
+        const ObservedPiece& piece = (*pieces)[std::size_t(k)];
+        if (!covers(piece, a, b, std::hypot(ra, rb))) {
+          double na, nb;
+          const double o = piece.distance(a, b, &na, &nb);
+          if (!std::isfinite(o)) return false;
+          const double rho = std::hypot(ra, rb) + piece.slack;
+          l = std::hypot(std::max(0.0, l), std::max(0.0, o - rho));
+          pad += o + rho;
+        }
+      }
+      if (!(l > near) || fields[std::size_t(k)].band != band) return false;
+      lowest = std::min(lowest, l);
       if (!fields[std::size_t(k)].outsideOver(a - ra - pad, a + ra + pad, b - rb - pad, b + rb + pad)) return false;
     }
     w.block.value.fill(band);
@@ -215,10 +285,32 @@ void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
   }
 }
 
+}  // namespace
+
+void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
+                              const std::vector<SectionDistanceField>& fields, const GridSpec& grid,
+                              const std::function<void(std::int64_t, const NearestPlaneBlock&)>& visitBlock,
+                              bool wholeBlocks, const std::function<void(double)>& progress,
+                              const std::vector<ObservedPiece>* pieces) {
+  if (planes.empty()) throw std::invalid_argument("method 1: no cutting plane");
+  if (fields.size() != planes.size())
+    throw std::invalid_argument("method 1: one distance raster per plane is required");
+  if (pieces && pieces->size() != planes.size())
+    throw std::invalid_argument("method 1: one observed piece per plane is required");
+  if (!(grid.voxel > 0)) throw std::invalid_argument("method 1: voxel size must be positive");
+  const bool observed =
+      pieces && std::any_of(pieces->begin(), pieces->end(), [](const ObservedPiece& p) { return !p.whole; });
+  if (observed)
+    nearestPieceBlocks<true>(planes, fields, pieces, grid, visitBlock, wholeBlocks, progress);
+  else
+    nearestPieceBlocks<false>(planes, fields, nullptr, grid, visitBlock, wholeBlocks, progress);
+}
+
 NearestPlaneField nearestPlaneReconstruction(const std::vector<CuttingPlane>& planes,
                                              const std::vector<SectionDistanceField>& fields,
                                              const GridSpec& grid,
-                                             const std::function<void(double)>& progress) {
+                                             const std::function<void(double)>& progress,
+                                             const std::vector<ObservedPiece>* pieces) {
   NearestPlaneField out;
   out.value.grid = grid;
   const std::size_t n = std::size_t(grid.count());
@@ -233,7 +325,7 @@ NearestPlaneField nearestPlaneReconstruction(const std::vector<CuttingPlane>& pl
       out.plane_distance[idx] = v.plane_distance[q];
       out.nearest_plane[idx] = v.nearest_plane[q];
     });
-  }, false, progress);
+  }, false, progress, pieces);
   return out;
 }
 

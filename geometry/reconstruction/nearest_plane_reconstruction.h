@@ -14,6 +14,12 @@
 // within a voxel or two). Planes crossing a box shrink in number with its size, so the per-voxel
 // cost hardly grows with the number of planes (bench: doubling 200 random planes to 400 at a fixed
 // grid).
+//
+// Observed pieces (issue 20, observed_piece.h): when a slice observed only a piece Ω_P of its
+// plane, np(x) is the nearest point of the union of the pieces, d(x, Ω_P) = sqrt(s² + o²) with o
+// the in-plane distance of proj_P(x) to Ω_P, and the value stored is f_P at that nearest point.
+// The culling bounds o over a box by its value at the box's centre ± the projection's radius.
+// With every piece whole this is the thesis' method 1, evaluated by the same code as before.
 #pragma once
 
 #include <array>
@@ -22,6 +28,7 @@
 #include <vector>
 
 #include "geometry/core/block_grid.h"
+#include "geometry/scene/observed_piece.h"
 #include "geometry/scene/section_distance_field.h"
 #include "geometry/core/types.h"
 
@@ -54,10 +61,13 @@ struct NearestPlaneBlock {
 ///                      than half a voxel diagonal from every voxel centre, the values are +band,
 ///                      and plane_distance / nearest_plane hold a lower bound of the distance and
 ///                      one of those planes instead of each voxel's own (no voxel is evaluated).
+/// @param pieces        null (whole planes), or one observed piece per plane: distances are then to
+///                      the pieces, and nearest_plane is -1 where no piece is observed at all.
 void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
                               const std::vector<SectionDistanceField>& fields, const GridSpec& grid,
                               const std::function<void(std::int64_t, const NearestPlaneBlock&)>& visit,
-                              bool whole_blocks, const std::function<void(double)>& progress = {});
+                              bool whole_blocks, const std::function<void(double)>& progress = {},
+                              const std::vector<ObservedPiece>* pieces = nullptr);
 
 /// The same on dense arrays (small grids, tests).
 /// @param planes    cutting planes (real and virtual); planes[i] uses fields[i].
@@ -68,6 +78,7 @@ void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
 NearestPlaneField nearestPlaneReconstruction(const std::vector<CuttingPlane>& planes,
                                              const std::vector<SectionDistanceField>& fields,
                                              const GridSpec& grid,
-                                             const std::function<void(double)>& progress = {});
+                                             const std::function<void(double)>& progress = {},
+                                             const std::vector<ObservedPiece>* pieces = nullptr);
 
 }  // namespace xsect

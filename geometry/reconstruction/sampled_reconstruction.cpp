@@ -105,7 +105,7 @@ SampledReconstruction reconstructOnGrid(const SectionScene& scene, const std::fu
     forEachNearestPlaneBlock(scene.planes, scene.fields, grid, [&](std::int64_t b, const NearestPlaneBlock& v) {
       assembly.add(b, {v.value.data(), v.plane_distance.data(), v.nearest_plane.data(), v.nearest_plane.data(),
                        v.plane_distance.data(), v.far_outside});
-    }, true, progress);
+    }, true, progress, &scene.pieces);
   } else {
     SectionVoronoiParams vp;
     vp.slab_mm = params.slab_voxels * h;

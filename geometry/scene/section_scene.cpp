@@ -58,6 +58,7 @@ SectionScene sectionScene(const std::vector<CuttingPlane>& realPlanes, const Rec
       endPlanes(s.layout.sections_min, s.layout.sections_max, s.layout.end_margin_mm);
   s.planes.insert(s.planes.end(), ends.begin(), ends.end());
 
+  s.pieces = observedPieces(s.planes, params.planes == PlaneExtent::observed);
   const double h = params.voxel_mm, band = params.band_voxels * h;
   s.fields.resize(s.planes.size());
   tbb::parallel_for(std::size_t(0), s.planes.size(), [&](std::size_t i) {

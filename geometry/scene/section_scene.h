@@ -15,9 +15,11 @@
 #include <optional>
 #include <vector>
 
+#include "geometry/core/plane_extent.h"
 #include "geometry/core/reconstruction_method.h"
 #include "geometry/core/section_ids.h"
 #include "geometry/core/types.h"
+#include "geometry/scene/observed_piece.h"
 #include "geometry/scene/section_distance_field.h"
 
 namespace xsect {
@@ -31,6 +33,8 @@ struct ReconstructionParams {
   /// Method 2: half-thickness of the thickened planes in voxels (Fig. 2.6); √3/2 makes every
   /// 26-connected voxel path across a plane meet the slab.
   double slab_voxels = 0.8660254037844386;
+  /// Whether a plane cuts space only where its slice was observed (issue 20, observed_piece.h).
+  PlaneExtent planes = PlaneExtent::whole;
 };
 
 /// The grid and end margin of a scene, without building anything (for `xsect check`, memory
@@ -55,6 +59,8 @@ struct SectionScene {
   std::vector<CuttingPlane> planes;           ///< the real planes in input order, then the end planes
   std::size_t real_planes = 0;                ///< how many of `planes` are real (the first ones)
   std::vector<SectionDistanceField> fields;   ///< f_P, one per plane of `planes`
+  /// The observed piece of each plane of `planes` (all whole with params.planes == whole).
+  std::vector<ObservedPiece> pieces;
 
   const GridSpec& grid() const { return layout.grid; }
   /// The end planes' index range in `planes`: [real_planes, planes.size()).
