@@ -25,7 +25,8 @@ PlusSequence readPlusSequence(const std::string& sequencePath, const std::string
   s.header = readMetaImageHeader(sequencePath);
   s.device_set = readPlusDeviceSet(deviceSetPath);
   if (!s.device_set.image_frame.empty()) s.image_frame = s.device_set.image_frame;
-  s.reference_frame = referenceFrame;
+  if (!referenceFrame.empty()) s.reference_frame = referenceFrame;
+  else if (!s.device_set.reference_frame.empty()) s.reference_frame = s.device_set.reference_frame;
   const MetaImageHeader& h = s.header;
 
   // The tracked transforms: every per-frame <A>To<B>Transform of the file.
@@ -73,9 +74,10 @@ PlusSequence readPlusSequence(const std::string& sequencePath, const std::string
     }
     const Vec3 c0 = pose->block<3, 1>(0, 0), c1 = pose->block<3, 1>(0, 1);
     if (!(c0.norm() > 1e-12 && c1.norm() > 1e-12) || c0.cross(c1).norm() < 1e-9 * c0.norm() * c1.norm())
-      throw InputError(s.device_set.path, "CoordinateDefinitions",
-                       "the " + s.image_frame + " to " + s.reference_frame + " transform of frame " + std::to_string(f) +
-                           " has zero or parallel pixel axes (a calibration without the pixel spacing?)");
+      throw InputError(h.path, frameFieldKey(f, "ImageToReferenceTransform"),
+                       "the chained " + s.image_frame + " to " + s.reference_frame + " transform of frame " +
+                           std::to_string(f) + " (" + transformList(valid) +
+                           ") has zero or parallel pixel axes (a calibration without the pixel spacing?)");
     s.frames.push_back(f);
     s.image_to_reference.push_back(*pose);
   }

@@ -32,7 +32,8 @@ struct PlusSequence {
 /// Reads the sequence's header, the device set and every frame's pose (no pixel data).
 /// @param sequence_path   .igs.mha / .seq.mha / .mha / .mhd
 /// @param device_set_path the PLUS device-set XML
-/// @param reference_frame the coordinate frame the poses map into (`input.reference_frame`)
+/// @param reference_frame the coordinate frame the poses map into (`input.reference_frame`); empty:
+///                        the device set's ReferenceCoordinateFrame, or `Reference`
 /// Throws InputError naming the file and field: malformed header or XML, a frame without one of
 /// the transforms the others carry, no chain from the image frame to the reference frame (the
 /// message lists the transforms available), a pose whose pixel axes are zero or parallel, or no

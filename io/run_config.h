@@ -38,7 +38,9 @@ struct RunConfig {
   InputKind input_kind = InputKind::slices;
   std::string input_path;           ///< resolved against the configuration file
   std::string plus_config_path;     ///< input.plus_config: the PLUS device-set XML (plus_sequence)
-  std::string reference_frame = "Reference";  ///< input.reference_frame: the frame poses map into
+  /// input.reference_frame: the frame poses map into; empty: the device set's
+  /// ReferenceCoordinateFrame, or `Reference`.
+  std::string reference_frame;
   SegmentationParams segmentation;
   /// Stage 3, conformity along plane intersections (geometry/conformity/conformity_enforcement.h).
   struct Conformity {

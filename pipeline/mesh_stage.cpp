@@ -79,7 +79,8 @@ MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const Recons
   bool anyLabelled = false;  // segmentation labels gave per-label sections
   for (const auto& l : in.labelled) anyLabelled = anyLabelled || !l.empty();
   const std::vector<std::vector<Section>> ownSections;  // empty: the planes' own sections
-  m.voxel_label = voxelLabels(rec.inside, rec.section_plane, scene.planes, anyLabelled ? in.labelled : ownSections);
+  m.voxel_label = voxelLabels(rec.inside, rec.section_plane, scene.planes, anyLabelled ? in.labelled : ownSections,
+                               &scene.pieces);
   const std::vector<std::uint16_t> labels = labelValues(in, anyLabelled);
   // Several materials: their solids and meshes from dense copies (not yet by blocks).
   const ScalarField field = labels.size() >= 2 ? denseField(rec.field) : ScalarField{};

@@ -12,7 +12,7 @@ nlohmann::ordered_json plusSequenceJson(const PlusSequence& s) {
   Vec3 lo = Vec3::Constant(1e300), hi = -lo;
   const double w = s.header.width - 1, h = s.header.height - 1;
   for (const Mat4& m : s.image_to_reference)
-    for (const Eigen::Vector4d corner : {Eigen::Vector4d(0, 0, 0, 1), Eigen::Vector4d(w, 0, 0, 1),
+    for (const Eigen::Vector4d& corner : {Eigen::Vector4d(0, 0, 0, 1), Eigen::Vector4d(w, 0, 0, 1),
                                          Eigen::Vector4d(0, h, 0, 1), Eigen::Vector4d(w, h, 0, 1)}) {
       const Vec3 p = (m * corner).head<3>();
       lo = lo.cwiseMin(p);

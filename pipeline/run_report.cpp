@@ -118,6 +118,7 @@ json smoothingJson(const RunResults& r) {
   const ContourPinning& pin = s.pinning;
   return {{"method", nameOf(kSmoothingMethods, c.smoothing_method)},
           {"surface_from", nameOf(kSmoothingMethods, s.method)},
+          {"voxels_decided_by_observed_pieces", s.voxels_decided_by_pieces},
           {"exponent", std::isinf(s.exponent) ? json("inf") : json(s.exponent)},
           {"cap_mm", s.cap_mm},
           {"cap_auto", s.cap_auto},

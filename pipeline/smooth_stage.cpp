@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 
@@ -14,6 +15,7 @@
 #include "geometry/smoothing/plane_distance_function.h"
 #include "geometry/smoothing/level_set_smoothing.h"
 #include "geometry/meshing/mesh_topology.h"
+#include "geometry/reconstruction/nearest_plane_reconstruction.h"
 #include "geometry/reconstruction/plane_evidence.h"
 #include "geometry/smoothing/shepard_interpolant.h"
 
@@ -38,6 +40,24 @@ PlaneEvidence evidenceOn(const std::vector<CuttingPlane>& planes, const std::vec
 /// removed, cavities without evidence of a plane outside its sections filled, then well-composed.
 TopologyRepair repairSolid(std::vector<std::uint8_t>& inside, const PlaneEvidence& e, const GridSpec& grid) {
   return repairSampledTopology(inside, e.inside, e.outside, grid);
+}
+
+/// Voxels of method 1's solid that the observed pieces decide (issue 20): method 1 on whole planes
+/// against the run's, on the pieces (their raw solids, before repair). Zero when every piece is
+/// whole, or the images cover the object.
+std::int64_t voxelsDecidedByPieces(const SectionScene& scene, const SampledReconstruction& rec) {
+  if (std::all_of(scene.pieces.begin(), scene.pieces.end(), [](const ObservedPiece& p) { return p.whole; }))
+    return 0;
+  const GridSpec& grid = rec.raw_inside.grid();
+  std::atomic<std::int64_t> changed{0};
+  forEachNearestPlaneBlock(scene.planes, scene.fields, grid, [&](std::int64_t b, const NearestPlaneBlock& v) {
+    std::int64_t n = 0;
+    forEachVoxelOfBlock(grid, rec.raw_inside.blockOrigin(b), [&](int i, int j, int k, int o) {
+      n += (v.value[std::size_t(o)] < 0) != (rec.raw_inside.at(i, j, k) != 0);
+    });
+    changed += n;
+  }, true);
+  return changed.load();
 }
 
 }  // namespace
@@ -80,7 +100,12 @@ SmoothStage smoothStage(const RunConfig& c, const SectionScene& scene, const Arr
   // the grid) do not bias the surface between sections. With the largest section's radius as the
   // value instead, a sphere cut by 16 parallel planes shrank by 0.1 mm between its planes.
   out.empty_value_mm = scene.layout.end_margin_mm;
-  if (c.smoothing_method == SmoothingMethod::shepard) {
+  // Shepard's interpolant is defined on whole planes (thesis ch. 1 §1.1: the planes of x's cell);
+  // where the observed pieces decide method 1's solid, the planes beyond the images would carve
+  // its surface: the level-set smoothing of the method's solid is written instead.
+  if (c.smoothing_method == SmoothingMethod::shepard)
+    out.voxels_decided_by_pieces = voxelsDecidedByPieces(scene, rec);
+  if (c.smoothing_method == SmoothingMethod::shepard && out.voxels_decided_by_pieces == 0) {
     std::vector<PlaneDistanceFunction> f(planes.size());
     tbb::parallel_for(std::size_t(0), planes.size(), [&](std::size_t i) {
       f[i] = planeDistanceFunction(fields[i], planes[i].plane, grid,
@@ -133,7 +158,7 @@ SmoothStage smoothStage(const RunConfig& c, const SectionScene& scene, const Arr
   // The level-set smoothing of the method's solid (asked for, or in place of a Shepard surface
   // that joins the sections differently): curvature flow with the planes' values held, stopped
   // before it changes how the sections are joined.
-  if (c.smoothing_method == SmoothingMethod::level_set ||
+  if (c.smoothing_method == SmoothingMethod::level_set || out.voxels_decided_by_pieces > 0 ||
       (c.smoothing_keep_connectivity && !out.shepard_keeps_connectivity)) {
     const PlaneEvidence evidence = evidenceOn(planes, fields, rec.field.grid());
     const auto keeps = [&](std::vector<std::uint8_t> inside) {
@@ -175,6 +200,11 @@ SmoothStage smoothStage(const RunConfig& c, const SectionScene& scene, const Arr
 }
 
 std::string shepardConnectivityWarning(const RunConfig& c, const SmoothStage& smooth) {
+  if (c.smoothing_method == SmoothingMethod::shepard && smooth.voxels_decided_by_pieces > 0)
+    return "Shepard's interpolant is defined on whole planes, and the observed pieces (reconstruction.planes: "
+           "observed) decide " + std::to_string(smooth.voxels_decided_by_pieces) +
+           " voxels of the method's solid (images that do not cover the object): the surface written is the "
+           "level-set smoothing of the method's solid";
   if (c.smoothing_method != SmoothingMethod::shepard || smooth.shepard_keeps_connectivity) return "";
   const GraphVoxelCheck& g = smooth.shepard_check;
   const auto declined = std::count_if(smooth.refined_cells.begin(), smooth.refined_cells.end(),

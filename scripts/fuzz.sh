@@ -32,7 +32,7 @@ if ! { CC=clang CXX=clang++ "${configure[@]}" && cmake --build "$fuzzbuild" --pa
   tail -40 "$fuzzbuild/logs/build.log"; echo "fuzz: building the harnesses failed" >&2; exit 1
 fi
 
-readers=(csl slices config mesh_ply mesh_stl mesh_obj nrrd truth phantom vdb image poses)
+readers=(csl slices config mesh_ply mesh_stl mesh_obj nrrd truth phantom vdb image poses contour plus_mha plus_xml)
 if [ "$mode" = explore ]; then reader_seconds=$(( seconds * 2 / 3 )); else reader_seconds=$seconds; fi
 per_reader=$(( reader_seconds * 2 / ${#readers[@]} ))
 [ "$per_reader" -ge 1 ] || per_reader=1

@@ -79,6 +79,8 @@ TEST(AcceptanceContour, TwoMaterialsOnNonParallelPlanesHaveTheirOwnBettiNumbers)
   EXPECT_EQ(report["reconstruction"]["planes"], "whole");  // contour files: all of O ∩ P
   EXPECT_EQ(report["betti"], (std::vector<int>{2, 1, 0}));
   ASSERT_EQ(report["materials"].size(), 2u);
+  EXPECT_EQ(report["materials"][0]["label"], 1);
+  EXPECT_EQ(report["materials"][1]["label"], 2);
   for (const auto& m : report["materials"]) {
     SCOPED_TRACE(m.dump());
     if (m["label"] == 1) EXPECT_EQ(m["betti"], (std::vector<int>{1, 1, 0}));

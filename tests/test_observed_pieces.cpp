@@ -4,6 +4,8 @@
 // same result either way; the setting is validated.
 #include <gtest/gtest.h>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -39,13 +41,32 @@ struct PartialSweeps {
   double tilt_deg;
   const char* axis;
   double offset;
+  bool fan;  ///< every image also masked by a fan-shaped field of view (apex 8 mm above row 0)
 };
+
+/// Gives every slice of dir/ph the fan mask images/fan.png (the probe's sector): the pieces are
+/// then the image rectangle ∩ a fan, whose corners the fan cuts off.
+void maskWithFan(const std::filesystem::path& dir) {
+  cv::Mat fan(110, 70, CV_8U, cv::Scalar(0));
+  for (int j = 0; j < fan.rows; ++j)
+    for (int i = 0; i < fan.cols; ++i)  // apex 40 px above row 0, half opening 35°
+      if (std::abs(std::atan2(i - (fan.cols - 1) / 2.0, j + 40.0)) <= 35 * M_PI / 180) fan.at<std::uint8_t>(j, i) = 255;
+  ASSERT_TRUE(cv::imwrite((dir / "ph/images/fan.png").string(), fan));
+  std::string yaml = test::slurp(dir / "ph/slices.yaml"), out;
+  std::istringstream lines(yaml);
+  for (std::string line; std::getline(lines, line);) {
+    out += line + "\n";
+    if (line.rfind("  - image: ", 0) == 0) out += "    fov: images/fan.png\n";
+  }
+  test::writeFile(dir / "ph/slices.yaml", out);
+}
 
 class BallLargerThanEveryImage : public ::testing::TestWithParam<PartialSweeps> {};
 
 TEST_P(BallLargerThanEveryImage, IsOneBallWithObservedPiecesAndCarvedWithWholePlanes) {
   const PartialSweeps c = GetParam();
   const auto dir = test::phantom("observed_ball", twoPartialSweeps(c.tilt_deg, c.axis, c.offset));
+  if (c.fan) maskWithFan(dir);
   const nlohmann::json observed = test::run(dir, "observed", "");
   EXPECT_EQ(observed["reconstruction"]["planes"], "observed");  // the default for images
   const nlohmann::json e = test::eval(dir, "observed");
@@ -58,11 +79,17 @@ TEST_P(BallLargerThanEveryImage, IsOneBallWithObservedPiecesAndCarvedWithWholePl
   EXPECT_TRUE(w["betti"] != e["betti"] || w["hausdorff_mm"].get<double>() > 3.0)
       << "whole planes: betti " << w["betti"] << ", Hausdorff " << w["hausdorff_mm"];
   EXPECT_GT(w["hausdorff_mm"].get<double>(), 3 * e["hausdorff_mm"].get<double>());
+  // Shepard's interpolant is defined on whole planes: where the pieces decide the solid, the
+  // smooth surface is the level-set smoothing of method 1's solid, one ball still.
+  const nlohmann::json s = test::run(dir, "shepard", "--set smoothing.method=shepard");
+  EXPECT_GT(s["smoothing"]["voxels_decided_by_observed_pieces"].get<std::int64_t>(), 0);
+  EXPECT_EQ(s["smoothing"]["surface_from"], "level_set");
+  EXPECT_EQ(s["betti"], (std::vector<int>{1, 0, 0}));
 }
 
 INSTANTIATE_TEST_SUITE_P(TwoSweeps, BallLargerThanEveryImage,
-                         ::testing::Values(PartialSweeps{15, "y", 4.0}, PartialSweeps{25, "y", 4.5},
-                                           PartialSweeps{20, "x", 4.0}));
+                         ::testing::Values(PartialSweeps{15, "y", 4.0, false}, PartialSweeps{25, "y", 4.5, false},
+                                           PartialSweeps{20, "x", 4.0, false}, PartialSweeps{15, "y", 4.0, true}));
 
 /// Phantoms whose images cover the object: the same Betti numbers, and distances within a voxel,
 /// with observed pieces as with whole planes.
@@ -80,6 +107,11 @@ TEST(ObservedPieces, ImagesThatCoverTheObjectGiveTheWholePlanesResult) {
     SCOPED_TRACE(spec);
     const auto dir = test::phantom("observed_cover_" + std::to_string(k++), spec);
     const nlohmann::json ro = test::run(dir, "observed", "--set reconstruction.planes=observed");
+    if (k == 1) {  // images that cover the object leave Shepard's interpolant to do its work
+      const nlohmann::json rs = test::run(dir, "shepard", "--set smoothing.method=shepard");
+      EXPECT_EQ(rs["smoothing"]["voxels_decided_by_observed_pieces"], 0);
+      EXPECT_EQ(rs["smoothing"]["surface_from"], "shepard");
+    }
     const nlohmann::json rw = test::run(dir, "whole", "--set reconstruction.planes=whole");
     const double h = ro["reconstruction"]["voxel_size_mm"].get<double>();
     const nlohmann::json eo = test::eval(dir, "observed"), ew = test::eval(dir, "whole");

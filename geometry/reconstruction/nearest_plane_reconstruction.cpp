@@ -19,9 +19,9 @@ namespace {
 /// distance bound does not exceed the smallest upper bound. One pass keeps every plane under the
 /// running smallest upper bound; a second pass over the (few) kept ones applies the final bound.
 /// With observed pieces (issue 20) the distance to P's piece is sqrt(s² + o²), o the in-plane
-/// distance of the projection to the piece: o is 1-Lipschitz, so over the box's projection (a
-/// rectangle of half-diagonal rho about the centre's projection) it lies within o(c) ± rho, up to
-/// the piece's raster slack. Empty pieces are never nearest.
+/// distance of the projection to the piece, bounded over the box's projection (within the disc of
+/// half-diagonal rho about the centre's projection) by ObservedPiece::bounds. Empty pieces are
+/// never nearest.
 template <bool kObserved>
 void cull(const std::vector<PlaneRow>& rows, const std::vector<ObservedPiece>* pieces,
           const std::vector<int>& from, const Vec3& c, const Vec3& e, std::vector<int>& out,
@@ -42,11 +42,11 @@ void cull(const std::vector<PlaneRow>& rows, const std::vector<ObservedPiece>* p
         const double rho = std::hypot(std::abs(p.ux) * e.x() + std::abs(p.uy) * e.y() + std::abs(p.uz) * e.z(),
                                       std::abs(p.vx) * e.x() + std::abs(p.vy) * e.y() + std::abs(p.vz) * e.z());
         if (!covers(piece, pa, pb, rho)) {  // covered: o = 0 over the box, the whole plane's bounds
-          double na, nb;
-          const double o = piece.distance(pa, pb, &na, &nb);
-          if (!std::isfinite(o)) continue;
-          l = std::hypot(std::max(0.0, l), std::max(0.0, o - rho - piece.slack));
-          hi = std::hypot(hi, o + rho + piece.slack);
+          double olo, ohi;
+          piece.bounds(pa, pb, rho, &olo, &ohi);
+          if (!std::isfinite(olo)) continue;
+          l = std::hypot(std::max(0.0, l), olo);
+          hi = std::hypot(hi, ohi);
         }
       }
     }
@@ -127,7 +127,7 @@ void nearestPieceBlocks(const std::vector<CuttingPlane>& planes, const std::vect
     const double* s0 = w.s0.data();
     const double *nx = w.nx.data(), *ny = w.ny.data(), *nz = w.nz.data();
     // Observed pieces that all hold the box's projection: their planes are whole over the box.
-    bool covered = true;
+    bool covered = m > 0;  // (an empty list: no piece observed near the box, the observed branch)
     if constexpr (kObserved) {
       Vec3 c, e;
       box(i0, j0, k0, i1, j1, k1, &c, &e);
@@ -239,12 +239,11 @@ void nearestPieceBlocks(const std::vector<CuttingPlane>& planes, const std::vect
         // The piece's nearest points to the block lie within o(c) + rho of the block's projection.
         const ObservedPiece& piece = (*pieces)[std::size_t(k)];
         if (!covers(piece, a, b, std::hypot(ra, rb))) {
-          double na, nb;
-          const double o = piece.distance(a, b, &na, &nb);
-          if (!std::isfinite(o)) return false;
-          const double rho = std::hypot(ra, rb) + piece.slack;
-          l = std::hypot(std::max(0.0, l), std::max(0.0, o - rho));
-          pad += o + rho;
+          double olo, ohi;
+          piece.bounds(a, b, std::hypot(ra, rb), &olo, &ohi);
+          if (!std::isfinite(olo)) return false;
+          l = std::hypot(std::max(0.0, l), olo);
+          pad += ohi;
         }
       }
       if (!(l > near) || fields[std::size_t(k)].band != band) return false;

@@ -15,7 +15,8 @@ namespace xsect {
 
 BlockGrid<std::uint16_t> voxelLabels(const BlockGrid<std::uint8_t>& inside, const BlockGrid<int>& section_plane,
                                      const std::vector<CuttingPlane>& planes,
-                                     const std::vector<std::vector<Section>>& labelled) {
+                                     const std::vector<std::vector<Section>>& labelled,
+                                     const std::vector<ObservedPiece>* pieces) {
   const GridSpec& grid = section_plane.grid();
   if (inside.grid().dims != grid.dims || inside.blockCount() != section_plane.blockCount())
     throw std::invalid_argument("voxel labels: the solid and the section planes lie on different grids");
@@ -39,7 +40,8 @@ BlockGrid<std::uint16_t> voxelLabels(const BlockGrid<std::uint8_t>& inside, cons
           }
           const int p = section_plane.at(i, j, k);
           if (!inside.at(i, j, k) || p < 0 || std::size_t(p) >= planes.size()) continue;
-          const Vec2 a = planes[std::size_t(p)].plane.toPlane(grid.centre(i, j, k));
+          Vec2 a = planes[std::size_t(p)].plane.toPlane(grid.centre(i, j, k));
+          if (pieces) (*pieces)[std::size_t(p)].distance(a.x(), a.y(), &a.x(), &a.y());
           for (const Section& s : labelled.empty() ? planes[std::size_t(p)].sections : labelled[std::size_t(p)])
             if (sectionContains(s, a)) {
               values[std::size_t(q)] = std::uint16_t(s.label);

@@ -10,6 +10,7 @@
 
 #include "geometry/core/block_grid.h"
 #include "geometry/core/types.h"
+#include "geometry/scene/observed_piece.h"
 
 namespace xsect {
 
@@ -23,9 +24,12 @@ namespace xsect {
 ///          projection falls on no labelled section (within rounding of a contour), take the label
 ///          of the nearest labelled voxel of the solid (breadth-first, 26-neighbours; ties by scan
 ///          order).
+/// @param pieces         null, or the planes' observed pieces (issue 20): a voxel's label is read at
+///                       the point of its plane's piece nearest to it, not at its projection.
 BlockGrid<std::uint16_t> voxelLabels(const BlockGrid<std::uint8_t>& inside, const BlockGrid<int>& section_plane,
                                      const std::vector<CuttingPlane>& planes,
-                                     const std::vector<std::vector<Section>>& labelled);
+                                     const std::vector<std::vector<Section>>& labelled,
+                                     const std::vector<ObservedPiece>* pieces = nullptr);
 
 /// The field of one label for meshing: the solid's field where the voxel has that label, and the
 /// mirror value (|v|, at least `nudge`) inside other labels, so that neighbouring labels share

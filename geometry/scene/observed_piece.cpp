@@ -11,18 +11,22 @@ namespace xsect {
 
 namespace {
 
-/// The raster of a field of view (rings in plane mm) over the image rectangle `full`, eroded by
-/// one node; null when nothing is observed.
+/// The raster of a field of view (rings in plane mm) over the image rectangle `full` grown by a
+/// quarter of its size on each side (unobserved), eroded by one node; null when nothing is observed.
+/// Why the margin: beyond the raster the distance is only bounded (through the domain's nearest
+/// point); within it, a point beside the image finds its own nearest observed node.
 std::shared_ptr<const FieldOfViewRaster> fieldOfViewRaster(const std::vector<Ring>& rings, const PlaneRect& full,
                                                            double pixel) {
   auto r = std::make_shared<FieldOfViewRaster>();
   const Vec2 size = full.max - full.min;
+  const double margin = 0.25 * std::max(size.x(), size.y());
   r->step = pixel;
-  // At most 16 M nodes (a 4096² image): coarser beyond, which `slack` reports.
-  while ((size.x() / r->step + 1) * (size.y() / r->step + 1) > 16.0e6) r->step *= 2;
-  r->origin = full.min;
-  r->nu = int(std::floor(size.x() / r->step)) + 1;
-  r->nv = int(std::floor(size.y() / r->step)) + 1;
+  // At most 16 M nodes (a 3000² image and its margin): coarser beyond (the slack follows the step).
+  while ((size.x() + 2 * margin) / r->step * ((size.y() + 2 * margin) / r->step) > 16.0e6) r->step *= 2;
+  const int pad = int(std::ceil(margin / r->step)) + 1;
+  r->origin = full.min - Vec2::Constant(pad * r->step);
+  r->nu = int(std::floor(size.x() / r->step)) + 1 + 2 * pad;
+  r->nv = int(std::floor(size.y() / r->step)) + 1 + 2 * pad;
   cv::Mat observed(r->nv, r->nu, CV_8U, cv::Scalar(0));
   constexpr int kShift = 4;  // sub-node precision of the polygon vertices
   std::vector<std::vector<cv::Point>> polys;
@@ -35,39 +39,41 @@ std::shared_ptr<const FieldOfViewRaster> fieldOfViewRaster(const std::vector<Rin
     polys.push_back(std::move(poly));
   }
   cv::fillPoly(observed, polys, cv::Scalar(255), cv::LINE_8, kShift);
-  cv::erode(observed, observed, cv::Mat::ones(3, 3, CV_8U));
+  cv::erode(observed, observed, cv::Mat::ones(3, 3, CV_8U), cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
   if (cv::countNonZero(observed) == 0) return nullptr;
-  cv::Mat unobserved = observed == 0, distance, labels;
+  cv::Mat unobserved = observed == 0, distance, labels, depth;
   cv::distanceTransform(unobserved, distance, labels, cv::DIST_L2, cv::DIST_MASK_5, cv::DIST_LABEL_PIXEL);
+  cv::distanceTransform(observed, depth, cv::DIST_L2, cv::DIST_MASK_PRECISE);
   std::vector<std::int32_t> ofLabel(std::size_t(r->nu) * std::size_t(r->nv) + 1, 0);
   for (int j = 0; j < r->nv; ++j)
     for (int i = 0; i < r->nu; ++i)
       if (observed.at<std::uint8_t>(j, i)) ofLabel[std::size_t(labels.at<std::int32_t>(j, i))] = j * r->nu + i;
-  cv::Mat depth;
-  cv::distanceTransform(observed, depth, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-  r->depth.resize(std::size_t(r->nu) * std::size_t(r->nv));
+  const std::size_t nodes = std::size_t(r->nu) * std::size_t(r->nv);
+  r->nearest.resize(nodes);
+  r->depth.resize(nodes);
   for (int j = 0; j < r->nv; ++j)
-    for (int i = 0; i < r->nu; ++i)
-      r->depth[std::size_t(j) * std::size_t(r->nu) + std::size_t(i)] = float(r->step * depth.at<float>(j, i));
-  r->nearest.resize(std::size_t(r->nu) * std::size_t(r->nv));
-  for (int j = 0; j < r->nv; ++j)
-    for (int i = 0; i < r->nu; ++i)
-      r->nearest[std::size_t(j) * std::size_t(r->nu) + std::size_t(i)] =
-          observed.at<std::uint8_t>(j, i) ? j * r->nu + i : ofLabel[std::size_t(labels.at<std::int32_t>(j, i))];
+    for (int i = 0; i < r->nu; ++i) {
+      const std::size_t n = std::size_t(j) * std::size_t(r->nu) + std::size_t(i);
+      r->nearest[n] = observed.at<std::uint8_t>(j, i) ? j * r->nu + i : ofLabel[std::size_t(labels.at<std::int32_t>(j, i))];
+      r->depth[n] = float(r->step * depth.at<float>(j, i));
+    }
   return r;
 }
 
-/// The bytes that make two fields of view the same raster.
+/// What makes two fields of view the same raster: the rings, rectangle and pixel, each number
+/// rounded to a millionth of the rectangle's size (a sweep's frames share one field of view, but
+/// their spacings, from each frame's chained pose, differ in the last digits).
 std::string fieldOfViewKey(const CuttingPlane& p) {
+  const double quantum = 1e-6 * (1.0 + (p.extent.max - p.extent.min).norm());
   std::string key;
-  const auto add = [&](const void* d, std::size_t n) { key.append(static_cast<const char*>(d), n); };
-  add(p.extent.min.data(), sizeof(double) * 2);
-  add(p.extent.max.data(), sizeof(double) * 2);
-  add(&p.pixel_mm, sizeof(double));
+  const auto add = [&](double v) {
+    const long long q = std::llround(v / quantum);
+    key.append(reinterpret_cast<const char*>(&q), sizeof q);
+  };
+  add(p.extent.min.x()), add(p.extent.min.y()), add(p.extent.max.x()), add(p.extent.max.y()), add(p.pixel_mm);
   for (const Ring& ring : p.field_of_view) {
-    const std::size_t n = ring.size();
-    add(&n, sizeof n);
-    for (const Vec2& q : ring) add(q.data(), sizeof(double) * 2);
+    add(double(ring.size()) * quantum);
+    for (const Vec2& q : ring) add(q.x()), add(q.y());
   }
   return key;
 }
@@ -97,11 +103,7 @@ std::vector<ObservedPiece> observedPieces(const std::vector<CuttingPlane>& plane
     auto it = shared.find(key);
     if (it == shared.end()) it = shared.emplace(key, fieldOfViewRaster(p.field_of_view, p.extent, pixel)).first;
     piece.fov = it->second;
-    if (!piece.fov) {
-      piece.empty = true;
-      continue;
-    }
-    piece.slack = piece.fov->step;
+    if (!piece.fov) piece.empty = true;
   }
   return out;
 }

@@ -23,61 +23,91 @@
 
 namespace xsect {
 
-/// Nodes of a raster over a rectangle of a plane, each with its nearest node of the observed region.
+/// Nodes of a raster over a rectangle of a plane (the image rectangle grown by a margin, which is
+/// unobserved), each with its nearest observed node.
 struct FieldOfViewRaster {
   Vec2 origin = Vec2::Zero();  ///< plane coordinates of node (0, 0), mm
   double step = 1.0;           ///< node spacing, mm
   int nu = 0, nv = 0;          ///< nodes along u and v
   std::vector<std::int32_t> nearest;  ///< per node (row by row, u fastest): nearest observed node's index
   std::vector<float> depth;           ///< per node: distance to the nearest unobserved node, mm (0 outside)
+
+  PlaneRect domain() const {
+    return {origin, origin + step * Vec2(nu - 1, nv - 1)};
+  }
+  std::size_t node(double a, double b) const {
+    const int i = std::min(nu - 1, std::max(0, int(std::lround((a - origin.x()) / step))));
+    const int j = std::min(nv - 1, std::max(0, int(std::lround((b - origin.y()) / step))));
+    return std::size_t(j) * std::size_t(nu) + std::size_t(i);
+  }
+  Vec2 point(std::size_t n) const {
+    return origin + step * Vec2(double(n % std::size_t(nu)), double(n / std::size_t(nu)));
+  }
 };
 
 struct ObservedPiece {
   bool whole = true;        ///< Ω_P = P
   bool empty = false;       ///< nothing observed: Ω_P = ∅ (distance +inf)
   PlaneRect rect;           ///< the eroded image rectangle, plane coordinates (mm)
-  /// The field of view within `rect` (null: all of rect). Shared between planes.
+  /// The field of view (null: all of rect), on a raster over rect grown by a quarter of its size,
+  /// shared between planes.
   std::shared_ptr<const FieldOfViewRaster> fov;
-  /// Error bound of distance(): the field of view's raster step (0 for rectangles), mm.
-  double slack = 0.0;
 
   /// o(p): the distance from plane point (a, b) to Ω_P, mm (0 inside), and in (*na, *nb) the
-  /// nearest point of Ω_P (a, b themselves inside). Outside `rect` with a field of view: the
-  /// distance through the nearest point of rect (an upper bound within `slack` of exact for
-  /// fields of view that reach the rectangle's sides, as a sector does).
+  /// nearest point of Ω_P (a, b themselves inside). Exact for a rectangle. With a field of view,
+  /// the distance to the observed node nearest the node of c, c the point of the raster's domain
+  /// nearest (a, b) (c = (a, b) within it): within fovSlack of exact inside the domain (a labelled
+  /// chamfer distance transform), an upper bound beyond it.
   double distance(double a, double b, double* na, double* nb) const {
-    if (whole) {
-      *na = a;
-      *nb = b;
-      return 0.0;
+    *na = a;
+    *nb = b;
+    if (whole) return 0.0;
+    if (empty) return std::numeric_limits<double>::infinity();
+    if (!fov) {
+      *na = std::min(std::max(a, rect.min.x()), rect.max.x());
+      *nb = std::min(std::max(b, rect.min.y()), rect.max.y());
+      return std::hypot(a - *na, b - *nb);
     }
-    if (empty) {
-      *na = a;
-      *nb = b;
-      return std::numeric_limits<double>::infinity();
+    const PlaneRect d = fov->domain();
+    const double ca = std::min(std::max(a, d.min.x()), d.max.x());
+    const double cb = std::min(std::max(b, d.min.y()), d.max.y());
+    const std::size_t n = fov->node(ca, cb);
+    const std::size_t q = std::size_t(fov->nearest[n]);
+    if (q == n) return 0.0;  // an observed node (the domain's margin is unobserved: then (a, b) = c)
+    const Vec2 p = fov->point(q);
+    *na = p.x();
+    *nb = p.y();
+    return std::hypot(a - p.x(), b - p.y());
+  }
+
+  /// How far distance() may exceed the true distance near a field-of-view distance D (mm): the
+  /// raster's rounding (two nodes) and the chamfer transform's relative error (5%).
+  double fovSlack(double D) const { return fov ? 2 * fov->step + 0.05 * D : 0.0; }
+
+  /// Bounds of distance() over the disc of radius `rho` (mm) about plane point (a, b): *lo <=
+  /// distance() <= *hi there. A rectangle's distance is 1-Lipschitz. With a field of view, c the
+  /// domain's point nearest (a, b) at t from it and D = distance(c): the domain is convex and holds
+  /// Ω_P, so o(p)² >= |p - c(p)|² + o(c(p))², and |p - q| <= |p - c(p)| + |c(p) - q|.
+  void bounds(double a, double b, double rho, double* lo, double* hi) const {
+    double na, nb;
+    if (!fov || whole || empty) {
+      const double o = distance(a, b, &na, &nb);
+      *lo = std::max(0.0, o - rho);
+      *hi = o + rho;
+      return;
     }
-    const double ca = std::min(std::max(a, rect.min.x()), rect.max.x());
-    const double cb = std::min(std::max(b, rect.min.y()), rect.max.y());
-    double qa = ca, qb = cb;
-    if (fov) {
-      const FieldOfViewRaster& r = *fov;
-      const int i = std::min(r.nu - 1, std::max(0, int(std::lround((ca - r.origin.x()) / r.step))));
-      const int j = std::min(r.nv - 1, std::max(0, int(std::lround((cb - r.origin.y()) / r.step))));
-      const std::int32_t n = r.nearest[std::size_t(j) * std::size_t(r.nu) + std::size_t(i)];
-      if (n != std::int32_t(j) * r.nu + i) {  // the node is not observed: its nearest observed node
-        qa = r.origin.x() + r.step * (n % r.nu);
-        qb = r.origin.y() + r.step * (n / r.nu);
-      }
-    }
-    *na = qa;
-    *nb = qb;
-    return std::hypot(a - qa, b - qb);
+    const PlaneRect d = fov->domain();
+    const double ca = std::min(std::max(a, d.min.x()), d.max.x());
+    const double cb = std::min(std::max(b, d.min.y()), d.max.y());
+    const double t = std::hypot(a - ca, b - cb), D = distance(ca, cb, &na, &nb);
+    *lo = std::hypot(std::max(0.0, t - rho), std::max(0.0, D - rho - fovSlack(D)));
+    *hi = t + D + 2 * rho + fovSlack(D);
   }
 };
 
 /// Whether Ω_P holds the whole disc of `radius` (mm) about plane point (a, b): then the nearest
 /// point of Ω_P to every point of the disc is the point itself (o = 0 there), and method 1 may
-/// treat P as a whole plane over it. Conservative (by `slack`).
+/// treat P as a whole plane over it. Conservative (by two raster nodes).
 inline bool covers(const ObservedPiece& piece, double a, double b, double radius) {
   if (piece.whole) return true;
   if (piece.empty) return false;
@@ -85,10 +115,7 @@ inline bool covers(const ObservedPiece& piece, double a, double b, double radius
   if (!(a - radius >= r.min.x() && a + radius <= r.max.x() && b - radius >= r.min.y() && b + radius <= r.max.y()))
     return false;
   if (!piece.fov) return true;
-  const FieldOfViewRaster& f = *piece.fov;
-  const int i = std::min(f.nu - 1, std::max(0, int(std::lround((a - f.origin.x()) / f.step))));
-  const int j = std::min(f.nv - 1, std::max(0, int(std::lround((b - f.origin.y()) / f.step))));
-  return f.depth[std::size_t(j) * std::size_t(f.nu) + std::size_t(i)] >= radius + 2 * piece.slack;
+  return piece.fov->depth[piece.fov->node(a, b)] >= radius + 2 * piece.fov->step;
 }
 
 /// The observed pieces of `planes` (one per plane, in order). Whole pieces for virtual planes,

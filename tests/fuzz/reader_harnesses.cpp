@@ -7,13 +7,16 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "io/contour_file.h"
 #include "io/csl_file.h"
 #include "io/image_io.h"
 #include "io/input_error.h"
 #include "io/label_volume_file.h"
 #include "io/level_set_file.h"
 #include "io/mesh_io.h"
+#include "io/meta_image.h"
 #include "io/phantom_spec.h"
+#include "io/plus_device_set.h"
 #include "io/run_config.h"
 #include "io/slices_file.h"
 #include "io/truth_file.h"
@@ -39,6 +42,20 @@ void readTruth(const std::string& path) { readTruthFile(path); }
 void readPhantom(const std::string& path) { readPhantomSpec(path); }
 void readVdb(const std::string& path) { readLevelSetVdb(path); }
 void readImage(const std::string& path) { readGreyImage(path, "fuzz input", "image"); }
+void readContour(const std::string& path) { readContourFile(path); }
+/// A MetaImage sequence: the header and its frames (frames of at most 4 MB: a mutated DimSize
+/// may ask for more than the fuzzer's memory, which the run's own memory check would refuse).
+void readMetaImage(const std::string& path) {
+  const MetaImageHeader h = readMetaImageHeader(path);
+  if (h.frameBytes() > (std::int64_t(1) << 22)) return;
+  MetaImageFrames frames(h);
+  for (int i = 0; i < h.frames && i < 64; ++i) frames.next();
+}
+void readDeviceSet(const std::string& path) {
+  const PlusDeviceSet d = readPlusDeviceSet(path);
+  plusFieldOfView(d, 64, 48);
+  chainTransform(d.transforms, "Image", "Reference");
+}
 
 // This process's scratch folder. It holds (empty) frame.png, mask.png and slices.yaml so that the
 // slice lists and configurations naming them get past the check that their files exist and reach
@@ -64,6 +81,8 @@ std::vector<ReaderHarness> readerHarnesses() {
       {"nrrd", ".nrrd", readNrrd},        {"truth", ".yaml", readTruth},
       {"phantom", ".yaml", readPhantom},  {"vdb", ".vdb", readVdb},
       {"image", ".png", readImage},       {"poses", ".yaml", readPoses},
+      {"contour", ".contour", readContour}, {"plus_mha", ".mha", readMetaImage},
+      {"plus_xml", ".xml", readDeviceSet},
   };
 }
 
