@@ -36,17 +36,17 @@ void cull(const std::vector<PlaneRow>& rows, const std::vector<ObservedPiece>* p
     double l = a - r, hi = a + r;
     if constexpr (kObserved) {
       const ObservedPiece& piece = (*pieces)[std::size_t(k)];
-      if (!piece.whole) {
+      if (!piece.whole && !(l > minHi)) {  // (a piece is no nearer than its plane)
         const double pa = p.ux * c.x() + p.uy * c.y() + p.uz * c.z() - p.uo;
         const double pb = p.vx * c.x() + p.vy * c.y() + p.vz * c.z() - p.vo;
-        const double rho = std::hypot(std::abs(p.ux) * e.x() + std::abs(p.uy) * e.y() + std::abs(p.uz) * e.z(),
+        const double rho = planeNorm(std::abs(p.ux) * e.x() + std::abs(p.uy) * e.y() + std::abs(p.uz) * e.z(),
                                       std::abs(p.vx) * e.x() + std::abs(p.vy) * e.y() + std::abs(p.vz) * e.z());
         if (!covers(piece, pa, pb, rho)) {  // covered: o = 0 over the box, the whole plane's bounds
           double olo, ohi;
           piece.bounds(pa, pb, rho, &olo, &ohi);
           if (!std::isfinite(olo)) continue;
-          l = std::hypot(std::max(0.0, l), olo);
-          hi = std::hypot(hi, ohi);
+          l = planeNorm(std::max(0.0, l), olo);
+          hi = planeNorm(hi, ohi);
         }
       }
     }
@@ -136,7 +136,7 @@ void nearestPieceBlocks(const std::vector<CuttingPlane>& planes, const std::vect
         const double ra = std::abs(r.ux) * e.x() + std::abs(r.uy) * e.y() + std::abs(r.uz) * e.z();
         const double rb = std::abs(r.vx) * e.x() + std::abs(r.vy) * e.y() + std::abs(r.vz) * e.z();
         covered = covers((*pieces)[std::size_t(cand[q])], r.ux * c.x() + r.uy * c.y() + r.uz * c.z() - r.uo,
-                         r.vx * c.x() + r.vy * c.y() + r.vz * c.z() - r.vo, std::hypot(ra, rb));
+                         r.vx * c.x() + r.vy * c.y() + r.vz * c.z() - r.vo, planeNorm(ra, rb));
       }
     }
     for (int k = k0; k < k1; ++k)
@@ -174,7 +174,7 @@ void nearestPieceBlocks(const std::vector<CuttingPlane>& planes, const std::vect
               const double b = r.vx * x.x() + r.vy * x.y() + r.vz * x.z() - r.vo;
               double na, nb;
               const double op = (*pieces)[std::size_t(cand[q])].distance(a, b, &na, &nb);
-              const double d = op > 0 ? std::hypot(sd, op) : sd;
+              const double d = op > 0 ? planeNorm(sd, op) : sd;
               if (d < best) {
                 best = d;
                 bq = int(q);
@@ -238,11 +238,18 @@ void nearestPieceBlocks(const std::vector<CuttingPlane>& planes, const std::vect
       if constexpr (kObserved) {
         // The piece's nearest points to the block lie within o(c) + rho of the block's projection.
         const ObservedPiece& piece = (*pieces)[std::size_t(k)];
-        if (!covers(piece, a, b, std::hypot(ra, rb))) {
+        if (!covers(piece, a, b, planeNorm(ra, rb))) {
           double olo, ohi;
-          piece.bounds(a, b, std::hypot(ra, rb), &olo, &ohi);
+          piece.bounds(a, b, planeNorm(ra, rb), &olo, &ohi);
           if (!std::isfinite(olo)) return false;
-          l = std::hypot(std::max(0.0, l), olo);
+          l = planeNorm(std::max(0.0, l), olo);
+          // The block's projection entirely beyond the piece: every nearest point lies on the piece's
+          // edge, where no section reaches (+band): nothing of this plane to check.
+          if (olo > 0 && piece.edge_outside) {
+            if (!(l > near) || fields[std::size_t(k)].band != band) return false;
+            lowest = std::min(lowest, l);
+            continue;
+          }
           pad += ohi;
         }
       }

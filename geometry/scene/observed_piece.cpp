@@ -2,6 +2,7 @@
 #include "geometry/scene/observed_piece.h"
 
 #include <opencv2/imgproc.hpp>
+#include <tbb/parallel_for.h>
 
 #include <cstring>
 #include <map>
@@ -79,6 +80,42 @@ std::string fieldOfViewKey(const CuttingPlane& p) {
 }
 
 }  // namespace
+
+void markSectionsClearOfEdges(std::vector<ObservedPiece>& pieces, const std::vector<SectionDistanceField>& fields) {
+  tbb::parallel_for(std::size_t(0), pieces.size(), [&](std::size_t i) {
+    ObservedPiece& piece = pieces[i];
+    if (piece.whole || piece.empty) return;
+    const SectionDistanceField& f = fields[i];
+    const double h = f.step;
+    const auto clear = [&](double a, double b) { return f.outsideOver(a - h, a + h, b - h, b + h); };
+    bool ok = true;
+    if (!piece.fov) {  // the rectangle's sides, every raster step
+      const PlaneRect& r = piece.rect;
+      const int na = int(std::ceil((r.max.x() - r.min.x()) / h)), nb = int(std::ceil((r.max.y() - r.min.y()) / h));
+      for (int k = 0; k <= na && ok; ++k) {
+        const double a = std::min(r.max.x(), r.min.x() + k * h);
+        ok = clear(a, r.min.y()) && clear(a, r.max.y());
+      }
+      for (int k = 0; k <= nb && ok; ++k) {
+        const double b = std::min(r.max.y(), r.min.y() + k * h);
+        ok = clear(r.min.x(), b) && clear(r.max.x(), b);
+      }
+    } else {  // the observed nodes beside an unobserved one (the field of view's raster step)
+      const FieldOfViewRaster& v = *piece.fov;
+      const double pad = std::max(0.0, v.step - h);
+      for (int j = 1; j + 1 < v.nv && ok; ++j)
+        for (int k = 1; k + 1 < v.nu && ok; ++k) {
+          const std::size_t n = std::size_t(j) * std::size_t(v.nu) + std::size_t(k);
+          // Not an edge node: the nearest observed node of an unobserved one (the 5 x 5 chamfer mask
+          // reaches a knight's move away) lies within √5 nodes of the unobserved region.
+          if (v.depth[n] <= 0 || v.depth[n] > 2.5 * v.step) continue;
+          const Vec2 p = v.point(n);
+          ok = f.outsideOver(p.x() - h - pad, p.x() + h + pad, p.y() - h - pad, p.y() + h + pad);
+        }
+    }
+    piece.edge_outside = ok;
+  });
+}
 
 std::vector<ObservedPiece> observedPieces(const std::vector<CuttingPlane>& planes, bool observed) {
   std::vector<ObservedPiece> out(planes.size());

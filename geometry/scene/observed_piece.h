@@ -20,8 +20,13 @@
 #include <vector>
 
 #include "geometry/core/types.h"
+#include "geometry/scene/section_distance_field.h"
 
 namespace xsect {
+
+/// sqrt(x² + y²) without std::hypot's care for overflow (values here are millimetres): the
+/// per-voxel loops of method 1 call it for every candidate piece.
+inline double planeNorm(double x, double y) { return std::sqrt(x * x + y * y); }
 
 /// Nodes of a raster over a rectangle of a plane (the image rectangle grown by a margin, which is
 /// unobserved), each with its nearest observed node.
@@ -36,8 +41,8 @@ struct FieldOfViewRaster {
     return {origin, origin + step * Vec2(nu - 1, nv - 1)};
   }
   std::size_t node(double a, double b) const {
-    const int i = std::min(nu - 1, std::max(0, int(std::lround((a - origin.x()) / step))));
-    const int j = std::min(nv - 1, std::max(0, int(std::lround((b - origin.y()) / step))));
+    const int i = std::min(nu - 1, std::max(0, int(std::floor((a - origin.x()) / step + 0.5))));
+    const int j = std::min(nv - 1, std::max(0, int(std::floor((b - origin.y()) / step + 0.5))));
     return std::size_t(j) * std::size_t(nu) + std::size_t(i);
   }
   Vec2 point(std::size_t n) const {
@@ -52,6 +57,10 @@ struct ObservedPiece {
   /// The field of view (null: all of rect), on a raster over rect grown by a quarter of its size,
   /// shared between planes.
   std::shared_ptr<const FieldOfViewRaster> fov;
+  /// No section reaches the piece's edge: f_P is +band (its raster's outside value) all along the
+  /// piece's boundary, where every point beyond the piece finds its nearest point (set by
+  /// markSectionsClearOfEdges).
+  bool edge_outside = false;
 
   /// o(p): the distance from plane point (a, b) to Ω_P, mm (0 inside), and in (*na, *nb) the
   /// nearest point of Ω_P (a, b themselves inside). Exact for a rectangle. With a field of view,
@@ -66,7 +75,7 @@ struct ObservedPiece {
     if (!fov) {
       *na = std::min(std::max(a, rect.min.x()), rect.max.x());
       *nb = std::min(std::max(b, rect.min.y()), rect.max.y());
-      return std::hypot(a - *na, b - *nb);
+      return planeNorm(a - *na, b - *nb);
     }
     const PlaneRect d = fov->domain();
     const double ca = std::min(std::max(a, d.min.x()), d.max.x());
@@ -77,7 +86,7 @@ struct ObservedPiece {
     const Vec2 p = fov->point(q);
     *na = p.x();
     *nb = p.y();
-    return std::hypot(a - p.x(), b - p.y());
+    return planeNorm(a - p.x(), b - p.y());
   }
 
   /// How far distance() may exceed the true distance near a field-of-view distance D (mm): the
@@ -99,8 +108,8 @@ struct ObservedPiece {
     const PlaneRect d = fov->domain();
     const double ca = std::min(std::max(a, d.min.x()), d.max.x());
     const double cb = std::min(std::max(b, d.min.y()), d.max.y());
-    const double t = std::hypot(a - ca, b - cb), D = distance(ca, cb, &na, &nb);
-    *lo = std::hypot(std::max(0.0, t - rho), std::max(0.0, D - rho - fovSlack(D)));
+    const double t = planeNorm(a - ca, b - cb), D = distance(ca, cb, &na, &nb);
+    *lo = planeNorm(std::max(0.0, t - rho), std::max(0.0, D - rho - fovSlack(D)));
     *hi = t + D + 2 * rho + fovSlack(D);
   }
 };
@@ -117,6 +126,11 @@ inline bool covers(const ObservedPiece& piece, double a, double b, double radius
   if (!piece.fov) return true;
   return piece.fov->depth[piece.fov->node(a, b)] >= radius + 2 * piece.fov->step;
 }
+
+/// Sets ObservedPiece::edge_outside of each piece from its plane's section raster: whether the
+/// raster is +band (exactly, by whole tiles) within a raster step of every point of the piece's
+/// boundary (the rectangle's sides sampled at the pixel, or the field of view's boundary nodes).
+void markSectionsClearOfEdges(std::vector<ObservedPiece>& pieces, const std::vector<SectionDistanceField>& fields);
 
 /// The observed pieces of `planes` (one per plane, in order). Whole pieces for virtual planes,
 /// planes observed everywhere (contour files) and every plane when `observed` is false; an empty

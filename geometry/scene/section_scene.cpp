@@ -66,6 +66,7 @@ SectionScene sectionScene(const std::vector<CuttingPlane>& realPlanes, const Rec
     const double step = P.pixel_mm > 0 ? std::min(P.pixel_mm, 0.5 * h) : 0.5 * h;
     s.fields[i] = sectionDistanceField(P.sections, step, std::max(band, 3 * step));
   });
+  markSectionsClearOfEdges(s.pieces, s.fields);
   return s;
 }
 
