@@ -21,6 +21,7 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "io/header_text.h"
 #include "io/input_error.h"
 
 namespace xsect {
@@ -99,24 +100,8 @@ std::string header(const GridSpec& grid, const LabelRows& rowOf) {
 // ---------------------------------------------------------------------------------------------
 // Reading
 
-std::string trim(std::string_view s) {
-  std::size_t a = 0, b = s.size();
-  while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
-  while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1]))) --b;
-  return std::string(s.substr(a, b - a));
-}
 
-std::string lower(std::string s) {
-  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
-std::vector<std::string> words(const std::string& s) {
-  std::istringstream in(s);
-  std::vector<std::string> w;
-  for (std::string t; in >> t;) w.push_back(t);
-  return w;
-}
 
 bool parseDouble(const std::string& s, double* out) {
   std::string_view v(s);
@@ -177,9 +162,9 @@ class Reader {
       const std::size_t colon = text.find(": ");
       if (kv != std::string::npos && (colon == std::string::npos || kv < colon)) continue;  // key/value
       if (colon == std::string::npos) fail("header", "expected 'field: value', found '" + text + "'", line);
-      const std::string field = lower(trim(std::string_view(text).substr(0, colon)));
+      const std::string field = lowercase(trimmed(std::string_view(text).substr(0, colon)));
       if (fields_.count(field)) fail(field, "given twice", line);
-      fields_[field] = {trim(std::string_view(text).substr(colon + 2)), line};
+      fields_[field] = {trimmed(std::string_view(text).substr(colon + 2)), line};
     }
     if (!ended) fail("header", "the header does not end with a blank line (file truncated?)");
     dataStart_ = pos;
@@ -201,7 +186,7 @@ class Reader {
     std::string part;
     int n = 0;
     while (std::getline(parts, part, ',')) {
-      if (n == 3 || !parseDouble(trim(part), &v[n]))
+      if (n == 3 || !parseDouble(trimmed(part), &v[n]))
         fail(field, "expected a vector of 3 finite numbers, found '" + text + "'", line);
       ++n;
     }
@@ -218,7 +203,7 @@ class Reader {
         fail(skip, "skipping is not supported", fields_.at(skip).second);
 
     const auto& type = need("type");
-    const std::string t = lower(type.first);
+    const std::string t = lowercase(type.first);
     if (t != "unsigned short" && t != "ushort" && t != "unsigned short int" && t != "uint16" &&
         t != "uint16_t")
       fail("type", "must be 'unsigned short' (16-bit labels), found '" + type.first + "'", type.second);
@@ -239,19 +224,19 @@ class Reader {
       fail("sizes", "implausibly large volume '" + sizes.first + "'", sizes.second);
 
     const auto& enc = need("encoding");
-    encoding_ = lower(enc.first);
+    encoding_ = lowercase(enc.first);
     if (encoding_ == "gz") encoding_ = "gzip";
     if (encoding_ != "gzip" && encoding_ != "raw")
       fail("encoding", "must be gzip or raw, found '" + enc.first + "'", enc.second);
 
     const auto& endian = need("endian");
-    const std::string e = lower(endian.first);
+    const std::string e = lowercase(endian.first);
     if (e != "little" && e != "big")
       fail("endian", "must be little or big, found '" + endian.first + "'", endian.second);
     bigEndian_ = e == "big";
 
     const auto& space = need("space");
-    const std::string s = lower(space.first);
+    const std::string s = lowercase(space.first);
     if (s != "left-posterior-superior" && s != "lps")
       fail("space", "must be left-posterior-superior (LPS, xsect's world frame), found '" +
                         space.first + "'", space.second);
@@ -261,10 +246,10 @@ class Reader {
     for (std::size_t p = 0; p < dirs.first.size();) {
       const std::size_t a = dirs.first.find('(', p);
       if (a == std::string::npos) {
-        if (!trim(std::string_view(dirs.first).substr(p)).empty()) vecs.push_back("?");
+        if (!trimmed(std::string_view(dirs.first).substr(p)).empty()) vecs.push_back("?");
         break;
       }
-      if (!trim(std::string_view(dirs.first).substr(p, a - p)).empty()) vecs.push_back("?");
+      if (!trimmed(std::string_view(dirs.first).substr(p, a - p)).empty()) vecs.push_back("?");
       const std::size_t b = dirs.first.find(')', a);
       if (b == std::string::npos) fail("space directions", "unbalanced parenthesis", dirs.second);
       vecs.push_back(dirs.first.substr(a, b - a + 1));

@@ -19,6 +19,7 @@
 #include <utility>
 
 #include "io/file_checks.h"
+#include "io/header_text.h"
 #include "io/input_error.h"
 
 namespace xsect {
@@ -30,24 +31,8 @@ constexpr std::int64_t kMaxVolumeBytes = std::int64_t(1) << 40;
 constexpr std::int64_t kMaxInflateRatio = 1032;            // deflate's largest expansion
 constexpr std::size_t kChunk = 1 << 18;                    // compressed bytes read at once
 
-std::string trim(const std::string& s) {
-  std::size_t a = 0, b = s.size();
-  while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
-  while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1]))) --b;
-  return s.substr(a, b - a);
-}
 
-std::string lower(std::string s) {
-  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
-std::vector<std::string> tokens(const std::string& s) {
-  std::istringstream in(s);
-  std::vector<std::string> out;
-  for (std::string t; in >> t;) out.push_back(t);
-  return out;
-}
 
 /// A whole-token integer, or nullopt.
 std::optional<long long> toInteger(const std::string& t) {
@@ -78,7 +63,7 @@ bool hostIsBigEndian() {
 /// The value of a True/False field; `fallback` when absent.
 bool booleanField(const MetaImageHeader& h, const std::string& key, bool fallback) {
   if (!h.has(key)) return fallback;
-  const std::string v = lower(h.field(key));
+  const std::string v = lowercase(h.field(key));
   if (v == "true") return true;
   if (v == "false") return false;
   throw InputError(h.path, key, "expected True or False, got '" + h.field(key) + "'", h.line(key));
@@ -107,7 +92,7 @@ std::int64_t readHeaderLines(std::istream& in, MetaImageHeader& h) {
     if (!newline && line.empty())
       throw InputError(h.path, "ElementDataFile",
                        "missing: a MetaImage header ends with an ElementDataFile line", ln - 1);
-    const std::string t = trim(line);
+    const std::string t = trimmed(line);
     if (t.empty()) {
       if (!newline)
         throw InputError(h.path, "ElementDataFile",
@@ -117,7 +102,7 @@ std::int64_t readHeaderLines(std::istream& in, MetaImageHeader& h) {
     const auto eq = t.find('=');
     if (eq == std::string::npos)
       throw InputError(h.path, "", "expected 'Key = Value' (the header ends with ElementDataFile)", ln);
-    const std::string key = trim(t.substr(0, eq)), value = trim(t.substr(eq + 1));
+    const std::string key = trimmed(t.substr(0, eq)), value = trimmed(t.substr(eq + 1));
     if (key.empty()) throw InputError(h.path, "", "a header line has no key before '='", ln);
     if (h.fields.count(key))
       throw InputError(h.path, key, "given twice (first on line " + std::to_string(h.line(key)) + ")", ln);
@@ -137,7 +122,7 @@ void readDimensions(MetaImageHeader& h) {
     throw InputError(h.path, "NDims", "expected 2 or 3 (a frame or a sequence of frames), got '" +
                                           h.field("NDims") + "'", h.line("NDims"));
   if (!h.has("DimSize")) throw InputError(h.path, "DimSize", "missing");
-  const auto dims = tokens(h.field("DimSize"));
+  const auto dims = words(h.field("DimSize"));
   if (static_cast<long long>(dims.size()) != *nd)
     throw InputError(h.path, "DimSize", std::to_string(dims.size()) + " sizes given but NDims = " +
                                             std::to_string(*nd), h.line("DimSize"));
@@ -202,7 +187,7 @@ void locateData(MetaImageHeader& h, std::int64_t headerEnd) {
   const int ln = h.line(key);
   const std::string v = h.field(key);
   if (v.empty()) throw InputError(h.path, key, "empty: expected LOCAL or a data file name", ln);
-  const std::string lv = lower(v);
+  const std::string lv = lowercase(v);
   std::int64_t headerSize = 0;
   if (h.has("HeaderSize")) {
     const auto hs = toInteger(h.field("HeaderSize"));
@@ -440,7 +425,7 @@ std::optional<std::string> frameField(const MetaImageHeader& h, int frame, const
 }
 
 Mat4 parseMatrix4RowMajor(const std::string& text, const std::string& file, const std::string& field, int line) {
-  const auto t = tokens(text);
+  const auto t = words(text);
   if (t.size() != 16)
     throw InputError(file, field, "expected 16 numbers (a row-major 4x4 matrix), got " + std::to_string(t.size()),
                      line);
