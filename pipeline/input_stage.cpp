@@ -33,6 +33,11 @@ RunInputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress)
   } else {
     in.input_files.push_back(c.plus_config_path);
     in.plus = readPlusSequence(c.input_path, c.plus_config_path, c.reference_frame);
+    if (const int skipped = in.plus->skipped_image + in.plus->skipped_transform; skipped > 0)
+      in.warnings.push_back(std::to_string(skipped) + " of " + std::to_string(in.plus->header.frames) +
+                            " frames skipped (" + std::to_string(in.plus->skipped_image) + " with an image status, " +
+                            std::to_string(in.plus->skipped_transform) +
+                            " with a transform status other than OK): the others are reconstructed");
   }
   clock.end("load");
   progress.stage("segment");
