@@ -1,8 +1,9 @@
 // Issue 15: the geometric fuzzer (geometric_fuzz.h) through `xsect run`, in four shards of 100
 // configurations (CI's budget is 25 minutes from a clean build; `scripts/fuzz.sh` runs more;
-// XSECT_FUZZ_CONFIGS overrides the count per shard, XSECT_FUZZ_SEED the first seed). Every run gives, within two minutes, exit 0 with a watertight mesh (read back from the
-// file written) whose Betti numbers are the report's and the solid's, or exit 2 with a message
-// naming the configuration or the input file.
+// XSECT_FUZZ_CONFIGS overrides the count per shard, XSECT_FUZZ_SEED the first seed). Every run
+// gives, within two minutes, exit 0 with a watertight mesh (read back from the file written) whose
+// Betti numbers are the report's and the solid's, or exit 2 with a message naming the
+// configuration or the input file.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
