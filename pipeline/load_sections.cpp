@@ -303,6 +303,9 @@ void forEachSequenceFrame(const PlusSequence& seq, const std::function<void(int,
     }
     tbb::parallel_for(first, last, [&](int q) { work(q, frames[std::size_t(q - first)]); });
   }
+  // Skipped frames after the last kept one are still read: the last frame verifies the compressed
+  // stream's checksum and that it holds no more than DimSize says.
+  while (reader.index() < reader.frames()) reader.next();
 }
 
 }  // namespace
