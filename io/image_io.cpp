@@ -50,4 +50,11 @@ cv::Mat readGreyImage(const std::string& path, const std::string& listing_file,
   return m;
 }
 
+std::string pngBytes(const cv::Mat& image) {
+  std::vector<uchar> bytes;
+  if (!cv::imencode(".png", image, bytes, {cv::IMWRITE_PNG_COMPRESSION, 6}))
+    throw std::runtime_error("cannot encode a PNG image");
+  return std::string(bytes.begin(), bytes.end());
+}
+
 }  // namespace xsect

@@ -24,4 +24,8 @@ cv::Mat readGreyImage(const std::string& path, const std::string& listing_file,
 std::uint64_t greyImageBytes(const std::string& path, const std::string& listing_file,
                              const std::string& key);
 
+/// `image` (8-bit, 1 or 3 channels) as the bytes of a PNG file; deterministic (OpenCV's encoder at
+/// a fixed compression level).
+std::string pngBytes(const cv::Mat& image);
+
 }  // namespace xsect

@@ -95,10 +95,11 @@ PoseSmoothingSummary smoothPoses(int halfWindow, std::vector<CuttingPlane>& plan
 /// Pose correction (geometry/conformity/pose_correction.h): the planes move, their sections with
 /// them; the rows get the per-slice corrections.
 PoseCorrectionSummary correctSlicePoses(const RunConfig::Conformity& settings, std::vector<CuttingPlane>& planes,
-                                        std::vector<SliceConformity>& rows) {
+                                        std::vector<SliceConformity>& rows,
+                                        const std::function<void(std::int64_t, std::int64_t)>& progress) {
   PoseCorrectionSummary s;
   if (settings.pose_correction == PoseCorrectionKind::none) return s;
-  const std::vector<PlanePairTraces> recorded = planePairTraces(planes, settings.min_angle_deg, false).pairs;
+  const std::vector<PlanePairTraces> recorded = planePairTraces(planes, settings.min_angle_deg, false, progress).pairs;
   s.uncorrected = pairsSummary(recorded);
   PoseCorrectionParams params;
   params.kind = settings.pose_correction;
@@ -197,7 +198,8 @@ void enforce(const RunConfig::Conformity& settings, std::vector<CuttingPlane>& p
 }  // namespace
 
 ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<CuttingPlane> planes,
-                          std::vector<std::vector<Section>> labelled) {
+                          std::vector<std::vector<Section>> labelled,
+                          const std::function<void(std::int64_t, std::int64_t)>& progress) {
   ConformStage out;
   ConformityResult& r = out.result;
   // Observations of one plane become one plane carrying their consensus (issue 15): the thesis'
@@ -215,7 +217,7 @@ ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<Cut
   std::vector<Plane> read;
   for (const CuttingPlane& p : planes) read.push_back(p.plane);
   r.pose = smoothPoses(settings.pose_smoothing_frames, planes, r.slices);
-  r.correction = correctSlicePoses(settings, planes, r.slices);
+  r.correction = correctSlicePoses(settings, planes, r.slices, progress);
   if (r.pose.applied || r.correction.applied)
     for (std::size_t i = 0; i < planes.size(); ++i) {
       const Mat4 m = motionBetween(read[i], planes[i].plane);
@@ -225,7 +227,7 @@ ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<Cut
       for (const int slice : members) r.pose_changes.push_back({slice, m});
     }
 
-  r.search = planePairTraces(planes, settings.min_angle_deg, settings.enforce);
+  r.search = planePairTraces(planes, settings.min_angle_deg, settings.enforce, progress);
   const std::vector<SliceDisagreement> before = sliceStats(r.search.pairs, planes.size());
   for (std::size_t i = 0; i < planes.size(); ++i) r.slices[i].before = before[i];
   r.before = pairsSummary(r.search.pairs);
@@ -251,7 +253,7 @@ ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<Cut
     planes = std::move(kept);
     if (!labelled.empty()) labelled = std::move(keptLabelled);
     rowOfPlane = std::move(keptRows);
-    r.search = planePairTraces(planes, settings.min_angle_deg, settings.enforce);
+    r.search = planePairTraces(planes, settings.min_angle_deg, settings.enforce, progress);
   }
   if (settings.enforce) enforce(settings, planes, r, rowOfPlane);
   for (const CuttingPlane& p : planes) r.slice_of_plane.push_back(p.slice);

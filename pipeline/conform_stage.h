@@ -9,6 +9,8 @@
 // conformity.json, the terminal and the warnings).
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -106,9 +108,13 @@ struct ConformStage {
 
 /// @param planes    the segmented slices (non-virtual cutting planes).
 /// @param labelled  per plane, the sections of each label (may be empty: single material).
+/// @param progress  optional, called with the pairs of planes examined and the pairs in all, from
+///                  several threads at once, by each search for the pairs (planePairTraces; with
+///                  pose correction or dropped slices there are two, each counting from 0).
 /// Slice numbers in the outputs are CuttingPlane::slice.
 ConformStage conformStage(const RunConfig::Conformity& settings, std::vector<CuttingPlane> planes,
-                          std::vector<std::vector<Section>> labelled);
+                          std::vector<std::vector<Section>> labelled,
+                          const std::function<void(std::int64_t, std::int64_t)>& progress = {});
 
 /// report.json "conformity" (measurement part; also `xsect check`'s).
 nlohmann::ordered_json conformitySummaryJson(const RunConfig::Conformity& settings, const ConformityResult& r);

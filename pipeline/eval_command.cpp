@@ -42,6 +42,7 @@
 #include "pipeline/eval_metrics.h"
 #include "pipeline/load_sections.h"
 #include "pipeline/progress.h"
+#include "pipeline/report_page/accuracy_block.h"
 
 namespace xsect {
 namespace {
@@ -265,10 +266,13 @@ int evalCommand(const EvalOptions& options) {
   progress.finish();
 
   writeTextFileAtomically(options.json, out.dump(2) + "\n");
+  // The run's page beside the mesh, when there is one, shows these figures too (issue 21).
+  const bool paged = addAccuracyToReportPage(options.mesh, out);
   if (!options.quiet) {
     std::ostringstream s;
     s << "eval: hausdorff " << dist.hausdorffMm() << " mm, mean " << dist.meanMm()
       << " mm, dice " << overlap.dice() << " -> " << options.json;
+    if (paged) s << " (and " << (std::filesystem::path(options.mesh).parent_path() / "report.html").string() << ")";
     progress.note(s.str());
   }
   return 0;

@@ -40,17 +40,18 @@ RunInputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress)
                             " with a transform status other than OK): the others are reconstructed");
   }
   clock.end("load");
-  progress.stage("segment");
+  progress.stage("segment", "frames");
   if (c.input_kind == InputKind::slices)
     in.planes = sectionsFromSlices(slices, c.input_path, c.segmentation, &in.warnings, &in.threshold,
-                                   &in.labelled);
+                                   &in.labelled, progress.counter());
   else if (c.input_kind == InputKind::plus_sequence)
-    in.planes = sectionsFromPlusSequence(*in.plus, c.segmentation, &in.warnings, &in.threshold, &in.labelled);
+    in.planes = sectionsFromPlusSequence(*in.plus, c.segmentation, &in.warnings, &in.threshold, &in.labelled,
+                                         progress.counter());
   in.slices = int(in.planes.size());
   clock.end("segment");
   in.slice_records = std::move(slices);
-  progress.stage("conform");
-  ConformStage conform = conformStage(c.conformity, std::move(in.planes), std::move(in.labelled));
+  progress.stage("conform", "pairs");
+  ConformStage conform = conformStage(c.conformity, std::move(in.planes), std::move(in.labelled), progress.counter());
   in.planes = std::move(conform.planes);
   in.labelled = std::move(conform.labelled);
   in.conformity = std::move(conform.result);

@@ -3,6 +3,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <atomic>
 #include <exception>
 #include <functional>
 #include <map>
@@ -116,12 +117,32 @@ Frame readFrame(const SliceRecord& slice, int i, const std::string& listing_file
   return f;
 }
 
+/// The frames worked on so far, for a progress callback: with Otsu's method the series is read
+/// twice (histograms, then segmentation), each reading of a frame counting for half of it.
+class FrameCount {
+ public:
+  FrameCount(const std::function<void(std::int64_t, std::int64_t)>& report, int frames, int readings)
+      : report_(report), frames_(frames), readings_(readings) {}
+  /// One frame read and worked on (from any thread).
+  void operator()() {
+    if (report_) report_((readings_done_.fetch_add(1, std::memory_order_relaxed) + 1) / readings_, frames_);
+  }
+
+ private:
+  const std::function<void(std::int64_t, std::int64_t)>& report_;
+  const std::int64_t frames_, readings_;
+  std::atomic<std::int64_t> readings_done_{0};
+};
+
+/// How many times the series is read: twice for Otsu's threshold (seriesParams).
+int readingsOf(const SegmentationParams& params) { return params.method == SegmentationMethod::otsu ? 2 : 1; }
+
 /// Runs work(i, frame) for every frame, in parallel; each task decodes its frame and releases it
 /// when done, so that at most one frame per thread is held. A failure is reported for the first
-/// failing frame (the lowest index), as a sequential reading would.
+/// failing frame (the lowest index), as a sequential reading would. `count` ticks per frame.
 template <typename Work>
 void forEachFrame(const std::vector<SliceRecord>& slices, const std::string& listing_file,
-                  const SharedFieldsOfView& shared, const Work& work) {
+                  const SharedFieldsOfView& shared, FrameCount& count, const Work& work) {
   const int n = int(slices.size());
   std::vector<std::exception_ptr> failed(static_cast<std::size_t>(n));
   tbb::parallel_for(0, n, [&](int i) {
@@ -130,6 +151,7 @@ void forEachFrame(const std::vector<SliceRecord>& slices, const std::string& lis
     } catch (...) {
       failed[std::size_t(i)] = std::current_exception();
     }
+    count();
   });
   for (const std::exception_ptr& e : failed)
     if (e) std::rethrow_exception(e);
@@ -253,7 +275,8 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
                                              const SegmentationParams& params,
                                              std::vector<std::string>* warnings,
                                              double* thresholdUsed,
-                                             std::vector<std::vector<Section>>* labelled) {
+                                             std::vector<std::vector<Section>>* labelled,
+                                             const std::function<void(std::int64_t, std::int64_t)>& progress) {
   const int n = int(slices.size());
   std::vector<CuttingPlane> planes(n);
   std::vector<char> touches(n, 0);
@@ -267,13 +290,14 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
     if (slices[i].fov_resolved) greyImageBytes(*slices[i].fov_resolved, listing_file, key + ".fov");
   }
   const SharedFieldsOfView shared = sharedFieldsOfView(slices, listing_file);
+  FrameCount count(progress, n, readingsOf(params));
   SegmentationParams perSlice = seriesParams(params, n > 0 ? readImageHeader(slices[0].image_resolved).bits_per_sample : 8,
                                              [&](const std::function<void(int, const Frame&)>& each) {
-                                               forEachFrame(slices, listing_file, shared, each);
+                                               forEachFrame(slices, listing_file, shared, count, each);
                                              },
                                              n, thresholdUsed);
   if (labelled) labelled->assign(std::size_t(n), {});
-  forEachFrame(slices, listing_file, shared, [&](int i, const Frame& frame) {
+  forEachFrame(slices, listing_file, shared, count, [&](int i, const Frame& frame) {
     planes[std::size_t(i)] = planeOfFrame(i, slices[std::size_t(i)].image, slices[std::size_t(i)].image_to_world, frame,
                                           shared.ringsOfSlice[std::size_t(i)], perSlice,
                                           labelled ? &(*labelled)[std::size_t(i)] : nullptr, &touches[std::size_t(i)]);
@@ -287,7 +311,9 @@ namespace {
 /// Runs work(k, frame) for every kept frame k of a PLUS sequence (k indexes seq.frames). The
 /// compressed stream is read in order, in batches of a few frames per thread, each batch then
 /// worked on in parallel and released: memory holds one batch, not the recording (issue 17).
-void forEachSequenceFrame(const PlusSequence& seq, const std::function<void(int, const Frame&)>& work) {
+/// `count` ticks per frame.
+void forEachSequenceFrame(const PlusSequence& seq, FrameCount& count,
+                          const std::function<void(int, const Frame&)>& work) {
   MetaImageFrames reader(seq.header);
   const int kept = int(seq.frames.size());
   const int batch = 32;
@@ -301,7 +327,10 @@ void forEachSequenceFrame(const PlusSequence& seq, const std::function<void(int,
       frames[std::size_t(k - first)].image = orientedFrame(seq, reader.next());
       frames[std::size_t(k - first)].fov = seq.field_of_view;
     }
-    tbb::parallel_for(first, last, [&](int q) { work(q, frames[std::size_t(q - first)]); });
+    tbb::parallel_for(first, last, [&](int q) {
+      work(q, frames[std::size_t(q - first)]);
+      count();
+    });
   }
   // Skipped frames after the last kept one are still read: the last frame verifies the compressed
   // stream's checksum and that it holds no more than DimSize says.
@@ -312,13 +341,16 @@ void forEachSequenceFrame(const PlusSequence& seq, const std::function<void(int,
 
 std::vector<CuttingPlane> sectionsFromPlusSequence(const PlusSequence& seq, const SegmentationParams& params,
                                                    std::vector<std::string>* warnings, double* thresholdUsed,
-                                                   std::vector<std::vector<Section>>* labelled) {
+                                                   std::vector<std::vector<Section>>* labelled,
+                                                   const std::function<void(std::int64_t, std::int64_t)>& progress) {
   const int n = int(seq.frames.size());
   std::vector<CuttingPlane> planes(static_cast<std::size_t>(n));
   std::vector<char> touches(static_cast<std::size_t>(n), 0);
+  FrameCount count(progress, n, readingsOf(params));
   const SegmentationParams perSlice = seriesParams(
       params, seq.header.pixel == MetaPixelType::uint8 ? 8 : 16,
-      [&](const std::function<void(int, const Frame&)>& each) { forEachSequenceFrame(seq, each); }, n, thresholdUsed);
+      [&](const std::function<void(int, const Frame&)>& each) { forEachSequenceFrame(seq, count, each); }, n,
+      thresholdUsed);
   // The field of view is the device set's, one for the recording: traced once per pixel spacing.
   std::map<std::pair<double, double>, std::vector<Ring>> rings;
   std::vector<const std::vector<Ring>*> ringsOf(static_cast<std::size_t>(n), nullptr);
@@ -332,7 +364,7 @@ std::vector<CuttingPlane> sectionsFromPlusSequence(const PlusSequence& seq, cons
       ringsOf[std::size_t(k)] = &r->second;
     }
   if (labelled) labelled->assign(std::size_t(n), {});
-  forEachSequenceFrame(seq, [&](int k, const Frame& frame) {
+  forEachSequenceFrame(seq, count, [&](int k, const Frame& frame) {
     planes[std::size_t(k)] =
         planeOfFrame(k, "frame " + std::to_string(seq.frames[std::size_t(k)]), seq.image_to_reference[std::size_t(k)],
                      frame, ringsOf[std::size_t(k)], perSlice, labelled ? &(*labelled)[std::size_t(k)] : nullptr,

@@ -4,6 +4,8 @@
 // sections, not the series' images).
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -28,18 +30,24 @@ std::vector<SliceRecord> mergeRepeatedSlices(std::vector<SliceRecord> slices, st
 ///                      per plane, the sections of each label value; the planes returned then hold
 ///                      the union of all labels (one section per connected region, label 1), the
 ///                      geometry the reconstruction runs on. Left empty with merge_labels.
+/// @param progress      optional, called with the frames done and the frames in all, from the
+///                      threads that segment them, concurrently (with Otsu's method the series is
+///                      read twice: a frame counts when both its readings are done, on average).
 std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& slices,
                                              const std::string& listing_file,
                                              const SegmentationParams& params,
                                              std::vector<std::string>* warnings,
                                              double* thresholdUsed = nullptr,
-                                             std::vector<std::vector<Section>>* labelled = nullptr);
+                                             std::vector<std::vector<Section>>* labelled = nullptr,
+                                             const std::function<void(std::int64_t, std::int64_t)>& progress = {});
 
 /// The same for the kept frames of a PLUS recording (io/plus_sequence.h), in their order: plane k
 /// is seq.frames[k], named "frame N", its pose seq.image_to_reference[k], its field of view the
-/// device set's. The frames are streamed from the sequence file (one batch held at a time).
-std::vector<CuttingPlane> sectionsFromPlusSequence(const PlusSequence& seq, const SegmentationParams& params,
-                                                   std::vector<std::string>* warnings, double* thresholdUsed = nullptr,
-                                                   std::vector<std::vector<Section>>* labelled = nullptr);
+/// device set's. The frames are streamed from the sequence file (one batch held at a time);
+/// `progress` counts the kept frames as sectionsFromSlices' does.
+std::vector<CuttingPlane> sectionsFromPlusSequence(
+    const PlusSequence& seq, const SegmentationParams& params, std::vector<std::string>* warnings,
+    double* thresholdUsed = nullptr, std::vector<std::vector<Section>>* labelled = nullptr,
+    const std::function<void(std::int64_t, std::int64_t)>& progress = {});
 
 }  // namespace xsect

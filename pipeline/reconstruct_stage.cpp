@@ -11,7 +11,7 @@ ReconstructStage reconstructStage(const RunConfig& c, const SceneStage& built, c
                                   Progress& progress, std::vector<std::string>* warnings) {
   const SectionScene& scene = built.scene;
   ReconstructStage r;
-  r.solid = reconstructOnGrid(scene, [&](double f) { progress.update(f); });
+  r.solid = reconstructOnGrid(scene, progress.counter());
   const SampledReconstruction& rec = r.solid;
   if (rec.voxels_inside == 0) {
     // An automatic size the budget forced so coarse that nothing is left: the configuration must

@@ -46,14 +46,14 @@ int runCommand(const RunOptions& o) {
   const ArrangeStage arrangement = arrangeStage(c, scene);
   clock.end("arrange");
 
-  progress.stage("reconstruct");
+  progress.stage("reconstruct", "blocks");
   const ReconstructStage reconstruction = reconstructStage(c, built, arrangement, progress, &in.warnings);
   clock.end("reconstruct");
 
   std::optional<SmoothStage> smooth;
   if (c.smoothing_method != SmoothingMethod::none) {
-    progress.stage("smooth");
-    smooth = smoothStage(c, scene, arrangement, reconstruction, [&](double f) { progress.update(f); });
+    progress.stage("smooth", "blocks");
+    smooth = smoothStage(c, scene, arrangement, reconstruction, progress.counter());
     if (const std::string w = shepardConnectivityWarning(c, *smooth); !w.empty()) in.warnings.push_back(w);
     clock.end("smooth");
   }
@@ -75,11 +75,11 @@ int runCommand(const RunOptions& o) {
   writeRunOutputs({in, built, arrangement, reconstruction, smoothed, meshes, diagnosis, sampling}, o, clock, outDir);
   progress.finish();
   for (const auto& w : in.warnings) progress.note("warning: " + w);
+  // The last lines (issue 21): the sampling verdict, the Betti numbers, the page to look at.
   const Betti& betti = diagnosis.topology.betti;
-  if (!o.quiet) {
-    std::cerr << samplingLine(sampling) << "\n";
-    std::cerr << "betti " << betti[0] << " " << betti[1] << " " << betti[2] << "; outputs in " << outDir.string() << "\n";
-  }
+  progress.note(samplingLine(sampling));
+  progress.note("betti " + std::to_string(betti[0]) + " " + std::to_string(betti[1]) + " " + std::to_string(betti[2]));
+  progress.note("report: " + (outDir / "report.html").string());
   return 0;
 }
 

@@ -17,6 +17,7 @@
 #include "io/staged_output.h"
 #include "io/text_file.h"
 #include "pipeline/library_versions.h"
+#include "pipeline/report_page/run_report_page.h"
 
 namespace xsect {
 
@@ -107,10 +108,11 @@ void writeRunOutputs(const RunResults& r, const RunOptions& o, const StageClock&
   const BlockGrid<std::uint16_t>& labels = r.meshes.voxel_label;
   writeLabelVolumeNrrd(out.file("labels.nrrd").string(), labels.grid(),
                        [&](int j, int k, std::uint16_t* row) { labels.readRow(j, k, row); });
-  writeTextFile(out.file("graph.json").string(), graphJson(r).dump(2) + "\n");
+  const json graph = graphJson(r);
+  writeTextFile(out.file("graph.json").string(), graph.dump(2) + "\n");
   writeTextFile(out.file("graph.dot").string(), graphDot(r));
-  writeTextFile(out.file("conformity.json").string(),
-                conformityDetailsJson(c.conformity, r.inputs.conformity).dump(2) + "\n");
+  const json conformity = conformityDetailsJson(c.conformity, r.inputs.conformity);
+  writeTextFile(out.file("conformity.json").string(), conformity.dump(2) + "\n");
   writeTextFile(out.file("sampling.json").string(), samplingDetailsJson(r.sampling).dump(1) + "\n");
   if (!r.inputs.slice_records.empty() && !r.inputs.conformity.pose_changes.empty()) {
     // The input's slices with the poses the run used (smoothed, corrected), images relative to
@@ -141,7 +143,9 @@ void writeRunOutputs(const RunResults& r, const RunOptions& o, const StageClock&
                        jsonNumber(r.sampling.advice_pixel_mm) + " mm)",
                    notes);
   }
-  writeTextFile(out.file("report.json").string(), reportJson(r, clock).dump(2) + "\n");
+  const json report = reportJson(r, clock);
+  writeTextFile(out.file("report.json").string(), report.dump(2) + "\n");
+  writeTextFile(out.file("report.html").string(), reportPageHtml(runReportPage(r, report, conformity, graph)));
   writeTextFile(out.file("manifest.json").string(), manifestJson(r.inputs, o, out.dir()).dump(2) + "\n");
   out.commit();
 }

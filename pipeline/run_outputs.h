@@ -2,7 +2,7 @@
 // output folder, which appears complete or not at all (io/staged_output.h): mesh.<fmt> (and
 // mesh_unsmoothed, mesh_label_L), level_set.vdb, labels.nrrd, graph.json and graph.dot,
 // conformity.json, sampling.json, sampling.nrrd, advice.yaml (when slices are advised),
-// report.json and manifest.json.
+// report.json, report.html (pipeline/report_page/) and manifest.json.
 #pragma once
 
 #include <filesystem>

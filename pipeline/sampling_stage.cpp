@@ -324,6 +324,16 @@ std::string samplingLine(const SamplingStage& s) {
   return os.str();
 }
 
+namespace {
+
+/// The ratio of `cell` (−1 for none or an unknown one).
+float cellRatio(const SamplingStage& s, std::int32_t cell) {
+  const double r = cell < 0 ? -1.0 : s.diagnosis.cells[std::size_t(cell)].ratio;
+  return std::isnan(r) ? -1.0f : float(r);
+}
+
+}  // namespace
+
 void samplingRatioRow(const SamplingStage& s, const GridSpec& grid, int j, int k, float* row) {
   const GridSpec& L = s.diagnosis.scan.lattice;
   const Vec3 start = grid.centre(0, j, k);
@@ -337,10 +347,19 @@ void samplingRatioRow(const SamplingStage& s, const GridSpec& grid, int j, int k
   const double step = grid.voxel / L.voxel, x0 = (start.x() - L.origin.x()) / L.voxel;
   for (int i = 0; i < nx; ++i) {
     const double tx = std::round(x0 + i * step);
-    const int cell = tx < 0 || tx > L.dims[0] - 1 ? -1 : cells[std::size_t(tx)];
-    const double r = cell < 0 ? -1.0 : s.diagnosis.cells[std::size_t(cell)].ratio;
-    row[i] = std::isnan(r) ? -1.0f : float(r);
+    row[i] = cellRatio(s, tx < 0 || tx > L.dims[0] - 1 ? -1 : cells[std::size_t(tx)]);
   }
+}
+
+float samplingRatioAt(const SamplingStage& s, const Vec3& x) {
+  const GridSpec& L = s.diagnosis.scan.lattice;
+  std::array<int, 3> t{};
+  for (int a = 0; a < 3; ++a) {
+    const double c = std::round((x[a] - L.origin[a]) / L.voxel);
+    if (!(c >= 0 && c <= L.dims[a] - 1)) return -1.0f;
+    t[std::size_t(a)] = int(c);
+  }
+  return cellRatio(s, s.diagnosis.scan.cell_of_point[std::size_t(L.index(t[0], t[1], t[2]))]);
 }
 
 }  // namespace xsect

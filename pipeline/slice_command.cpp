@@ -61,7 +61,7 @@ int sliceCommand(const SliceOptions& o) {
   }
   if (named.empty()) throw InputError("", "--planes", "at least one plane file is required");
 
-  progress.stage("cut");
+  progress.stage("cut", "planes");
   std::vector<CuttingPlane> planes(named.size());
   for (std::size_t p = 0; p < named.size(); ++p) {
     CuttingPlane& cp = planes[p];
@@ -75,7 +75,7 @@ int sliceCommand(const SliceOptions& o) {
     }
     if (cp.sections.empty())
       throw InputError(named[p].file, named[p].key, "the plane misses the mesh " + o.mesh);
-    progress.update(double(p + 1) / double(named.size()));
+    progress.update(std::int64_t(p + 1), std::int64_t(named.size()));
   }
 
   progress.stage("write");

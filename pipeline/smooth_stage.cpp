@@ -63,7 +63,8 @@ std::int64_t voxelsDecidedByPieces(const SectionScene& scene, const SampledRecon
 }  // namespace
 
 SmoothStage smoothStage(const RunConfig& c, const SectionScene& scene, const ArrangeStage& arranged,
-                        const ReconstructStage& reconstruction, const std::function<void(double)>& progress) {
+                        const ReconstructStage& reconstruction,
+                        const std::function<void(std::int64_t, std::int64_t)>& progress) {
   SmoothStage out;
   const std::vector<CuttingPlane>& planes = scene.planes;
   const std::vector<SectionDistanceField>& fields = scene.fields;

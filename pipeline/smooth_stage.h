@@ -6,6 +6,7 @@
 // solid that keeps the method's connectivity.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -68,7 +69,8 @@ struct SmoothStage {
 ///                        finer lattice that resolves the cell (cell_refinement.h). The level-set
 ///                        smoothing stops before the first step that breaks either rule.
 SmoothStage smoothStage(const RunConfig& config, const SectionScene& scene, const ArrangeStage& arrangement,
-                        const ReconstructStage& reconstruction, const std::function<void(double)>& progress = {});
+                        const ReconstructStage& reconstruction,
+                        const std::function<void(std::int64_t, std::int64_t)>& progress = {});
 
 /// The warning when Shepard's surface joins the sections differently from the method's graph
 /// (what was measured, and what was written instead); empty otherwise.

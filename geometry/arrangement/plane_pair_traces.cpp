@@ -3,20 +3,21 @@
 
 #include <tbb/parallel_for.h>
 
+#include <atomic>
 #include <cmath>
 #include <optional>
 
 namespace xsect {
 
 PlanePairSearch planePairTraces(const std::vector<CuttingPlane>& planes, double min_angle_deg,
-                                bool keep_unmeasured) {
+                                bool keep_unmeasured, const std::function<void(std::int64_t, std::int64_t)>& progress) {
   const int n = int(planes.size());
   struct Row {
     std::vector<PlanePairTraces> pairs, unmeasured;
     int near_parallel = 0, empty = 0;
   };
   std::vector<Row> rows(std::size_t(std::max(n, 0)));
-  tbb::parallel_for(0, n, [&](int a) {
+  const auto searchRow = [&](int a) {
     if (planes[a].is_virtual) return;
     Row& row = rows[std::size_t(a)];
     for (int b = a + 1; b < n; ++b) {
@@ -51,6 +52,12 @@ PlanePairSearch planePairTraces(const std::vector<CuttingPlane>& planes, double 
       p.disagreement = traceDisagreement(p.trace_a, p.trace_b, common);
       row.pairs.push_back(std::move(p));
     }
+  };
+  const std::int64_t pairs = std::int64_t(n) * std::max(n - 1, 0) / 2;
+  std::atomic<std::int64_t> examined{0};
+  tbb::parallel_for(0, n, [&](int a) {
+    searchRow(a);
+    if (progress) progress(examined.fetch_add(n - 1 - a, std::memory_order_relaxed) + (n - 1 - a), pairs);
   });
   PlanePairSearch s;
   for (Row& r : rows) {

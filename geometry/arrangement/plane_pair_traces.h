@@ -3,6 +3,7 @@
 // stage 3). The measurement half of the conform stage: what each pair disagrees on, in mm.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -37,9 +38,12 @@ struct PlanePairSearch {
 ///                       enforcement must leave alone); false: only count them. A sweep's frames
 ///                       are nearly parallel pair after pair, and tracing them all is most of the
 ///                       search (issue 17).
+/// @param progress       optional, called with the pairs examined so far and the n (n - 1) / 2
+///                       pairs in all, after each plane's pairs, from several threads at once.
 /// Deterministic; parallel over the planes.
 PlanePairSearch planePairTraces(const std::vector<CuttingPlane>& planes, double min_angle_deg,
-                                bool keep_unmeasured = true);
+                                bool keep_unmeasured = true,
+                                const std::function<void(std::int64_t, std::int64_t)>& progress = {});
 
 /// The traces of `pairs` (their lines and common regions kept) re-read from `planes` (edited
 /// sections), with their disagreement.

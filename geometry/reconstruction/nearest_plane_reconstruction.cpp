@@ -67,7 +67,7 @@ template <bool kObserved>
 void nearestPieceBlocks(const std::vector<CuttingPlane>& planes, const std::vector<SectionDistanceField>& fields,
                         const std::vector<ObservedPiece>* pieces, const GridSpec& grid,
                         const std::function<void(std::int64_t, const NearestPlaneBlock&)>& visitBlock,
-                        bool wholeBlocks, const std::function<void(double)>& progress) {
+                        bool wholeBlocks, const std::function<void(std::int64_t, std::int64_t)>& progress) {
   const std::vector<PlaneRow> rows = planeRows(planes);
   std::vector<int> all(planes.size());
   for (std::size_t i = 0; i < all.size(); ++i) all[i] = int(i);
@@ -287,7 +287,7 @@ void nearestPieceBlocks(const std::vector<CuttingPlane>& planes, const std::vect
       Scratch w;
       for (std::int64_t b = r.begin(); b != r.end(); ++b) doBlock(b, w);
     });
-    if (progress) progress(double(last) / blocks);
+    if (progress) progress(last, blocks);
   }
 }
 
@@ -296,7 +296,7 @@ void nearestPieceBlocks(const std::vector<CuttingPlane>& planes, const std::vect
 void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
                               const std::vector<SectionDistanceField>& fields, const GridSpec& grid,
                               const std::function<void(std::int64_t, const NearestPlaneBlock&)>& visitBlock,
-                              bool wholeBlocks, const std::function<void(double)>& progress,
+                              bool wholeBlocks, const std::function<void(std::int64_t, std::int64_t)>& progress,
                               const std::vector<ObservedPiece>* pieces) {
   if (planes.empty()) throw std::invalid_argument("method 1: no cutting plane");
   if (fields.size() != planes.size())
@@ -315,7 +315,7 @@ void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
 NearestPlaneField nearestPlaneReconstruction(const std::vector<CuttingPlane>& planes,
                                              const std::vector<SectionDistanceField>& fields,
                                              const GridSpec& grid,
-                                             const std::function<void(double)>& progress,
+                                             const std::function<void(std::int64_t, std::int64_t)>& progress,
                                              const std::vector<ObservedPiece>* pieces) {
   NearestPlaneField out;
   out.value.grid = grid;

@@ -66,19 +66,19 @@ struct NearestPlaneBlock {
 void forEachNearestPlaneBlock(const std::vector<CuttingPlane>& planes,
                               const std::vector<SectionDistanceField>& fields, const GridSpec& grid,
                               const std::function<void(std::int64_t, const NearestPlaneBlock&)>& visit,
-                              bool whole_blocks, const std::function<void(double)>& progress = {},
+                              bool whole_blocks, const std::function<void(std::int64_t, std::int64_t)>& progress = {},
                               const std::vector<ObservedPiece>* pieces = nullptr);
 
 /// The same on dense arrays (small grids, tests).
 /// @param planes    cutting planes (real and virtual); planes[i] uses fields[i].
 /// @param fields    section distance rasters, one per plane.
 /// @param grid      voxel centres to evaluate (mm).
-/// @param progress  optional, called with the fraction done (from the calling thread).
+/// @param progress  optional, called with the blocks done and the blocks in all (from the calling thread).
 /// Ties between equidistant planes go to the lower index (deterministic).
 NearestPlaneField nearestPlaneReconstruction(const std::vector<CuttingPlane>& planes,
                                              const std::vector<SectionDistanceField>& fields,
                                              const GridSpec& grid,
-                                             const std::function<void(double)>& progress = {},
+                                             const std::function<void(std::int64_t, std::int64_t)>& progress = {},
                                              const std::vector<ObservedPiece>* pieces = nullptr);
 
 }  // namespace xsect

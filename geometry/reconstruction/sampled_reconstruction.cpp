@@ -92,7 +92,8 @@ class SolidAssembly {
 
 }  // namespace
 
-SampledReconstruction reconstructOnGrid(const SectionScene& scene, const std::function<void(double)>& progress) {
+SampledReconstruction reconstructOnGrid(const SectionScene& scene,
+                                        const std::function<void(std::int64_t, std::int64_t)>& progress) {
   const ReconstructionParams& params = scene.params;
   const double h = params.voxel_mm;
   const GridSpec& grid = scene.grid();

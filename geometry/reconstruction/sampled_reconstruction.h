@@ -5,6 +5,7 @@
 // the repaired voxels, ready for meshing.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <vector>
@@ -52,6 +53,6 @@ struct SampledReconstruction {
 /// @param scene  the planes (real and end), their rasters and the grid (section_scene.h); the
 ///               method is scene.params.method.
 SampledReconstruction reconstructOnGrid(const SectionScene& scene,
-                                        const std::function<void(double)>& progress = {});
+                                        const std::function<void(std::int64_t, std::int64_t)>& progress = {});
 
 }  // namespace xsect

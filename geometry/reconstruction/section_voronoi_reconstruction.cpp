@@ -657,7 +657,8 @@ void forEachSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
                                 const std::vector<SectionDistanceField>& fields, const GridSpec& grid,
                                 const SectionVoronoiParams& params,
                                 const std::function<void(std::int64_t, const SectionVoronoiBlock&)>& visitBlock,
-                                const std::function<void(double)>& progress, SectionVoronoiStatistics* statistics) {
+                                const std::function<void(std::int64_t, std::int64_t)>& progress,
+                                SectionVoronoiStatistics* statistics) {
   if (planes.empty()) throw std::invalid_argument("method 2: no cutting plane");
   if (fields.size() != planes.size())
     throw std::invalid_argument("method 2: one distance raster per plane is required");
@@ -818,7 +819,7 @@ void forEachSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
       }
       exact += work.w.exact;
     });
-    if (progress) progress(double(last) / double(blocks));
+    if (progress) progress(last, blocks);
   }
   if (statistics) {
     statistics->exact_face_tests = exact;
@@ -830,7 +831,7 @@ SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>
                                                  const std::vector<SectionDistanceField>& fields,
                                                  const GridSpec& grid,
                                                  const SectionVoronoiParams& params,
-                                                 const std::function<void(double)>& progress) {
+                                                 const std::function<void(std::int64_t, std::int64_t)>& progress) {
   SectionVoronoiField out;
   out.value.grid = grid;
   const std::size_t n = std::size_t(grid.count());

@@ -59,14 +59,14 @@ struct SectionVoronoiField {
 /// @param fields    section distance rasters, one per plane (sectionDistanceField).
 /// @param grid      voxel centres to evaluate (mm).
 /// @param params    thickening of the planes.
-/// @param progress  optional, called with the fraction done (from the calling thread).
+/// @param progress  optional, called with the blocks done and the blocks in all (from the calling thread).
 /// Deterministic: every voxel is decided from its own position only. Dense arrays (small grids,
 /// tests); the run uses forEachSectionVoronoiBlock.
 SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>& planes,
                                                  const std::vector<SectionDistanceField>& fields,
                                                  const GridSpec& grid,
                                                  const SectionVoronoiParams& params,
-                                                 const std::function<void(double)>& progress = {});
+                                                 const std::function<void(std::int64_t, std::int64_t)>& progress = {});
 
 /// Method 2 on one block of 8³ voxels (block_grid.h), by BlockGrid's offset(); voxels of the
 /// block beyond the grid repeat the block's first voxel. Fields as SectionVoronoiField's.
@@ -88,7 +88,7 @@ void forEachSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
                                 const std::vector<SectionDistanceField>& fields, const GridSpec& grid,
                                 const SectionVoronoiParams& params,
                                 const std::function<void(std::int64_t, const SectionVoronoiBlock&)>& visit,
-                                const std::function<void(double)>& progress = {},
+                                const std::function<void(std::int64_t, std::int64_t)>& progress = {},
                                 SectionVoronoiStatistics* statistics = nullptr);
 
 /// Method 2 at single points (for the connectivity graph along lifts): the same decision as the

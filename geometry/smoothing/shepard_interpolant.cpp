@@ -215,7 +215,7 @@ double shepardValue(const ShepardData& data, const Vec3& x, double exponent, int
 }
 
 ShepardField shepardInterpolant(const ShepardData& data, const GridSpec& grid, double exponent,
-                                const std::function<void(double)>& progress) {
+                                const std::function<void(std::int64_t, std::int64_t)>& progress) {
   const auto& planes = *data.planes;
   if (planes.empty()) throw std::invalid_argument("Shepard: no cutting plane");
   checkData(data);
@@ -352,7 +352,7 @@ ShepardField shepardInterpolant(const ShepardData& data, const GridSpec& grid, d
       while (vmax > prev && !visibleMax.compare_exchange_weak(prev, vmax)) {
       }
     });
-    if (progress) progress(double(last) / blocks);
+    if (progress) progress(last, blocks);
   }
   out.visible_planes = visibleTotal.load();
   out.max_visible_planes = visibleMax.load();

@@ -73,8 +73,8 @@ struct ShepardField {
 };
 
 /// f on every voxel centre of `grid`, with block culling. Deterministic (independent of threads).
-/// @param progress  optional, called with the fraction done (from the calling thread).
+/// @param progress  optional, called with the blocks done and the blocks in all (from the calling thread).
 ShepardField shepardInterpolant(const ShepardData& data, const GridSpec& grid, double exponent,
-                                const std::function<void(double)>& progress = {});
+                                const std::function<void(std::int64_t, std::int64_t)>& progress = {});
 
 }  // namespace xsect

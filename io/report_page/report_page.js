@@ -1,0 +1,183 @@
+// report.html's 3D view (io/report_page/report_page.h): the mesh, the slices as translucent
+// planes and their contours, from the JSON block #view-data (typed arrays in base64, little
+// endian), drawn with three.js (THREE, THREE.OrbitControls inlined before this script).
+(function () {
+  'use strict';
+  var body = document.body;
+  var note = document.getElementById('view-note');
+  var canvas = document.getElementById('view-canvas');
+  var data = JSON.parse(document.getElementById('view-data').textContent);
+
+  function bytes(b64) {
+    var s = atob(b64), n = s.length, out = new Uint8Array(n);
+    for (var i = 0; i < n; ++i) out[i] = s.charCodeAt(i);
+    return out.buffer;
+  }
+  function floats(b64) { return b64 ? new Float32Array(bytes(b64)) : new Float32Array(0); }
+  function uints(b64) { return b64 ? new Uint32Array(bytes(b64)) : new Uint32Array(0); }
+  function shorts(b64) { return b64 ? new Uint16Array(bytes(b64)) : new Uint16Array(0); }
+
+  var renderer;
+  try {
+    renderer = new THREE.WebGLRenderer({ canvas: canvas, antialias: true, preserveDrawingBuffer: true });
+  } catch (e) {
+    note.textContent = 'This browser cannot draw WebGL; the 3D view is not available (' + e.message + ').';
+    return;
+  }
+  var background = data.background || '#f4f5f7';
+  renderer.setClearColor(new THREE.Color(background), 1);
+  renderer.setPixelRatio(1);
+
+  var scene = new THREE.Scene();
+  var lo = data.bounds[0], hi = data.bounds[1];
+  var centre = new THREE.Vector3((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2);
+  var radius = Math.max(1e-9, 0.5 * Math.sqrt(Math.pow(hi[0] - lo[0], 2) + Math.pow(hi[1] - lo[1], 2) + Math.pow(hi[2] - lo[2], 2)));
+  var camera = new THREE.PerspectiveCamera(35, 2, radius / 100, radius * 100);
+  camera.up.set(0, 0, 1);
+  camera.position.set(centre.x + 1.9 * radius, centre.y - 2.6 * radius, centre.z + 1.5 * radius);
+  camera.lookAt(centre);
+  scene.add(new THREE.AmbientLight(0xffffff, 0.45));
+  var light = new THREE.DirectionalLight(0xffffff, 0.75);
+  camera.add(light);
+  light.position.set(0.3, 0.6, 1);
+  scene.add(camera);
+
+  // Material colours (label -> colour), the same palette as the frames' overlays.
+  var palette = ['#4e79a7', '#f28e2b', '#59a14f', '#e15759', '#76b7b2', '#edc948', '#b07aa1', '#ff9da7', '#9c755f', '#bab0ac'];
+  function labelColour(label) { return new THREE.Color(palette[(Math.max(1, label) - 1) % palette.length]); }
+
+  // The mesh, coloured uniformly, by the sampling verdict of its cell, or by material.
+  var mesh = null, meshColours = null, m = data.mesh;
+  var positions = floats(m.positions), indices = uints(m.indices);
+  var ratio = floats(m.ratio), labels = shorts(m.label);
+  if (indices.length > 0) {
+    var geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+    geometry.setIndex(new THREE.BufferAttribute(indices, 1));
+    geometry.computeVertexNormals();
+    meshColours = new Float32Array(positions.length);
+    geometry.setAttribute('color', new THREE.BufferAttribute(meshColours, 3));
+    mesh = new THREE.Mesh(geometry, new THREE.MeshPhongMaterial({
+      vertexColors: THREE.VertexColors, side: THREE.DoubleSide, shininess: 25,
+      polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1 }));
+    scene.add(mesh);
+  }
+  var legend = document.getElementById('view-legend');
+  function swatch(colour, text) {
+    return '<span class="legend-swatch" style="background:' + colour + '"></span>' + text;
+  }
+  function colourMesh(mode) {
+    if (!mesh) return;
+    var c = new THREE.Color(), n = positions.length / 3;
+    var pass = new THREE.Color('#3aa35b'), fail = new THREE.Color('#d64545'), unknown = new THREE.Color('#a4abb6');
+    var uniform = new THREE.Color('#c9cfd8');
+    for (var i = 0; i < n; ++i) {
+      if (mode === 'sampling') {
+        var r = ratio.length ? ratio[i] : -1;
+        c.copy(r < 0 ? unknown : (r < 1 ? pass : fail));
+      } else if (mode === 'material') {
+        c.copy(labelColour(labels.length ? labels[i] : 1));
+      } else c.copy(uniform);
+      meshColours[3 * i] = c.r; meshColours[3 * i + 1] = c.g; meshColours[3 * i + 2] = c.b;
+    }
+    mesh.geometry.attributes.color.needsUpdate = true;
+    if (mode === 'sampling')
+      legend.innerHTML = swatch('#3aa35b', 'cell passes (h_C below its critical value)') + swatch('#d64545', 'cell fails') +
+                         swatch('#a4abb6', 'not known');
+    else if (mode === 'material')
+      legend.innerHTML = (data.materials || [1]).map(function (l) { return swatch('#' + labelColour(l).getHexString(), 'label ' + l); }).join('');
+    else legend.innerHTML = '';
+  }
+
+  // The slices: translucent observed rectangles with outlines (flagged ones orange), and contours.
+  var slices = new THREE.Group(), contours = new THREE.Group();
+  var quads = floats(data.slices.quads), flagged = {};
+  (data.slices.flagged || []).forEach(function (q) { flagged[q] = true; });
+  var nQuads = quads.length / 12;
+  if (nQuads > 0) {
+    var triangles = new Float32Array(nQuads * 18), colours = new Float32Array(nQuads * 18);
+    var edges = new Float32Array(nQuads * 24);
+    var normal = new THREE.Color('#5b8def'), warn = new THREE.Color('#f59e0b');
+    var order = [0, 1, 2, 0, 2, 3], ring = [0, 1, 1, 2, 2, 3, 3, 0];
+    for (var q = 0; q < nQuads; ++q) {
+      var col = flagged[q] ? warn : normal;
+      for (var t = 0; t < 6; ++t)
+        for (var a = 0; a < 3; ++a) {
+          triangles[18 * q + 3 * t + a] = quads[12 * q + 3 * order[t] + a];
+          colours[18 * q + 3 * t + a] = a === 0 ? col.r : (a === 1 ? col.g : col.b);
+        }
+      for (var e = 0; e < 8; ++e)
+        for (var b = 0; b < 3; ++b) edges[24 * q + 3 * e + b] = quads[12 * q + 3 * ring[e] + b];
+    }
+    var planeGeometry = new THREE.BufferGeometry();
+    planeGeometry.setAttribute('position', new THREE.BufferAttribute(triangles, 3));
+    planeGeometry.setAttribute('color', new THREE.BufferAttribute(colours, 3));
+    slices.add(new THREE.Mesh(planeGeometry, new THREE.MeshBasicMaterial({
+      vertexColors: THREE.VertexColors, transparent: true, opacity: Math.max(0.02, Math.min(0.12, 1.5 / nQuads)),
+      side: THREE.DoubleSide, depthWrite: false })));
+    var edgeGeometry = new THREE.BufferGeometry();
+    edgeGeometry.setAttribute('position', new THREE.BufferAttribute(edges, 3));
+    slices.add(new THREE.LineSegments(edgeGeometry, new THREE.LineBasicMaterial({
+      color: 0x5b8def, transparent: true, opacity: Math.max(0.08, Math.min(0.5, 10 / nQuads)) })));
+  }
+  var segments = floats(data.contours.segments), segmentLabels = shorts(data.contours.labels);
+  if (segments.length > 0) {
+    var segmentColours = new Float32Array(segments.length);
+    for (var s = 0; s < segments.length / 6; ++s) {
+      var lc = labelColour(segmentLabels.length ? segmentLabels[s] : 1);
+      lc.offsetHSL(0, 0, -0.18);
+      for (var k = 0; k < 2; ++k) {
+        segmentColours[6 * s + 3 * k] = lc.r; segmentColours[6 * s + 3 * k + 1] = lc.g; segmentColours[6 * s + 3 * k + 2] = lc.b;
+      }
+    }
+    var contourGeometry = new THREE.BufferGeometry();
+    contourGeometry.setAttribute('position', new THREE.BufferAttribute(segments, 3));
+    contourGeometry.setAttribute('color', new THREE.BufferAttribute(segmentColours, 3));
+    contours.add(new THREE.LineSegments(contourGeometry, new THREE.LineBasicMaterial({ vertexColors: THREE.VertexColors })));
+  }
+  scene.add(slices);
+  scene.add(contours);
+
+  var controls = new THREE.OrbitControls(camera, canvas);
+  controls.target.copy(centre);
+  controls.update();
+
+  function resize() {
+    var w = canvas.clientWidth, h = canvas.clientHeight;
+    if (canvas.width !== w || canvas.height !== h) renderer.setSize(w, h, false);
+    camera.aspect = w / Math.max(1, h);
+    camera.updateProjectionMatrix();
+  }
+  function render() {
+    resize();
+    renderer.render(scene, camera);
+  }
+  controls.addEventListener('change', render);
+  window.addEventListener('resize', render);
+
+  var colourSelect = document.getElementById('view-colour');
+  colourSelect.addEventListener('change', function () { colourMesh(colourSelect.value); render(); });
+  function toggle(id, object) {
+    var box = document.getElementById(id);
+    box.addEventListener('change', function () { object.visible = box.checked; render(); });
+  }
+  toggle('view-slices', slices);
+  toggle('view-contours', contours);
+  if (mesh) toggle('view-mesh', mesh);
+
+  colourMesh(colourSelect.value);
+  render();
+  var texts = [];
+  if (m.triangles_shown < m.triangles)
+    texts.push('mesh decimated for the browser: ' + m.triangles_shown + ' of ' + m.triangles + ' triangles');
+  if (data.slices.shown < data.slices.total)
+    texts.push(data.slices.shown + ' of ' + data.slices.total + ' slices drawn');
+  texts.push('drag to turn, scroll to zoom, right-drag to pan');
+  note.textContent = texts.join('; ') + '.';
+
+  var rect = canvas.getBoundingClientRect();
+  body.setAttribute('data-canvas-rect', [rect.left + window.scrollX, rect.top + window.scrollY, rect.width, rect.height]
+                                            .map(function (v) { return String(Math.round(v)); }).join(' '));
+  body.setAttribute('data-background', '#' + new THREE.Color(background).getHexString());
+  body.setAttribute('data-view-ready', '1');
+})();

@@ -1,0 +1,35 @@
+// report.html of `xsect run` (see run_report_page.h).
+#include "pipeline/report_page/run_report_page.h"
+
+#include <filesystem>
+
+#include "pipeline/report_page/frame_overlays.h"
+#include "pipeline/report_page/section_graph.h"
+#include "pipeline/report_page/slice_plots.h"
+#include "pipeline/report_page/summary_section.h"
+#include "pipeline/report_page/view_data.h"
+#include "pipeline/report_page/warning_advice.h"
+
+namespace xsect {
+
+using json = nlohmann::ordered_json;
+
+ReportPage runReportPage(const RunResults& r, const json& report, const json& conformity, const json& graph) {
+  ReportPage page;
+  page.title = "xsect: " + std::filesystem::path(r.inputs.config.path).filename().string() + " (" +
+               std::filesystem::path(r.inputs.config.input_path).filename().string() + ")";
+  page.headline_html = headlineHtml(report);
+  page.view_json = viewDataJson(r).dump();
+  page.after.push_back({"summary", "Summary", summaryHtml(report, samplingLine(r.sampling))});
+  page.after.push_back({"warnings", "Warnings", warningsHtml(r.inputs.warnings)});
+  page.after.push_back({"slice-plots", "Slices", "<div class=\"plots\">\n" + slicePlotsHtml(conformity) + "</div>"});
+  page.after.push_back({"graph", "How the sections connect", sectionGraphHtml(graph)});
+  page.after.push_back({"frames", "Frames", frameOverlaysHtml(r.inputs)});
+  // Timings and memory change from run to run: the one block of the page that does (tests and
+  // scripts/output_hashes.py drop what lies between the markers before comparing pages).
+  page.after.push_back({"timings", "Time and memory",
+                        "<!--xsect-unrepeatable-begin-->\n" + timingsHtml(report) + "<!--xsect-unrepeatable-end-->"});
+  return page;
+}
+
+}  // namespace xsect

@@ -1,0 +1,90 @@
+// report.html's figures from report.json (see summary_section.h).
+#include "pipeline/report_page/summary_section.h"
+
+#include "io/report_page/report_page.h"
+#include "pipeline/report_page/page_text.h"
+
+namespace xsect {
+
+using json = nlohmann::ordered_json;
+
+namespace {
+
+std::string row(const std::string& name, const std::string& valueHtml) {
+  return "<tr><th>" + htmlEscape(name) + "</th><td>" + valueHtml + "</td></tr>\n";
+}
+
+std::string mm(const json& v) { return v.is_null() ? "–" : cellText(v) + " mm"; }
+
+}  // namespace
+
+std::string headlineHtml(const json& report) {
+  const std::string verdict = field(report, {"sampling", "verdict"}).is_string()
+                                  ? field(report, {"sampling", "verdict"}).get<std::string>()
+                                  : "undetermined";
+  return "sampling verdict <span id=\"verdict\" class=\"verdict-" + htmlEscape(verdict) + "\">" + htmlEscape(verdict) +
+         "</span> · Betti numbers <span id=\"betti\">" + cellText(field(report, {"betti"})) +
+         "</span> · mesh of <span id=\"mesh-triangles\">" + cellText(field(report, {"counts", "mesh_triangles"})) +
+         "</span> triangles from <span id=\"slices-used\">" + cellText(field(report, {"counts", "slices_used"})) +
+         "</span> slices";
+}
+
+std::string summaryHtml(const json& report, const std::string& samplingLine) {
+  const json& counts = field(report, {"counts"});
+  const json& rec = field(report, {"reconstruction"});
+  std::string t = "<table>\n";
+  t += row("slices", cellText(field(counts, {"slices_used"})) + " used of " + cellText(field(counts, {"slices"})) + " read; " +
+           cellText(field(counts, {"planes_with_sections"})) + " hold " + cellText(field(counts, {"sections"})) + " sections");
+  t += row("reconstruction", cellText(field(rec, {"method"})) + " on " + cellText(field(rec, {"planes"})) + " planes, voxel " +
+                                 mm(field(rec, {"voxel_size_mm"})) + ", " + cellText(field(counts, {"cells"})) +
+                                 " cells of the arrangement");
+  t += row("solid", "Betti numbers " + cellText(field(report, {"betti"})) + " (voxels: " +
+                        cellText(field(report, {"voxel_betti"})) + "), " +
+                        (field(report, {"watertight"}) == json(true) ? "watertight" : "<b>not watertight</b>") + ", " +
+                        cellText(field(counts, {"mesh_triangles"})) + " triangles");
+  const json& sampling = field(report, {"sampling"});
+  std::string conditions;
+  for (const auto& [name, state] : field(sampling, {"conditions"}).items())
+    conditions += (conditions.empty() ? "" : "; ") + htmlEscape(name) + ": " + cellText(state);
+  const json& cells = field(sampling, {"cells"});
+  t += row("sampling", "<b>" + cellText(field(sampling, {"verdict"})) + "</b> (" + conditions + "); cells " +
+                           cellText(field(cells, {"satisfied"})) + " satisfied, " + cellText(field(cells, {"violated"})) +
+                           " violated, " + cellText(field(cells, {"undetermined"})) + " undetermined<br><span class=\"hint\">" +
+                           htmlEscape(samplingLine) + "</span>");
+  std::string guarantees;
+  for (const auto& g : field(sampling, {"guarantees"})) guarantees += (guarantees.empty() ? "" : "; ") + cellText(g);
+  if (!guarantees.empty()) t += row("guarantees", guarantees);
+  const json& conf = field(report, {"conformity"});
+  std::string c = cellText(field(conf, {"pairs_measured"})) + " pairs of slices compared; disagreement median " +
+                  mm(field(conf, {"before", "median_mismatch_mm"})) + ", max " + mm(field(conf, {"before", "max_mismatch_mm"}));
+  if (!field(conf, {"after"}).is_null())
+    c += "; after enforcement median " + mm(field(conf, {"after", "median_mismatch_mm"})) + ", max " +
+         mm(field(conf, {"after", "max_mismatch_mm"}));
+  if (!field(conf, {"pose_correction"}).is_null())
+    c += "; pose correction (" + cellText(field(conf, {"pose_correction", "kind"})) + "): gaps at crossings " +
+         mm(field(conf, {"pose_correction", "gap_rms_before_mm"})) + " → " +
+         mm(field(conf, {"pose_correction", "gap_rms_after_mm"})) + " RMS";
+  const json& flagged = field(conf, {"flagged_slices"});
+  const json& dropped = field(conf, {"dropped_slices"});
+  if (flagged.is_array() && !flagged.empty()) c += "; flagged slices " + cellText(flagged);
+  if (dropped.is_array() && !dropped.empty()) c += "; dropped " + cellText(dropped);
+  t += row("conformity", c);
+  const json& graph = field(report, {"graph"});
+  t += row("connectivity", cellText(field(graph, {"components"})) + " component(s) in the graph; " +
+                               (field(graph, {"same_partition_as_voxels"}) == json(true)
+                                    ? "the solid groups the sections the same way"
+                                    : "<b>the solid groups the sections differently</b>"));
+  return t + "</table>\n";
+}
+
+std::string timingsHtml(const json& report) {
+  const json& timings = field(report, {"timings_s"});
+  const json& memory = field(report, {"peak_memory_mb"});
+  std::string t = "<table>\n<tr><th>stage</th><th>wall time (s)</th><th>peak memory (MB)</th></tr>\n";
+  for (const auto& [stage, seconds] : timings.items())
+    t += "<tr><td>" + htmlEscape(stage) + "</td><td class=\"num\">" + cellText(seconds) + "</td><td class=\"num\">" +
+         cellText(field(memory, {stage.c_str()})) + "</td></tr>\n";
+  return t + "</table>\n<p class=\"hint\">Writing the outputs (this page too) comes after these figures.</p>\n";
+}
+
+}  // namespace xsect
