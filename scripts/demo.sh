@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, renders a torus phantom cut by three orthogonal stacks,
-# reconstructs it (method 1), evaluates it against the analytic truth, prints where outputs are.
+# reconstructs it (method 1), evaluates it against the analytic truth (the figures also go into the
+# run's report.html), prints where outputs are.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/install-deps.sh"
@@ -24,3 +25,4 @@ PY
 echo
 echo "phantom (slices, truth):   $demo/phantom"
 echo "reconstruction (mesh.ply, labels.nrrd, report.json, conformity.json, graph.json, manifest.json, eval.json): $demo/result"
+echo "open in a browser (offline, self-contained; eval's accuracy included): $demo/result/report.html"

@@ -7,7 +7,7 @@ and after a restructuring).
 
 Every output file is hashed as written, except that report.json and manifest.json are hashed
 without what a run cannot repeat (wall times, peak memory, throughput, the thread count) and with
-the work folder's path replaced by "<work>".
+the work folder's path replaced by "<work>"; report.html without its block of timings and memory.
 """
 import argparse
 import hashlib
@@ -39,6 +39,11 @@ def file_hash(path, work):
         # Paths inside are made relative to the work folder, so that two work folders compare.
         text = json.dumps(without_unrepeatable(json.load(open(path))), sort_keys=True)
         data = text.replace(os.path.abspath(work), "<work>").encode()
+    elif name == "report.html":
+        # The page's block of timings and memory is dropped (its markers stay).
+        text = open(path, encoding="utf-8").read()
+        a, b = text.find("<!--xsect-unrepeatable-begin-->"), text.find("<!--xsect-unrepeatable-end-->")
+        data = (text[:a] + text[b:] if 0 <= a < b else text).replace(os.path.abspath(work), "<work>").encode()
     else:
         data = open(path, "rb").read()
     return hashlib.sha256(data).hexdigest()

@@ -1,5 +1,7 @@
-// A lighter copy of a mesh for display (report.html's 3D view, issue 21): CGAL's edge-collapse
-// simplification (Garland-Heckbert quadric costs and placements) down to a triangle budget. The
+// A lighter copy of a mesh for display (report.html's 3D view, issue 21): vertex clustering
+// (Rossignac-Borrel) on a regular grid whose cell is sized for a triangle budget. Linear in the
+// mesh's size: a 710 k-triangle mesh takes ~0.3 s, where CGAL's edge collapse took 6 s (cheapest
+// policies) to 15 s (Garland-Heckbert), too slow for a page written at the end of every run. The
 // result is for looking at only: its topology is not checked and no output file holds it.
 #pragma once
 
@@ -9,9 +11,9 @@
 
 namespace xsect {
 
-/// `mesh` with at most about `max_triangles` triangles (unchanged when it has no more). Edge
-/// collapse needs a manifold mesh; a mesh that is not one is thinned by clustering its vertices on
-/// a regular grid instead. @param max_triangles  the budget, >= 4.
+/// `mesh` with at most `max_triangles` triangles (unchanged when it has no more): every vertex
+/// moved to the mean of the vertices in its grid cell, triangles whose corners share a cell dropped.
+/// Deterministic. @param max_triangles  the budget, >= 4.
 TriangleMesh decimatedMesh(const TriangleMesh& mesh, std::size_t max_triangles);
 
 }  // namespace xsect

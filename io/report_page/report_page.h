@@ -5,7 +5,8 @@
 //
 // The page's script (report_page.js) reads the view's data from a JSON block and, once the view has
 // drawn, sets on <body>: data-view-ready="1", data-canvas-rect="X Y W H" (CSS pixels),
-// data-background="#rrggbb"; data-errors counts script errors (0 when none).
+// data-background="#rrggbb"; data-errors counts script errors (0 when none). Opened as
+// report.html#mesh-only, the view starts with the slices and contours hidden.
 #pragma once
 
 #include <string>

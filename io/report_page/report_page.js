@@ -164,6 +164,10 @@
   toggle('view-slices', slices);
   toggle('view-contours', contours);
   if (mesh) toggle('view-mesh', mesh);
+  if (window.location.hash === '#mesh-only') {  // the mesh alone (tests/test_report_browser.cpp)
+    document.getElementById('view-slices').checked = slices.visible = false;
+    document.getElementById('view-contours').checked = contours.visible = false;
+  }
 
   colourMesh(colourSelect.value);
   render();
