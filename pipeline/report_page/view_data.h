@@ -14,7 +14,7 @@ namespace xsect {
 struct ViewBudget {
   std::size_t triangles = 150000;        ///< the mesh is decimated above this (a 1 M-triangle mesh: ~5 MB page)
   std::size_t slices = 300;              ///< evenly chosen among the planes above this
-  std::size_t contour_points = 200000;   ///< contour vertices drawn, over all slices drawn
+  std::size_t contour_points = 60000;    ///< contour vertices drawn, over all slices drawn (~2 MB)
 };
 
 /// The view's JSON (report_page.js reads it): typed arrays as little-endian base64.
