@@ -351,15 +351,16 @@ void samplingRatioRow(const SamplingStage& s, const GridSpec& grid, int j, int k
   }
 }
 
-float samplingRatioAt(const SamplingStage& s, const Vec3& x) {
+const CellSampling* samplingCellAt(const SamplingStage& s, const Vec3& x) {
   const GridSpec& L = s.diagnosis.scan.lattice;
   std::array<int, 3> t{};
   for (int a = 0; a < 3; ++a) {
     const double c = std::round((x[a] - L.origin[a]) / L.voxel);
-    if (!(c >= 0 && c <= L.dims[a] - 1)) return -1.0f;
+    if (!(c >= 0 && c <= L.dims[a] - 1)) return nullptr;
     t[std::size_t(a)] = int(c);
   }
-  return cellRatio(s, s.diagnosis.scan.cell_of_point[std::size_t(L.index(t[0], t[1], t[2]))]);
+  const std::int32_t cell = s.diagnosis.scan.cell_of_point[std::size_t(L.index(t[0], t[1], t[2]))];
+  return cell < 0 ? nullptr : &s.diagnosis.cells[std::size_t(cell)];
 }
 
 }  // namespace xsect

@@ -45,8 +45,8 @@ std::string samplingLine(const SamplingStage& s);
 /// value of the cell holding its centre (the nearest lattice point's), −1 where no critical value is
 /// known or outside the end planes.
 void samplingRatioRow(const SamplingStage& s, const GridSpec& grid, int j, int k, float* row);
-/// The same ratio at the point x (mm): that of the cell holding the lattice point nearest to x;
-/// −1 where it is not known.
-float samplingRatioAt(const SamplingStage& s, const Vec3& x);
+/// The cell holding the lattice point nearest to x (mm), as sampling.nrrd takes it; nullptr outside
+/// the lattice or where no cell is known.
+const CellSampling* samplingCellAt(const SamplingStage& s, const Vec3& x);
 
 }  // namespace xsect

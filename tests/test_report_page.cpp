@@ -5,6 +5,7 @@
 // from the network.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <regex>
 
 #include "geometry/meshing/mesh_decimation.h"
@@ -94,7 +95,7 @@ TEST_F(ReportPageRun, ViewHoldsTheWholeMeshAndEverySlice) {
   EXPECT_EQ(view["mesh"]["triangles_shown"].get<std::size_t>(), triangles);
   EXPECT_EQ(base64Bytes(view["mesh"]["indices"]), triangles * 3 * 4);
   EXPECT_EQ(base64Bytes(view["mesh"]["positions"]), vertices * 3 * 4);
-  EXPECT_EQ(base64Bytes(view["mesh"]["ratio"]), vertices * 4);
+  EXPECT_EQ(base64Bytes(view["mesh"]["verdict"]), vertices);
   EXPECT_EQ(view["slices"]["total"].get<int>(), (*report_)["counts"]["slices_used"].get<int>());
   EXPECT_EQ(base64Bytes(view["slices"]["quads"]), view["slices"]["shown"].get<std::size_t>() * 12 * 4);
   EXPECT_GT(base64Bytes(view["contours"]["segments"]), 0u);
@@ -102,6 +103,54 @@ TEST_F(ReportPageRun, ViewHoldsTheWholeMeshAndEverySlice) {
   const auto& lo = view["bounds"][0];
   const auto& hi = view["bounds"][1];
   for (int a = 0; a < 3; ++a) EXPECT_GT(hi[a].get<double>() - lo[a].get<double>(), 8.0);
+}
+
+/// The bytes of a base64 text.
+std::string unbase64(const std::string& b64) {
+  std::string out;
+  int bits = 0;
+  unsigned acc = 0;
+  for (const char c : b64) {
+    const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    const char* p = c ? std::strchr(digits, c) : nullptr;
+    if (!p) break;
+    acc = (acc << 6) | unsigned(p - digits);
+    if ((bits += 6) >= 8) out += char((acc >> (bits -= 8)) & 255);
+  }
+  return out;
+}
+
+/// Per verdict (0 satisfied, 1 violated, 2 undetermined), the mesh vertices painted with it.
+std::array<int, 3> verdictCounts(const nlohmann::json& view) {
+  std::array<int, 3> n{0, 0, 0};
+  for (const char v : unbase64(view["mesh"]["verdict"])) ++n.at(std::size_t(std::uint8_t(v)));
+  return n;
+}
+
+TEST_F(ReportPageRun, SamplingColoursAreTheCellsVerdicts) {
+  // Violated cells and none satisfied (report.json): no vertex is painted satisfied, some violated.
+  const nlohmann::json& cells = (*report_)["sampling"]["cells"];
+  ASSERT_EQ(cells["satisfied"].get<int>(), 0);
+  ASSERT_GT(cells["violated"].get<int>(), 0);
+  const auto n = verdictCounts(viewData(*html_));
+  EXPECT_EQ(n[0], 0);
+  EXPECT_GT(n[1], 0);
+}
+
+TEST(ReportPage, MethodTwoGraphAndSatisfiedColours) {
+  // Method 2 with a known reach: the page's graph is G' (report.json graph.components) and, with
+  // no cell violated, no vertex is painted violated.
+  const fs::path dir = test::phantom("report-m2", slurp(fs::path(XSECT_SOURCE_DIR) / "configs/phantoms/torus-multiaxial.yaml"));
+  const nlohmann::json r = test::run(dir, "r", "--set reconstruction.method=section_voronoi --set sampling.reach_mm=3");
+  const std::string html = slurp(dir / "r/report.html");
+  const std::size_t g = html.find("<section id=\"graph\">");
+  ASSERT_NE(g, std::string::npos);
+  EXPECT_NE(html.find(std::to_string(r["graph"]["components"].get<int>()) + " connected component(s)", g), std::string::npos);
+  EXPECT_NE(html.find("graph G′ (method 2)", g), std::string::npos);
+  const auto n = verdictCounts(viewData(html));
+  if (r["sampling"]["cells"]["violated"].get<int>() == 0) EXPECT_EQ(n[1], 0);
+  if (r["sampling"]["cells"]["satisfied"].get<int>() > 0) EXPECT_GT(n[0], 0);
+  fs::remove_all(dir);
 }
 
 TEST_F(ReportPageRun, HoldsThePlotsTheGraphAndTheFrames) {

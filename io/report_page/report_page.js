@@ -16,6 +16,7 @@
   function floats(b64) { return b64 ? new Float32Array(bytes(b64)) : new Float32Array(0); }
   function uints(b64) { return b64 ? new Uint32Array(bytes(b64)) : new Uint32Array(0); }
   function shorts(b64) { return b64 ? new Uint16Array(bytes(b64)) : new Uint16Array(0); }
+  function octets(b64) { return b64 ? new Uint8Array(bytes(b64)) : new Uint8Array(0); }
 
   var renderer;
   try {
@@ -44,12 +45,13 @@
 
   // Material colours (label -> colour), the same palette as the frames' overlays.
   var palette = ['#4e79a7', '#f28e2b', '#59a14f', '#e15759', '#76b7b2', '#edc948', '#b07aa1', '#ff9da7', '#9c755f', '#bab0ac'];
-  function labelColour(label) { return new THREE.Color(palette[(Math.max(1, label) - 1) % palette.length]); }
+  function labelColour(label) { return new THREE.Color(label < 1 ? '#a4abb6' : palette[(label - 1) % palette.length]); }
 
   // The mesh, coloured uniformly, by the sampling verdict of its cell, or by material.
   var mesh = null, meshColours = null, m = data.mesh;
   var positions = floats(m.positions), indices = uints(m.indices);
-  var ratio = floats(m.ratio), labels = shorts(m.label);
+  // verdict per vertex: 0 satisfied, 1 violated, 2 undetermined (the cell's, report.json sampling.cells)
+  var verdicts = octets(m.verdict), labels = shorts(m.label);
   if (indices.length > 0) {
     var geometry = new THREE.BufferGeometry();
     geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
@@ -73,8 +75,8 @@
     var uniform = new THREE.Color('#c9cfd8');
     for (var i = 0; i < n; ++i) {
       if (mode === 'sampling') {
-        var r = ratio.length ? ratio[i] : -1;
-        c.copy(r < 0 ? unknown : (r < 1 ? pass : fail));
+        var v = verdicts.length ? verdicts[i] : 2;
+        c.copy(v === 0 ? pass : (v === 1 ? fail : unknown));
       } else if (mode === 'material') {
         c.copy(labelColour(labels.length ? labels[i] : 1));
       } else c.copy(uniform);
@@ -82,10 +84,11 @@
     }
     mesh.geometry.attributes.color.needsUpdate = true;
     if (mode === 'sampling')
-      legend.innerHTML = swatch('#3aa35b', 'cell passes (h_C below its critical value)') + swatch('#d64545', 'cell fails') +
-                         swatch('#a4abb6', 'not known');
+      legend.innerHTML = swatch('#3aa35b', 'cell satisfies the sampling conditions') + swatch('#d64545', 'cell violates them') +
+                         swatch('#a4abb6', 'undetermined');
     else if (mode === 'material')
-      legend.innerHTML = (data.materials || [1]).map(function (l) { return swatch('#' + labelColour(l).getHexString(), 'label ' + l); }).join('');
+      legend.innerHTML = (data.materials || [1]).map(function (l) { return swatch('#' + labelColour(l).getHexString(), 'label ' + l); }).join('') +
+                         swatch('#a4abb6', 'no label');
     else legend.innerHTML = '';
   }
 

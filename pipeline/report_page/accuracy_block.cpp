@@ -42,6 +42,8 @@ std::string accuracyHtml(const json& eval) {
 }
 
 bool addAccuracyToReportPage(const std::filesystem::path& meshPath, const json& eval) {
+  // Only the run's mesh.<fmt> is the page's mesh (not mesh_unsmoothed or a material's).
+  if (meshPath.stem() != "mesh") return false;
   const std::filesystem::path page = meshPath.parent_path() / "report.html";
   std::ifstream in(page, std::ios::binary);
   if (!in) return false;

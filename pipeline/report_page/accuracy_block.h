@@ -12,8 +12,8 @@ namespace xsect {
 /// The evaluation's main figures (distances, overlap, topology against the truth's) as HTML.
 std::string accuracyHtml(const nlohmann::ordered_json& eval);
 
-/// When `mesh_path`'s folder holds a report.html of this version, rewrites its accuracy block with
-/// `eval` (atomically). Returns whether it did.
+/// When `mesh_path` is a run's mesh.<fmt> and its folder holds a report.html of this version,
+/// rewrites the page's accuracy block with `eval` (atomically). Returns whether it did.
 bool addAccuracyToReportPage(const std::filesystem::path& mesh_path, const nlohmann::ordered_json& eval);
 
 }  // namespace xsect

@@ -59,6 +59,8 @@ std::vector<Chosen> chooseFrames(const RunInputs& in, std::size_t maxFrames) {
     add(worst->slice, "disagrees most with the slices it crosses (median " + shortNumber(worst->before.median_mismatch_mm) +
                           " mm over " + std::to_string(worst->before.pairs) + " crossings)");
   for (const int f : in.conformity.flagged_slices) add(f, "flagged");
+  for (const SliceConformity& s : in.conformity.slices)
+    if (s.correction.outlier) add(s.slice, "a pose-correction outlier");
   return chosen;
 }
 

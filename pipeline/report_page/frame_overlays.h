@@ -1,6 +1,6 @@
 // report.html's frames (issue 21): a few slices' images with the contours segmented from them
 // drawn over (the first slice holding sections, the slice that disagrees most with those it
-// crosses, and the flagged ones), as inline PNG.
+// crosses, the flagged ones and pose correction's outliers), as inline PNG.
 #pragma once
 
 #include <cstddef>

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
 #include <vector>
 
 #include "geometry/core/disjoint_sets.h"
@@ -21,15 +22,18 @@ constexpr const char* kComponentColours[] = {"#a6cee3", "#b2df8a", "#fb9a99", "#
 
 }  // namespace
 
-std::string sectionGraphHtml(const json& graph, std::size_t maxNodes) {
+std::string sectionGraphHtml(const json& graph, std::size_t maxNodes, std::size_t maxEdges) {
   const json& nodes = graph.at("nodes");
   const std::size_t n = nodes.size();
-  // The method's edges, one per pair of sections, with the cells where their lifts meet.
-  std::map<std::pair<int, int>, int> cellsOfPair;
+  // The method's edges (graph.json also lists G beside G'), one per pair of sections, with the
+  // cells where their lifts meet.
+  const std::string method = graph.value("method", "");
+  std::map<std::pair<int, int>, std::set<int>> cellsOfPair;
   for (const json& e : graph.at("edges")) {
     const int a = e.at("a").get<int>(), b = e.at("b").get<int>();
     if (a == b || a < 0 || b < 0 || std::size_t(a) >= n || std::size_t(b) >= n) continue;
-    ++cellsOfPair[{std::min(a, b), std::max(a, b)}];
+    if (e.value("method", method) != method) continue;
+    cellsOfPair[{std::min(a, b), std::max(a, b)}].insert(e.value("cell", -1));
   }
   DisjointSets sets(n);
   for (const auto& [pair, cells] : cellsOfPair) sets.unite(std::size_t(pair.first), std::size_t(pair.second));
@@ -39,14 +43,13 @@ std::string sectionGraphHtml(const json& graph, std::size_t maxNodes) {
     const auto [it, added] = componentOf.emplace(sets.find(i), int(componentOf.size()));
     component[i] = it->second;
   }
-  const std::string method = graph.value("method", "");
   std::string intro = "<p>" + std::to_string(n) + " sections, " + std::to_string(cellsOfPair.size()) +
                       " pairs joined by the " + (method == "section_voronoi" ? "graph G′ (method 2)" : "graph G (method 1)") +
                       ", " + std::to_string(componentOf.size()) +
                       " connected component(s). A node is <i>slice:section</i>; colours tell the components apart.</p>\n";
   if (n == 0) return intro;
-  if (n <= maxNodes) {
-    std::string dot = "graph sections {\n  graph [layout=neato, start=1, overlap=false, splines=true, outputorder=edgesfirst, "
+  if (n <= maxNodes && cellsOfPair.size() <= maxEdges) {
+    std::string dot = "graph sections {\n  graph [layout=neato, start=1, overlap=false, splines=false, outputorder=edgesfirst, "
                       "size=\"10,7\", fontname=\"Helvetica\"];\n  node [shape=ellipse, style=filled, fontsize=9, margin=\"0.03,0.01\", "
                       "width=0.3, height=0.2, fontname=\"Helvetica\"];\n"
                       "  edge [color=\"#7b8494\"];\n";
@@ -60,13 +63,14 @@ std::string sectionGraphHtml(const json& graph, std::size_t maxNodes) {
     }
     for (const auto& [pair, cells] : cellsOfPair)
       dot += "  n" + std::to_string(pair.first) + " -- n" + std::to_string(pair.second) + " [tooltip=\"joined in " +
-             std::to_string(cells) + " cell(s)\"" + (cells > 1 ? ", penwidth=1.6" : "") + "];\n";
+             std::to_string(cells.size()) + " cell(s)\"" + (cells.size() > 1 ? ", penwidth=1.6" : "") + "];\n";
     dot += "}\n";
     if (const auto svg = graphvizSvg(dot)) return intro + "<div class=\"graph-box\">\n" + *svg + "</div>\n";
-    intro += "<p class=\"hint\">Graphviz (dot) is not installed: the components are listed instead.</p>\n";
+    intro += "<p class=\"hint\">Graphviz (dot) did not draw the graph (is the Debian package graphviz installed?): "
+             "the components are listed instead.</p>\n";
   } else {
-    intro += "<p class=\"hint\">Too many sections to draw readably: the components are listed (graph.json and graph.dot "
-             "hold the whole graph).</p>\n";
+    intro += "<p class=\"hint\">Too many sections or pairs to draw readably: the components are listed (graph.json and "
+             "graph.dot hold the whole graph).</p>\n";
   }
   // The fallback: each component with its size and slices, largest first.
   std::vector<std::vector<std::size_t>> members(componentOf.size());

@@ -11,7 +11,12 @@
 namespace xsect {
 
 /// @param graph      graph.json's content.
-/// @param max_nodes  above this many sections the components are listed instead of drawn.
-std::string sectionGraphHtml(const nlohmann::ordered_json& graph, std::size_t max_nodes = 250);
+/// @param max_nodes  above this many sections, or
+/// @param max_edges  this many joined pairs, the components are listed instead of drawn: the
+///                   choice depends on the graph only, never on how long Graphviz takes (neato
+///                   without splines draws 250 nodes and 1,441 pairs in 0.4 s; with splines it took
+///                   over 60 s), so that the page is the same on a busy machine.
+std::string sectionGraphHtml(const nlohmann::ordered_json& graph, std::size_t max_nodes = 250,
+                             std::size_t max_edges = 1500);
 
 }  // namespace xsect

@@ -60,7 +60,7 @@ bool anyFinite(const ChartSeries& s) {
 }
 
 /// The name of the disagreement measured before enforcement: after pose correction when asked.
-std::string after0(const json& conformity) {
+std::string measuredName(const json& conformity) {
   return field(conformity, {"summary", "pose_correction"}).is_null() ? "measured" : "measured after pose correction";
 }
 
@@ -82,7 +82,7 @@ std::string slicePlotsHtml(const json& conformity) {
   disagreement.y_unit = "mm";
   disagreement.x = r.x;
   disagreement.marks = r.marks;
-  disagreement.series.push_back(series(r, after0(conformity), "#d64545", [](const json& s) { return number(field(s, {"before", "median_mismatch_mm"})); }));
+  disagreement.series.push_back(series(r, measuredName(conformity), "#d64545", [](const json& s) { return number(field(s, {"before", "median_mismatch_mm"})); }));
   ChartSeries after = series(r, "after enforcement", "#3aa35b", [](const json& s) { return number(field(s, {"after", "median_mismatch_mm"})); });
   if (anyFinite(after)) disagreement.series.push_back(after);
   disagreement.threshold = number(field(conformity, {"summary", "flagged_above_mm"}));

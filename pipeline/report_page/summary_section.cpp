@@ -55,8 +55,11 @@ std::string summaryHtml(const json& report, const std::string& samplingLine) {
   for (const auto& g : field(sampling, {"guarantees"})) guarantees += (guarantees.empty() ? "" : "; ") + cellText(g);
   if (!guarantees.empty()) t += row("guarantees", guarantees);
   const json& conf = field(report, {"conformity"});
-  std::string c = cellText(field(conf, {"pairs_measured"})) + " pairs of slices compared; disagreement median " +
-                  mm(field(conf, {"before", "median_mismatch_mm"})) + ", max " + mm(field(conf, {"before", "max_mismatch_mm"}));
+  const bool measured = field(conf, {"pairs_measured"}).is_number() && field(conf, {"pairs_measured"}).get<double>() > 0;
+  std::string c = measured ? cellText(field(conf, {"pairs_measured"})) + " pairs of slices compared; disagreement median " +
+                                 mm(field(conf, {"before", "median_mismatch_mm"})) + ", max " +
+                                 mm(field(conf, {"before", "max_mismatch_mm"}))
+                           : std::string("no pair of slices crosses where both hold sections: nothing to compare");
   if (!field(conf, {"after"}).is_null())
     c += "; after enforcement median " + mm(field(conf, {"after", "median_mismatch_mm"})) + ", max " +
          mm(field(conf, {"after", "max_mismatch_mm"}));

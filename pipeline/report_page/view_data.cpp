@@ -53,7 +53,7 @@ json meshJson(const RunResults& r, const ViewBudget& budget, Vec3& lo, Vec3& hi)
   const TriangleMesh& full = r.meshes.mesh;
   const TriangleMesh mesh = decimatedMesh(full, std::max<std::size_t>(4, budget.triangles));
   std::vector<float> positions;
-  std::vector<float> ratio;
+  std::vector<std::uint8_t> verdict;
   std::vector<std::uint16_t> label;
   positions.reserve(mesh.vertices.size() * 3);
   for (const Eigen::Vector3f& v : mesh.vertices) {
@@ -61,7 +61,8 @@ json meshJson(const RunResults& r, const ViewBudget& budget, Vec3& lo, Vec3& hi)
     pushPoint(positions, x);
     lo = lo.cwiseMin(x);
     hi = hi.cwiseMax(x);
-    ratio.push_back(samplingRatioAt(r.sampling, x));
+    const CellSampling* cell = samplingCellAt(r.sampling, x);
+    verdict.push_back(std::uint8_t(cell ? cell->verdict : SamplingVerdict::undetermined));
     label.push_back(labelNear(r.meshes.voxel_label, x));
   }
   std::vector<std::uint32_t> indices;
@@ -71,7 +72,7 @@ json meshJson(const RunResults& r, const ViewBudget& budget, Vec3& lo, Vec3& hi)
           {"triangles_shown", mesh.triangles.size()},
           {"positions", base64Of(positions)},
           {"indices", base64Of(indices)},
-          {"ratio", base64Of(ratio)},
+          {"verdict", base64Of(verdict)},
           {"label", base64Of(label)}};
 }
 

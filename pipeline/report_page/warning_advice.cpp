@@ -48,8 +48,8 @@ constexpr Rule kRules[] = {
     {"pose correction: slice",
      "Pose correction found slices whose disagreement is far above the others'; they were corrected against "
      "their neighbours without moving them.",
-     "Look at these slices' frames; if the segmentation failed there, leave them out (conformity.drop_flagged: "
-     "true)."},
+     "Look at these slices' frames below: a segmentation failure there is best fixed in the segmentation "
+     "(or by removing the slice from the input); a tracking glitch is what the correction already absorbed."},
     {"no crossing constrains",
      "Some motions of some slices are not pinned by any crossing slice (all their crossings are parallel, or "
      "there are none); those motions were left uncorrected.",
