@@ -57,46 +57,32 @@ std::size_t base64Bytes(const std::string& b64) {
   return b64.size() / 4 * 3 - pad;
 }
 
-class ReportPageRun : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    dir_ = new fs::path(test::phantom("report-page", slurp(fs::path(XSECT_SOURCE_DIR) / "configs/phantoms/torus-multiaxial.yaml")));
-    report_ = new nlohmann::json(test::run(*dir_, "r", ""));
-    html_ = new std::string(slurp(*dir_ / "r/report.html"));
-  }
-  static void TearDownTestSuite() {
-    fs::remove_all(*dir_);
-    delete dir_;
-    delete report_;
-    delete html_;
-  }
-  static fs::path* dir_;
-  static nlohmann::json* report_;
-  static std::string* html_;
+/// What the checks of one run read: its folder, report.json and report.html.
+struct TorusRun {
+  fs::path dir;
+  nlohmann::json report;
+  std::string html;
 };
-fs::path* ReportPageRun::dir_ = nullptr;
-nlohmann::json* ReportPageRun::report_ = nullptr;
-std::string* ReportPageRun::html_ = nullptr;
 
-TEST_F(ReportPageRun, FiguresAreThoseOfReportJson) {
-  const nlohmann::json& r = *report_;
-  EXPECT_EQ(textOfId(*html_, "verdict"), r["sampling"]["verdict"].get<std::string>());
-  EXPECT_EQ(textOfId(*html_, "betti"), joined(r["betti"]));
-  EXPECT_EQ(textOfId(*html_, "mesh-triangles"), r["counts"]["mesh_triangles"].dump());
-  EXPECT_EQ(textOfId(*html_, "slices-used"), r["counts"]["slices_used"].dump());
+void checkFiguresAreThoseOfReportJson(const TorusRun& run) {
+  const nlohmann::json& r = run.report;
+  EXPECT_EQ(textOfId(run.html, "verdict"), r["sampling"]["verdict"].get<std::string>());
+  EXPECT_EQ(textOfId(run.html, "betti"), joined(r["betti"]));
+  EXPECT_EQ(textOfId(run.html, "mesh-triangles"), r["counts"]["mesh_triangles"].dump());
+  EXPECT_EQ(textOfId(run.html, "slices-used"), r["counts"]["slices_used"].dump());
 }
 
-TEST_F(ReportPageRun, ViewHoldsTheWholeMeshAndEverySlice) {
-  const nlohmann::json view = viewData(*html_);
+void checkViewHoldsTheWholeMeshAndEverySlice(const TorusRun& run) {
+  const nlohmann::json view = viewData(run.html);
   ASSERT_FALSE(view.is_null());
-  const auto triangles = (*report_)["counts"]["mesh_triangles"].get<std::size_t>();
-  const auto vertices = (*report_)["counts"]["mesh_vertices"].get<std::size_t>();
+  const auto triangles = (run.report)["counts"]["mesh_triangles"].get<std::size_t>();
+  const auto vertices = (run.report)["counts"]["mesh_vertices"].get<std::size_t>();
   ASSERT_LT(triangles, 150000u);  // below the view's budget: not decimated
   EXPECT_EQ(view["mesh"]["triangles_shown"].get<std::size_t>(), triangles);
   EXPECT_EQ(base64Bytes(view["mesh"]["indices"]), triangles * 3 * 4);
   EXPECT_EQ(base64Bytes(view["mesh"]["positions"]), vertices * 3 * 4);
   EXPECT_EQ(base64Bytes(view["mesh"]["verdict"]), vertices);
-  EXPECT_EQ(view["slices"]["total"].get<int>(), (*report_)["counts"]["slices_used"].get<int>());
+  EXPECT_EQ(view["slices"]["total"].get<int>(), (run.report)["counts"]["slices_used"].get<int>());
   EXPECT_EQ(base64Bytes(view["slices"]["quads"]), view["slices"]["shown"].get<std::size_t>() * 12 * 4);
   EXPECT_GT(base64Bytes(view["contours"]["segments"]), 0u);
   // The view's bounds hold the torus (R = 12, r = 4 mm): about 32 mm across.
@@ -127,12 +113,12 @@ std::array<int, 3> verdictCounts(const nlohmann::json& view) {
   return n;
 }
 
-TEST_F(ReportPageRun, SamplingColoursAreTheCellsVerdicts) {
+void checkSamplingColoursAreTheCellsVerdicts(const TorusRun& run) {
   // Violated cells and none satisfied (report.json): no vertex is painted satisfied, some violated.
-  const nlohmann::json& cells = (*report_)["sampling"]["cells"];
+  const nlohmann::json& cells = (run.report)["sampling"]["cells"];
   ASSERT_EQ(cells["satisfied"].get<int>(), 0);
   ASSERT_GT(cells["violated"].get<int>(), 0);
-  const auto n = verdictCounts(viewData(*html_));
+  const auto n = verdictCounts(viewData(run.html));
   EXPECT_EQ(n[0], 0);
   EXPECT_GT(n[1], 0);
 }
@@ -153,8 +139,8 @@ TEST(ReportPage, MethodTwoGraphAndSatisfiedColours) {
   fs::remove_all(dir);
 }
 
-TEST_F(ReportPageRun, HoldsThePlotsTheGraphAndTheFrames) {
-  const std::string& h = *html_;
+void checkHoldsThePlotsTheGraphAndTheFrames(const TorusRun& run) {
+  const std::string& h = run.html;
   const std::size_t plots = h.find("<section id=\"slice-plots\">"), graph = h.find("<section id=\"graph\">"),
                     frames = h.find("<section id=\"frames\">"), after = h.find("<section id=\"timings\">");
   ASSERT_TRUE(plots != std::string::npos && graph != std::string::npos && frames != std::string::npos && after != std::string::npos);
@@ -162,43 +148,43 @@ TEST_F(ReportPageRun, HoldsThePlotsTheGraphAndTheFrames) {
   // 36 sections, one component (report.json graph.components): drawn by Graphviz, one node each.
   const std::string g = h.substr(graph, frames - graph);
   if (std::system("command -v dot >/dev/null 2>&1") == 0) {
-    EXPECT_EQ(count(g, "class=\"node\""), std::size_t((*report_)["counts"]["sections"].get<int>()));
+    EXPECT_EQ(count(g, "class=\"node\""), std::size_t((run.report)["counts"]["sections"].get<int>()));
   } else {
     EXPECT_NE(g.find("graph-fallback"), std::string::npos);
   }
-  EXPECT_NE(g.find(std::to_string((*report_)["graph"]["components"].get<int>()) + " connected component(s)"), std::string::npos);
+  EXPECT_NE(g.find(std::to_string((run.report)["graph"]["components"].get<int>()) + " connected component(s)"), std::string::npos);
   EXPECT_GE(count(h.substr(frames, after - frames), "<img"), 1u);
   EXPECT_NE(h.find("src=\"data:image/png;base64,"), std::string::npos);
 }
 
-TEST_F(ReportPageRun, NothingComesFromTheNetwork) {
-  EXPECT_FALSE(std::regex_search(*html_, std::regex("(src|href)\\s*=\\s*[\"']?(https?:)?//")));
-  EXPECT_EQ(html_->find("<link"), std::string::npos);
-  EXPECT_LT(html_->size(), 10u << 20);
+void checkNothingComesFromTheNetwork(const TorusRun& run) {
+  EXPECT_FALSE(std::regex_search(run.html, std::regex("(src|href)\\s*=\\s*[\"']?(https?:)?//")));
+  EXPECT_EQ(run.html.find("<link"), std::string::npos);
+  EXPECT_LT(run.html.size(), 10u << 20);
 }
 
-TEST_F(ReportPageRun, WarningsSayWhatToDo) {
+void checkWarningsSayWhatToDo(const TorusRun& run) {
   // Every run closes its open ends with virtual planes (a warning in report.json).
-  ASSERT_FALSE((*report_)["warnings"].empty());
-  const std::size_t w = html_->find("<section id=\"warnings\">");
+  ASSERT_FALSE((run.report)["warnings"].empty());
+  const std::size_t w = run.html.find("<section id=\"warnings\">");
   ASSERT_NE(w, std::string::npos);
-  EXPECT_GE(count(html_->substr(w, html_->find("</section>", w) - w), "What to do:"), 1u);
+  EXPECT_GE(count(run.html.substr(w, run.html.find("</section>", w) - w), "What to do:"), 1u);
 }
 
-TEST_F(ReportPageRun, EvalAddsItsFiguresToThePage) {
-  ASSERT_NE(html_->find("No accuracy yet"), std::string::npos);
-  const nlohmann::json e = test::eval(*dir_, "r");
-  const std::string page = slurp(*dir_ / "r/report.html");
+void checkEvalAddsItsFiguresToThePage(const TorusRun& run) {
+  ASSERT_NE(run.html.find("No accuracy yet"), std::string::npos);
+  const nlohmann::json e = test::eval(run.dir, "r");
+  const std::string page = slurp(run.dir / "r/report.html");
   EXPECT_EQ(page.find("No accuracy yet"), std::string::npos);
   const std::regex re("data-key=\"hausdorff_mm\">([0-9.e+-]+) mm<");
   std::smatch m;
   ASSERT_TRUE(std::regex_search(page, m, re));
   EXPECT_NEAR(std::stod(m[1].str()), e["hausdorff_mm"].get<double>(), 6e-3 * e["hausdorff_mm"].get<double>());  // 3 significant digits
   // The rest of the page is untouched.
-  EXPECT_EQ(page.substr(0, page.find("<!--xsect-eval-begin-->")), html_->substr(0, html_->find("<!--xsect-eval-begin-->")));
+  EXPECT_EQ(page.substr(0, page.find("<!--xsect-eval-begin-->")), run.html.substr(0, run.html.find("<!--xsect-eval-begin-->")));
   // A second evaluation replaces the block rather than adding another.
-  test::eval(*dir_, "r");
-  EXPECT_EQ(count(slurp(*dir_ / "r/report.html"), "id=\"accuracy-table\""), 1u);
+  test::eval(run.dir, "r");
+  EXPECT_EQ(count(slurp(run.dir / "r/report.html"), "id=\"accuracy-table\""), 1u);
 }
 
 TEST(ReportPage, EvalOfAMeshWithoutAPageWritesNoPage) {
@@ -293,6 +279,23 @@ TEST(ReportPage, EveryWarningOfTheStagesHasAdvice) {
   }
   EXPECT_TRUE(warningAdvice("something new").action.empty());
   EXPECT_NE(warningsHtml({"x < y"}).find("x &lt; y"), std::string::npos);
+}
+
+
+// One run of the torus phantom read by every check (a run per check would cost ctest a run each).
+TEST(ReportPage, ThePageOfATorusRun) {
+  TorusRun run;
+  run.dir = test::phantom("report-page", slurp(fs::path(XSECT_SOURCE_DIR) / "configs/phantoms/torus-multiaxial.yaml"));
+  run.report = test::run(run.dir, "r", "");
+  run.html = slurp(run.dir / "r/report.html");
+  { SCOPED_TRACE("FiguresAreThoseOfReportJson"); checkFiguresAreThoseOfReportJson(run); }
+  { SCOPED_TRACE("ViewHoldsTheWholeMeshAndEverySlice"); checkViewHoldsTheWholeMeshAndEverySlice(run); }
+  { SCOPED_TRACE("SamplingColoursAreTheCellsVerdicts"); checkSamplingColoursAreTheCellsVerdicts(run); }
+  { SCOPED_TRACE("HoldsThePlotsTheGraphAndTheFrames"); checkHoldsThePlotsTheGraphAndTheFrames(run); }
+  { SCOPED_TRACE("NothingComesFromTheNetwork"); checkNothingComesFromTheNetwork(run); }
+  { SCOPED_TRACE("WarningsSayWhatToDo"); checkWarningsSayWhatToDo(run); }
+  { SCOPED_TRACE("EvalAddsItsFiguresToThePage"); checkEvalAddsItsFiguresToThePage(run); }  // last: it edits the page
+  fs::remove_all(run.dir);
 }
 
 }  // namespace

@@ -59,6 +59,19 @@ bool anyFinite(const ChartSeries& s) {
   return std::any_of(s.values.begin(), s.values.end(), [](double v) { return std::isfinite(v); });
 }
 
+/// A chart over the rows' slices with their marks.
+SliceChart chartOf(const Rows& r, const std::string& id, const std::string& title, const std::string& yLabel,
+                   const std::string& yUnit) {
+  SliceChart c;
+  c.id = id;
+  c.title = title;
+  c.y_label = yLabel;
+  c.y_unit = yUnit;
+  c.x = r.x;
+  c.marks = r.marks;
+  return c;
+}
+
 /// The name of the disagreement measured before enforcement: after pose correction when asked.
 std::string measuredName(const json& conformity) {
   return field(conformity, {"summary", "pose_correction"}).is_null() ? "measured" : "measured after pose correction";
@@ -75,13 +88,8 @@ std::string slicePlotsHtml(const json& conformity) {
   if (r.rows.empty()) return "<p>No slice was measured against another (no pair of slices crosses with sections).</p>";
   std::string html;
 
-  SliceChart disagreement;
-  disagreement.id = "plot-disagreement";
-  disagreement.title = "Disagreement with the slices each slice crosses";
-  disagreement.y_label = "median over its crossings (mm)";
-  disagreement.y_unit = "mm";
-  disagreement.x = r.x;
-  disagreement.marks = r.marks;
+  SliceChart disagreement = chartOf(r, "plot-disagreement", "Disagreement with the slices each slice crosses",
+                                    "median over its crossings (mm)", "mm");
   disagreement.series.push_back(series(r, measuredName(conformity), "#d64545", [](const json& s) { return number(field(s, {"before", "median_mismatch_mm"})); }));
   ChartSeries after = series(r, "after enforcement", "#3aa35b", [](const json& s) { return number(field(s, {"after", "median_mismatch_mm"})); });
   if (anyFinite(after)) disagreement.series.push_back(after);
@@ -99,45 +107,27 @@ std::string slicePlotsHtml(const json& conformity) {
                disagreement);
 
   if (!field(conformity, {"summary", "pose_correction"}).is_null()) {
-    SliceChart shift;
-    shift.id = "plot-pose-shift";
-    shift.title = "Pose correction: shift";
-    shift.y_label = "shift (mm)";
-    shift.y_unit = "mm";
-    shift.x = r.x;
-    shift.marks = r.marks;
+    SliceChart shift = chartOf(r, "plot-pose-shift", "Pose correction: shift", "shift (mm)", "mm");
     ChartSeries s = series(r, "shift ± its uncertainty", "#4e79a7", [](const json& row) { return number(field(row, {"pose_correction", "shift_mm"})); });
     for (const json* row : r.rows) s.error.push_back(number(field(*row, {"pose_correction", "sigma_shift_mm"})));
     shift.series.push_back(s);
     html += plot("The translation each slice's pose was corrected by, with its standard uncertainty from the fit.", shift);
 
-    SliceChart rotation = shift;
-    rotation.id = "plot-pose-rotation";
-    rotation.title = "Pose correction: rotation";
-    rotation.y_label = "rotation (°)";
-    rotation.y_unit = "°";
+    SliceChart rotation = chartOf(r, "plot-pose-rotation", "Pose correction: rotation", "rotation (°)", "°");
     ChartSeries a = series(r, "rotation ± its uncertainty", "#b07aa1", [](const json& row) { return number(field(row, {"pose_correction", "rotation_deg"})); });
     for (const json* row : r.rows) a.error.push_back(number(field(*row, {"pose_correction", "sigma_rotation_deg"})));
-    rotation.series = {a};
+    rotation.series.push_back(a);
     html += plot("The rotation each slice's pose was corrected by, with its standard uncertainty.", rotation);
 
-    SliceChart gaps = shift;
-    gaps.id = "plot-pose-gaps";
-    gaps.title = "Pose correction: gaps where contours cross other slices";
-    gaps.y_label = "gap (mm)";
+    SliceChart gaps = chartOf(r, "plot-pose-gaps", "Pose correction: gaps where contours cross other slices", "gap (mm)", "mm");
     gaps.series = {series(r, "before", "#d64545", [](const json& row) { return number(field(row, {"pose_correction", "gap_before_mm"})); }),
                    series(r, "after", "#3aa35b", [](const json& row) { return number(field(row, {"pose_correction", "gap_after_mm"})); })};
     html += plot("Where a slice's contour pierces another slice, the distance to that slice's contour, before and after correction.", gaps);
   }
 
   if (!field(conformity, {"summary", "pose_smoothing"}).is_null()) {
-    SliceChart smoothing;
-    smoothing.id = "plot-pose-smoothing";
-    smoothing.title = "Pose change per slice (smoothing along the sweep)";
-    smoothing.y_label = "shift (mm)";
-    smoothing.y_unit = "mm";
-    smoothing.x = r.x;
-    smoothing.marks = r.marks;
+    SliceChart smoothing = chartOf(r, "plot-pose-smoothing", "Pose change per slice (smoothing along the sweep)",
+                                   "shift (mm)", "mm");
     smoothing.series.push_back(series(r, "shift", "#4e79a7", [](const json& s) { return number(field(s, {"pose_shift_mm"})); }));
     html += plot("How far each frame's pose moved when the sweep's trajectory was smoothed (and corrected, when asked).", smoothing);
   }
