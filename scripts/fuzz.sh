@@ -12,7 +12,7 @@
 #   scripts/fuzz.sh [SECONDS]                 about SECONDS (default 60): readers 2/3, geometric 1/3
 #   scripts/fuzz.sh --readers-only [SECONDS]  readers only
 #   scripts/fuzz.sh --ci                      readers only, the same inputs every time: each corpus
-#                                             replayed, then 20,000 mutations from seed 1 (10 s at most)
+#                                             replayed, then 10,000 mutations from seed 1 (6 s at most)
 # Building does not count in SECONDS.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -47,7 +47,7 @@ fuzz_reader() {  # one reader; exploration keeps a working corpus that grows acr
   local r="$1" log="$fuzzbuild/logs/$1.log" work="$fuzzbuild/corpus/$1" limits
   if [ "$mode" = ci ]; then
     work="$fuzzbuild/ci-corpus/$r"; rm -rf "$work"
-    limits=(-seed=1 -runs=20000 -max_total_time=10)
+    limits=(-seed=1 -runs=10000 -max_total_time=6)
   else
     limits=(-max_total_time="$per_reader")
   fi

@@ -1,4 +1,4 @@
-// Issue 15: the geometric fuzzer (geometric_fuzz.h) through `xsect run`, in four shards of 100
+// Issue 15: the geometric fuzzer (geometric_fuzz.h) through `xsect run`, in four shards of 75
 // configurations (CI's budget is 25 minutes from a clean build; `scripts/fuzz.sh` runs more;
 // XSECT_FUZZ_CONFIGS overrides the count per shard, XSECT_FUZZ_SEED the first seed). Every run
 // gives, within two minutes, exit 0 with a watertight mesh (read back from the file written) whose
@@ -27,7 +27,7 @@ std::uint64_t envNumber(const char* name, std::uint64_t fallback) {
 class GeometricFuzz : public testing::TestWithParam<int> {};
 
 TEST_P(GeometricFuzz, RandomDegenerateConfigurationsExitCleanly) {
-  const std::uint64_t count = envNumber("XSECT_FUZZ_CONFIGS", 100);
+  const std::uint64_t count = envNumber("XSECT_FUZZ_CONFIGS", 75);
   const std::uint64_t first = envNumber("XSECT_FUZZ_SEED", 1) + std::uint64_t(GetParam()) * count;
   int ok = 0, refused = 0;
   for (std::uint64_t seed = first; seed < first + count; ++seed) {
