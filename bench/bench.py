@@ -258,6 +258,10 @@ def main():
                           "advice_slices": rep["sampling"]["advice"]["slices"],
                           "verdict": rep["sampling"]["verdict"]} if "sampling" in rep else None),
             "voxels": rep["counts"]["voxels"],
+            # report.html (issue 21): its size, and the run's time after its stages (writing every output)
+            "report_html_mb": os.path.getsize(os.path.join(d, "result", "report.html")) / 1e6
+            if os.path.exists(os.path.join(d, "result", "report.html")) else None,
+            "write_s": median([w - r["timings_s"]["total"] for w, r in zip(walls, reports)]),
             "planes": rep["counts"]["slices"],
             "method": rep["reconstruction"]["method"],
             "voxels_per_s": vps,
@@ -311,6 +315,9 @@ def main():
             print(f"{'':<16} {stage:<12} {s['wall_s']:8.3f} {s['peak_memory_mb'] or 0:8.0f}{extra}")
         print(f"{'':<16} {'run (total)':<12} {r['run']['wall_s']:8.3f} {r['run']['peak_memory_mb']:8.0f}"
               f"  betti {r['betti']} truth {r['truth_betti']}")
+        if r.get("report_html_mb") is not None:
+            print(f"{'':<16} {'outputs':<12} {r['write_s']:8.3f} {'':>8}  after the stages (process start and exit "
+                  f"too); report.html {r['report_html_mb']:.2f} MB")
         cim, ciw = r['conformity_iou_min'], r['conformity_iou_min_wide']
         fmt = lambda v: "n/a" if v is None else f"{v:.4f}"
         print(f"{'':<16} {'eval':<12} {r['eval']['wall_s']:8.3f} {r['eval']['peak_memory_mb']:8.0f}"

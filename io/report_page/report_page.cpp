@@ -62,7 +62,6 @@ std::string reportPageHtml(const ReportPage& page) {
           "var e=console.error;console.error=function(){bump();return e.apply(console,arguments);};"
           "window.xsectErrors=function(){return n;};})();\n</script>\n</head>\n<body data-errors=\"0\">\n";
   html += "<header>\n<h1>" + htmlEscape(page.title) + "</h1>\n<p class=\"headline\">" + page.headline_html + "</p>\n</header>\n<main>\n";
-  for (const ReportPageSection& s : page.before) html += sectionHtml(s);
   if (!page.view_json.empty()) {
     html += "<section id=\"view\">\n<h2>Shape and slices</h2>\n"
             "<div class=\"view-controls\">colour <select id=\"view-colour\">"
@@ -75,7 +74,7 @@ std::string reportPageHtml(const ReportPage& page) {
             "<canvas id=\"view-canvas\" width=\"1200\" height=\"600\"></canvas>\n"
             "<p id=\"view-note\" class=\"hint\"></p>\n</section>\n";
   }
-  for (const ReportPageSection& s : page.after) html += sectionHtml(s);
+  for (const ReportPageSection& s : page.sections) html += sectionHtml(s);
   html += "<section id=\"accuracy\">\n<h2>Accuracy</h2>\n" + evalBlock(page.eval_html) + "\n</section>\n</main>\n";
   if (!page.view_json.empty()) {
     html += "<script type=\"application/json\" id=\"view-data\">" + scriptSafe(page.view_json) + "</script>\n";

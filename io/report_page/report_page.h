@@ -25,8 +25,7 @@ struct ReportPage {
   std::string title;                      ///< the document's title (plain text)
   std::string headline_html;              ///< shown under the title
   std::string view_json;                  ///< the 3D view's data (report_page.js); empty: no view
-  std::vector<ReportPageSection> before;  ///< sections above the 3D view
-  std::vector<ReportPageSection> after;   ///< sections below it
+  std::vector<ReportPageSection> sections;  ///< below the 3D view, in order
   std::string eval_html;                  ///< the accuracy block (xsect eval); a hint when empty
 };
 

@@ -20,14 +20,14 @@ ReportPage runReportPage(const RunResults& r, const json& report, const json& co
                std::filesystem::path(r.inputs.config.input_path).filename().string() + ")";
   page.headline_html = headlineHtml(report);
   page.view_json = viewDataJson(r).dump();
-  page.after.push_back({"summary", "Summary", summaryHtml(report, samplingLine(r.sampling))});
-  page.after.push_back({"warnings", "Warnings", warningsHtml(r.inputs.warnings)});
-  page.after.push_back({"slice-plots", "Slices", "<div class=\"plots\">\n" + slicePlotsHtml(conformity) + "</div>"});
-  page.after.push_back({"graph", "How the sections connect", sectionGraphHtml(graph)});
-  page.after.push_back({"frames", "Frames", frameOverlaysHtml(r.inputs)});
+  page.sections.push_back({"summary", "Summary", summaryHtml(report, samplingLine(r.sampling))});
+  page.sections.push_back({"warnings", "Warnings", warningsHtml(r.inputs.warnings)});
+  page.sections.push_back({"slice-plots", "Slices", "<div class=\"plots\">\n" + slicePlotsHtml(conformity) + "</div>"});
+  page.sections.push_back({"graph", "How the sections connect", sectionGraphHtml(graph)});
+  page.sections.push_back({"frames", "Frames", frameOverlaysHtml(r.inputs)});
   // Timings and memory change from run to run: the one block of the page that does (tests and
   // scripts/output_hashes.py drop what lies between the markers before comparing pages).
-  page.after.push_back({"timings", "Time and memory",
+  page.sections.push_back({"timings", "Time and memory",
                         "<!--xsect-unrepeatable-begin-->\n" + timingsHtml(report) + "<!--xsect-unrepeatable-end-->"});
   return page;
 }
