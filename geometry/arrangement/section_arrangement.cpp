@@ -57,7 +57,18 @@ struct PointKeys {
   Key minusAlt, plusAlt;  // trace points: the same, on the negative side of their trace's plane
 };
 
+struct KeyHash {
+  std::size_t operator()(const Key& k) const { return std::size_t(k.first); }  // already random bits
+};
+
 }  // namespace
+
+struct CellKeys {
+  explicit CellKeys(std::size_t n) : z(n) {}
+  Zobrist z;
+  std::vector<K::Plane_3> eq;
+  std::unordered_map<Key, int, KeyHash> cellOf;
+};
 
 SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, double spacing) {
   if (!(spacing > 0)) throw std::invalid_argument("arrangement: sample spacing must be positive");
@@ -67,7 +78,9 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
     const Vec3 n = planes[i].plane.normal;
     eq[i] = K::Plane_3(n.x(), n.y(), n.z(), -n.dot(planes[i].plane.origin));
   }
-  const Zobrist z(k);
+  auto cellKeys = std::make_shared<CellKeys>(k);
+  cellKeys->eq = eq;
+  const Zobrist& z = cellKeys->z;
 
   // Points of each plane's sections, and their keys, computed per plane in parallel.
   std::vector<std::vector<SectionPoint>> pts(k);
@@ -103,11 +116,13 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
         base.first ^= z.a[j][std::size_t(sj + 1)];
         base.second ^= z.b[j][std::size_t(sj + 1)];
       }
-      const auto addRing = [&](const Ring& r) {
+      const auto addRing = [&](const Ring& r, int ringId) {
         double run = spacing;  // contour vertices kept about one spacing apart
         for (std::size_t v = 0; v < r.size(); ++v) {
           if (run >= spacing) {
             P.push_back({int(i), int(s), r[v], SectionPoint::vertex, {-1, -1}});
+            P.back().ring = ringId;
+            P.back().along = double(v);
             run = 0;
           }
           run += (r[(v + 1) % r.size()] - r[v]).norm();
@@ -124,11 +139,13 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
             const double t = std::isfinite(q) ? std::clamp(q, 0.0, 1.0) : 0.5;
             P.push_back({int(i), int(s), r[v] + t * (r[(v + 1) % r.size()] - r[v]),
                          SectionPoint::trace, {-1, -1}, int(j)});
+            P.back().ring = ringId;
+            P.back().along = double(v) + t;
           }
         }
       };
-      addRing(sec.outer);
-      for (const Ring& h : sec.holes) addRing(h);
+      addRing(sec.outer, 0);
+      for (std::size_t h = 0; h < sec.holes.size(); ++h) addRing(sec.holes[h], int(h) + 1);
       // Lattice points inside the section, row by row: between pairs of sorted crossings of the
       // row with the rings (even-odd rule, half-open in y as in ringContains).
       std::vector<double> xs;
@@ -181,9 +198,6 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
   SectionArrangement out;
   out.sample_spacing_mm = spacing;
   // Ids in the order points meet them (hash maps: lookups do not grow with the cells met).
-  struct KeyHash {
-    std::size_t operator()(const Key& k) const { return std::size_t(k.first); }  // already random bits
-  };
   struct SubHash {
     std::size_t operator()(const std::array<int, 4>& a) const {
       std::uint64_t h = 0x9e3779b97f4a7c15ULL;
@@ -191,7 +205,7 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
       return std::size_t(h ^ (h >> 29));
     }
   };
-  std::unordered_map<Key, int, KeyHash> cellOf;
+  std::unordered_map<Key, int, KeyHash>& cellOf = cellKeys->cellOf;
   std::unordered_map<std::array<int, 4>, int, SubHash> subOf;  // (plane, section, side, cell) -> sub-section
   for (std::size_t i = 0; i < k; ++i)
     for (std::size_t q = 0; q < pts[i].size(); ++q) {
@@ -215,6 +229,36 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
       out.points.push_back(sp);
     }
   out.cells = int(cellOf.size());
+  out.keys = std::move(cellKeys);
+  return out;
+}
+
+CellsAround cellsAround(const SectionArrangement& arr, const std::vector<CuttingPlane>& planes, const Vec3& x,
+                        const std::vector<int>& on) {
+  if (!arr.keys || on.empty() || on.size() > 3) throw std::invalid_argument("cellsAround: 1 to 3 planes");
+  const CellKeys& ck = *arr.keys;
+  std::uint64_t ha = 0, hb = 0;
+  for (std::size_t j = 0; j < planes.size(); ++j) {
+    if (std::find(on.begin(), on.end(), int(j)) != on.end()) continue;
+    int sj = sign(ck.eq[j], x);
+    if (sj == 0) sj = 1;  // as the arrangement's points do
+    ha ^= ck.z.a[j][std::size_t(sj + 1)];
+    hb ^= ck.z.b[j][std::size_t(sj + 1)];
+  }
+  CellsAround out;
+  out.cells.assign(std::size_t(1) << on.size(), -1);
+  out.keys.resize(out.cells.size());
+  for (std::size_t m = 0; m < out.cells.size(); ++m) {
+    std::uint64_t a = ha, b = hb;
+    for (std::size_t q = 0; q < on.size(); ++q) {
+      const std::size_t sgn = (m >> q & 1) ? 2 : 0;
+      a ^= ck.z.a[std::size_t(on[q])][sgn];
+      b ^= ck.z.b[std::size_t(on[q])][sgn];
+    }
+    out.keys[m] = {a, b};
+    const auto it = ck.cellOf.find({a, b});
+    if (it != ck.cellOf.end()) out.cells[m] = it->second;
+  }
   return out;
 }
 

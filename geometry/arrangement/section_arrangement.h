@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "geometry/core/types.h"
@@ -31,6 +32,11 @@ struct SectionPoint {
   int trace_plane = -1;  ///< trace points: the plane whose trace they lie on
   /// Trace points: the cells on the negative side of the trace plane, on either side of the own.
   std::array<int, 2> cell_alt{-1, -1};
+  /// Contour points (vertex, trace): the ring of the section they lie on (0: outer, h + 1: hole h)
+  /// and their place along it (v + t on the edge from ring vertex v to v + 1): sorting a ring's
+  /// points by `along` gives its sampled contour in order. -1 and 0 for lattice samples.
+  int ring = -1;
+  double along = 0;
 };
 
 struct SubSection {
@@ -40,17 +46,32 @@ struct SubSection {
   int points = 0; ///< section points found in it
 };
 
+/// The sign-vector keys of the cells found (opaque; see cellsAround).
+struct CellKeys;
+
 struct SectionArrangement {
   int cells = 0;                     ///< cells of the arrangement bounded by at least one section
   std::vector<SubSection> sub_sections;
   std::vector<SectionPoint> points;  ///< in plane, section, then point order
   int trace_points = 0;              ///< contour points added on traces of other planes
   double sample_spacing_mm = 0;
+  std::shared_ptr<const CellKeys> keys;  ///< for cellsAround
 };
 
 /// @param planes   all cutting planes (real and virtual: virtual planes bound cells too).
 /// @param spacing  lattice spacing for the samples inside sections, mm (> 0).
 /// Deterministic: cell ids follow the order in which points are listed.
 SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, double spacing);
+
+/// The cells around point x lying on the planes `on` (1 to 3 of them): one per choice of side of
+/// each, the side of on[k] being bit k of the index (set: positive). x's signs against every other
+/// plane are exact (as for the arrangement's points).
+struct CellsAround {
+  std::vector<int> cells;  ///< -1 for a cell that no section point of the arrangement bounds
+  /// The cells' sign-vector keys (equal keys: the same cell), to number the cells that are -1.
+  std::vector<std::array<std::uint64_t, 2>> keys;
+};
+CellsAround cellsAround(const SectionArrangement& arrangement, const std::vector<CuttingPlane>& planes,
+                        const Vec3& x, const std::vector<int>& on);
 
 }  // namespace xsect

@@ -1,0 +1,390 @@
+// D0 of one cell and its pruning to D3 (see cell_complex.h; thesis ch. 3 §1-2).
+#include "geometry/delaunay/cell_complex.h"
+
+#include <CGAL/Delaunay_triangulation_3.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_cell_base_with_info_3.h>
+#include <CGAL/Triangulation_vertex_base_with_info_3.h>
+
+#include <algorithm>
+#include <deque>
+#include <numeric>
+#include <unordered_map>
+
+#include "geometry/core/disjoint_sets.h"
+#include "geometry/core/polygon.h"
+
+namespace xsect {
+
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Vb = CGAL::Triangulation_vertex_base_with_info_3<int, K>;
+using Cb = CGAL::Triangulation_cell_base_with_info_3<int, K, CGAL::Delaunay_triangulation_cell_base_3<K>>;
+using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb>;
+using DT = CGAL::Delaunay_triangulation_3<K, Tds>;
+
+/// Whether point q (plane coordinates of `plane`) lies in the plane's sampled sections.
+bool inSampledSections(const SectionVertices& sv, int plane, const Vec2& q) {
+  for (const Section& s : sv.sampled[std::size_t(plane)])
+    if (!s.outer.empty() && sectionContains(s, q)) return true;
+  return false;
+}
+
+}  // namespace
+
+std::unordered_set<std::uint64_t> contourEdges(const SectionVertices& sv) {
+  std::unordered_set<std::uint64_t> out;
+  for (const SampledRing& r : sv.rings)
+    for (std::size_t k = 0; k < r.points.size(); ++k) out.insert(edgeKey(r.points[k], r.points[(k + 1) % r.points.size()]));
+  return out;
+}
+
+int commonPlane(const SectionVertices& sv, const int* ids, int n) {
+  const SectionVertex& first = sv.points[std::size_t(ids[0])];
+  for (const int p : first.planes) {
+    if (p < 0) continue;
+    bool all = true;
+    for (int k = 1; k < n && all; ++k) all = sv.points[std::size_t(ids[k])].on(p);
+    if (all) return p;
+  }
+  return -1;
+}
+
+CellComplex cellDelaunay(int cell, const std::vector<int>& ids, const SectionVertices& sv,
+                         const std::vector<CuttingPlane>& planes, const std::unordered_set<std::uint64_t>& contour,
+                         const std::vector<std::uint64_t>& cellContourEdges, std::vector<std::uint64_t>* missing) {
+  CellComplex c;
+  c.cell = cell;
+  std::vector<std::pair<K::Point_3, int>> pts;
+  pts.reserve(ids.size());
+  for (const int id : ids) {
+    const Vec3& x = sv.points[std::size_t(id)].x;
+    pts.push_back({K::Point_3(x.x(), x.y(), x.z()), id});
+  }
+  DT dt(pts.begin(), pts.end());
+  if (dt.dimension() < 3) return c;
+  // Canonical order of the finite cells: by sorted vertex ids.
+  std::vector<DT::Cell_handle> cells;
+  for (auto it = dt.finite_cells_begin(); it != dt.finite_cells_end(); ++it) cells.push_back(it);
+  std::vector<std::array<int, 4>> sortedIds(cells.size());
+  for (std::size_t t = 0; t < cells.size(); ++t) {
+    for (int i = 0; i < 4; ++i) sortedIds[t][std::size_t(i)] = cells[t]->vertex(i)->info();
+    std::sort(sortedIds[t].begin(), sortedIds[t].end());
+  }
+  std::vector<std::size_t> order(cells.size());
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return sortedIds[a] < sortedIds[b]; });
+  for (std::size_t t = 0; t < order.size(); ++t) cells[order[t]]->info() = int(t);
+  const std::size_t n = cells.size();
+  c.v.resize(n);
+  c.nb.resize(n);
+  for (std::size_t t = 0; t < n; ++t) {
+    const DT::Cell_handle h = cells[order[t]];
+    for (int i = 0; i < 4; ++i) {
+      c.v[t][std::size_t(i)] = h->vertex(i)->info();
+      const DT::Cell_handle o = h->neighbor(i);
+      c.nb[t][std::size_t(i)] = dt.is_infinite(o) ? -1 : o->info();
+    }
+  }
+  if (missing) {
+    missing->clear();
+    std::unordered_map<int, DT::Vertex_handle> vertexOf;
+    for (auto it = dt.finite_vertices_begin(); it != dt.finite_vertices_end(); ++it) vertexOf[it->info()] = it;
+    for (const std::uint64_t e : cellContourEdges) {
+      const auto a = vertexOf.find(int(e >> 32)), b = vertexOf.find(int(e & 0xffffffffu));
+      DT::Cell_handle ch;
+      int i = 0, j = 0;
+      if (a == vertexOf.end() || b == vertexOf.end() || !dt.is_edge(a->second, b->second, ch, i, j)) missing->push_back(e);
+    }
+  }
+  // Types and step 1.
+  c.type.resize(n);
+  c.external.assign(n, 0);
+  c.kept.assign(n, 0);
+  c.grounded_faces.assign(n, 0);
+  static constexpr int kEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+  for (std::size_t t = 0; t < n; ++t) {
+    const auto& V = c.v[t];
+    if (commonPlane(sv, V.data(), 4) >= 0) {
+      c.type[t] = TetType::flat;
+      continue;
+    }
+    bool groundedFace = false, external = false;
+    for (int i = 0; i < 4; ++i) {
+      int f[3], m = 0;
+      for (int k = 0; k < 4; ++k)
+        if (k != i) f[m++] = V[std::size_t(k)];
+      const int p = commonPlane(sv, f, 3);
+      if (p < 0) continue;
+      groundedFace = true;
+      c.grounded_faces[t] = std::uint8_t(c.grounded_faces[t] | (1 << i));
+      const Vec2 q = (planeCoordinates(sv, planes, f[0], p) + planeCoordinates(sv, planes, f[1], p) +
+                      planeCoordinates(sv, planes, f[2], p)) / 3.0;
+      if (!inSampledSections(sv, p, q)) external = true;
+    }
+    bool grounded[6];
+    for (int e = 0; e < 6; ++e) {
+      const int ab[2] = {V[std::size_t(kEdges[e][0])], V[std::size_t(kEdges[e][1])]};
+      grounded[e] = false;
+      for (const int p : sv.points[std::size_t(ab[0])].planes) {
+        if (p < 0 || !sv.points[std::size_t(ab[1])].on(p)) continue;
+        grounded[e] = true;
+        if (contour.count(edgeKey(ab[0], ab[1]))) continue;
+        const Vec2 q = 0.5 * (planeCoordinates(sv, planes, ab[0], p) + planeCoordinates(sv, planes, ab[1], p));
+        if (!inSampledSections(sv, p, q)) external = true;
+      }
+    }
+    c.external[t] = external;
+    for (int e = 0; e < 6; ++e)
+      if (grounded[e]) c.grounded_edges.insert(edgeKey(V[std::size_t(kEdges[e][0])], V[std::size_t(kEdges[e][1])]));
+    if (groundedFace) c.type[t] = TetType::vf;
+    else if ((grounded[0] && grounded[5]) || (grounded[1] && grounded[4]) || (grounded[2] && grounded[3]))
+      c.type[t] = TetType::ee;
+    else if (std::any_of(grounded, grounded + 6, [](bool g) { return g; }))
+      c.type[t] = TetType::evv;
+    else
+      c.type[t] = TetType::vvvv;
+  }
+  return c;
+}
+
+namespace {
+
+int indexIn(const std::array<int, 4>& v, int p) {
+  for (int i = 0; i < 4; ++i)
+    if (v[std::size_t(i)] == p) return i;
+  return -1;
+}
+
+/// The shell of edge (a, b) from tetrahedron t0 (which contains it): the tetrahedra around the
+/// edge in rotational order; `closed` when they go all the way round.
+std::vector<int> shellOf(const CellComplex& c, int t0, int a, int b, bool* closed) {
+  const auto walk = [&](int exitOpposite, std::vector<int>& seq) {
+    int cur = t0, opp = exitOpposite;
+    for (std::size_t guard = 0; guard < c.v.size() + 1; ++guard) {
+      const int nxt = c.nb[std::size_t(cur)][std::size_t(indexIn(c.v[std::size_t(cur)], opp))];
+      if (nxt < 0) return false;
+      if (nxt == t0) return true;
+      seq.push_back(nxt);
+      const auto& V = c.v[std::size_t(nxt)];
+      int w = -1;
+      for (int k = 0; k < 4; ++k)
+        if (c.nb[std::size_t(nxt)][std::size_t(k)] == cur) w = V[std::size_t(k)];
+      int d = -1;
+      for (int k = 0; k < 4; ++k) {
+        const int x = V[std::size_t(k)];
+        if (x != a && x != b && x != w) d = x;
+      }
+      cur = nxt;
+      opp = d;
+    }
+    return false;
+  };
+  const auto& V0 = c.v[std::size_t(t0)];
+  int others[2], m = 0;
+  for (int k = 0; k < 4; ++k)
+    if (V0[std::size_t(k)] != a && V0[std::size_t(k)] != b) others[m++] = V0[std::size_t(k)];
+  std::vector<int> fwd, bwd;
+  *closed = walk(others[0], fwd);
+  std::vector<int> shell;
+  if (!*closed) {
+    walk(others[1], bwd);
+    shell.assign(bwd.rbegin(), bwd.rend());
+  }
+  shell.push_back(t0);
+  shell.insert(shell.end(), fwd.begin(), fwd.end());
+  return shell;
+}
+
+/// Runs of consecutive tetrahedra for which `in` holds, around a shell (cyclic when closed).
+std::vector<std::vector<int>> runsOf(const std::vector<int>& shell, bool closed, const std::vector<std::uint8_t>& in) {
+  std::vector<std::vector<int>> runs;
+  const std::size_t n = shell.size();
+  std::size_t start = 0;
+  if (closed) {
+    while (start < n && in[std::size_t(shell[start])]) ++start;
+    if (start == n) return {shell};  // the whole way round
+  }
+  std::vector<int> cur;
+  for (std::size_t k = 0; k < n; ++k) {
+    const int t = shell[(start + k) % n];
+    if (in[std::size_t(t)]) {
+      cur.push_back(t);
+    } else if (!cur.empty()) {
+      runs.push_back(std::move(cur));
+      cur.clear();
+    }
+  }
+  if (!cur.empty()) runs.push_back(std::move(cur));
+  return runs;
+}
+
+}  // namespace
+
+void pruneCell(CellComplex& c) {
+  const std::size_t n = c.v.size();
+  static constexpr int kEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+  c.kept.assign(n, 0);
+  c.d1 = 0;
+  for (std::size_t t = 0; t < n; ++t) {
+    if (c.type[t] == TetType::flat || c.external[t]) continue;
+    ++c.d1;
+    c.kept[t] = c.type[t] == TetType::vf || c.type[t] == TetType::ee;
+  }
+  // Work list of edges; an edge is re-examined when a tetrahedron of its shell is removed.
+  std::deque<std::pair<std::uint64_t, int>> work;
+  std::unordered_set<std::uint64_t> queued;
+  const auto push = [&](std::size_t t, const SectionVertices* /*unused*/) {
+    const auto& V = c.v[t];
+    for (const auto& e : kEdges) {
+      const std::uint64_t key = edgeKey(V[std::size_t(e[0])], V[std::size_t(e[1])]);
+      if (queued.insert(key).second) work.push_back({key, int(t)});
+    }
+  };
+  for (std::size_t t = 0; t < n; ++t)
+    if (c.kept[t]) push(t, nullptr);
+  // Every edge of a removed tetrahedron is re-examined; only grounded edges have shells that
+  // Def. 50 constrains.
+  while (true) {
+    while (!work.empty()) {
+      const auto [key, t0] = work.front();
+      work.pop_front();
+      queued.erase(key);
+      const int a = int(key >> 32), b = int(key & 0xffffffffu);
+      if (!c.grounded_edges.count(key)) continue;
+      bool closed = false;
+      const std::vector<int> shell = shellOf(c, t0, a, b, &closed);
+      for (const std::vector<int>& run : runsOf(shell, closed, c.kept)) {
+        bool grounded = false;
+        // Def. 50: reaching a tetrahedron with a grounded triangle through e.
+        for (const int t : run)
+          for (int i = 0; i < 4; ++i) {
+            const int x = c.v[std::size_t(t)][std::size_t(i)];
+            if (x != a && x != b && (c.grounded_faces[std::size_t(t)] >> i & 1)) grounded = true;
+          }
+        if (grounded) continue;
+        for (const int t : run) {
+          c.kept[std::size_t(t)] = 0;
+          push(std::size_t(t), nullptr);
+        }
+      }
+    }
+    // Solidity at section-vertices (Def. 50; Property 2): around each vertex p, the kept
+    // tetrahedra containing p, grouped by the faces through p they share, must each reach a
+    // tetrahedron with a grounded triangle through p. (The thesis removes the T_vf fans that share
+    // no face with a kept T_ee; where two planes meet, a fan also reaches p's ground through T_vf
+    // tetrahedra grounded on the other plane, which this form of the condition keeps.)
+    std::unordered_map<int, std::vector<int>> star;
+    for (std::size_t t = 0; t < n; ++t)
+      if (c.kept[t])
+        for (const int p : c.v[t]) star[p].push_back(int(t));
+    std::vector<int> starOrder;
+    for (const auto& [p, list] : star) starOrder.push_back(p);
+    std::sort(starOrder.begin(), starOrder.end());
+    std::vector<int> remove;
+    for (const int p : starOrder) {
+      const std::vector<int>& list = star[p];
+      std::unordered_map<int, std::size_t> at;
+      for (std::size_t k = 0; k < list.size(); ++k) at[list[k]] = k;
+      DisjointSets groups(list.size());
+      for (std::size_t k = 0; k < list.size(); ++k) {
+        const std::size_t t = std::size_t(list[k]);
+        for (int i = 0; i < 4; ++i) {
+          if (c.v[t][std::size_t(i)] == p) continue;
+          const auto it = at.find(c.nb[t][std::size_t(i)]);
+          if (it != at.end()) groups.unite(k, it->second);
+        }
+      }
+      std::vector<std::uint8_t> grounded(list.size(), 0);
+      for (std::size_t k = 0; k < list.size(); ++k) {
+        const std::size_t t = std::size_t(list[k]);
+        for (int i = 0; i < 4; ++i)
+          if (c.v[t][std::size_t(i)] != p && (c.grounded_faces[t] >> i & 1)) grounded[groups.find(k)] = 1;
+      }
+      for (std::size_t k = 0; k < list.size(); ++k)
+        if (!grounded[groups.find(k)]) remove.push_back(list[k]);
+    }
+    bool removed = false;
+    for (const int t : remove)
+      if (c.kept[std::size_t(t)]) {
+        c.kept[std::size_t(t)] = 0;
+        push(std::size_t(t), nullptr);
+        removed = true;
+      }
+    if (!removed) break;
+  }
+  c.d2 = std::count(c.kept.begin(), c.kept.end(), std::uint8_t(1));
+  // Step 3.
+  std::unordered_map<std::uint64_t, int> edgeUse;
+  for (std::size_t t = 0; t < n; ++t)
+    if (c.kept[t])
+      for (const auto& e : kEdges) ++edgeUse[edgeKey(c.v[t][std::size_t(e[0])], c.v[t][std::size_t(e[1])])];
+  const auto candidate = [&](std::size_t t) {
+    return !c.kept[t] && !c.external[t] && (c.type[t] == TetType::evv || c.type[t] == TetType::vvvv);
+  };
+  std::deque<int> queue;
+  std::vector<std::uint8_t> inQueue(n, 0);
+  for (std::size_t t = 0; t < n; ++t)
+    if (candidate(t)) {
+      queue.push_back(int(t));
+      inQueue[t] = 1;
+    }
+  while (!queue.empty()) {
+    const std::size_t t = std::size_t(queue.front());
+    queue.pop_front();
+    inQueue[t] = 0;
+    if (!candidate(t)) continue;
+    int shared = 0, notShared[4], m = 0;
+    for (int i = 0; i < 4; ++i) {
+      const int o = c.nb[t][std::size_t(i)];
+      if (o >= 0 && c.kept[std::size_t(o)]) ++shared;
+      else notShared[m++] = i;
+    }
+    if (shared < 2) continue;
+    if (shared == 2) {
+      // The faces opposite i and j are not shared; the shared faces (opposite k and l) hold every
+      // edge but (v_k, v_l): it must not be in the solid yet.
+      const int i = notShared[0], j = notShared[1];
+      int kl[2], q = 0;
+      for (int x = 0; x < 4; ++x)
+        if (x != i && x != j) kl[q++] = x;
+      const std::uint64_t uncovered = edgeKey(c.v[t][std::size_t(kl[0])], c.v[t][std::size_t(kl[1])]);
+      const auto it = edgeUse.find(uncovered);
+      if (it != edgeUse.end() && it->second > 0) continue;
+    }
+    // Solidity at its grounded edge (a T_evv has one): around it, the tetrahedron must join a run
+    // that reaches a grounded triangle through the edge, or it would hang there by an edge.
+    c.kept[t] = 1;
+    bool solid = true;
+    for (const auto& e : kEdges) {
+      const int a = c.v[t][std::size_t(e[0])], b = c.v[t][std::size_t(e[1])];
+      if (!solid || !c.grounded_edges.count(edgeKey(a, b))) continue;
+      bool closed = false;
+      const std::vector<int> shell = shellOf(c, int(t), a, b, &closed);
+      for (const std::vector<int>& run : runsOf(shell, closed, c.kept)) {
+        if (std::find(run.begin(), run.end(), int(t)) == run.end()) continue;
+        bool grounded = false;
+        for (const int u : run)
+          for (int i = 0; i < 4; ++i) {
+            const int x = c.v[std::size_t(u)][std::size_t(i)];
+            if (x != a && x != b && (c.grounded_faces[std::size_t(u)] >> i & 1)) grounded = true;
+          }
+        solid = grounded;
+      }
+    }
+    if (!solid) {
+      c.kept[t] = 0;
+      continue;
+    }
+    for (const auto& e : kEdges) ++edgeUse[edgeKey(c.v[t][std::size_t(e[0])], c.v[t][std::size_t(e[1])])];
+    for (const int o : c.nb[t])
+      if (o >= 0 && candidate(std::size_t(o)) && !inQueue[std::size_t(o)]) {
+        queue.push_back(o);
+        inQueue[std::size_t(o)] = 1;
+      }
+  }
+  c.d3 = std::count(c.kept.begin(), c.kept.end(), std::uint8_t(1));
+}
+
+}  // namespace xsect

@@ -1,0 +1,71 @@
+// One cell of method 3 (thesis ch. 3 §1-2): the Delaunay triangulation D0 of the cell's
+// section-vertices, its tetrahedra typed (Fig. 3.3) and the pruning D0 → D1 → D2 → D3.
+//  - Types come from the planes the vertices lie on (a point of a contour crossing another plane
+//    lies on both), never from coordinates: points of a tilted plane are not exactly coplanar in
+//    floating point. A tetrahedron whose four vertices lie on one plane is `flat` (zero volume up
+//    to rounding) and never kept.
+//  - Step 1 (Def. 47): a tetrahedron with a grounded triangle, or a grounded edge that is not a
+//    contour edge, lying outside the sampled sections of its plane (tested at its centroid or
+//    midpoint) is external and removed.
+//  - Step 2 (Def. 48-50, Prop. 11): around every grounded edge e the tetrahedra of its shell form
+//    runs of kept T_ee/T_vf tetrahedra between removed ones (or the hull); a run with no T_vf is
+//    disconnected from the ground of e and removed (the thesis' pivoting with two orientations
+//    finds exactly these). Then, at every section-vertex p, the kept tetrahedra through p grouped
+//    by the faces through p they share: a group holding no tetrahedron with a grounded triangle
+//    through p is removed (Property 2; the thesis' "T_vf fans sharing no face with a T_ee" in the
+//    form that also holds where two planes meet). Both repeat until nothing changes: by Lemma 10
+//    the result does not depend on the order.
+//  - Step 3: T_evv and T_vvvv tetrahedra of D1 are added, in index order, while one meets the
+//    current solid in 2, 3 or 4 faces; with 2, the edge opposite their common edge must not be in
+//    the solid already (the intersection is then a disc: no tunnel, no singularity).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <unordered_set>
+#include <vector>
+
+#include "geometry/delaunay/delaunay_reconstruction.h"
+#include "geometry/delaunay/section_vertices.h"
+
+namespace xsect {
+
+enum class TetType : std::uint8_t { vf, ee, evv, vvvv, flat };
+
+/// Key of the undirected edge (a, b) of point ids.
+inline std::uint64_t edgeKey(int a, int b) {
+  if (a > b) std::swap(a, b);
+  return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
+}
+
+struct CellComplex {
+  int cell = -1;
+  /// D0: vertices (point ids of SectionVertices), positively oriented; nb[t][i] is the tetrahedron
+  /// across the face opposite v[t][i], -1 beyond the convex hull. Sorted canonically (by sorted
+  /// vertex ids), so that the result does not depend on CGAL's storage order.
+  std::vector<std::array<int, 4>> v, nb;
+  std::vector<TetType> type;
+  std::vector<std::uint8_t> external;  ///< step 1
+  std::vector<std::uint8_t> kept;      ///< D3 (after pruneCell)
+  std::unordered_set<std::uint64_t> grounded_edges;  ///< edges of D0 whose ends share a plane
+  std::vector<std::uint8_t> grounded_faces;          ///< per tetrahedron, bit i: face opposite v[i] grounded
+  std::int64_t d1 = 0, d2 = 0, d3 = 0;
+};
+
+/// The contour edges (edgeKey) of all sampled rings.
+std::unordered_set<std::uint64_t> contourEdges(const SectionVertices& sv);
+
+/// D0 of the points `ids` (CGAL Delaunay_triangulation_3), typed, with the external tetrahedra
+/// marked (step 1). Returns the contour edges of `edges` that are not Delaunay edges through
+/// `missing` (Delaunay conformity), when given.
+CellComplex cellDelaunay(int cell, const std::vector<int>& ids, const SectionVertices& sv,
+                         const std::vector<CuttingPlane>& planes, const std::unordered_set<std::uint64_t>& contour,
+                         const std::vector<std::uint64_t>& cellContourEdges, std::vector<std::uint64_t>* missing);
+
+/// Steps 2 and 3 on D1: fills kept, d1, d2, d3.
+void pruneCell(CellComplex& c);
+
+/// The plane among both vertices' planes that all of `ids` lie on, or -1.
+int commonPlane(const SectionVertices& sv, const int* ids, int n);
+
+}  // namespace xsect

@@ -1,0 +1,402 @@
+// Method 3: cells, conformity, pruning, gluing and the repair of singularities (see
+// delaunay_reconstruction.h).
+#include "geometry/delaunay/delaunay_reconstruction.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <tuple>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "geometry/core/disjoint_sets.h"
+#include "geometry/delaunay/cell_complex.h"
+#include "geometry/delaunay/plane_gluing.h"
+#include "geometry/delaunay/section_vertices.h"
+
+namespace xsect {
+
+namespace {
+
+/// Rounds of contour splitting for Delaunay conformity; each halves the offending edges.
+constexpr int kConformityRounds = 8;
+
+struct CellSetup {
+  std::vector<std::vector<int>> points;                 ///< per cell
+  std::vector<std::vector<std::uint64_t>> contour;      ///< per cell: its contour edges
+};
+
+CellSetup cellSetup(const SectionVertices& sv) {
+  CellSetup s;
+  s.points.resize(std::size_t(sv.cells));
+  s.contour.resize(std::size_t(sv.cells));
+  for (std::size_t id = 0; id < sv.points.size(); ++id)
+    for (const PointCell& c : sv.points[id].cells)
+      if (c.cell >= 0 && c.cell < sv.cells) s.points[std::size_t(c.cell)].push_back(int(id));
+  return s;
+}
+
+void addContourEdges(const SectionVertices& sv, CellSetup& s) {
+  for (auto& e : s.contour) e.clear();
+  for (const SampledRing& r : sv.rings)
+    for (std::size_t k = 0; k < r.points.size(); ++k) {
+      const int a = r.points[k], b = r.points[(k + 1) % r.points.size()];
+      for (const int c : edgeCells(sv, a, b, r.plane)) s.contour[std::size_t(c)].push_back(edgeKey(a, b));
+    }
+}
+
+/// Whether the points all lie on one plane (no tetrahedron of D0 could be kept).
+bool onOnePlane(const SectionVertices& sv, const std::vector<int>& ids) {
+  if (ids.size() < 4) return true;
+  for (const int p : sv.points[std::size_t(ids[0])].planes) {
+    if (p < 0) continue;
+    bool all = true;
+    for (const int id : ids) all = all && sv.points[std::size_t(id)].on(p);
+    if (all) return true;
+  }
+  return false;
+}
+
+/// Outward triples of a positively oriented tetrahedron: the face opposite vertex i.
+constexpr int kOutward[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+struct CellBoundary {
+  std::vector<std::array<int, 3>> faces;                         ///< non-grounded, outward
+  std::vector<std::tuple<int, int, std::array<int, 3>>> ground;  ///< (plane, side 0/1, triangle)
+  std::vector<std::pair<int, std::array<int, 2>>> rims;          ///< (plane, edge)
+};
+
+int sideOf(const SectionVertices& sv, int id, int cell, int plane) {
+  const SectionVertex& v = sv.points[std::size_t(id)];
+  const int k = v.slot(plane);
+  for (const PointCell& c : v.cells)
+    if (c.cell == cell) return c.side[std::size_t(k)] > 0 ? 1 : 0;
+  return 0;
+}
+
+CellBoundary cellBoundary(const CellComplex& c, const SectionVertices& sv) {
+  CellBoundary b;
+  for (std::size_t t = 0; t < c.v.size(); ++t) {
+    if (!c.kept[t]) continue;
+    for (int i = 0; i < 4; ++i) {
+      const int o = c.nb[t][std::size_t(i)];
+      if (o >= 0 && c.kept[std::size_t(o)]) continue;
+      const std::array<int, 3> f{c.v[t][std::size_t(kOutward[i][0])], c.v[t][std::size_t(kOutward[i][1])],
+                                 c.v[t][std::size_t(kOutward[i][2])]};
+      const int p = commonPlane(sv, f.data(), 3);
+      if (p >= 0) {
+        b.ground.push_back({p, sideOf(sv, f[0], c.cell, p), f});
+        continue;
+      }
+      b.faces.push_back(f);
+      for (int e = 0; e < 3; ++e) {
+        const int ab[2] = {f[std::size_t(e)], f[std::size_t((e + 1) % 3)]};
+        const int q = commonPlane(sv, ab, 2);
+        if (q >= 0) b.rims.push_back({q, {std::min(ab[0], ab[1]), std::max(ab[0], ab[1])}});
+      }
+    }
+  }
+  return b;
+}
+
+/// Splits faces at T-junctions: where a face's edge a→b is in no other face while the faces on the
+/// other side run b→m→a through a point m on the segment (points of a trace line shared by the
+/// cells' triangulations and the plane's, collinear up to rounding), the face (a, b, c) becomes
+/// (a, m, c) and (m, b, c). Repeats until no such edge remains.
+void splitTJunctions(std::vector<std::array<int, 3>>& faces, const std::function<Vec3(int)>& at) {
+  for (int pass = 0; pass < 16; ++pass) {
+    std::unordered_map<std::uint64_t, int> uses;
+    std::unordered_map<int, std::vector<int>> from;  // directed once-used edges a -> b
+    for (const auto& f : faces)
+      for (int e = 0; e < 3; ++e) ++uses[edgeKey(f[std::size_t(e)], f[std::size_t((e + 1) % 3)])];
+    for (const auto& f : faces)
+      for (int e = 0; e < 3; ++e) {
+        const int a = f[std::size_t(e)], b = f[std::size_t((e + 1) % 3)];
+        if (uses[edgeKey(a, b)] == 1) from[a].push_back(b);
+      }
+    bool changed = false;
+    std::vector<std::array<int, 3>> next;
+    next.reserve(faces.size());
+    for (const auto& f : faces) {
+      bool split = false;
+      for (int e = 0; e < 3 && !split; ++e) {
+        const int a = f[std::size_t(e)], b = f[std::size_t((e + 1) % 3)], c = f[std::size_t((e + 2) % 3)];
+        if (uses[edgeKey(a, b)] != 1) continue;
+        const auto it = from.find(b);
+        if (it == from.end()) continue;
+        const Vec3 A = at(a), B = at(b);
+        const double len = (B - A).norm();
+        for (const int m : it->second) {
+          if (m == a) continue;
+          const auto back = from.find(m);
+          if (back == from.end() || std::find(back->second.begin(), back->second.end(), a) == back->second.end()) continue;
+          const Vec3 M = at(m);
+          const double t = (M - A).dot(B - A) / (len * len);
+          if (!(t > 0 && t < 1) || (A + t * (B - A) - M).norm() > 1e-6 * len) continue;
+          next.push_back({a, m, c});
+          next.push_back({m, b, c});
+          split = true;
+          break;
+        }
+      }
+      if (!split) next.push_back(f);
+      changed = changed || split;
+    }
+    faces.swap(next);
+    if (!changed) return;
+  }
+}
+
+struct OpenedPinches {
+  int edges = 0;       ///< edges in 4, 6, ... faces whose sheets were separated
+  int vertices = 0;    ///< vertices given more than one copy
+  int open_edges = 0;  ///< edges in an odd number of faces (left as they are)
+};
+
+/// Opens the pinches of the boundary: where 2k > 2 faces meet at an edge, the faces are paired
+/// around it, each with the next one counter-clockwise that bounds the same wedge of solid; then
+/// every vertex gets one copy per umbrella (the faces around it joined through such pairs). The
+/// boundary becomes a 2-manifold bounding the interior of the solid's closure (a regularised
+/// set: pieces touching at a point or along an edge only are separate).
+OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Vec3>& positions) {
+  OpenedPinches out;
+  // Per undirected edge: its faces, with +1 when the face runs from the smaller id to the larger.
+  std::unordered_map<std::uint64_t, std::vector<std::pair<int, int>>> around;
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    for (int e = 0; e < 3; ++e) {
+      const int a = faces[f][std::size_t(e)], b = faces[f][std::size_t((e + 1) % 3)];
+      around[edgeKey(a, b)].push_back({int(f), a < b ? 1 : -1});
+    }
+  // Face pairs across each edge (the faces of one sheet there).
+  std::unordered_map<std::uint64_t, std::vector<std::array<int, 2>>> pairs;
+  std::vector<std::uint64_t> keys;
+  for (const auto& [key, list] : around) keys.push_back(key);
+  std::sort(keys.begin(), keys.end());
+  for (const std::uint64_t key : keys) {
+    const auto& list = around[key];
+    if (list.size() == 2) {
+      pairs[key].push_back({list[0].first, list[1].first});
+      continue;
+    }
+    if (list.size() % 2) {
+      ++out.open_edges;
+      continue;
+    }
+    ++out.edges;
+    const int a = int(key >> 32), b = int(key & 0xffffffffu);
+    const Vec3 A = positions[std::size_t(a)], d = (positions[std::size_t(b)] - A).normalized();
+    Vec3 u = Vec3::Zero();
+    std::vector<std::pair<double, std::pair<int, int>>> byAngle;
+    for (const auto& [f, dir] : list) {
+      int c = -1;
+      for (const int x : faces[std::size_t(f)])
+        if (x != a && x != b) c = x;
+      Vec3 w = positions[std::size_t(c)] - A;
+      w -= w.dot(d) * d;
+      if (u.isZero()) u = w.normalized();
+      byAngle.push_back({std::atan2(d.cross(u).dot(w), u.dot(w)), {f, dir}});
+    }
+    std::sort(byAngle.begin(), byAngle.end());
+    // A face running a → b (a < b) has the solid just below its angle; one running b → a just
+    // above: a wedge of solid lies between a -1 face and the next +1 face counter-clockwise.
+    const std::size_t n = byAngle.size();
+    for (std::size_t k = 0; k < n; ++k)
+      if (byAngle[k].second.second < 0) {
+        const auto& next = byAngle[(k + 1) % n].second;
+        if (next.second > 0) pairs[key].push_back({byAngle[k].second.first, next.first});
+      }
+  }
+  // Umbrellas: faces around each vertex joined through the pairs of the edges at the vertex.
+  const std::vector<std::array<int, 3>> original = faces;  // read while copies are written
+  std::unordered_map<int, std::vector<int>> facesAt;
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    for (const int v : faces[f]) facesAt[v].push_back(int(f));
+  std::vector<int> vertices;
+  for (const auto& [v, list] : facesAt) vertices.push_back(v);
+  std::sort(vertices.begin(), vertices.end());
+  for (const int v : vertices) {
+    const std::vector<int>& list = facesAt[v];
+    std::unordered_map<int, std::size_t> at;
+    for (std::size_t k = 0; k < list.size(); ++k) at[list[k]] = k;
+    DisjointSets umbrella(list.size());
+    for (const int f : list)
+      for (const int x : original[std::size_t(f)]) {
+        if (x == v) continue;
+        const auto it = pairs.find(edgeKey(v, x));
+        if (it == pairs.end()) continue;
+        for (const auto& pr : it->second) {
+          const auto i = at.find(pr[0]), j = at.find(pr[1]);
+          if (i != at.end() && j != at.end()) umbrella.unite(i->second, j->second);
+        }
+      }
+    std::map<std::size_t, int> copyOf;
+    for (std::size_t k = 0; k < list.size(); ++k) copyOf.emplace(umbrella.find(k), 0);
+    if (copyOf.size() < 2) continue;
+    ++out.vertices;
+    bool first = true;
+    for (auto& [root, id] : copyOf) {
+      if (first) {
+        id = v;
+        first = false;
+        continue;
+      }
+      id = int(positions.size());
+      positions.push_back(positions[std::size_t(v)]);
+    }
+    for (std::size_t k = 0; k < list.size(); ++k)
+      for (int slot = 0; slot < 3; ++slot)
+        if (original[std::size_t(list[k])][std::size_t(slot)] == v)
+          faces[std::size_t(list[k])][std::size_t(slot)] = copyOf[umbrella.find(k)];
+  }
+  return out;
+}
+
+}  // namespace
+
+DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& planes, const SectionArrangement& arr,
+                                              const std::vector<BranchingPoint>& branching,
+                                              const std::function<void(std::int64_t, std::int64_t)>& progress) {
+  DelaunayReconstruction out;
+  SectionVertices sv = sectionVertices(planes, arr, branching);
+  const std::size_t cells = std::size_t(sv.cells);
+  std::vector<CellComplex> cx(cells);
+  std::vector<std::uint8_t> pending(cells, 1);
+  std::unordered_set<std::uint64_t> contour = contourEdges(sv);
+  // D0 with Delaunay conformity: contour edges that are not Delaunay edges are split at their
+  // midpoints (in both cells they bound) until all are, or the rounds run out.
+  for (int round = 0; round < kConformityRounds; ++round) {
+    CellSetup setup = cellSetup(sv);
+    addContourEdges(sv, setup);
+    std::vector<std::vector<std::uint64_t>> missing(cells);
+    tbb::parallel_for(std::size_t(0), cells, [&](std::size_t c) {
+      if (!pending[c]) return;
+      if (onOnePlane(sv, setup.points[c])) {
+        cx[c] = CellComplex{};
+        cx[c].cell = int(c);
+        return;
+      }
+      cx[c] = cellDelaunay(int(c), setup.points[c], sv, planes, contour, setup.contour[c], &missing[c]);
+    });
+    std::unordered_set<std::uint64_t> split;
+    for (const auto& m : missing) split.insert(m.begin(), m.end());
+    std::fill(pending.begin(), pending.end(), 0);
+    if (split.empty() || round + 1 == kConformityRounds) break;
+    for (std::size_t r = 0; r < sv.rings.size(); ++r) {
+      const SampledRing& ring = sv.rings[r];
+      for (std::size_t k = ring.points.size(); k-- > 0;) {
+        const int a = sv.rings[r].points[k], b = sv.rings[r].points[(k + 1) % sv.rings[r].points.size()];
+        if (!split.count(edgeKey(a, b))) continue;
+        for (const int c : edgeCells(sv, a, b, ring.plane)) pending[std::size_t(c)] = 1;
+        splitRingEdge(sv, planes, r, k);
+      }
+    }
+    resampleSections(sv, planes);
+    contour = contourEdges(sv);
+  }
+  for (const SectionVertex& v : sv.points) out.stats.conformity_points += v.kind == SectionVertex::conformity;
+  // Steps 2 and 3 in every cell.
+  tbb::parallel_for(std::size_t(0), cells, [&](std::size_t c) { pruneCell(cx[c]); });
+  if (progress) progress(std::int64_t(cells), std::int64_t(cells));
+
+  // Points on each plane (the vertices of its triangulation when gluing).
+  std::vector<std::vector<int>> onPlane(planes.size());
+  for (std::size_t id = 0; id < sv.points.size(); ++id)
+    for (const int p : sv.points[id].planes)
+      if (p >= 0 && !sv.points[id].cells.empty()) onPlane[std::size_t(p)].push_back(int(id));
+
+  // The boundary: every cell's non-grounded boundary faces, and each plane's flat faces.
+  std::vector<CellBoundary> bounds(cells);
+  tbb::parallel_for(std::size_t(0), cells, [&](std::size_t c) { bounds[c] = cellBoundary(cx[c], sv); });
+  std::vector<PlaneFootprint> fp(planes.size());
+  std::vector<std::array<int, 3>> faces;
+  for (const CellBoundary& b : bounds) {
+    faces.insert(faces.end(), b.faces.begin(), b.faces.end());
+    for (const auto& [p, side, t] : b.ground) fp[std::size_t(p)].covered[std::size_t(side)].push_back(t);
+    for (const auto& [p, e] : b.rims) fp[std::size_t(p)].rims.push_back(e);
+  }
+  bounds.clear();
+  std::vector<PlaneBoundary> flat(planes.size());
+  const int firstNew = int(sv.points.size());
+  tbb::parallel_for(std::size_t(0), planes.size(), [&](std::size_t p) {
+    flat[p] = planeBoundary(int(p), onPlane[p], fp[p], sv, planes, firstNew);
+  });
+  std::vector<Vec3> positions;
+  positions.reserve(sv.points.size());
+  for (const SectionVertex& v : sv.points) positions.push_back(v.x);
+  for (const PlaneBoundary& f : flat) {
+    const int offset = int(positions.size()) - firstNew;
+    for (std::array<int, 3> t : f.faces) {
+      for (int& v : t)
+        if (v >= firstNew) v += offset;
+      faces.push_back(t);
+      ++out.stats.flat_faces;
+    }
+    positions.insert(positions.end(), f.new_points.begin(), f.new_points.end());
+  }
+  out.stats.constraint_crossings = std::int64_t(positions.size() - sv.points.size());
+  splitTJunctions(faces, [&](int id) { return positions[std::size_t(id)]; });
+  const OpenedPinches opened = openPinches(faces, positions);
+  out.stats.singular_edges = opened.edges;
+  out.stats.singular_vertices = opened.vertices;
+  out.stats.open_edges = opened.open_edges;
+
+  // The mesh: used points in id order.
+  std::vector<int> used;
+  for (const auto& f : faces) used.insert(used.end(), f.begin(), f.end());
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  std::unordered_map<int, std::uint32_t> index;
+  for (const int id : used) {
+    index[id] = std::uint32_t(out.mesh.vertices.size());
+    out.mesh.vertices.push_back(positions[std::size_t(id)].cast<float>());
+  }
+  std::sort(faces.begin(), faces.end());
+  for (const auto& f : faces) out.mesh.triangles.push_back({index[f[0]], index[f[1]], index[f[2]]});
+
+  // Statistics, tetrahedra and the connections the solid realises.
+  std::set<GraphEdge> joined;
+  for (std::size_t c = 0; c < cells; ++c) {
+    const CellComplex& C = cx[c];
+    if (!C.v.empty()) ++out.stats.cells;
+    out.stats.d1 += C.d1;
+    out.stats.d2 += C.d2;
+    out.stats.d3 += C.d3;
+    for (std::size_t t = 0; t < C.v.size(); ++t) {
+      switch (C.type[t]) {
+        case TetType::vf: ++out.stats.d0.vf; break;
+        case TetType::ee: ++out.stats.d0.ee; break;
+        case TetType::evv: ++out.stats.d0.evv; break;
+        case TetType::vvvv: ++out.stats.d0.vvvv; break;
+        case TetType::flat: ++out.stats.d0.flat; break;
+      }
+      out.stats.external += C.external[t] && C.type[t] != TetType::flat;
+      if (!C.kept[t]) continue;
+      std::array<Vec3, 4> T;
+      for (int i = 0; i < 4; ++i) T[std::size_t(i)] = sv.points[std::size_t(C.v[t][std::size_t(i)])].x;
+      out.tetrahedra.push_back(T);
+      for (int i = 0; i < 4; ++i)
+        for (int j = i + 1; j < 4; ++j) {
+          const SectionVertex& a = sv.points[std::size_t(C.v[t][std::size_t(i)])];
+          const SectionVertex& b = sv.points[std::size_t(C.v[t][std::size_t(j)])];
+          if (a.planes[0] == b.planes[0] || a.section < 0 || b.section < 0) continue;
+          GraphEdge e{a.planes[0], a.section, b.planes[0], b.section, int(c)};
+          if (std::tie(e.plane_b, e.section_b) < std::tie(e.plane_a, e.section_a)) {
+            std::swap(e.plane_a, e.plane_b);
+            std::swap(e.section_a, e.section_b);
+          }
+          joined.insert(e);
+        }
+    }
+  }
+  out.connections.assign(joined.begin(), joined.end());
+  for (const SectionVertex& v : sv.points) {
+    out.stats.branching_points += v.kind == SectionVertex::branching;
+  }
+  for (const auto& pts : cellSetup(sv).points) out.stats.section_vertices += std::int64_t(pts.size());
+  return out;
+}
+
+}  // namespace xsect

@@ -1,0 +1,93 @@
+// Method 3 (thesis ch. 3): the Delaunay reconstruction R'', Boissonnat-Geiger generalised to
+// unorganised planes. In every cell C of the arrangement that sections bound (section_arrangement.h):
+//  - the section-vertices: the sampled contours of the sub-sections on C's faces (the arrangement's
+//    contour vertices and trace points, in ring order), the branching points given for C
+//    (branching_diagram.h; Def. 45), and contour midpoints added until every contour edge is an
+//    edge of the Delaunay triangulation (the Delaunay conformity condition of ch. 3 §1);
+//  - D0 = their 3D Delaunay triangulation (CGAL), tetrahedra typed by how their vertices lie on the
+//    cutting planes (T_vf, T_ee, T_evv, T_vvvv; Fig. 3.3), grounded edges and triangles classified
+//    as contour, internal or external against the sampled sections;
+//  - D1 = D0 without external tetrahedra (Def. 47); D2 = the maximal solid subset of its T_vf and
+//    T_ee tetrahedra (shell pruning around grounded edges, Def. 48-50, then the T_vf fans that
+//    share no face with a T_ee; Proposition 11: the order of elimination does not matter);
+//    D3 = D2 plus T_evv / T_vvvv tetrahedra added while they meet it in 2, 3 or 4 faces and no
+//    other edge.
+// Gluing the cells (§2, "Solidity and Topological Correctness"): two cells triangulate a shared
+// section differently (their branching points differ; rounding makes points of a tilted plane
+// not exactly coplanar), so the boundary on each cutting plane is not read from the tetrahedra:
+// the plane's section-vertices of both sides are triangulated once in the plane (CGAL constrained
+// Delaunay, the contour edges and the edges where either side's solid leaves the plane as
+// constraints), and a triangle of that triangulation is a boundary face when exactly one side's
+// solid covers it. The boundary is the cells' non-grounded boundary faces plus those flat faces:
+// conformal to the contours by construction, no voxel meshing.
+// Where the glued boundary is still singular (an edge in more than two triangles, a vertex whose
+// link is not one disc: pieces of neighbouring cells that touch at a point or along a segment of a
+// trace, Fig. 3.8), the pinch is opened: each sheet gets its own copy of the vertex. The solid
+// described is then the regularised R'' (the closure of its interior), whose boundary is a closed
+// 2-manifold and whose Betti numbers the mesh carries.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "geometry/arrangement/connectivity_graph.h"
+#include "geometry/arrangement/section_arrangement.h"
+#include "geometry/core/types.h"
+
+namespace xsect {
+
+/// A point added on the branching diagram of a face of a cell (Def. 45): inside section
+/// `section` of plane `plane`, used by the cell `cell` only.
+struct BranchingPoint {
+  int cell = -1;
+  int plane = -1;
+  int section = -1;
+  Vec2 p = Vec2::Zero();  ///< plane coordinates, mm
+};
+
+/// Tetrahedra of D0 by type (Fig. 3.3), over all cells. `flat`: all four vertices on one plane
+/// (zero volume up to rounding; never part of the solid).
+struct TetrahedronTypes {
+  std::int64_t vf = 0, ee = 0, evv = 0, vvvv = 0, flat = 0;
+};
+
+struct DelaunayStats {
+  int cells = 0;                          ///< cells with at least one tetrahedron in D0
+  std::int64_t section_vertices = 0;      ///< points triangulated, summed over cells
+  std::int64_t branching_points = 0;      ///< of them, branching points
+  std::int64_t conformity_points = 0;     ///< contour midpoints added for Delaunay conformity
+  TetrahedronTypes d0;                    ///< D0's tetrahedra by type
+  std::int64_t external = 0;              ///< removed by step 1 (Def. 47)
+  std::int64_t d1 = 0, d2 = 0, d3 = 0;    ///< tetrahedra kept after steps 1, 2, 3
+  std::int64_t flat_faces = 0;            ///< boundary triangles lying in a cutting plane
+  std::int64_t constraint_crossings = 0;  ///< rim edges of the two sides that crossed (new vertices)
+  int singular_edges = 0;     ///< edges of the glued boundary in 4, 6, ... triangles (opened)
+  int singular_vertices = 0;  ///< vertices of the glued boundary with several umbrellas (opened)
+  int open_edges = 0;         ///< edges in an odd number of triangles (a defect: the mesh is not closed)
+};
+
+struct DelaunayReconstruction {
+  /// ∂R'': every triangle oriented outwards; its vertices are section-vertices (contour points
+  /// lie exactly on the sampled contours).
+  TriangleMesh mesh;
+  /// D3's tetrahedra over all cells (world coordinates, mm): R'' is their union.
+  std::vector<std::array<Vec3, 4>> tetrahedra;
+  /// Section pairs that a tetrahedron of D3 joins, per cell (a vertex on each): the connectivity
+  /// that R'' realises, sorted and unique.
+  std::vector<GraphEdge> connections;
+  DelaunayStats stats;
+};
+
+/// @param planes       every cutting plane the arrangement was built on (real and virtual).
+/// @param arrangement  arrangeSections(planes, spacing): its contour vertices (one per spacing
+///                     along each ring) and trace points, in ring order, are the contour samples.
+/// @param branching    branching points per cell (may be empty: Boissonnat 1988 without them).
+/// @param progress     optional, called with (cells done, cells) from the calling thread.
+/// Deterministic: the same input gives the same mesh whatever the thread count.
+DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& planes,
+                                              const SectionArrangement& arrangement,
+                                              const std::vector<BranchingPoint>& branching,
+                                              const std::function<void(std::int64_t, std::int64_t)>& progress = {});
+
+}  // namespace xsect

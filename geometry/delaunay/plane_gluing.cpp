@@ -1,0 +1,141 @@
+// The boundary of method 3 within one cutting plane (see plane_gluing.h).
+#include "geometry/delaunay/plane_gluing.h"
+
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "geometry/core/polygon.h"
+
+namespace xsect {
+
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+struct VertexId {
+  int value = 0;  ///< point id + 1; 0: a vertex made where constraints crossed
+};
+using Vb = CGAL::Triangulation_vertex_base_with_info_2<VertexId, K>;
+using Fb = CGAL::Constrained_triangulation_face_base_2<K>;
+using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+using CDT = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::Exact_predicates_tag>;
+
+/// Triangles of one side, bucketed on a uniform grid for point location.
+class TriangleIndex {
+ public:
+  explicit TriangleIndex(std::vector<std::array<Vec2, 3>> tris) : tris_(std::move(tris)) {
+    if (tris_.empty()) return;
+    Eigen::AlignedBox2d box;
+    double size = 0;
+    for (const auto& t : tris_) {
+      for (const Vec2& p : t) box.extend(p);
+      size += (t[1] - t[0]).norm() + (t[2] - t[1]).norm();
+    }
+    size = std::max(size / (2.0 * double(tris_.size())), 1e-12);
+    lo_ = box.min();
+    cell_ = std::max(size * 2, box.diagonal().maxCoeff() / 512.0);
+    nx_ = int(std::ceil((box.max().x() - lo_.x()) / cell_)) + 1;
+    ny_ = int(std::ceil((box.max().y() - lo_.y()) / cell_)) + 1;
+    buckets_.resize(std::size_t(nx_) * std::size_t(ny_));
+    for (std::size_t k = 0; k < tris_.size(); ++k) {
+      Eigen::AlignedBox2d b;
+      for (const Vec2& p : tris_[k]) b.extend(p);
+      const int x0 = ix(b.min().x()), x1 = ix(b.max().x()), y0 = iy(b.min().y()), y1 = iy(b.max().y());
+      for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x) buckets_[std::size_t(y) * std::size_t(nx_) + std::size_t(x)].push_back(int(k));
+    }
+  }
+  bool covers(const Vec2& q) const {
+    if (tris_.empty()) return false;
+    const int x = ix(q.x()), y = iy(q.y());
+    for (const int k : buckets_[std::size_t(y) * std::size_t(nx_) + std::size_t(x)]) {
+      const auto& t = tris_[std::size_t(k)];
+      const auto cross = [](const Vec2& a, const Vec2& b, const Vec2& p) {
+        return (b.x() - a.x()) * (p.y() - a.y()) - (b.y() - a.y()) * (p.x() - a.x());
+      };
+      const double s0 = cross(t[0], t[1], q), s1 = cross(t[1], t[2], q), s2 = cross(t[2], t[0], q);
+      if ((s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0)) return true;
+    }
+    return false;
+  }
+
+ private:
+  int ix(double x) const { return std::clamp(int((x - lo_.x()) / cell_), 0, nx_ - 1); }
+  int iy(double y) const { return std::clamp(int((y - lo_.y()) / cell_), 0, ny_ - 1); }
+  std::vector<std::array<Vec2, 3>> tris_;
+  Vec2 lo_ = Vec2::Zero();
+  double cell_ = 1;
+  int nx_ = 1, ny_ = 1;
+  std::vector<std::vector<int>> buckets_;
+};
+
+}  // namespace
+
+PlaneBoundary planeBoundary(int plane, const std::vector<int>& ids, const PlaneFootprint& fp, const SectionVertices& sv,
+                            const std::vector<CuttingPlane>& planes, int firstNewId) {
+  PlaneBoundary out;
+  if (fp.covered[0].empty() && fp.covered[1].empty()) return out;
+  const Plane& P = planes[std::size_t(plane)].plane;
+  CDT cdt;
+  std::unordered_map<int, CDT::Vertex_handle> handle;
+  std::unordered_map<int, Vec2> coords;
+  for (const int id : ids) {
+    const Vec2 q = planeCoordinates(sv, planes, id, plane);
+    coords[id] = q;
+    const CDT::Vertex_handle h = cdt.insert(K::Point_2(q.x(), q.y()));
+    if (h->info().value == 0) h->info().value = id + 1;
+    handle[id] = h;
+  }
+  const auto constrain = [&](int a, int b) {
+    const auto ha = handle.find(a), hb = handle.find(b);
+    if (ha == handle.end() || hb == handle.end() || ha->second == hb->second) return;
+    cdt.insert_constraint(ha->second, hb->second);
+  };
+  for (const SampledRing& r : sv.rings) {
+    if (r.plane != plane) continue;
+    for (std::size_t k = 0; k < r.points.size(); ++k) constrain(r.points[k], r.points[(k + 1) % r.points.size()]);
+  }
+  std::vector<std::array<int, 2>> rims = fp.rims;
+  std::sort(rims.begin(), rims.end());
+  rims.erase(std::unique(rims.begin(), rims.end()), rims.end());
+  for (const auto& e : rims) constrain(e[0], e[1]);
+  // New vertices where constraints crossed.
+  for (auto it = cdt.finite_vertices_begin(); it != cdt.finite_vertices_end(); ++it)
+    if (it->info().value == 0) {
+      it->info().value = firstNewId + int(out.new_points.size()) + 1;
+      out.new_points.push_back(P.toWorld(Vec2(it->point().x(), it->point().y())));
+    }
+  const auto corners = [&](const std::array<int, 3>& t) {
+    return std::array<Vec2, 3>{coords.at(t[0]), coords.at(t[1]), coords.at(t[2])};
+  };
+  std::array<std::vector<std::array<Vec2, 3>>, 2> sideTris;
+  for (int s = 0; s < 2; ++s)
+    for (const auto& t : fp.covered[std::size_t(s)]) sideTris[std::size_t(s)].push_back(corners(t));
+  const TriangleIndex minus(std::move(sideTris[0])), plus(std::move(sideTris[1]));
+  const std::vector<Section>& sections = sv.sampled[std::size_t(plane)];
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+    Vec2 c = Vec2::Zero();
+    std::array<int, 3> v{};
+    for (int i = 0; i < 3; ++i) {
+      c += Vec2(f->vertex(i)->point().x(), f->vertex(i)->point().y()) / 3.0;
+      v[std::size_t(i)] = f->vertex(i)->info().value - 1;
+    }
+    bool inside = false;
+    for (const Section& s : sections) inside = inside || (!s.outer.empty() && sectionContains(s, c));
+    if (!inside) continue;
+    const bool m = minus.covers(c), p = plus.covers(c);
+    if (m == p) continue;
+    // CDT faces are counter-clockwise in (u, v): their normal is the plane's. The solid on the
+    // positive side is bounded here by a face whose outward normal is -normal.
+    if (p) std::swap(v[1], v[2]);
+    out.faces.push_back(v);
+  }
+  std::sort(out.faces.begin(), out.faces.end());
+  return out;
+}
+
+}  // namespace xsect

@@ -1,0 +1,300 @@
+// Section-vertices of method 3 from the arrangement's contour points (see section_vertices.h).
+#include "geometry/delaunay/section_vertices.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <tuple>
+
+#include "geometry/core/polygon.h"
+#include "geometry/delaunay/delaunay_reconstruction.h"
+
+namespace xsect {
+
+namespace {
+
+void addCell(SectionVertex& v, int cell, int s0, int s1, int s2 = 0) {
+  if (cell < 0) return;
+  for (PointCell& c : v.cells)
+    if (c.cell == cell) return;
+  v.cells.push_back({cell, {std::int8_t(s0), std::int8_t(s1), std::int8_t(s2)}});
+}
+
+void sortCells(SectionVertex& v) {
+  std::sort(v.cells.begin(), v.cells.end(), [](const PointCell& a, const PointCell& b) { return a.cell < b.cell; });
+}
+
+/// Where P's contour crosses Q and Q's contour crosses P, both samples stand for one point of the
+/// object's surface on the line P ∩ Q (the sections conform there, up to their sampling): pairs
+/// nearer than `tolerance` (mutual nearest) and bounding the same cells become one point on both
+/// rings, at their midpoint.
+/// Two nearly coincident points would otherwise leave slivers that no triangulation of the two
+/// planes agrees on.
+void mergeTracePairs(SectionVertices& sv, double tolerance) {
+  std::map<std::pair<int, int>, std::array<std::vector<int>, 2>> byLine;
+  for (std::size_t id = 0; id < sv.points.size(); ++id) {
+    const SectionVertex& v = sv.points[id];
+    if (v.kind != SectionVertex::trace || v.planes[1] < 0) continue;
+    const int p = v.planes[0], q = v.planes[1];
+    byLine[{std::min(p, q), std::max(p, q)}][p < q ? 0 : 1].push_back(int(id));
+  }
+  std::vector<int> alias(sv.points.size());
+  for (std::size_t k = 0; k < alias.size(); ++k) alias[k] = int(k);
+  for (auto& [line, sides] : byLine) {
+    const auto nearest = [&](int a, const std::vector<int>& others) {
+      int best = -1;
+      double bd = tolerance;
+      for (const int b : others) {
+        const double d = (sv.points[std::size_t(a)].x - sv.points[std::size_t(b)].x).norm();
+        if (d < bd) {
+          bd = d;
+          best = b;
+        }
+      }
+      return best;
+    };
+    for (const int a : sides[0]) {
+      const int b = nearest(a, sides[1]);
+      if (b < 0 || nearest(b, sides[0]) != a) continue;
+      SectionVertex& A = sv.points[std::size_t(a)];
+      SectionVertex& B = sv.points[std::size_t(b)];
+      // Only points in the same cells (no third plane passes between them): otherwise the merged
+      // point would bound cells on both sides of that plane.
+      bool same = A.cells.size() == B.cells.size();
+      for (std::size_t k = 0; k < A.cells.size() && same; ++k) same = A.cells[k].cell == B.cells[k].cell;
+      if (!same) continue;
+      A.x = 0.5 * (A.x + B.x);
+      // B's planes are (Q, P): its sides swap slots.
+      for (const PointCell& c : B.cells) addCell(A, c.cell, c.side[1], c.side[0], 0);
+      sortCells(A);
+      B.cells.clear();
+      alias[std::size_t(b)] = a;
+    }
+  }
+  for (SampledRing& r : sv.rings)
+    for (int& id : r.points) id = alias[std::size_t(id)];
+}
+
+}  // namespace
+
+Vec2 planeCoordinates(const SectionVertices& sv, const std::vector<CuttingPlane>& planes, int id, int plane) {
+  return planes[std::size_t(plane)].plane.toPlane(sv.points[std::size_t(id)].x);
+}
+
+std::vector<int> edgeCells(const SectionVertices& sv, int a, int b, int plane) {
+  const SectionVertex& A = sv.points[std::size_t(a)];
+  const SectionVertex& B = sv.points[std::size_t(b)];
+  const int ia = A.slot(plane), ib = B.slot(plane);
+  std::vector<int> out;
+  for (int side : {-1, 1}) {
+    for (const PointCell& ca : A.cells) {
+      if (ca.side[std::size_t(ia)] != side) continue;
+      bool found = false;
+      for (const PointCell& cb : B.cells)
+        if (cb.cell == ca.cell && cb.side[std::size_t(ib)] == side) found = true;
+      if (found) {
+        out.push_back(ca.cell);
+        break;
+      }
+    }
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const SectionArrangement& arr,
+                                const std::vector<BranchingPoint>& branching) {
+  SectionVertices sv;
+  sv.cells = arr.cells;
+  // Merge points at identical coordinates (a contour vertex exactly on another plane's trace).
+  std::map<std::tuple<double, double, double>, int> at;
+  const auto idOf = [&](const Vec3& x, SectionVertex v) {
+    const auto key = std::make_tuple(x.x(), x.y(), x.z());
+    const auto it = at.find(key);
+    if (it != at.end()) {
+      SectionVertex& old = sv.points[std::size_t(it->second)];
+      for (const PointCell& c : v.cells) addCell(old, c.cell, c.side[0], c.side[1], c.side[2]);
+      sortCells(old);
+      return it->second;
+    }
+    v.x = x;
+    sortCells(v);
+    sv.points.push_back(std::move(v));
+    at.emplace(key, int(sv.points.size()) - 1);
+    return int(sv.points.size()) - 1;
+  };
+  // Rings: the arrangement's contour points grouped by (plane, section, ring), sorted by `along`.
+  std::map<std::tuple<int, int, int>, std::vector<std::pair<double, std::size_t>>> byRing;
+  for (std::size_t q = 0; q < arr.points.size(); ++q) {
+    const SectionPoint& sp = arr.points[q];
+    if (sp.kind == SectionPoint::sample || sp.ring < 0) continue;
+    byRing[{sp.plane, sp.section, sp.ring}].push_back({sp.along, q});
+  }
+  for (auto& [key, list] : byRing) {
+    const auto [p, s, r] = key;
+    std::stable_sort(list.begin(), list.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    const CuttingPlane& cp = planes[std::size_t(p)];
+    SampledRing ring{p, s, r, {}};
+    for (const auto& [along, q] : list) {
+      const SectionPoint& sp = arr.points[q];
+      SectionVertex v;
+      v.planes = {p, sp.trace_plane, -1};
+      v.section = s;
+      v.kind = sp.kind == SectionPoint::trace ? SectionVertex::trace : SectionVertex::contour;
+      // Sides: cell[0] lies on the negative side of the own plane, cell[1] on the positive; for a
+      // trace point `cell` on the positive side of the trace plane, `cell_alt` on its negative.
+      for (int side = 0; side < 2; ++side) {
+        if (sp.trace_plane >= 0) {
+          addCell(v, sp.cell[std::size_t(side)], side == 0 ? -1 : 1, 1);
+          addCell(v, sp.cell_alt[std::size_t(side)], side == 0 ? -1 : 1, -1);
+        } else {
+          addCell(v, sp.cell[std::size_t(side)], side == 0 ? -1 : 1, 0);
+        }
+      }
+      const int id = idOf(cp.plane.toWorld(sp.p), v);
+      if (ring.points.empty() || (ring.points.back() != id && ring.points.front() != id)) ring.points.push_back(id);
+    }
+    // Too few samples (a ring shorter than about three spacings): evenly spaced original vertices
+    // in the cell of the first sample (such a ring crosses no plane, or it would have trace points).
+    if (ring.points.size() < 3) {
+      const Section& sec = cp.sections[std::size_t(s)];
+      const Ring& orig = r == 0 ? sec.outer : sec.holes[std::size_t(r - 1)];
+      if (orig.size() >= 3 && !ring.points.empty()) {
+        const SectionVertex first = sv.points[std::size_t(ring.points.front())];
+        ring.points.clear();
+        const std::size_t n = std::min<std::size_t>(orig.size(), 8);
+        for (std::size_t k = 0; k < n; ++k) {
+          SectionVertex v;
+          v.planes = {p, -1, -1};
+          v.section = s;
+          v.kind = SectionVertex::contour;
+          for (const PointCell& c : first.cells) addCell(v, c.cell, c.side[0], 0);
+          const int id = idOf(cp.plane.toWorld(orig[k * orig.size() / n]), v);
+          if (ring.points.empty() || ring.points.back() != id) ring.points.push_back(id);
+        }
+      }
+    }
+    if (ring.points.size() >= 3) sv.rings.push_back(std::move(ring));
+  }
+  // Corners: three planes meeting inside a section of one of them.
+  std::map<std::array<int, 3>, int> corners;
+  // Cells no section point met (a small cell inside the object, bounded by sections only and
+  // reached by no contour): numbered after the arrangement's, by their keys.
+  std::map<std::array<std::uint64_t, 2>, int> unseen;
+  for (std::size_t i = 0; i < planes.size(); ++i) {
+    const CuttingPlane& cp = planes[i];
+    for (std::size_t s = 0; s < cp.sections.size(); ++s) {
+      const Section& sec = cp.sections[s];
+      const Eigen::AlignedBox2d box = ringBounds(sec.outer);
+      const Vec3 centre = cp.plane.toWorld(box.center());
+      const double radius = 0.5 * box.diagonal().norm() * (1 + 1e-9) + 1e-9;
+      std::vector<int> crossing;
+      for (std::size_t j = 0; j < planes.size(); ++j)
+        if (j != i && std::abs(planes[j].plane.signedDistance(centre)) <= radius) crossing.push_back(int(j));
+      for (std::size_t a = 0; a < crossing.size(); ++a)
+        for (std::size_t b = a + 1; b < crossing.size(); ++b) {
+          const Plane& Q = planes[std::size_t(crossing[a])].plane;
+          const Plane& R = planes[std::size_t(crossing[b])].plane;
+          Eigen::Matrix3d M;
+          M.row(0) = cp.plane.normal.transpose();
+          M.row(1) = Q.normal.transpose();
+          M.row(2) = R.normal.transpose();
+          // Nearly parallel planes meet far away or along a line: no corner.
+          if (std::abs(M.determinant()) < 1e-6) continue;
+          const Vec3 x = M.partialPivLu().solve(
+              Vec3(cp.plane.normal.dot(cp.plane.origin), Q.normal.dot(Q.origin), R.normal.dot(R.origin)));
+          if (!sectionContains(sec, cp.plane.toPlane(x))) continue;
+          std::array<int, 3> key{int(i), crossing[a], crossing[b]};
+          std::sort(key.begin(), key.end());
+          if (corners.count(key)) continue;
+          const std::vector<int> on{int(i), crossing[a], crossing[b]};
+          const CellsAround found = cellsAround(arr, planes, x, on);
+          std::vector<int> around = found.cells;
+          for (std::size_t m = 0; m < around.size(); ++m)
+            if (around[m] < 0) around[m] = unseen.emplace(found.keys[m], sv.cells + int(unseen.size())).first->second;
+          SectionVertex v;
+          v.planes = {int(i), crossing[a], crossing[b]};
+          v.section = int(s);
+          v.kind = SectionVertex::corner;
+          for (std::size_t m = 0; m < around.size(); ++m)
+            addCell(v, around[m], (m & 1) ? 1 : -1, (m & 2) ? 1 : -1, (m & 4) ? 1 : -1);
+          if (v.cells.empty()) continue;
+          corners[key] = idOf(x, v);
+        }
+    }
+  }
+  sv.cells += int(unseen.size());
+  mergeTracePairs(sv, arr.sample_spacing_mm);
+  for (const BranchingPoint& b : branching) {
+    if (b.plane < 0 || std::size_t(b.plane) >= planes.size() || b.cell < 0) continue;
+    SectionVertex v;
+    v.planes = {b.plane, -1, -1};
+    v.section = b.section;
+    v.kind = SectionVertex::branching;
+    // The side of the plane the cell lies on is read from a contour point of the same section
+    // bounding that cell; a branching point in a cell no contour point of its plane bounds is
+    // dropped.
+    v.cells.push_back({b.cell, {0, 0}});
+    idOf(planes[std::size_t(b.plane)].plane.toWorld(b.p), v);
+  }
+  // Sides of branching points.
+  std::map<std::pair<int, int>, int> sideOf;  // (plane, cell) -> side
+  for (const SectionVertex& v : sv.points)
+    if (v.kind != SectionVertex::branching)
+      for (const PointCell& c : v.cells)
+        for (int k = 0; k < 3; ++k)
+          if (v.planes[std::size_t(k)] >= 0) sideOf[{v.planes[std::size_t(k)], c.cell}] = c.side[std::size_t(k)];
+  for (SectionVertex& v : sv.points) {
+    if (v.kind != SectionVertex::branching) continue;
+    std::vector<PointCell> kept;
+    for (PointCell c : v.cells) {
+      if (c.side[0] != 0) {
+        kept.push_back(c);
+        continue;
+      }
+      const auto it = sideOf.find({v.planes[0], c.cell});
+      if (it == sideOf.end()) continue;
+      c.side[0] = std::int8_t(it->second);
+      kept.push_back(c);
+    }
+    v.cells = kept;
+  }
+  resampleSections(sv, planes);
+  return sv;
+}
+
+int splitRingEdge(SectionVertices& sv, const std::vector<CuttingPlane>& planes, std::size_t r, std::size_t k) {
+  SampledRing& ring = sv.rings[r];
+  const int a = ring.points[k], b = ring.points[(k + 1) % ring.points.size()];
+  const CuttingPlane& cp = planes[std::size_t(ring.plane)];
+  const Vec2 m = 0.5 * (planeCoordinates(sv, planes, a, ring.plane) + planeCoordinates(sv, planes, b, ring.plane));
+  SectionVertex v;
+  v.planes = {ring.plane, -1, -1};
+  v.section = ring.section;
+  v.kind = SectionVertex::conformity;
+  const SectionVertex& A = sv.points[std::size_t(a)];
+  const int ia = A.slot(ring.plane);
+  for (const int c : edgeCells(sv, a, b, ring.plane))
+    for (const PointCell& pc : A.cells)
+      if (pc.cell == c) v.cells.push_back({c, {pc.side[std::size_t(ia)], 0}});
+  v.x = cp.plane.toWorld(m);
+  sv.points.push_back(std::move(v));
+  const int id = int(sv.points.size()) - 1;
+  ring.points.insert(ring.points.begin() + std::ptrdiff_t(k + 1), id);
+  return id;
+}
+
+void resampleSections(SectionVertices& sv, const std::vector<CuttingPlane>& planes) {
+  sv.sampled.assign(planes.size(), {});
+  for (std::size_t p = 0; p < planes.size(); ++p) sv.sampled[p].resize(planes[p].sections.size());
+  for (const SampledRing& r : sv.rings) {
+    Ring ring;
+    for (const int id : r.points) ring.push_back(planeCoordinates(sv, planes, id, r.plane));
+    Section& s = sv.sampled[std::size_t(r.plane)][std::size_t(r.section)];
+    if (r.ring == 0) s.outer = std::move(ring);
+    else s.holes.push_back(std::move(ring));
+  }
+}
+
+}  // namespace xsect
