@@ -321,7 +321,7 @@ void pruneCell(CellComplex& c) {
     if (c.kept[t])
       for (const auto& e : kEdges) ++edgeUse[edgeKey(c.v[t][std::size_t(e[0])], c.v[t][std::size_t(e[1])])];
   const auto candidate = [&](std::size_t t) {
-    return !c.kept[t] && !c.external[t] && (c.type[t] == TetType::evv || c.type[t] == TetType::vvvv);
+    return !c.kept[t] && !c.external[t] && c.type[t] != TetType::flat;
   };
   std::deque<int> queue;
   std::vector<std::uint8_t> inQueue(n, 0);
@@ -353,8 +353,8 @@ void pruneCell(CellComplex& c) {
       const auto it = edgeUse.find(uncovered);
       if (it != edgeUse.end() && it->second > 0) continue;
     }
-    // Solidity at its grounded edge (a T_evv has one): around it, the tetrahedron must join a run
-    // that reaches a grounded triangle through the edge, or it would hang there by an edge.
+    // Solidity at its grounded edges: around each, the tetrahedron must join a run that reaches a
+    // grounded triangle through the edge, or it would hang there by an edge.
     c.kept[t] = 1;
     bool solid = true;
     for (const auto& e : kEdges) {

@@ -15,9 +15,14 @@
 //    through p is removed (Property 2; the thesis' "T_vf fans sharing no face with a T_ee" in the
 //    form that also holds where two planes meet). Both repeat until nothing changes: by Lemma 10
 //    the result does not depend on the order.
-//  - Step 3: T_evv and T_vvvv tetrahedra of D1 are added, in index order, while one meets the
-//    current solid in 2, 3 or 4 faces; with 2, the edge opposite their common edge must not be in
-//    the solid already (the intersection is then a disc: no tunnel, no singularity).
+//  - Step 3: tetrahedra of D1 not in D2 are added, in index order, while one meets the current
+//    solid in 2, 3 or 4 faces (with 2, the edge opposite their common edge must not be in the solid
+//    already: the intersection is then a disc, no tunnel) and joins, around each of its grounded
+//    edges, a run reaching a grounded triangle through that edge (no singularity). The thesis adds
+//    only T_evv and T_vvvv here; T_ee and T_vf removed by step 2 are offered again under the same
+//    two conditions, which keep the result solid: otherwise a T_ee cut off around one trace line
+//    of a cell stays out although the solid surrounds it, leaving a small cavity (measured on a
+//    shell cut by 100 random planes: a void of 0.56 mm³ with six faces).
 #pragma once
 
 #include <array>

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <set>
 #include <tuple>
@@ -338,6 +340,20 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
   }
   out.stats.constraint_crossings = std::int64_t(positions.size() - sv.points.size());
   splitTJunctions(faces, [&](int id) { return positions[std::size_t(id)]; });
+  if (getenv("XS_DBG")) {
+    std::map<std::uint64_t, std::vector<std::size_t>> uses;
+    for (std::size_t q = 0; q < faces.size(); ++q)
+      for (int e = 0; e < 3; ++e) uses[edgeKey(faces[q][std::size_t(e)], faces[q][std::size_t((e + 1) % 3)])].push_back(q);
+    const auto kind = [&](int id) { return std::size_t(id) < sv.points.size() ? int(sv.points[std::size_t(id)].kind) : 9; };
+    const auto pl = [&](int id) { return std::size_t(id) < sv.points.size() ? sv.points[std::size_t(id)].planes : std::array<int,3>{-9,-9,-9}; };
+    int shown = 0;
+    for (const auto& [key, list] : uses) {
+      if (list.size() % 2 == 0 || shown++ > 6) continue;
+      const int a = int(key >> 32), b = int(key & 0xffffffffu);
+      fprintf(stderr, "open edge %d(%d p%d,%d,%d)-%d(%d p%d,%d,%d) len %.4f faces %zu\n", a, kind(a), pl(a)[0], pl(a)[1], pl(a)[2], b, kind(b), pl(b)[0], pl(b)[1], pl(b)[2], (positions[std::size_t(a)] - positions[std::size_t(b)]).norm(), list.size());
+      for (const std::size_t q : list) { fprintf(stderr, "   face %s:", q < faces.size() - std::size_t(out.stats.flat_faces) ? "3d" : "flat"); for (int x : faces[q]) fprintf(stderr, " %d(%d p%d,%d,%d)", x, kind(x), pl(x)[0], pl(x)[1], pl(x)[2]); fprintf(stderr, "\n"); }
+    }
+  }
   const OpenedPinches opened = openPinches(faces, positions);
   out.stats.singular_edges = opened.edges;
   out.stats.singular_vertices = opened.vertices;

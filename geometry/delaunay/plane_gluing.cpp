@@ -99,7 +99,20 @@ PlaneBoundary planeBoundary(int plane, const std::vector<int>& ids, const PlaneF
     if (r.plane != plane) continue;
     for (std::size_t k = 0; k < r.points.size(); ++k) constrain(r.points[k], r.points[(k + 1) % r.points.size()]);
   }
+  // The boundary of each side's covered region (its triangles' edges used once): where one cell's
+  // footprint ends at a trace line and the neighbouring cell's does not continue it, no rim
+  // marks the change, and a triangle of the plane straddling it would be misjudged.
   std::vector<std::array<int, 2>> rims = fp.rims;
+  for (const auto& side : fp.covered) {
+    std::unordered_map<std::uint64_t, int> uses;
+    for (const auto& t : side)
+      for (int e = 0; e < 3; ++e) {
+        const int a = t[std::size_t(e)], b = t[std::size_t((e + 1) % 3)];
+        ++uses[(std::uint64_t(std::uint32_t(std::min(a, b))) << 32) | std::uint32_t(std::max(a, b))];
+      }
+    for (const auto& [key, n] : uses)
+      if (n == 1) rims.push_back({int(key >> 32), int(key & 0xffffffffu)});
+  }
   std::sort(rims.begin(), rims.end());
   rims.erase(std::unique(rims.begin(), rims.end()), rims.end());
   for (const auto& e : rims) constrain(e[0], e[1]);
