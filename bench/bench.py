@@ -31,6 +31,11 @@ SCENARIOS = {
     "multiaxial-3x40-m2": ("torus-multiaxial-3x40.yaml", ["reconstruction.method=section_voronoi"]),
     "random-200-m2": ("genus2-random-200.yaml", ["reconstruction.end_margin_mm=1.0",
                                                  "reconstruction.method=section_voronoi"]),
+    # method 3 (Delaunay triangulation of the sections, thesis ch. 3) on the same inputs
+    "freehand-400-m3": ("vessel-tree-freehand.yaml", ["reconstruction.method=delaunay"]),
+    "multiaxial-3x40-m3": ("torus-multiaxial-3x40.yaml", ["reconstruction.method=delaunay"]),
+    "random-200-m3": ("genus2-random-200.yaml", ["reconstruction.end_margin_mm=1.0",
+                                                 "reconstruction.method=delaunay"]),
     # method 1 smoothed by the Shepard interpolant (thesis ch. 1 §1.1) on the same inputs
     "freehand-400-shepard": ("vessel-tree-freehand.yaml", ["smoothing.method=shepard",
                                                            "smoothing.exponent=1"]),
@@ -62,6 +67,7 @@ SCENARIOS = {
 # The run configuration the phantom folder provides for a scenario (default config.yaml).
 RUN_CONFIG = {"plus-400": "config_plus.yaml"}
 QUICK = ["freehand-400", "multiaxial-3x40", "random-200", "freehand-400-m2", "freehand-400-shepard"]
+METHOD_LABELS = {"nearest_plane": "method 1", "section_voronoi": "method 2", "delaunay": "method 3"}
 BASES = ["freehand-400", "multiaxial-3x40", "random-200", "freehand-400-exact"]
 # Overrides that change what the Poisson baseline sees (the sections, the sampling step).
 POISSON_KEYS = ("input.", "segmentation.", "reconstruction.voxel_size_mm")
@@ -277,6 +283,15 @@ def main():
                            ("pairs", "before", "after", "pairs_enforced", "endpoint_moves",
                             "edits_added", "edits_removed", "flagged_slices")},
         }
+        d3 = rep["reconstruction"].get("delaunay")
+        if d3 is not None:  # method 3: its own costs and counts (reconstruct = Delaunay + voxelisation)
+            results[name]["delaunay"] = {
+                "delaunay_s": median([r["throughput"]["method3_delaunay_s"] for r in reports]),
+                "voxelise_s": median([r["throughput"]["method3_voxelise_s"] for r in reports]),
+                **{k: d3.get(k) for k in ("cells", "section_vertices", "branching_points", "conformity_points",
+                                          "d3", "tetrahedra_components", "connections", "edges_g_double_prime",
+                                          "voxel_betti", "mesh_betti", "singular_edges", "singular_vertices",
+                                          "open_edges")}}
         if rep.get("smoothing") is not None or any(s.startswith("smoothing.") for s in sets):
             results[name]["smoothing_evaluate_s"] = (None if None in smooth_eval else median(smooth_eval))
         add_poisson(a, name, spec, sets, d, results, poisson_cache, reps)
@@ -290,13 +305,21 @@ def main():
         for stage, s in r["stages"].items():
             extra = ""
             if stage == "reconstruct":
-                label = "method 1" if r["method"] == "nearest_plane" else "method 2"
-                extra = (f"  {label}: {r['voxels_per_s'] / 1e6:.1f} Mvoxel/s "
-                         f"({r['voxels'] / 1e6:.2f} Mvoxel, {r['planes']} planes)")
+                label = METHOD_LABELS.get(r["method"], r["method"])
+                if r.get("delaunay"):
+                    d = r["delaunay"]
+                    extra = (f"  {label}: Delaunay {d['delaunay_s']:.3f} s ({d['section_vertices']} section-vertices, "
+                             f"{d['d3']} tetrahedra kept in {d['cells']} cells), voxelisation {d['voxelise_s']:.3f} s "
+                             f"({r['voxels'] / 1e6:.2f} Mvoxel)")
+                else:
+                    extra = (f"  {label}: {r['voxels_per_s'] / 1e6:.1f} Mvoxel/s "
+                             f"({r['voxels'] / 1e6:.2f} Mvoxel, {r['planes']} planes)")
             if stage == "segment" and r.get("load_segment_frames_per_s"):
                 extra = f"  load + segment: {r['load_segment_frames_per_s']:.0f} frames/s ({r['planes']} frames)"
             if stage == "arrange":
-                extra = f"  {r['cells']} cells with sections, graphs G" + ("" if r["method"] == "nearest_plane" else " and G'")
+                extra = f"  {r['cells']} cells with sections, graphs " + {
+                    "nearest_plane": "G", "section_voronoi": "G and G'",
+                    "delaunay": "G, G' and G'' with the branching diagram"}.get(r["method"], "G")
             if stage == "conform":
                 c = r.get("conformity") or {}
                 b, af = c.get("before") or {}, c.get("after")
@@ -351,6 +374,17 @@ def main():
             m1, m2 = results[base]["stages"]["reconstruct"]["wall_s"], results[base + "-m2"]["stages"]["reconstruct"]["wall_s"]
             print(f"method 2 / method 1 reconstruct stage on {base}: x{m2 / m1:.2f} ({m2:.3f} s / {m1:.3f} s)")
             results.setdefault("method2_over_method1_reconstruct", {})[base] = m2 / m1
+    for base in BASES:
+        if ok(base) and ok(base + "-m3"):
+            b, m3 = results[base], results[base + "-m3"]
+            m1 = b["stages"]["reconstruct"]["wall_s"]
+            # method 3's graphs (G' and the branching diagram) are built in the arrange stage
+            a1, a3 = b["stages"]["arrange"]["wall_s"], m3["stages"]["arrange"]["wall_s"]
+            r3 = m3["stages"]["reconstruct"]["wall_s"]
+            print(f"method 3 / method 1 on {base}: reconstruct x{r3 / m1:.2f} ({r3:.3f} s / {m1:.3f} s), "
+                  f"arrange + reconstruct x{(a3 + r3) / (a1 + m1):.2f}; mean distance {m3['mean_distance_mm']:.3f} "
+                  f"vs {b['mean_distance_mm']:.3f} mm, betti {m3['betti']} vs {b['betti']} (truth {b['truth_betti']})")
+            results.setdefault("method3_over_method1_reconstruct", {})[base] = r3 / m1
     for base in BASES:
         sh = results.get(base + "-shepard")
         if sh is None:

@@ -233,7 +233,8 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
       c.planes_default = false;
       if (c.planes == PlaneExtent::observed && c.reconstruction_method != ReconstructionMethod::nearest_plane)
         throw InputError(path, "reconstruction.planes",
-                         "observed pieces are available for method 1 (nearest_plane); method 2 runs on whole planes",
+                         "observed pieces are available for method 1 (nearest_plane); methods 2 (section_voronoi) and 3 "
+                         "(delaunay) run on whole planes",
                          yamlLine(s["planes"]));
     }
     if (const YAML::Node m = s["end_margin_mm"]) {
@@ -318,7 +319,7 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
     }
   }
   // Observed pieces by default where a slice is an image (its rectangle and field of view say where
-  // it was seen); contour files give all of O ∩ P on each plane. Method 2 runs on whole planes.
+  // it was seen); contour files give all of O ∩ P on each plane. Methods 2 and 3 run on whole planes.
   if (c.planes_default)
     c.planes = c.reconstruction_method == ReconstructionMethod::nearest_plane &&
                        (c.input_kind == InputKind::slices || c.input_kind == InputKind::plus_sequence)

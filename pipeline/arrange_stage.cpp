@@ -5,23 +5,49 @@
 #include <cmath>
 
 #include "geometry/core/polygon.h"
+#include "geometry/delaunay/branching_diagram.h"
 
 namespace xsect {
 
+double arrangementSpacing(const RunConfig& c, const std::vector<CuttingPlane>& planes, std::size_t realPlanes) {
+  double area = 0;
+  for (std::size_t p = 0; p < realPlanes; ++p)
+    for (const auto& s : planes[p].sections) area += sectionArea(s);
+  // Lattice of section points: the voxel size, coarser when it would exceed 250 000 points.
+  return std::max(c.voxel_size_mm, std::sqrt(area / 250000.0));
+}
+
+int edgesMissing(const std::vector<GraphEdge>& sub, const std::vector<GraphEdge>& super) {
+  int missing = 0;
+  for (const GraphEdge& e : sub) missing += !std::binary_search(super.begin(), super.end(), e);
+  return missing;
+}
+
 ArrangeStage arrangeStage(const RunConfig& c, const SectionScene& scene) {
   ArrangeStage a;
-  double area = 0;
-  for (std::size_t p = 0; p < scene.real_planes; ++p)
-    for (const auto& s : scene.planes[p].sections) area += sectionArea(s);
-  // Lattice of section points: the voxel size, coarser when it would exceed 250 000 points.
-  const double spacing = std::max(c.voxel_size_mm, std::sqrt(area / 250000.0));
-  a.arrangement = arrangeSections(scene.planes, spacing);
+  a.arrangement = arrangeSections(scene.planes, arrangementSpacing(c, scene.planes, scene.real_planes));
   SectionVoronoiParams vp;
   vp.slab_mm = scene.slab_mm();
-  a.method2 = scene.params.method == ReconstructionMethod::section_voronoi;
-  a.graphs = connectivityGraphs(scene, a.arrangement, vp, a.method2);
-  for (const GraphEdge& e : a.graphs.g)
-    a.g_in_g_prime = a.g_in_g_prime && std::binary_search(a.graphs.g_prime.begin(), a.graphs.g_prime.end(), e);
+  const ReconstructionMethod method = scene.params.method;
+  a.with_g_prime = method == ReconstructionMethod::section_voronoi || method == ReconstructionMethod::delaunay;
+  a.graphs = connectivityGraphs(scene, a.arrangement, vp, a.with_g_prime);
+  if (a.with_g_prime) {
+    a.g_not_in_g_prime = edgesMissing(a.graphs.g, a.graphs.g_prime);
+    a.g_in_g_prime = a.g_not_in_g_prime == 0;
+  }
+  if (method == ReconstructionMethod::delaunay) {
+    // Method 3 (ch. 3 §1): the branching points its Delaunay triangulations add, and G''.
+    BranchingDiagram d = branchingDiagram(scene, a.arrangement);
+    a.branching = std::move(d.points);
+    a.branching_rays = d.rays;
+    a.branching_labelled = d.labelled;
+    a.graphs.g_double_prime = std::move(d.g_double_prime);
+    std::vector<GraphEdge>& g2 = a.graphs.g_double_prime;  // sorted and unique, as G and G' are
+    std::sort(g2.begin(), g2.end());
+    g2.erase(std::unique(g2.begin(), g2.end()), g2.end());
+    a.with_g_double_prime = true;
+    a.g_prime_not_in_g_double_prime = edgesMissing(a.graphs.g_prime, a.graphs.g_double_prime);
+  }
   return a;
 }
 

@@ -3,9 +3,14 @@
 // material, each voxel labelled with the section its lift comes from (thesis remark after Def. 17)
 // and one mesh per label; then every mesh's topology (Betti numbers, watertight) required to be the
 // one of the voxel solid it bounds (issue 14: a difference is a defect, exit 1, nothing written).
+// Method 3 (thesis ch. 3) gives its mesh itself, ∂R'', conformal to the contours by construction
+// (no marching, no cut), and per material the mesh of each label's own R'' (delaunay_materials.h):
+// such a mesh must be watertight with as many components as the union of its tetrahedra; its
+// voxelisation's Betti numbers are reported beside it, with a warning where they differ.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +30,12 @@ struct Material {
   int critical_voxels_added = 0;   ///< voxels taken from neighbours to make it well-composed
   Betti voxel_betti{0, 0, 0};
   MeshTopology topology;           ///< of `mesh`, computed by diagnoseStage
+  /// Method 3: the label's own R'' (delaunay_materials.h), whose mesh is checked against the
+  /// components of its tetrahedra's union rather than against its voxels.
+  std::optional<DelaunayStats> delaunay;
+  int tetrahedra_components = 0;          ///< method 3
+  std::int64_t opened_copies = 0;         ///< method 3: vertex copies its mesh's opened pinches added
+  std::int64_t delaunay_connections = 0;  ///< method 3: section pairs its tetrahedra join
 };
 
 struct MeshStage {
@@ -32,6 +43,7 @@ struct MeshStage {
                                     ///< asked (empty without smoothing: `mesh` is that solid)
   TriangleMesh mesh;                ///< what mesh.<fmt> holds: the smooth surface, or the method's
   ConformalCutStats cut;            ///< of `mesh`
+  bool conformal_by_construction = false;  ///< `mesh` is method 3's ∂R'' (no cut applies)
   BlockGrid<std::uint16_t> voxel_label;  ///< labels.nrrd
   std::vector<Material> materials;
 };
@@ -47,7 +59,9 @@ struct DiagnoseStage {
 };
 
 /// Every mesh's topology against its solid; throws std::runtime_error naming the mesh otherwise.
-/// Fills the materials' topologies.
-DiagnoseStage diagnoseStage(const ReconstructStage& reconstruction, const SmoothStage* smooth, MeshStage& meshes);
+/// Fills the materials' topologies. Method 3: appends a warning for each mesh whose voxelisation
+/// has other Betti numbers (parts of R'' thinner than a voxel).
+DiagnoseStage diagnoseStage(const ReconstructStage& reconstruction, const SmoothStage* smooth, MeshStage& meshes,
+                            std::vector<std::string>* warnings);
 
 }  // namespace xsect

@@ -1,19 +1,78 @@
 // Stage 5: the solid on the scene's grid and its check against the graph (see reconstruct_stage.h).
 #include "pipeline/reconstruct_stage.h"
 
+#include <algorithm>
+#include <chrono>
 #include <stdexcept>
 
+#include "geometry/delaunay/tetrahedra_components.h"
+#include "geometry/delaunay/tetrahedra_voxels.h"
 #include "io/input_error.h"
+#include "pipeline/material_sections.h"
 
 namespace xsect {
 
-ReconstructStage reconstructStage(const RunConfig& c, const SceneStage& built, const ArrangeStage& a,
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+/// Method 3: R'' on the scene's planes and arrangement, its tetrahedra sampled on the grid, and per
+/// material when there are several labels.
+void delaunayOnGrid(const RunInputs& in, const SceneStage& built, const ArrangeStage& a, Progress& progress,
+                    ReconstructStage& r, std::vector<std::string>* warnings) {
+  const RunConfig& c = in.config;
+  const SectionScene& scene = built.scene;
+  auto t0 = std::chrono::steady_clock::now();
+  r.delaunay = delaunayReconstruction(scene.planes, a.arrangement, a.branching, progress.counter());
+  r.delaunay_s = secondsSince(t0);
+  const DelaunayReconstruction& d = *r.delaunay;
+  if (d.tetrahedra.empty())
+    throw InputError(c.path, "reconstruction.method",
+                     built.counts.planes_with_sections <= 1
+                         ? "method 3 (delaunay) joins sections of different planes, and only one plane holds "
+                           "sections: use nearest_plane or section_voronoi"
+                         : "method 3 (delaunay) kept no tetrahedron: no two planes' sections face each other in a "
+                           "cell of the arrangement (every tetrahedron was external); use nearest_plane or "
+                           "section_voronoi");
+  // What the mesh's b0 is checked against (mesh_stage.h; tetrahedra_components.h).
+  r.delaunay_components = tetrahedraComponents(d.tetrahedra);
+  r.delaunay_opened_copies = repeatedVertexCopies(d.mesh);
+  r.connections_not_in_graph = edgesMissing(d.connections, a.graphs.g_double_prime);
+  r.graph_edges_not_realised = edgesMissing(a.graphs.g_double_prime, d.connections);
+  float band = 0;
+  for (const auto& f : scene.fields) band = std::max(band, f.band);
+  if (!(band > 0)) band = float(scene.params.band_voxels * scene.params.voxel_mm);
+  t0 = std::chrono::steady_clock::now();
+  r.solid = tetrahedraOnGrid(d.tetrahedra, scene.planes, scene.real_planes, scene.grid(), band);
+  r.voxelise_s = secondsSince(t0);
+  r.solid.evaluate_seconds = r.delaunay_s + r.voxelise_s;
+  if (r.solid.voxels_inside == 0)
+    warnings->push_back("method 3's solid holds no voxel centre at " + std::to_string(c.voxel_size_mm) +
+                        " mm (it is thinner than a voxel): labels.nrrd and the voxel checks are empty; the mesh is "
+                        "R'' itself");
+  // Several materials: each label's sections reconstructed on their own (thesis ch. 3, closing remark).
+  const std::vector<std::uint16_t> labels = materialLabels(in);
+  if (labels.size() >= 2) {
+    t0 = std::chrono::steady_clock::now();
+    r.delaunay_materials = delaunayMaterials(in, labels, scene);
+    r.delaunay_s += secondsSince(t0);
+  }
+}
+
+}  // namespace
+
+ReconstructStage reconstructStage(const RunInputs& in, const SceneStage& built, const ArrangeStage& a,
                                   Progress& progress, std::vector<std::string>* warnings) {
+  const RunConfig& c = in.config;
   const SectionScene& scene = built.scene;
   ReconstructStage r;
-  r.solid = reconstructOnGrid(scene, progress.counter());
+  const bool delaunay = scene.params.method == ReconstructionMethod::delaunay;
+  if (delaunay) delaunayOnGrid(in, built, a, progress, r, warnings);
+  else r.solid = reconstructOnGrid(scene, progress.counter());
   const SampledReconstruction& rec = r.solid;
-  if (rec.voxels_inside == 0) {
+  if (rec.voxels_inside == 0 && !delaunay) {
     // An automatic size the budget forced so coarse that nothing is left: the configuration must
     // change (exit 2); otherwise exit 1 with the size to use (issue 14).
     const VoxelSizeReport& v = built.voxel_size;

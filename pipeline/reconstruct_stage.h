@@ -1,31 +1,50 @@
 // Stage 5 of `xsect run` (GUIDE.md): method 1 (thesis ch. 1, Def. 16) or method 2 (ch. 2, Def. 28)
 // sampled on the scene's grid, its sampled topology repaired
-// (geometry/reconstruction/sampled_reconstruction.h), and the solid's components checked against
-// the method's connectivity graph from stage 4, globally and cell by cell (the thesis: R_C's
-// components are the classes of S_C that the lifts join).
+// (geometry/reconstruction/sampled_reconstruction.h), or method 3 (ch. 3: R'', the pruned Delaunay
+// triangulation of the section-vertices and branching points, geometry/delaunay/) with its
+// tetrahedra sampled on that grid (geometry/delaunay/tetrahedra_voxels.h); and the solid's
+// components checked against the method's connectivity graph from stage 4, globally and cell by
+// cell (the thesis: R_C's components are the classes of S_C that the lifts join).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "geometry/arrangement/cell_connectivity_check.h"
+#include "geometry/delaunay/delaunay_reconstruction.h"
 #include "geometry/reconstruction/sampled_reconstruction.h"
 #include "pipeline/arrange_stage.h"
+#include "pipeline/delaunay_materials.h"
+#include "pipeline/input_stage.h"
 #include "pipeline/progress.h"
 #include "pipeline/scene_stage.h"
 
 namespace xsect {
 
 struct ReconstructStage {
-  SampledReconstruction solid;
+  SampledReconstruction solid;       ///< the method's solid on the grid (method 3: R'' sampled)
   GraphVoxelCheck graph_check;       ///< the method's graph against the solid's components
   CellConnectivityCheck cell_check;  ///< the same, cell by cell
+  /// Method 3: R'' itself (its boundary mesh, conformal by construction, its tetrahedra, the
+  /// section pairs they join and the pruning's statistics); `solid` is its voxelisation.
+  std::optional<DelaunayReconstruction> delaunay;
+  int delaunay_components = 0;           ///< method 3: components of the tetrahedra's union
+  std::int64_t delaunay_opened_copies = 0;  ///< method 3: vertex copies the mesh's opened pinches added
+  int connections_not_in_graph = 0;      ///< method 3: realised connections missing from G''
+  int graph_edges_not_realised = 0;      ///< method 3: edges of G'' that no tetrahedron realises
+  double delaunay_s = 0;                 ///< method 3: delaunayReconstruction, s (per material too)
+  double voxelise_s = 0;                 ///< method 3: sampling the tetrahedra on the grid, s
+  /// Method 3 with several materials: each label reconstructed on its own (delaunay_materials.h).
+  std::optional<DelaunayMaterials> delaunay_materials;
 };
 
 /// Reads the scene (stage 4's input) and the method's graph (stage 4); appends a warning when the
 /// graph and the solid group the sections differently. Throws InputError when the solid is empty
-/// at a size the voxel budget forced, std::runtime_error when it is empty at another size.
-ReconstructStage reconstructStage(const RunConfig& config, const SceneStage& scene, const ArrangeStage& arrangement,
+/// at a size the voxel budget forced, std::runtime_error when it is empty at another size; for
+/// method 3, InputError naming reconstruction.method when R'' has no tetrahedron (no two planes'
+/// sections face each other in a cell), a warning when its voxelisation is empty.
+ReconstructStage reconstructStage(const RunInputs& inputs, const SceneStage& scene, const ArrangeStage& arrangement,
                                   Progress& progress, std::vector<std::string>* warnings);
 
 }  // namespace xsect

@@ -2,7 +2,7 @@
 // run, each a function of the results before it (pipeline/*_stage.h), and the one writer.
 //   load -> segment -> conform   (input_stage.h, stages 1-3)
 //   the scene                    (scene_stage.h: planes and end planes, rasters, grid; built once)
-//   arrange                      (arrange_stage.h, stage 4: cells, sub-sections, graphs G / G')
+//   arrange                      (arrange_stage.h, stage 4: cells, sub-sections, graphs G / G' / G'')
 //   reconstruct                  (reconstruct_stage.h, stage 5: the solid, checked against the graph)
 //   smooth                       (smooth_stage.h, stage 6, optional)
 //   mesh -> diagnose             (mesh_stage.h, stage 7)
@@ -46,8 +46,9 @@ int runCommand(const RunOptions& o) {
   const ArrangeStage arrangement = arrangeStage(c, scene);
   clock.end("arrange");
 
-  progress.stage("reconstruct", "blocks");
-  const ReconstructStage reconstruction = reconstructStage(c, built, arrangement, progress, &in.warnings);
+  // Methods 1 and 2 count blocks of the grid, method 3 the cells it triangulates.
+  progress.stage("reconstruct", c.reconstruction_method == ReconstructionMethod::delaunay ? "cells" : "blocks");
+  const ReconstructStage reconstruction = reconstructStage(in, built, arrangement, progress, &in.warnings);
   clock.end("reconstruct");
 
   std::optional<SmoothStage> smooth;
@@ -64,7 +65,7 @@ int runCommand(const RunOptions& o) {
   clock.end("mesh");
 
   progress.stage("diagnose");
-  const DiagnoseStage diagnosis = diagnoseStage(reconstruction, smoothed, meshes);
+  const DiagnoseStage diagnosis = diagnoseStage(reconstruction, smoothed, meshes, &in.warnings);
   clock.end("diagnose");
 
   progress.stage("sampling");

@@ -26,7 +26,8 @@ using json = nlohmann::ordered_json;
 
 namespace {
 
-/// The graphs' edges as (flat section id a, id b, cell, method, Graphviz style), G then G'.
+/// The graphs' edges as (flat section id a, id b, cell, method, Graphviz style), G, then G' (methods
+/// 2 and 3), then G'' (method 3).
 template <typename Visit>
 void forEachEdge(const RunResults& r, const Visit& visit) {
   const SectionIds ids = r.scene_stage.scene.ids();  // the real planes' sections
@@ -34,8 +35,10 @@ void forEachEdge(const RunResults& r, const Visit& visit) {
     for (const GraphEdge& e : es)
       visit(ids.of(e.plane_a, e.section_a), ids.of(e.plane_b, e.section_b), e.cell, method, style);
   };
-  visitAll(r.arrangement.graphs.g, "nearest_plane", "style=dashed");
-  if (r.arrangement.method2) visitAll(r.arrangement.graphs.g_prime, "section_voronoi", "style=solid");
+  const ArrangeStage& a = r.arrangement;
+  visitAll(a.graphs.g, "nearest_plane", "style=dashed");
+  if (a.with_g_prime) visitAll(a.graphs.g_prime, "section_voronoi", "style=solid");
+  if (a.with_g_double_prime) visitAll(a.graphs.g_double_prime, "delaunay", "style=bold");
 }
 
 json manifestJson(const RunInputs& in, const RunOptions& o, const fs::path& dir) {
@@ -73,11 +76,20 @@ json graphJson(const RunResults& r) {
   forEachEdge(r, [&](int a, int b, int cell, const char* method, const char*) {
     edges.push_back({{"a", a}, {"b", b}, {"cell", cell}, {"method", method}});
   });
-  return {{"method", nameOf(kReconstructionMethods, r.inputs.config.reconstruction_method)},
-          {"cells", r.arrangement.arrangement.cells},
-          {"sample_spacing_mm", r.arrangement.arrangement.sample_spacing_mm},
-          {"nodes", nodes},
-          {"edges", edges}};
+  json graph = {{"method", nameOf(kReconstructionMethods, r.inputs.config.reconstruction_method)},
+                {"cells", r.arrangement.arrangement.cells},
+                {"sample_spacing_mm", r.arrangement.arrangement.sample_spacing_mm},
+                {"nodes", nodes},
+                {"edges", edges}};
+  if (const auto& d = r.reconstruction.delaunay) {
+    // Method 3: the section pairs R'''s tetrahedra join, per cell (beside G'', its graph).
+    const SectionIds ids = r.scene_stage.scene.ids();
+    json joined = json::array();
+    for (const GraphEdge& e : d->connections)
+      joined.push_back({{"a", ids.of(e.plane_a, e.section_a)}, {"b", ids.of(e.plane_b, e.section_b)}, {"cell", e.cell}});
+    graph["delaunay_connections"] = joined;
+  }
+  return graph;
 }
 
 std::string graphDot(const RunResults& r) {

@@ -33,8 +33,9 @@ struct RunResults {
   const SamplingStage& sampling;
 };
 
-/// graph.json: the sections (nodes) and the edges of G and, for method 2, G' (thesis Def. 30), each
-/// with the cell of the arrangement where the lifts meet.
+/// graph.json: the sections (nodes) and the edges of G and, for methods 2 and 3, G' (thesis Def. 30)
+/// and, for method 3, G'' (Def. 44, `method` "delaunay"), each with the cell of the arrangement
+/// where the lifts meet; for method 3 also `delaunay_connections`, the pairs R'' joins per cell.
 nlohmann::ordered_json graphJson(const RunResults& r);
 /// graph.dot: the same graph for Graphviz.
 std::string graphDot(const RunResults& r);

@@ -59,11 +59,57 @@ json countsJson(const RunResults& r) {
           {"mesh_triangles", r.meshes.mesh.triangles.size()}};
 }
 
+/// Method 3's pruning (thesis ch. 3, Def. 47-50), as DelaunayStats counts it.
+json delaunayStatsJson(const DelaunayStats& s) {
+  return {{"cells", s.cells},
+          {"section_vertices", s.section_vertices},
+          {"branching_points", s.branching_points},
+          {"conformity_points", s.conformity_points},
+          {"d0", {{"vf", s.d0.vf}, {"ee", s.d0.ee}, {"evv", s.d0.evv}, {"vvvv", s.d0.vvvv}, {"flat", s.d0.flat}}},
+          {"external", s.external},
+          {"d1", s.d1},
+          {"d2", s.d2},
+          {"d3", s.d3},
+          {"flat_faces", s.flat_faces},
+          {"constraint_crossings", s.constraint_crossings},
+          {"singular_edges", s.singular_edges},
+          {"singular_vertices", s.singular_vertices},
+          {"open_edges", s.open_edges}};
+}
+
+/// report.json `reconstruction.delaunay` (method 3): the pruning's counts, the solid's components
+/// and Betti numbers (mesh and voxels), and the connections R'' realises against G'' and G'.
+json delaunayJson(const RunResults& r) {
+  const ReconstructStage& rs = r.reconstruction;
+  const DelaunayReconstruction& d = *rs.delaunay;
+  const ArrangeStage& a = r.arrangement;
+  const Betti& mesh = r.diagnosis.method_topology.betti;
+  json j = delaunayStatsJson(d.stats);
+  j.update(json{{"tetrahedra", d.tetrahedra.size()},
+                {"tetrahedra_components", rs.delaunay_components},
+                {"opened_vertex_copies", rs.delaunay_opened_copies},
+                {"mesh_betti", mesh},
+                {"mesh_triangles", r.smooth ? r.meshes.method_mesh.triangles.size() : r.meshes.mesh.triangles.size()},
+                {"voxel_betti", rs.solid.voxel_betti},
+                {"voxel_betti_matches_mesh", rs.solid.voxel_betti == mesh},
+                {"connections", d.connections.size()},
+                {"connections_not_in_g_double_prime", rs.connections_not_in_graph},
+                {"g_double_prime_edges_not_realised", rs.graph_edges_not_realised},
+                {"edges_g_double_prime", a.graphs.g_double_prime.size()},
+                {"g_not_in_g_prime", a.g_not_in_g_prime},
+                {"g_prime_not_in_g_double_prime", a.g_prime_not_in_g_double_prime},
+                {"branching_diagram", {{"points", a.branching.size()},
+                                       {"rays", a.branching_rays},
+                                       {"rays_labelled", a.branching_labelled}}},
+                {"materials_reconstructed_separately", rs.delaunay_materials.has_value()}});
+  return j;
+}
+
 json reconstructionJson(const RunResults& r) {
   const SampledReconstruction& rec = r.reconstruction.solid;
   const ReconstructionLayout& layout = r.scene_stage.scene.layout;
   const RunConfig& c = r.inputs.config;
-  return {{"method", nameOf(kReconstructionMethods, c.reconstruction_method)},
+  json j = {{"method", nameOf(kReconstructionMethods, c.reconstruction_method)},
           {"planes", nameOf(kPlaneExtents, c.planes)},
           {"planes_auto", c.planes_default},
           {"voxel_size_mm", c.voxel_size_mm},
@@ -81,6 +127,8 @@ json reconstructionJson(const RunResults& r) {
           {"exact_face_tests", rec.exact_face_tests},
           {"search_restarts", rec.search_restarts},
           {"volume_mm3", r.diagnosis.topology.volume_mm3}};
+  if (r.reconstruction.delaunay) j["delaunay"] = delaunayJson(r);
+  return j;
 }
 
 json materialsJson(const RunResults& r) {
@@ -91,6 +139,13 @@ json materialsJson(const RunResults& r) {
                     {"watertight", t.watertight}, {"voxels", m.voxels},
                     {"critical_voxels_added", m.critical_voxels_added}, {"volume_mm3", t.volume_mm3},
                     {"mesh_triangles", m.mesh.triangles.size()}});
+    if (m.delaunay) {  // method 3: the label's own R''
+      json d = delaunayStatsJson(*m.delaunay);
+      d.update(json{{"tetrahedra_components", m.tetrahedra_components},
+                    {"opened_vertex_copies", m.opened_copies},
+                    {"connections", m.delaunay_connections}});
+      mats.back()["delaunay"] = d;
+    }
   }
   return mats;
 }
@@ -98,9 +153,9 @@ json materialsJson(const RunResults& r) {
 json graphSummaryJson(const RunResults& r) {
   const ArrangeStage& a = r.arrangement;
   const GraphVoxelCheck& g = r.reconstruction.graph_check;
-  return {{"edges_g", a.graphs.g.size()},
-          {"edges_g_prime", a.method2 ? json(a.graphs.g_prime.size()) : json(nullptr)},
-          {"g_subset_of_g_prime", a.method2 ? json(a.g_in_g_prime) : json(nullptr)},
+  json j = {{"edges_g", a.graphs.g.size()},
+          {"edges_g_prime", a.with_g_prime ? json(a.graphs.g_prime.size()) : json(nullptr)},
+          {"g_subset_of_g_prime", a.with_g_prime ? json(a.g_in_g_prime) : json(nullptr)},
           {"components", g.graph_components},
           {"voxel_components_with_sections", g.voxel_components},
           {"same_partition_as_voxels", g.same_partition},
@@ -108,6 +163,13 @@ json graphSummaryJson(const RunResults& r) {
           {"pairs_joined_by_voxels_only", g.pairs_joined_by_voxels_only},
           {"sections_not_located", g.sections_unlocated},
           {"per_cell", cellsJson(r.reconstruction.cell_check)}};
+  if (a.with_g_double_prime) {  // method 3: its graph is G'' (the voxel checks above are against it)
+    j["edges_g_double_prime"] = a.graphs.g_double_prime.size();
+    j["g_prime_subset_of_g_double_prime"] = a.g_prime_not_in_g_double_prime == 0;
+    j["g_not_in_g_prime"] = a.g_not_in_g_prime;
+    j["g_prime_not_in_g_double_prime"] = a.g_prime_not_in_g_double_prime;
+  }
+  return j;
 }
 
 json smoothingJson(const RunResults& r) {
@@ -166,6 +228,9 @@ json conformityJson(const RunResults& r) {
                 {"cut_vertices_short_of_contour", cut.vertices_shortened},
                 {"cut_vertices_off_contour", cut.vertices_unsnapped},
                 {"cut_max_move_mm", cut.max_move_mm}});
+  // Method 3 without smoothing: the mesh is ∂R'', conformal to the contours by construction; no
+  // cut applies (its counts are zero).
+  if (r.reconstruction.delaunay) j["conformal_by_construction"] = r.meshes.conformal_by_construction;
   return j;
 }
 
@@ -175,7 +240,10 @@ json throughputJson(const RunResults& r) {
   return {{"reconstruct_voxels_per_s", rec.evaluate_seconds > 0 ? double(rec.field.grid().count()) / rec.evaluate_seconds : 0.0},
           {"evaluate_s", rec.evaluate_seconds},
           {"method1_evaluate_s", method == ReconstructionMethod::nearest_plane ? json(rec.evaluate_seconds) : json(nullptr)},
-          {"method2_evaluate_s", method == ReconstructionMethod::section_voronoi ? json(rec.evaluate_seconds) : json(nullptr)}};
+          {"method2_evaluate_s", method == ReconstructionMethod::section_voronoi ? json(rec.evaluate_seconds) : json(nullptr)},
+          {"method3_evaluate_s", method == ReconstructionMethod::delaunay ? json(rec.evaluate_seconds) : json(nullptr)},
+          {"method3_delaunay_s", method == ReconstructionMethod::delaunay ? json(r.reconstruction.delaunay_s) : json(nullptr)},
+          {"method3_voxelise_s", method == ReconstructionMethod::delaunay ? json(r.reconstruction.voxelise_s) : json(nullptr)}};
 }
 
 }  // namespace

@@ -105,7 +105,11 @@ SamplingStage samplingStage(const RunConfig& c, const SectionScene& scene, const
   const auto since = [](std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   };
-  s.diagnosis = diagnoseSampling(scene.planes, scene.fields, arrangement.arrangement, c.reconstruction_method,
+  s.run_method = c.reconstruction_method;
+  const ReconstructionMethod conditions =  // method 3: method 2's conditions (see sampling_stage.h)
+      c.reconstruction_method == ReconstructionMethod::delaunay ? ReconstructionMethod::section_voronoi
+                                                                : c.reconstruction_method;
+  s.diagnosis = diagnoseSampling(scene.planes, scene.fields, arrangement.arrangement, conditions,
                                  samplingPrior(c), s.lo, s.hi, scene.params.voxel_mm, tolerance);
   s.diagnosis_s = since(start);
   if (!advise || s.diagnosis.verdict == SamplingVerdict::satisfied) return s;
@@ -146,6 +150,12 @@ json samplingSummaryJson(const SamplingStage& s) {
   json r;
   r["verdict"] = name(d.verdict);
   r["method"] = nameOf(kReconstructionMethods, d.method);
+  if (s.run_method != d.method) {
+    r["for_method"] = nameOf(kReconstructionMethods, s.run_method);
+    r["note"] = "method 3 (delaunay) has no sampling theorem in the thesis: the conditions, verdict and guarantees "
+                "are method 2's, for R' (R'' joins at least the sections R' joins: G' is a subgraph of G''); they "
+                "say whether the slices suffice for method 2, not that R'' is right";
+  }
   r["conditions"] = {{n.density, name(d.density)}, {n.transversality, name(d.transversality)}};
   if (d.method == ReconstructionMethod::nearest_plane)
     r["conditions"]["intersection_on_data"] = name(d.intersection);
@@ -321,6 +331,7 @@ std::string samplingLine(const SamplingStage& s) {
   if (!d.prior.reach_interior_mm && !d.prior.reach_exterior_mm && d.verdict == SamplingVerdict::undetermined)
     os << "; give sampling.reach_mm (and sampling.max_angle_deg) to decide";
   if (!s.advice.empty()) os << "; advice.yaml proposes " << s.advice.size() << " slices";
+  if (s.run_method != d.method) os << " (method 2's conditions: method 3 has none of its own)";
   return os.str();
 }
 

@@ -19,6 +19,10 @@
 namespace xsect {
 
 struct SamplingStage {
+  /// The run's method. Method 3 (delaunay) has no sampling theorem in the thesis: it is diagnosed
+  /// with method 2's conditions (diagnosis.method is section_voronoi), whose connectivity G' it
+  /// contains (G' ⊆ G'', Proposition 10), and the report says so.
+  ReconstructionMethod run_method = ReconstructionMethod::nearest_plane;
   SamplingDiagnosis diagnosis;
   Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  ///< the end planes' box, mm
   std::vector<AdvisedSlice> advice;

@@ -39,7 +39,7 @@ VoxelSizeReport resolveVoxelSize(RunInputs& in, bool quiet);
 ReconstructionLayout layoutOf(const std::vector<CuttingPlane>& planes, const RunConfig& c);
 
 /// Bytes per voxel of the configured stages that still hold whole volumes (smoothing, several
-/// materials); 0 for methods 1 and 2 alone.
+/// materials with methods 1 and 2); 0 for a method alone.
 double denseBytesPerVoxel(const RunConfig& c);
 
 /// The estimate's parts in words, for messages.

@@ -47,7 +47,7 @@ TEST(NamedChoices, AnUnknownChoiceIsRefusedWithTheNames) {
   test::writeFile(dir / "c.yaml", "input: {csl: s.csl}\n");
   const struct { const char* set; const char* says; } cases[] = {
       {"smoothing.method=gauss", "smoothing.method: unknown method 'gauss' (none | shepard | level_set)"},
-      {"reconstruction.method=poisson", "reconstruction.method: unknown method 'poisson' (nearest_plane | section_voronoi)"},
+      {"reconstruction.method=poisson", "reconstruction.method: unknown method 'poisson' (nearest_plane | section_voronoi | delaunay)"},
       {"conformity.mode=mean", "conformity.mode: unknown mode 'mean' (intersection | union | average)"},
       {"segmentation.method=kmeans", "segmentation.method: unknown method 'kmeans' (threshold | otsu | labels)"},
   };

@@ -34,6 +34,9 @@ struct GraphEdge {
 struct ConnectivityGraphs {
   std::vector<GraphEdge> g;        ///< method 1, sorted, unique
   std::vector<GraphEdge> g_prime;  ///< method 2, sorted, unique
+  /// G'' (Def. 44, symmetric labeling), sorted, unique: not filled by connectivityGraphs; see
+  /// branchingDiagram (geometry/delaunay/branching_diagram.h). Proposition 10: G' ⊆ G''.
+  std::vector<GraphEdge> g_double_prime;
 };
 
 /// @param scene        the cutting planes (real and virtual, as given to arrangeSections) and

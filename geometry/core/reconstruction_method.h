@@ -6,12 +6,14 @@
 namespace xsect {
 
 enum class ReconstructionMethod {
-  nearest_plane,   ///< method 1 (thesis ch. 1, Def. 16): R
-  section_voronoi  ///< method 2 (thesis ch. 2, Def. 28): R', with thickened planes
+  nearest_plane,    ///< method 1 (thesis ch. 1, Def. 16): R
+  section_voronoi,  ///< method 2 (thesis ch. 2, Def. 28): R', with thickened planes
+  delaunay          ///< method 3 (thesis ch. 3): R'', the pruned Delaunay triangulation of the sections
 };
-constexpr std::array<NamedChoice<ReconstructionMethod>, 2> kReconstructionMethods{{
+constexpr std::array<NamedChoice<ReconstructionMethod>, 3> kReconstructionMethods{{
     {ReconstructionMethod::nearest_plane, "nearest_plane"},
     {ReconstructionMethod::section_voronoi, "section_voronoi"},
+    {ReconstructionMethod::delaunay, "delaunay"},
 }};
 
 }  // namespace xsect

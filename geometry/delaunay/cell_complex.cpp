@@ -230,7 +230,7 @@ void pruneCell(CellComplex& c) {
   for (std::size_t t = 0; t < n; ++t) {
     if (c.type[t] == TetType::flat || c.external[t]) continue;
     ++c.d1;
-    c.kept[t] = c.type[t] == TetType::vf || c.type[t] == TetType::ee;
+    c.kept[t] = 1;
   }
   // Work list of edges; an edge is re-examined when a tetrahedron of its shell is removed.
   std::deque<std::pair<std::uint64_t, int>> work;

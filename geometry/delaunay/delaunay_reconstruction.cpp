@@ -6,8 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
+#include <functional>
 #include <map>
 #include <set>
 #include <tuple>
@@ -152,17 +151,89 @@ void splitTJunctions(std::vector<std::array<int, 3>>& faces, const std::function
   }
 }
 
+/// Welds boundary vertices nearer than `tolerance` (a contour crossing sampled on two planes and
+/// a corner of three planes can nearly coincide where the planes meet at the surface): in each
+/// cluster the point on the most planes (`planesOf`; then the smallest id) takes the others that
+/// lie on none but its planes (`covers`), so that no point leaves a plane it lies on; triangles
+/// that lose a vertex go, and pairs of triangles on the same three vertices with opposite
+/// orientations cancel. Returns the vertices welded.
+int weldNearVertices(std::vector<std::array<int, 3>>& faces, const std::vector<Vec3>& positions, double tolerance,
+                     const std::function<int(int)>& planesOf, const std::function<bool(int, int)>& covers) {
+  std::vector<int> used;
+  for (const auto& f : faces) used.insert(used.end(), f.begin(), f.end());
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  std::unordered_map<std::uint64_t, std::vector<int>> grid;
+  const auto cellOf = [&](const Vec3& x, int dx, int dy, int dz) {
+    const auto c = [&](double v, int d) { return std::uint64_t(std::int64_t(std::floor(v / tolerance)) + d) & 0x1fffff; };
+    return (c(x.x(), dx) << 42) | (c(x.y(), dy) << 21) | c(x.z(), dz);
+  };
+  for (const int id : used) grid[cellOf(positions[std::size_t(id)], 0, 0, 0)].push_back(id);
+  std::unordered_map<int, int> to;
+  DisjointSets sets(used.size());
+  std::unordered_map<int, std::size_t> slot;
+  for (std::size_t k = 0; k < used.size(); ++k) slot[used[k]] = k;
+  for (const int id : used) {
+    const Vec3& x = positions[std::size_t(id)];
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = grid.find(cellOf(x, dx, dy, dz));
+          if (it == grid.end()) continue;
+          for (const int other : it->second)
+            if (other != id && (positions[std::size_t(other)] - x).norm() < tolerance) sets.unite(slot[id], slot[other]);
+        }
+  }
+  std::unordered_map<std::size_t, int> best;  // cluster -> representative
+  for (std::size_t k = 0; k < used.size(); ++k) {
+    const auto it = best.find(sets.find(k));
+    if (it == best.end() || planesOf(used[k]) > planesOf(it->second)) best[sets.find(k)] = used[k];
+  }
+  int welded = 0;
+  for (std::size_t k = 0; k < used.size(); ++k) {
+    const int root = best[sets.find(k)];
+    const bool weld = root != used[k] && covers(root, used[k]);
+    welded += weld;
+    to[used[k]] = weld ? root : used[k];
+  }
+  if (welded == 0) return 0;
+  std::map<std::array<int, 3>, std::vector<std::size_t>> byVertices;
+  std::vector<std::array<int, 3>> kept;
+  for (auto f : faces) {
+    for (int& v : f) v = to[v];
+    if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) continue;
+    kept.push_back(f);
+  }
+  // Opposite duplicates cancel.
+  std::map<std::array<int, 3>, int> signOf;
+  for (const auto& f : kept) {
+    std::array<int, 3> key = f;
+    const int m = int(std::min_element(key.begin(), key.end()) - key.begin());
+    std::rotate(key.begin(), key.begin() + m, key.end());
+    const bool flipped = key[1] > key[2];
+    if (flipped) std::swap(key[1], key[2]);
+    signOf[key] += flipped ? -1 : 1;
+  }
+  faces.clear();
+  for (const auto& [key, n] : signOf) {
+    for (int k = 0; k < n; ++k) faces.push_back(key);
+    for (int k = 0; k < -n; ++k) faces.push_back({key[0], key[2], key[1]});
+  }
+  return welded;
+}
+
 struct OpenedPinches {
   int edges = 0;       ///< edges in 4, 6, ... faces whose sheets were separated
   int vertices = 0;    ///< vertices given more than one copy
   int open_edges = 0;  ///< edges in an odd number of faces (left as they are)
 };
 
-/// Opens the pinches of the boundary: where 2k > 2 faces meet at an edge, the faces are paired
-/// around it, each with the next one counter-clockwise that bounds the same wedge of solid; then
-/// every vertex gets one copy per umbrella (the faces around it joined through such pairs). The
-/// boundary becomes a 2-manifold bounding the interior of the solid's closure (a regularised
-/// set: pieces touching at a point or along an edge only are separate).
+/// Resolves the pinches of the boundary into a 2-manifold. Where 2k > 2 faces meet at an edge
+/// (solid wedges touching along it: around a branching line inside a terminal section, Fig. 3.14,
+/// or where the pieces of two cells meet on a trace), the faces are paired across the empty
+/// wedges, so that the wedges stay joined along the edge, as Def. 50 counts a shell whose runs all
+/// reach the section. Then every vertex gets one copy per umbrella (the faces around it joined
+/// through such pairs): pieces touching at a single point are separate.
 OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Vec3>& positions) {
   OpenedPinches out;
   // Per undirected edge: its faces, with +1 when the face runs from the smaller id to the larger.
@@ -202,14 +273,24 @@ OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Ve
       byAngle.push_back({std::atan2(d.cross(u).dot(w), u.dot(w)), {f, dir}});
     }
     std::sort(byAngle.begin(), byAngle.end());
-    // A face running a → b (a < b) has the solid just below its angle; one running b → a just
-    // above: a wedge of solid lies between a -1 face and the next +1 face counter-clockwise.
+    // A face running a → b (a < b) has the solid just below its angle, one running b → a just
+    // above: an empty wedge lies between a +1 face and the next -1 face counter-clockwise. The
+    // faces bounding one empty wedge are paired: the solid wedges that touch along the edge are
+    // joined there (through the section the edge lies in), as the thesis' solidity counts them.
+    // Faces at equal angles (coplanar ones, up to rounding) may come in either order: each +1 face
+    // takes the first unpaired -1 face after it.
     const std::size_t n = byAngle.size();
-    for (std::size_t k = 0; k < n; ++k)
-      if (byAngle[k].second.second < 0) {
-        const auto& next = byAngle[(k + 1) % n].second;
-        if (next.second > 0) pairs[key].push_back({byAngle[k].second.first, next.first});
+    std::vector<char> taken(n, 0);
+    for (std::size_t k = 0; k < n; ++k) {
+      if (byAngle[k].second.second < 0) continue;
+      for (std::size_t j = 1; j < n; ++j) {
+        const std::size_t q = (k + j) % n;
+        if (taken[q] || byAngle[q].second.second > 0) continue;
+        taken[q] = 1;
+        pairs[key].push_back({byAngle[k].second.first, byAngle[q].second.first});
+        break;
       }
+    }
   }
   // Umbrellas: faces around each vertex joined through the pairs of the edges at the vertex.
   const std::vector<std::array<int, 3>> original = faces;  // read while copies are written
@@ -264,6 +345,7 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
   DelaunayReconstruction out;
   SectionVertices sv = sectionVertices(planes, arr, branching);
   const std::size_t cells = std::size_t(sv.cells);
+  out.stats.cells_unseen = sv.cells - arr.cells;
   std::vector<CellComplex> cx(cells);
   std::vector<std::uint8_t> pending(cells, 1);
   std::unordered_set<std::uint64_t> contour = contourEdges(sv);
@@ -339,21 +421,17 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
     positions.insert(positions.end(), f.new_points.begin(), f.new_points.end());
   }
   out.stats.constraint_crossings = std::int64_t(positions.size() - sv.points.size());
+  out.stats.welded_vertices = weldNearVertices(faces, positions, 1e-2 * arr.sample_spacing_mm, [&](int id) {
+    if (std::size_t(id) >= sv.points.size()) return 1;
+    const auto& p = sv.points[std::size_t(id)].planes;
+    return int(p[0] >= 0) + int(p[1] >= 0) + int(p[2] >= 0);
+  }, [&](int rep, int id) {
+    if (std::size_t(id) >= sv.points.size() || std::size_t(rep) >= sv.points.size()) return false;
+    for (const int p : sv.points[std::size_t(id)].planes)
+      if (p >= 0 && !sv.points[std::size_t(rep)].on(p)) return false;
+    return true;
+  });
   splitTJunctions(faces, [&](int id) { return positions[std::size_t(id)]; });
-  if (getenv("XS_DBG")) {
-    std::map<std::uint64_t, std::vector<std::size_t>> uses;
-    for (std::size_t q = 0; q < faces.size(); ++q)
-      for (int e = 0; e < 3; ++e) uses[edgeKey(faces[q][std::size_t(e)], faces[q][std::size_t((e + 1) % 3)])].push_back(q);
-    const auto kind = [&](int id) { return std::size_t(id) < sv.points.size() ? int(sv.points[std::size_t(id)].kind) : 9; };
-    const auto pl = [&](int id) { return std::size_t(id) < sv.points.size() ? sv.points[std::size_t(id)].planes : std::array<int,3>{-9,-9,-9}; };
-    int shown = 0;
-    for (const auto& [key, list] : uses) {
-      if (list.size() % 2 == 0 || shown++ > 6) continue;
-      const int a = int(key >> 32), b = int(key & 0xffffffffu);
-      fprintf(stderr, "open edge %d(%d p%d,%d,%d)-%d(%d p%d,%d,%d) len %.4f faces %zu\n", a, kind(a), pl(a)[0], pl(a)[1], pl(a)[2], b, kind(b), pl(b)[0], pl(b)[1], pl(b)[2], (positions[std::size_t(a)] - positions[std::size_t(b)]).norm(), list.size());
-      for (const std::size_t q : list) { fprintf(stderr, "   face %s:", q < faces.size() - std::size_t(out.stats.flat_faces) ? "3d" : "flat"); for (int x : faces[q]) fprintf(stderr, " %d(%d p%d,%d,%d)", x, kind(x), pl(x)[0], pl(x)[1], pl(x)[2]); fprintf(stderr, "\n"); }
-    }
-  }
   const OpenedPinches opened = openPinches(faces, positions);
   out.stats.singular_edges = opened.edges;
   out.stats.singular_vertices = opened.vertices;

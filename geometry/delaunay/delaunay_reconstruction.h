@@ -20,11 +20,13 @@
 // constraints), and a triangle of that triangulation is a boundary face when exactly one side's
 // solid covers it. The boundary is the cells' non-grounded boundary faces plus those flat faces:
 // conformal to the contours by construction, no voxel meshing.
-// Where the glued boundary is still singular (an edge in more than two triangles, a vertex whose
-// link is not one disc: pieces of neighbouring cells that touch at a point or along a segment of a
-// trace, Fig. 3.8), the pinch is opened: each sheet gets its own copy of the vertex. The solid
-// described is then the regularised R'' (the closure of its interior), whose boundary is a closed
-// 2-manifold and whose Betti numbers the mesh carries.
+// Where the glued boundary is still singular, the pinch is resolved so that the mesh is a closed
+// 2-manifold whose Betti numbers are the ones reported: at an edge in 4, 6, ... triangles (solid
+// wedges touching along it: under a branching line in a section that ends the object, Fig. 3.14,
+// or pieces of two cells meeting on a trace) the wedges are joined along the edge, as the section
+// they touch joins them (the thickened planes of §2, Fig. 3.8b); at a vertex whose link is
+// several discs (pieces touching at one point, Fig. 3.8a) each disc gets its own copy of the
+// vertex, so the pieces are apart.
 #pragma once
 
 #include <cstdint>
@@ -62,9 +64,11 @@ struct DelaunayStats {
   std::int64_t d1 = 0, d2 = 0, d3 = 0;    ///< tetrahedra kept after steps 1, 2, 3
   std::int64_t flat_faces = 0;            ///< boundary triangles lying in a cutting plane
   std::int64_t constraint_crossings = 0;  ///< rim edges of the two sides that crossed (new vertices)
-  int singular_edges = 0;     ///< edges of the glued boundary in 4, 6, ... triangles (opened)
-  int singular_vertices = 0;  ///< vertices of the glued boundary with several umbrellas (opened)
+  int singular_edges = 0;     ///< edges of the glued boundary in 4, 6, ... triangles (joined)
+  int singular_vertices = 0;  ///< vertices of the glued boundary with several umbrellas (split)
   int open_edges = 0;         ///< edges in an odd number of triangles (a defect: the mesh is not closed)
+  int welded_vertices = 0;    ///< boundary vertices within 1% of the sample spacing of another, welded
+  int cells_unseen = 0;       ///< cells no arrangement point met (ids arrangement.cells and up)
 };
 
 struct DelaunayReconstruction {

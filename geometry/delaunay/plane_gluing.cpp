@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <unordered_map>
 
 #include "geometry/core/polygon.h"
@@ -130,21 +131,63 @@ PlaneBoundary planeBoundary(int plane, const std::vector<int>& ids, const PlaneF
     for (const auto& t : fp.covered[std::size_t(s)]) sideTris[std::size_t(s)].push_back(corners(t));
   const TriangleIndex minus(std::move(sideTris[0])), plus(std::move(sideTris[1]));
   const std::vector<Section>& sections = sv.sampled[std::size_t(plane)];
+  // Each face's state: outside the sections (0), or covered by the negative side only (1), the
+  // positive side only (2), both or neither (3: no boundary). A sliver (three contour points
+  // collinear up to rounding) cannot be judged at its centroid: it takes the state of the face
+  // across its longest edge.
+  std::map<CDT::Face_handle, int> state;
+  std::vector<CDT::Face_handle> slivers;
   for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
-    Vec2 c = Vec2::Zero();
-    std::array<int, 3> v{};
-    for (int i = 0; i < 3; ++i) {
-      c += Vec2(f->vertex(i)->point().x(), f->vertex(i)->point().y()) / 3.0;
-      v[std::size_t(i)] = f->vertex(i)->info().value - 1;
+    Vec2 q[3];
+    for (int i = 0; i < 3; ++i) q[i] = Vec2(f->vertex(i)->point().x(), f->vertex(i)->point().y());
+    const double area2 = std::abs((q[1] - q[0]).x() * (q[2] - q[0]).y() - (q[1] - q[0]).y() * (q[2] - q[0]).x());
+    const double longest = std::max({(q[1] - q[0]).squaredNorm(), (q[2] - q[1]).squaredNorm(), (q[0] - q[2]).squaredNorm()});
+    if (area2 <= 1e-9 * longest) {
+      slivers.push_back(f);
+      continue;
     }
+    const Vec2 c = (q[0] + q[1] + q[2]) / 3.0;
     bool inside = false;
     for (const Section& s : sections) inside = inside || (!s.outer.empty() && sectionContains(s, c));
-    if (!inside) continue;
+    if (!inside) {
+      state[f] = 0;
+      continue;
+    }
     const bool m = minus.covers(c), p = plus.covers(c);
-    if (m == p) continue;
+    state[f] = m == p ? 3 : (m ? 1 : 2);
+  }
+  for (int pass = 0; pass < 4 && !slivers.empty(); ++pass) {
+    std::vector<CDT::Face_handle> left;
+    for (const CDT::Face_handle f : slivers) {
+      int longest = 0;
+      double best = -1;
+      for (int i = 0; i < 3; ++i) {
+        const auto& a = f->vertex(cdt.ccw(i))->point();
+        const auto& b = f->vertex(cdt.cw(i))->point();
+        const double d = CGAL::squared_distance(a, b);
+        if (d > best) {
+          best = d;
+          longest = i;
+        }
+      }
+      const auto it = state.find(f->neighbor(longest));
+      if (it == state.end()) {
+        left.push_back(f);
+        continue;
+      }
+      state[f] = it->second;
+    }
+    if (left.size() == slivers.size()) break;
+    slivers.swap(left);
+  }
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+    const auto it = state.find(f);
+    if (it == state.end() || it->second == 0 || it->second == 3) continue;
+    std::array<int, 3> v{};
+    for (int i = 0; i < 3; ++i) v[std::size_t(i)] = f->vertex(i)->info().value - 1;
     // CDT faces are counter-clockwise in (u, v): their normal is the plane's. The solid on the
     // positive side is bounded here by a face whose outward normal is -normal.
-    if (p) std::swap(v[1], v[2]);
+    if (it->second == 2) std::swap(v[1], v[2]);
     out.faces.push_back(v);
   }
   std::sort(out.faces.begin(), out.faces.end());

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <functional>
 #include <tuple>
 
 #include "geometry/core/polygon.h"
@@ -226,7 +227,27 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
   }
   sv.cells += int(unseen.size());
   mergeTracePairs(sv, arr.sample_spacing_mm);
-  for (const BranchingPoint& b : branching) {
+  // Branching points come on a square lattice: four of them are often cocircular, and the
+  // Delaunay structure of such ties on a plane whose points are coplanar only up to rounding
+  // differs between the cells. Each is moved by a fixed pseudo-random offset of at most a tenth of
+  // the lattice spacing (a hash of its position: the same input gives the same points).
+  const double jitter = 0.1 * arr.sample_spacing_mm;
+  for (const BranchingPoint& given : branching) {
+    BranchingPoint b = given;
+    {
+      std::uint64_t h = std::hash<double>()(b.p.x()) * 0x9e3779b97f4a7c15ULL ^ std::hash<double>()(b.p.y());
+      h ^= h >> 31;
+      h *= 0xbf58476d1ce4e5b9ULL;
+      h ^= h >> 29;
+      const double u = double(h & 0xffff) / 65535.0 - 0.5, v = double((h >> 16) & 0xffff) / 65535.0 - 0.5;
+      const Vec2 moved = b.p + 2 * jitter * Vec2(u, v);
+      // Not across another plane's trace: the point stays in its cell's face.
+      const Vec3 x = planes[std::size_t(b.plane)].plane.toWorld(b.p);
+      bool nearTrace = false;
+      for (std::size_t j = 0; j < planes.size() && !nearTrace; ++j)
+        nearTrace = int(j) != b.plane && std::abs(planes[j].plane.signedDistance(x)) < 2 * jitter;
+      if (!nearTrace) b.p = moved;
+    }
     if (b.plane < 0 || std::size_t(b.plane) >= planes.size() || b.cell < 0) continue;
     SectionVertex v;
     v.planes = {b.plane, -1, -1};
@@ -261,6 +282,23 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
     v.cells = kept;
   }
   resampleSections(sv, planes);
+  // Branching points must lie inside the sampled section, away from its contour: one between a
+  // chord and the true contour would make its triangles external, one next to a contour vertex
+  // a sliver.
+  const double margin = 0.5 * arr.sample_spacing_mm;
+  for (SectionVertex& v : sv.points) {
+    if (v.kind != SectionVertex::branching || v.cells.empty()) continue;
+    const std::vector<Section>& sampled = sv.sampled[std::size_t(v.planes[0])];
+    const Vec2 q = planes[std::size_t(v.planes[0])].plane.toPlane(v.x);
+    bool keep = false;
+    for (const Section& s : sampled) {
+      if (s.outer.empty() || !sectionContains(s, q)) continue;
+      double d = ringDistance(s.outer, q);
+      for (const Ring& h : s.holes) d = std::min(d, ringDistance(h, q));
+      keep = d > margin;
+    }
+    if (!keep) v.cells.clear();
+  }
   return sv;
 }
 

@@ -25,7 +25,8 @@ ReconstructionLayout reconstructionLayout(const std::vector<CuttingPlane>& plane
   // Grid: R lies within half the end margin of the sections' bounds. A point of R at distance t
   // beyond the bounds (along an axis) projects onto a section inside them, so its nearest plane is
   // at least t away, while the end plane beyond it is m - t away (Def. 15-16): t <= m / 2.
-  // R' may reach the end planes themselves (a lift ends on ∂C): t <= m.
+  // R' may reach the end planes themselves (a lift ends on ∂C): t <= m. R'' (method 3), a union
+  // of tetrahedra on section-vertices, lies in the sections' convex hull: t <= 0.
   // Two layers of outside voxels close the surface.
   L.grid.voxel = h;
   const double reachOut =

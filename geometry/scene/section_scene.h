@@ -47,7 +47,8 @@ struct ReconstructionLayout {
 };
 
 /// @param planes  the real cutting planes with their sections.
-/// The grid holds R (method 1) or R' (method 2) with two layers of outside voxels around it.
+/// The grid holds R (method 1), R' (method 2) or R'' (method 3) with two layers of outside voxels
+/// around it.
 /// Throws std::invalid_argument when there is no section at all, the voxel size is not positive
 /// or the grid would be too large (over 2^40 voxels).
 ReconstructionLayout reconstructionLayout(const std::vector<CuttingPlane>& planes,

@@ -20,13 +20,20 @@ namespace {
 constexpr const char* kComponentColours[] = {"#a6cee3", "#b2df8a", "#fb9a99", "#fdbf6f", "#cab2d6", "#ffff99",
                                              "#8dd3c7", "#bebada", "#fccde5", "#d9d9d9", "#ccebc5", "#ffed6f"};
 
+/// The graph a method's edges in graph.json form (their `method`), as the page names it.
+std::string methodGraphName(const std::string& method) {
+  if (method == "section_voronoi") return "graph G′ (method 2)";
+  if (method == "delaunay") return "graph G″ (method 3, Def. 44)";
+  return "graph G (method 1)";
+}
+
 }  // namespace
 
 std::string sectionGraphHtml(const json& graph, std::size_t maxNodes, std::size_t maxEdges) {
   const json& nodes = graph.at("nodes");
   const std::size_t n = nodes.size();
-  // The method's edges (graph.json also lists G beside G'), one per pair of sections, with the
-  // cells where their lifts meet.
+  // The method's edges (graph.json also lists G beside G', and both beside G''), one per pair of
+  // sections, with the cells where their lifts meet.
   const std::string method = graph.value("method", "");
   std::map<std::pair<int, int>, std::set<int>> cellsOfPair;
   for (const json& e : graph.at("edges")) {
@@ -44,7 +51,7 @@ std::string sectionGraphHtml(const json& graph, std::size_t maxNodes, std::size_
     component[i] = it->second;
   }
   std::string intro = "<p>" + std::to_string(n) + " sections, " + std::to_string(cellsOfPair.size()) +
-                      " pairs joined by the " + (method == "section_voronoi" ? "graph G′ (method 2)" : "graph G (method 1)") +
+                      " pairs joined by the " + methodGraphName(method) +
                       ", " + std::to_string(componentOf.size()) +
                       " connected component(s). A node is <i>slice:section</i>; colours tell the components apart.</p>\n";
   if (n == 0) return intro;

@@ -1,5 +1,6 @@
 // report.html's connectivity graph (issue 21): the sections as nodes, joined where the method's
-// graph joins them (G for method 1, G' ⊇ G for method 2; thesis Defs. 29-30; graph.json), coloured
+// graph joins them (G for method 1, G' ⊇ G for method 2, G'' ⊇ G' for method 3; thesis Defs. 29-30
+// and 44; graph.json), coloured
 // by connected component, drawn by Graphviz into inline SVG; a table of the components instead when
 // the graph is too large to read or Graphviz is missing.
 #pragma once

@@ -38,6 +38,15 @@ std::string summaryHtml(const json& report, const std::string& samplingLine) {
   t += row("reconstruction", cellText(field(rec, {"method"})) + " on " + cellText(field(rec, {"planes"})) + " planes, voxel " +
                                  mm(field(rec, {"voxel_size_mm"})) + ", " + cellText(field(counts, {"cells"})) +
                                  " cells of the arrangement");
+  const json& delaunay = field(rec, {"delaunay"});
+  if (delaunay.is_object())  // method 3: R'' is a union of tetrahedra, its mesh ∂R''
+    t += row("method 3", cellText(field(delaunay, {"d3"})) + " tetrahedra kept of " +
+                             cellText(field(delaunay, {"section_vertices"})) + " section-vertices (" +
+                             cellText(field(delaunay, {"branching_points"})) + " branching points) in " +
+                             cellText(field(delaunay, {"cells"})) + " cells, " +
+                             cellText(field(delaunay, {"tetrahedra_components"})) + " component(s); R″ joins " +
+                             cellText(field(delaunay, {"connections"})) + " section pairs, G″ has " +
+                             cellText(field(delaunay, {"edges_g_double_prime"})) + " edges");
   t += row("solid", "Betti numbers " + cellText(field(report, {"betti"})) + " (voxels: " +
                         cellText(field(report, {"voxel_betti"})) + "), " +
                         (field(report, {"watertight"}) == json(true) ? "watertight" : "<b>not watertight</b>") + ", " +

@@ -83,6 +83,18 @@ constexpr Rule kRules[] = {
      "Compare with mesh_unsmoothed; set smoothing.method: level_set to keep the method's connectivity."},
     {"has sections but no voxel", "A material is too thin for the voxel size and has no mesh.",
      "Use a smaller reconstruction.voxel_size_mm."},
+    {"has sections but method 3 joins none of them",
+     "Method 3 joins sections of different planes through a cell; this material's sections face no other "
+     "section of it, so it has no solid and no mesh.",
+     "Add slices that cut this material again, or use reconstruction.method: nearest_plane or section_voronoi."},
+    {"the voxelisation of method 3's solid",
+     "Method 3's solid is a union of tetrahedra; parts of it are thinner than a voxel, so the voxel volume "
+     "(labels.nrrd, the connectivity checks, the smoothing) has another topology than the mesh.",
+     "Nothing if the mesh is what you need; for a faithful label volume use a smaller "
+     "reconstruction.voxel_size_mm."},
+    {"method 3's solid holds no voxel centre",
+     "Method 3's solid is thinner than a voxel everywhere: the voxel outputs are empty, the mesh is not.",
+     "Use a smaller reconstruction.voxel_size_mm."},
     {"materials (segmentation.method: labels",
      "Every grey value was taken as a material label: the images are probably grey images, not label maps.",
      "Use segmentation.method: otsu or threshold for grey images."},
