@@ -103,8 +103,8 @@ CellBoundary cellBoundary(const CellComplex& c, const SectionVertices& sv) {
   return b;
 }
 
-/// Splits faces at T-junctions: where a face's edge a→b is in no other face while the faces on the
-/// other side run b→m→a through a point m on the segment (points of a trace line shared by the
+/// Splits faces at T-junctions: where a face's edge a→b is in an odd number of faces while faces
+/// on the other side run b→m→a through a point m on the segment (points of a trace line shared by the
 /// cells' triangulations and the plane's, collinear up to rounding), the face (a, b, c) becomes
 /// (a, m, c) and (m, b, c). Repeats until no such edge remains.
 void splitTJunctions(std::vector<std::array<int, 3>>& faces, const std::function<Vec3(int)>& at) {
@@ -116,7 +116,7 @@ void splitTJunctions(std::vector<std::array<int, 3>>& faces, const std::function
     for (const auto& f : faces)
       for (int e = 0; e < 3; ++e) {
         const int a = f[std::size_t(e)], b = f[std::size_t((e + 1) % 3)];
-        if (uses[edgeKey(a, b)] == 1) from[a].push_back(b);
+        if (uses[edgeKey(a, b)] % 2 == 1) from[a].push_back(b);
       }
     bool changed = false;
     std::vector<std::array<int, 3>> next;
@@ -125,7 +125,7 @@ void splitTJunctions(std::vector<std::array<int, 3>>& faces, const std::function
       bool split = false;
       for (int e = 0; e < 3 && !split; ++e) {
         const int a = f[std::size_t(e)], b = f[std::size_t((e + 1) % 3)], c = f[std::size_t((e + 2) % 3)];
-        if (uses[edgeKey(a, b)] != 1) continue;
+        if (uses[edgeKey(a, b)] % 2 == 0) continue;
         const auto it = from.find(b);
         if (it == from.end()) continue;
         const Vec3 A = at(a), B = at(b);
@@ -243,8 +243,11 @@ OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Ve
       const int a = faces[f][std::size_t(e)], b = faces[f][std::size_t((e + 1) % 3)];
       around[edgeKey(a, b)].push_back({int(f), a < b ? 1 : -1});
     }
-  // Face pairs across each edge (the faces of one sheet there).
+  // Face pairs across each edge (the faces of one sheet there). At an edge in 2k > 2 faces, sorted
+  // by angle around it, two pairings alternate: across the empty wedges (`join`, preferred) and
+  // across the solid wedges (`apart`).
   std::unordered_map<std::uint64_t, std::vector<std::array<int, 2>>> pairs;
+  std::map<std::uint64_t, std::array<std::vector<std::array<int, 2>>, 2>> choices;  // singular edges
   std::vector<std::uint64_t> keys;
   for (const auto& [key, list] : around) keys.push_back(key);
   std::sort(keys.begin(), keys.end());
@@ -274,49 +277,77 @@ OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Ve
     }
     std::sort(byAngle.begin(), byAngle.end());
     // A face running a → b (a < b) has the solid just below its angle, one running b → a just
-    // above: an empty wedge lies between a +1 face and the next -1 face counter-clockwise. The
-    // faces bounding one empty wedge are paired: the solid wedges that touch along the edge are
-    // joined there (through the section the edge lies in), as the thesis' solidity counts them.
-    // Faces at equal angles (coplanar ones, up to rounding) may come in either order: each +1 face
-    // takes the first unpaired -1 face after it.
+    // above: an empty wedge follows a +1 face counter-clockwise, a solid wedge a -1 face. Faces at
+    // equal angles (coplanar up to rounding) may come in either order: each face of the leading
+    // sign takes the first unpaired face of the other sign after it.
     const std::size_t n = byAngle.size();
-    std::vector<char> taken(n, 0);
-    for (std::size_t k = 0; k < n; ++k) {
-      if (byAngle[k].second.second < 0) continue;
-      for (std::size_t j = 1; j < n; ++j) {
-        const std::size_t q = (k + j) % n;
-        if (taken[q] || byAngle[q].second.second > 0) continue;
-        taken[q] = 1;
-        pairs[key].push_back({byAngle[k].second.first, byAngle[q].second.first});
-        break;
+    auto& two = choices[key];
+    for (int c = 0; c < 2; ++c) {
+      const int lead = c == 0 ? 1 : -1;
+      std::vector<char> taken(n, 0);
+      for (std::size_t k = 0; k < n; ++k) {
+        if (byAngle[k].second.second != lead) continue;
+        for (std::size_t j = 1; j < n; ++j) {
+          const std::size_t q = (k + j) % n;
+          if (taken[q] || byAngle[q].second.second == lead) continue;
+          taken[q] = 1;
+          two[std::size_t(c)].push_back({byAngle[k].second.first, byAngle[q].second.first});
+          break;
+        }
       }
     }
   }
-  // Umbrellas: faces around each vertex joined through the pairs of the edges at the vertex.
-  const std::vector<std::array<int, 3>> original = faces;  // read while copies are written
   std::unordered_map<int, std::vector<int>> facesAt;
   for (std::size_t f = 0; f < faces.size(); ++f)
     for (const int v : faces[f]) facesAt[v].push_back(int(f));
   std::vector<int> vertices;
   for (const auto& [v, list] : facesAt) vertices.push_back(v);
   std::sort(vertices.begin(), vertices.end());
-  for (const int v : vertices) {
+  // Umbrellas: faces around each vertex joined through the pairs of the edges at the vertex.
+  std::map<std::uint64_t, int> chosen;  // singular edge -> 0 (join) or 1 (apart)
+  for (const auto& [key, two] : choices) chosen[key] = 0;
+  const auto pairsAt = [&](std::uint64_t key) -> const std::vector<std::array<int, 2>>* {
+    const auto c = chosen.find(key);
+    if (c != chosen.end()) return &choices[key][std::size_t(c->second)];
+    const auto it = pairs.find(key);
+    return it == pairs.end() ? nullptr : &it->second;
+  };
+  const auto umbrellasOf = [&](int v) {
     const std::vector<int>& list = facesAt[v];
     std::unordered_map<int, std::size_t> at;
     for (std::size_t k = 0; k < list.size(); ++k) at[list[k]] = k;
     DisjointSets umbrella(list.size());
     for (const int f : list)
-      for (const int x : original[std::size_t(f)]) {
+      for (const int x : faces[std::size_t(f)]) {
         if (x == v) continue;
-        const auto it = pairs.find(edgeKey(v, x));
-        if (it == pairs.end()) continue;
-        for (const auto& pr : it->second) {
+        const auto* ps = pairsAt(edgeKey(v, x));
+        if (!ps) continue;
+        for (const auto& pr : *ps) {
           const auto i = at.find(pr[0]), j = at.find(pr[1]);
           if (i != at.end() && j != at.end()) umbrella.unite(i->second, j->second);
         }
       }
+    std::unordered_map<int, std::size_t> rootOf;
+    for (std::size_t k = 0; k < list.size(); ++k) rootOf[list[k]] = umbrella.find(k);
+    return rootOf;
+  };
+  // A singular edge stays singular when, at both its ends, all its faces fall in one umbrella:
+  // such an edge is paired the other way (which then splits an end's umbrella).
+  for (const auto& [key, two] : choices) {
+    const int a = int(key >> 32), b = int(key & 0xffffffffu);
+    const auto split = [&](int v) {
+      const auto roots = umbrellasOf(v);
+      std::set<std::size_t> seen;
+      for (const auto& pr : *pairsAt(key)) seen.insert(roots.at(pr[0]));
+      return seen.size() > 1;
+    };
+    if (!split(a) && !split(b)) chosen[key] = 1;
+  }
+  std::vector<std::array<int, 3>> result = faces;
+  for (const int v : vertices) {
+    const auto roots = umbrellasOf(v);
     std::map<std::size_t, int> copyOf;
-    for (std::size_t k = 0; k < list.size(); ++k) copyOf.emplace(umbrella.find(k), 0);
+    for (const int f : facesAt[v]) copyOf.emplace(roots.at(f), 0);
     if (copyOf.size() < 2) continue;
     ++out.vertices;
     bool first = true;
@@ -329,11 +360,17 @@ OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Ve
       id = int(positions.size());
       positions.push_back(positions[std::size_t(v)]);
     }
-    for (std::size_t k = 0; k < list.size(); ++k)
+    for (const int f : facesAt[v])
       for (int slot = 0; slot < 3; ++slot)
-        if (original[std::size_t(list[k])][std::size_t(slot)] == v)
-          faces[std::size_t(list[k])][std::size_t(slot)] = copyOf[umbrella.find(k)];
+        if (faces[std::size_t(f)][std::size_t(slot)] == v) result[std::size_t(f)][std::size_t(slot)] = copyOf[roots.at(f)];
   }
+  faces.swap(result);
+  // What is left in other than two faces (a defect: the mesh is then not closed).
+  std::unordered_map<std::uint64_t, int> uses;
+  for (const auto& f : faces)
+    for (int e = 0; e < 3; ++e) ++uses[edgeKey(f[std::size_t(e)], f[std::size_t((e + 1) % 3)])];
+  out.open_edges = 0;
+  for (const auto& [key, n] : uses) out.open_edges += n != 2;
   return out;
 }
 
