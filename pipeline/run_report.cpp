@@ -65,6 +65,7 @@ json delaunayStatsJson(const DelaunayStats& s) {
           {"section_vertices", s.section_vertices},
           {"branching_points", s.branching_points},
           {"conformity_points", s.conformity_points},
+          {"contour_edges_not_delaunay", s.contour_edges_not_delaunay},
           {"d0", {{"vf", s.d0.vf}, {"ee", s.d0.ee}, {"evv", s.d0.evv}, {"vvvv", s.d0.vvvv}, {"flat", s.d0.flat}}},
           {"external", s.external},
           {"d1", s.d1},
@@ -74,7 +75,9 @@ json delaunayStatsJson(const DelaunayStats& s) {
           {"constraint_crossings", s.constraint_crossings},
           {"singular_edges", s.singular_edges},
           {"singular_vertices", s.singular_vertices},
-          {"open_edges", s.open_edges}};
+          {"open_edges", s.open_edges},
+          {"welded_vertices", s.welded_vertices},
+          {"cells_unseen", s.cells_unseen}};
 }
 
 /// report.json `reconstruction.delaunay` (method 3): the pruning's counts, the solid's components

@@ -17,6 +17,7 @@
 //  - the connections are sorted, unique, and join sections of two different planes.
 // Times are for a Release build.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <chrono>
@@ -1248,4 +1249,27 @@ TEST(DelaunayReconstruction, DegenerateInputsGiveSolids) {
     std::cout << "tiny beside: " << describe(run) << "\n";
     EXPECT_EQ(run.topo.betti[0], 1);
   }
+}
+
+// Output is the same whatever the thread count (the cells are triangulated and pruned in
+// parallel; the branching diagram too): one thread against the default, on a shell cut by random
+// planes with branching points, mesh and tetrahedra compared exactly.
+TEST(DelaunayReconstruction, SameResultOnOneThreadAsOnMany) {
+  std::mt19937_64 rng(11);
+  const Vec3 c(0.1, -0.2, 0.05);
+  const std::vector<CuttingPlane> planes = test::randomShellPlanes(10, rng, c, 4.0, 6.0, 3.0, 96);
+  RunOptions o;
+  o.spacing = 0.4;
+  const Method3Run many = reconstruct(planes, o, "default threads", false);
+  Method3Run one;
+  {
+    tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+    one = reconstruct(planes, o, "one thread", false);
+  }
+  ASSERT_FALSE(many.rec.mesh.triangles.empty());
+  EXPECT_EQ(one.rec.mesh.vertices, many.rec.mesh.vertices);
+  EXPECT_EQ(one.rec.mesh.triangles, many.rec.mesh.triangles);
+  EXPECT_EQ(one.rec.tetrahedra, many.rec.tetrahedra);
+  EXPECT_EQ(one.rec.connections, many.rec.connections);
+  EXPECT_EQ(one.diagram.points.size(), many.diagram.points.size());
 }

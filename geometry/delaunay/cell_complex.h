@@ -20,7 +20,8 @@
 //    through p is removed (Property 2; the thesis' "T_vf fans sharing no face with a T_ee" in the
 //    form that also holds where two planes meet). Both repeat until nothing changes: by Lemma 10
 //    the result does not depend on the order.
-//  - Step 3: tetrahedra of D1 not in D2 are added, in index order, while one meets the current
+//  - Step 3: tetrahedra of D1 not in D2 are offered in index order (a first-in first-out queue; a
+//    candidate is offered again when a face neighbour joins) and added while one meets the current
 //    solid in 2, 3 or 4 faces (with 2, the edge opposite their common edge must not be in the solid
 //    already: the intersection is then a disc, no tunnel) and joins, around each of its grounded
 //    edges, a run reaching a grounded triangle through that edge (no singularity). The thesis adds

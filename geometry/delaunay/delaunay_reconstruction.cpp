@@ -103,10 +103,11 @@ CellBoundary cellBoundary(const CellComplex& c, const SectionVertices& sv) {
   return b;
 }
 
-/// Splits faces at T-junctions: where a face's edge a→b is in an odd number of faces while faces
-/// on the other side run b→m→a through a point m on the segment (points of a trace line shared by the
-/// cells' triangulations and the plane's, collinear up to rounding), the face (a, b, c) becomes
-/// (a, m, c) and (m, b, c). Repeats until no such edge remains.
+/// Splits faces at T-junctions: where a face's edge a→b is in an odd number of faces while a face
+/// on the other side leaves b towards a point m inside the segment (points of a trace line shared
+/// by the cells' triangulations and the plane's, collinear up to rounding; the plane's constraints
+/// crossing), the face (a, b, c) becomes (a, m, c) and (m, b, c); the next pass splits (a, m, c)
+/// again where several such points lie on the segment. Repeats until no such edge remains.
 void splitTJunctions(std::vector<std::array<int, 3>>& faces, const std::function<Vec3(int)>& at) {
   for (int pass = 0; pass < 16; ++pass) {
     std::unordered_map<std::uint64_t, int> uses;
@@ -132,8 +133,6 @@ void splitTJunctions(std::vector<std::array<int, 3>>& faces, const std::function
         const double len = (B - A).norm();
         for (const int m : it->second) {
           if (m == a) continue;
-          const auto back = from.find(m);
-          if (back == from.end() || std::find(back->second.begin(), back->second.end(), a) == back->second.end()) continue;
           const Vec3 M = at(m);
           const double t = (M - A).dot(B - A) / (len * len);
           if (!(t > 0 && t < 1) || (A + t * (B - A) - M).norm() > 1e-6 * len) continue;
@@ -404,6 +403,7 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
     std::unordered_set<std::uint64_t> split;
     for (const auto& m : missing) split.insert(m.begin(), m.end());
     std::fill(pending.begin(), pending.end(), 0);
+    if (round + 1 == kConformityRounds) out.stats.contour_edges_not_delaunay = std::int64_t(split.size());
     if (split.empty() || round + 1 == kConformityRounds) break;
     for (std::size_t r = 0; r < sv.rings.size(); ++r) {
       const SampledRing& ring = sv.rings[r];
@@ -523,9 +523,7 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
     }
   }
   out.connections.assign(joined.begin(), joined.end());
-  for (const SectionVertex& v : sv.points) {
-    out.stats.branching_points += v.kind == SectionVertex::branching;
-  }
+  for (const SectionVertex& v : sv.points) out.stats.branching_points += v.kind == SectionVertex::branching && !v.cells.empty();
   for (const auto& pts : cellSetup(sv).points) out.stats.section_vertices += std::int64_t(pts.size());
   return out;
 }

@@ -7,11 +7,11 @@
 //  - D0 = their 3D Delaunay triangulation (CGAL), tetrahedra typed by how their vertices lie on the
 //    cutting planes (T_vf, T_ee, T_evv, T_vvvv; Fig. 3.3), grounded edges and triangles classified
 //    as contour, internal or external against the sampled sections;
-//  - D1 = D0 without external tetrahedra (Def. 47); D2 = the maximal solid subset of its T_vf and
-//    T_ee tetrahedra (shell pruning around grounded edges, Def. 48-50, then the T_vf fans that
-//    share no face with a T_ee; Proposition 11: the order of elimination does not matter);
-//    D3 = D2 plus T_evv / T_vvvv tetrahedra added while they meet it in 2, 3 or 4 faces and no
-//    other edge.
+//  - D1 = D0 without external tetrahedra (Def. 47); D2 = the maximal subset of D1 solid at every
+//    grounded edge and section-vertex (shell pruning, Def. 48-50; Proposition 11: the order of
+//    elimination does not matter); D3 = D2 plus tetrahedra of D1 that meet it in 2, 3 or 4 faces
+//    and stay solid (cell_complex.h says where this departs from the thesis' T_vf/T_ee-only
+//    step 2 and T_evv/T_vvvv-only step 3, and why).
 // Gluing the cells (§2, "Solidity and Topological Correctness"): two cells triangulate a shared
 // section differently (their branching points differ; rounding makes points of a tilted plane
 // not exactly coplanar), so the boundary on each cutting plane is not read from the tetrahedra:
@@ -24,9 +24,11 @@
 // 2-manifold whose Betti numbers are the ones reported: at an edge in 4, 6, ... triangles (solid
 // wedges touching along it: under a branching line in a section that ends the object, Fig. 3.14,
 // or pieces of two cells meeting on a trace) the wedges are joined along the edge, as the section
-// they touch joins them (the thickened planes of §2, Fig. 3.8b); at a vertex whose link is
+// they touch joins them (the thickened planes of §2, Fig. 3.8b), unless joining leaves the edge
+// singular at both its ends (then they are kept apart along it); at a vertex whose link is
 // several discs (pieces touching at one point, Fig. 3.8a) each disc gets its own copy of the
-// vertex, so the pieces are apart.
+// vertex, so the pieces are apart. What still is not a closed 2-manifold is counted (open_edges)
+// and the pipeline then refuses to write the mesh.
 #pragma once
 
 #include <cstdint>
@@ -59,6 +61,9 @@ struct DelaunayStats {
   std::int64_t section_vertices = 0;      ///< points triangulated, summed over cells
   std::int64_t branching_points = 0;      ///< of them, branching points
   std::int64_t conformity_points = 0;     ///< contour midpoints added for Delaunay conformity
+  /// Contour edges still not Delaunay edges after the 8 rounds of splitting (their tetrahedra are
+  /// typed from the midpoint test; 0 on every input measured).
+  std::int64_t contour_edges_not_delaunay = 0;
   TetrahedronTypes d0;                    ///< D0's tetrahedra by type
   std::int64_t external = 0;              ///< removed by step 1 (Def. 47)
   std::int64_t d1 = 0, d2 = 0, d3 = 0;    ///< tetrahedra kept after steps 1, 2, 3

@@ -134,7 +134,7 @@ PlaneBoundary planeBoundary(int plane, const std::vector<int>& ids, const PlaneF
   // Each face's state: outside the sections (0), or covered by the negative side only (1), the
   // positive side only (2), both or neither (3: no boundary). A sliver (three contour points
   // collinear up to rounding) cannot be judged at its centroid: it takes the state of the face
-  // across its longest edge.
+  // across its longest unconstrained edge.
   std::map<CDT::Face_handle, int> state;
   std::vector<CDT::Face_handle> slivers;
   for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
@@ -159,9 +159,12 @@ PlaneBoundary planeBoundary(int plane, const std::vector<int>& ids, const PlaneF
   for (int pass = 0; pass < 4 && !slivers.empty(); ++pass) {
     std::vector<CDT::Face_handle> left;
     for (const CDT::Face_handle f : slivers) {
-      int longest = 0;
+      // Across a constrained edge (a contour, a rim, an outline) the state is meant to change:
+      // the longest edge that is not one decides.
+      int longest = -1;
       double best = -1;
       for (int i = 0; i < 3; ++i) {
+        if (f->is_constrained(i)) continue;
         const auto& a = f->vertex(cdt.ccw(i))->point();
         const auto& b = f->vertex(cdt.cw(i))->point();
         const double d = CGAL::squared_distance(a, b);
@@ -170,6 +173,7 @@ PlaneBoundary planeBoundary(int plane, const std::vector<int>& ids, const PlaneF
           longest = i;
         }
       }
+      if (longest < 0) continue;  // all three constrained: no boundary face
       const auto it = state.find(f->neighbor(longest));
       if (it == state.end()) {
         left.push_back(f);

@@ -114,8 +114,37 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
     const auto key = std::make_tuple(x.x(), x.y(), x.z());
     const auto it = at.find(key);
     if (it != at.end()) {
+      // One point: it lies on the planes of both (a contour vertex exactly on another plane's
+      // trace), in the cells of both, with the sides of each cell re-read in the merged order.
       SectionVertex& old = sv.points[std::size_t(it->second)];
-      for (const PointCell& c : v.cells) addCell(old, c.cell, c.side[0], c.side[1], c.side[2]);
+      std::array<int, 3> planesOf = old.planes;
+      for (const int p : v.planes)
+        if (p >= 0 && !old.on(p))
+          for (int& slot : planesOf)
+            if (slot < 0) {
+              slot = p;
+              break;
+            }
+      const auto remap = [&](const PointCell& c, const std::array<int, 3>& from) {
+        std::array<int, 3> side{0, 0, 0};
+        for (int k = 0; k < 3; ++k)
+          for (int j = 0; j < 3; ++j)
+            if (planesOf[std::size_t(k)] >= 0 && from[std::size_t(j)] == planesOf[std::size_t(k)]) side[std::size_t(k)] = c.side[std::size_t(j)];
+        return side;
+      };
+      std::vector<PointCell> cells = std::move(old.cells);
+      const std::array<int, 3> oldPlanes = old.planes;
+      old.cells.clear();
+      old.planes = planesOf;
+      if (v.kind == SectionVertex::trace && old.kind == SectionVertex::contour) old.kind = SectionVertex::trace;
+      for (const PointCell& c : v.cells) {
+        const auto side = remap(c, v.planes);
+        addCell(old, c.cell, side[0], side[1], side[2]);
+      }
+      for (const PointCell& c : cells) {
+        const auto side = remap(c, oldPlanes);
+        addCell(old, c.cell, side[0], side[1], side[2]);
+      }
       sortCells(old);
       return it->second;
     }
@@ -230,10 +259,12 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
   // Branching points come on a square lattice: four of them are often cocircular, and the
   // Delaunay structure of such ties on a plane whose points are coplanar only up to rounding
   // differs between the cells. Each is moved by a fixed pseudo-random offset of at most a tenth of
-  // the lattice spacing (a hash of its position: the same input gives the same points).
+  // the lattice spacing (a hash of its position: the same input gives the same points), unless
+  // that could take it across another plane's trace (it then stays where it is).
   const double jitter = 0.1 * arr.sample_spacing_mm;
   for (const BranchingPoint& given : branching) {
     BranchingPoint b = given;
+    if (b.plane < 0 || std::size_t(b.plane) >= planes.size() || b.cell < 0) continue;
     {
       std::uint64_t h = std::hash<double>()(b.p.x()) * 0x9e3779b97f4a7c15ULL ^ std::hash<double>()(b.p.y());
       h ^= h >> 31;
@@ -248,7 +279,6 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
         nearTrace = int(j) != b.plane && std::abs(planes[j].plane.signedDistance(x)) < 2 * jitter;
       if (!nearTrace) b.p = moved;
     }
-    if (b.plane < 0 || std::size_t(b.plane) >= planes.size() || b.cell < 0) continue;
     SectionVertex v;
     v.planes = {b.plane, -1, -1};
     v.section = b.section;
