@@ -115,6 +115,14 @@ MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const Recons
   ConformalCutStats methodCut;
   if (method3) {
     m.method_mesh = reconstruction.delaunay->mesh;  // ∂R'': conformal by construction, no cut
+    // Pieces touching at a vertex are kept apart by copies of the vertex at one position: STL
+    // stores no vertex indices, so a reader merges them back into a pinched surface.
+    const bool stl = std::find(c.mesh_formats.begin(), c.mesh_formats.end(), "stl") != c.mesh_formats.end();
+    if (stl && !smooth && reconstruction.delaunay->stats.singular_vertices > 0)
+      warnings->push_back(std::to_string(reconstruction.delaunay->stats.singular_vertices) +
+                          " vertices of method 3's mesh are copied where pieces touch at a point; mesh.stl keeps no "
+                          "vertex indices, so readers merge the copies (the surface is then pinched there): use "
+                          "mesh.ply or mesh.obj for the Betti numbers report.json states");
   } else {
     m.method_mesh = meshZeroLevel(rec.field);
     if (c.conformal_mesh) methodCut = cutAlongSections(m.method_mesh, scene.planes, scene.fields, c.voxel_size_mm);

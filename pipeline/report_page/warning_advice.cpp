@@ -92,6 +92,10 @@ constexpr Rule kRules[] = {
      "(labels.nrrd, the connectivity checks, the smoothing) has another topology than the mesh.",
      "Nothing if the mesh is what you need; for a faithful label volume use a smaller "
      "reconstruction.voxel_size_mm."},
+    {"mesh.stl keeps no vertex indices",
+     "Method 3's solid has pieces that touch at single points; its mesh keeps them apart with copies of "
+     "those vertices, which an STL file cannot keep.",
+     "Add ply or obj to output.mesh and read that file for the topology report.json states."},
     {"method 3's solid holds no voxel centre",
      "Method 3's solid is thinner than a voxel everywhere: the voxel outputs are empty, the mesh is not.",
      "Use a smaller reconstruction.voxel_size_mm."},
