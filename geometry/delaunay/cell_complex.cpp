@@ -24,6 +24,9 @@ using Cb = CGAL::Triangulation_cell_base_with_info_3<int, K, CGAL::Delaunay_tria
 using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb>;
 using DT = CGAL::Delaunay_triangulation_3<K, Tds>;
 
+/// The six edges of a tetrahedron, as pairs of its vertex slots.
+constexpr int kEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+
 /// Whether point q (plane coordinates of `plane`) lies in the plane's sampled sections.
 bool inSampledSections(const SectionVertices& sv, int plane, const Vec2& q) {
   for (const Section& s : sv.sampled[std::size_t(plane)])
@@ -103,7 +106,6 @@ CellComplex cellDelaunay(int cell, const std::vector<int>& ids, const SectionVer
   c.external.assign(n, 0);
   c.kept.assign(n, 0);
   c.grounded_faces.assign(n, 0);
-  static constexpr int kEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
   for (std::size_t t = 0; t < n; ++t) {
     const auto& V = c.v[t];
     if (commonPlane(sv, V.data(), 4) >= 0) {
@@ -224,7 +226,6 @@ std::vector<std::vector<int>> runsOf(const std::vector<int>& shell, bool closed,
 
 void pruneCell(CellComplex& c) {
   const std::size_t n = c.v.size();
-  static constexpr int kEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
   c.kept.assign(n, 0);
   c.d1 = 0;
   for (std::size_t t = 0; t < n; ++t) {
@@ -235,7 +236,7 @@ void pruneCell(CellComplex& c) {
   // Work list of edges; an edge is re-examined when a tetrahedron of its shell is removed.
   std::deque<std::pair<std::uint64_t, int>> work;
   std::unordered_set<std::uint64_t> queued;
-  const auto push = [&](std::size_t t, const SectionVertices* /*unused*/) {
+  const auto push = [&](std::size_t t) {
     const auto& V = c.v[t];
     for (const auto& e : kEdges) {
       const std::uint64_t key = edgeKey(V[std::size_t(e[0])], V[std::size_t(e[1])]);
@@ -243,7 +244,7 @@ void pruneCell(CellComplex& c) {
     }
   };
   for (std::size_t t = 0; t < n; ++t)
-    if (c.kept[t]) push(t, nullptr);
+    if (c.kept[t]) push(t);
   // Every edge of a removed tetrahedron is re-examined; only grounded edges have shells that
   // Def. 50 constrains.
   while (true) {
@@ -266,7 +267,7 @@ void pruneCell(CellComplex& c) {
         if (grounded) continue;
         for (const int t : run) {
           c.kept[std::size_t(t)] = 0;
-          push(std::size_t(t), nullptr);
+          push(std::size_t(t));
         }
       }
     }
@@ -309,7 +310,7 @@ void pruneCell(CellComplex& c) {
     for (const int t : remove)
       if (c.kept[std::size_t(t)]) {
         c.kept[std::size_t(t)] = 0;
-        push(std::size_t(t), nullptr);
+        push(std::size_t(t));
         removed = true;
       }
     if (!removed) break;

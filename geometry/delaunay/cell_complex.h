@@ -43,11 +43,6 @@ namespace xsect {
 
 enum class TetType : std::uint8_t { vf, ee, evv, vvvv, flat };
 
-/// Key of the undirected edge (a, b) of point ids.
-inline std::uint64_t edgeKey(int a, int b) {
-  if (a > b) std::swap(a, b);
-  return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
-}
 
 struct CellComplex {
   int cell = -1;

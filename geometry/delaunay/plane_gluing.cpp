@@ -107,10 +107,7 @@ PlaneBoundary planeBoundary(int plane, const std::vector<int>& ids, const PlaneF
   for (const auto& side : fp.covered) {
     std::unordered_map<std::uint64_t, int> uses;
     for (const auto& t : side)
-      for (int e = 0; e < 3; ++e) {
-        const int a = t[std::size_t(e)], b = t[std::size_t((e + 1) % 3)];
-        ++uses[(std::uint64_t(std::uint32_t(std::min(a, b))) << 32) | std::uint32_t(std::max(a, b))];
-      }
+      for (int e = 0; e < 3; ++e) ++uses[edgeKey(t[std::size_t(e)], t[std::size_t((e + 1) % 3)])];
     for (const auto& [key, n] : uses)
       if (n == 1) rims.push_back({int(key >> 32), int(key & 0xffffffffu)});
   }

@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "geometry/arrangement/section_arrangement.h"
@@ -37,6 +38,13 @@ struct SectionVertex {
   /// The index of `plane` in `planes` (0 when absent).
   int slot(int plane) const { return planes[1] == plane ? 1 : planes[2] == plane ? 2 : 0; }
 };
+
+/// Key of the undirected edge (a, b) between section-vertices (point ids): the one key every
+/// stage of method 3 uses for contour edges, grounded edges and boundary edges.
+inline std::uint64_t edgeKey(int a, int b) {
+  if (a > b) std::swap(a, b);
+  return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
+}
 
 /// A sampled ring: point ids in contour order (closed: the last joins the first).
 struct SampledRing {
