@@ -128,7 +128,7 @@ json reconstructionJson(const RunResults& r) {
                        {"inside_leaves", rec.storage.inside_leaves},
                        {"anchor_leaves", rec.storage.anchor_leaves}}},
           {"exact_face_tests", rec.exact_face_tests},
-          {"search_restarts", rec.search_restarts},
+          {"cells_clipped", rec.cells_clipped},
           {"volume_mm3", r.diagnosis.topology.volume_mm3}};
   if (r.reconstruction.delaunay) j["delaunay"] = delaunayJson(r);
   return j;

@@ -146,6 +146,47 @@ TEST(Method2, EqualsTheBruteForceDefinition) {
   }
 }
 
+// The point queries (the connectivity graph's, which clip one cell per ray and keep it in a memo
+// while the ray stays in it) decide like the definition too, with and without the memo.
+TEST(Method2, PointQueriesEqualTheBruteForceDefinitionWithAndWithoutTheCellMemo) {
+  std::mt19937_64 rng(29);
+  for (const int count : {5, 12}) {
+    SCOPED_TRACE(count);
+    const auto planes = test::randomShellPlanes(count, rng, kCentre, 6.5, 6.0, 0.0, 64);
+    const auto fields = rasters(planes, 0.02);
+    SectionVoronoiParams params;
+    params.slab_mm = 0.05;
+    const SectionVoronoiPoints query(planes, fields, params);
+    std::uniform_real_distribution<double> unit(-1, 1);
+    std::int64_t inside = 0, checked = 0, reused = 0;
+    for (int ray = 0; ray < 300; ++ray) {
+      const Vec3 a = kCentre + 8.0 * Vec3(unit(rng), unit(rng), unit(rng));
+      const Vec3 dir = Vec3(unit(rng), unit(rng), unit(rng)).normalized();
+      SectionVoronoiPoints::CellMemo memo;
+      for (int k = 0; k < 40; ++k) {
+        const Vec3 x = a + 0.2 * k * dir;
+        const double before = memo.radius;
+        const Vec3 origin = memo.origin;
+        const SectionVoronoiPoints::Answer alone = query.at(x), along = query.at(x, &memo);
+        reused += before >= 0 && memo.origin == origin;
+        ASSERT_EQ(alone.inside, along.inside) << "ray " << ray << " step " << k;
+        ASSERT_EQ(alone.section_plane, along.section_plane);
+        double nearest = 1e300;
+        for (const auto& P : planes) nearest = std::min(nearest, std::abs(P.plane.signedDistance(x)));
+        if (nearest < params.slab_mm) continue;  // the thickened planes are not the definition
+        const Brute b = bruteForce(x, planes);
+        if (b.margin < 1e-3) continue;
+        ++checked;
+        inside += b.inside;
+        ASSERT_EQ(alone.inside, b.inside) << "ray " << ray << " step " << k << " Hin " << b.Hin << " D " << b.D;
+      }
+    }
+    EXPECT_GT(inside, 100);
+    EXPECT_GT(checked, 5000);
+    EXPECT_GT(reused, 1000);  // the memo was used, not only refilled
+  }
+}
+
 TEST(Method2, ContainsMethod1VoxelByVoxel) {  // Theorem 18: R ⊆ R'
   std::mt19937_64 rng(5);
   for (const int count : {2, 9, 40, 120}) {

@@ -95,6 +95,7 @@ ConnectivityGraphs connectivityGraphs(const SectionScene& scene, const SectionAr
     ConnectivityGraphs& out = local.local();
     const CuttingPlane& P = planes[std::size_t(sp.plane)];
     const Vec3 a = P.plane.toWorld(sp.p);
+    SectionVoronoiPoints::CellMemo memo;
     for (int side = 0; side < 2; ++side) {
       const Vec3 n = (side == 0 ? -1.0 : 1.0) * P.plane.normal;
       const int cell = sp.cell[std::size_t(side)];
@@ -128,9 +129,10 @@ ConnectivityGraphs connectivityGraphs(const SectionScene& scene, const SectionAr
       const int m = std::max(1, std::min(4096, int(std::ceil((exit - from) / step))));
       if (std::isfinite(exit))
         for (int q2 = 0; q2 < m; ++q2) ts.push_back(from + (exit - from) * (q2 + 0.5) / m);
+      memo.radius = -1;  // the ray's points lie in one cell: it is clipped once
       for (const double t : ts) {
         const Vec3 x = a + t * n;
-        const SectionVoronoiPoints::Answer ans = query->at(x);
+        const SectionVoronoiPoints::Answer ans = query->at(x, &memo);
         if (!ans.inside) break;
         if (ans.section_plane == sp.plane) continue;
         const int b = sectionAt(planes[std::size_t(ans.section_plane)], boxes[std::size_t(ans.section_plane)], x);

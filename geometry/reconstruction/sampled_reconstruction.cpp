@@ -116,7 +116,7 @@ SampledReconstruction reconstructOnGrid(const SectionScene& scene,
                        v.lift_height.data()});
     }, progress, &statistics);
     out.exact_face_tests = statistics.exact_face_tests;
-    out.search_restarts = statistics.search_restarts;
+    out.cells_clipped = statistics.cells_clipped;
   }
   out.max_lift_mm = assembly.maxLift();
   out.evaluate_seconds =

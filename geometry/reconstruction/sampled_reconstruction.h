@@ -47,7 +47,7 @@ struct SampledReconstruction {
   double max_lift_mm = 0;
   SolidStorage storage;
   std::int64_t exact_face_tests = 0;   ///< method 2 statistics
-  std::int64_t search_restarts = 0;
+  std::int64_t cells_clipped = 0;
 };
 
 /// @param scene  the planes (real and end), their rasters and the grid (section_scene.h); the

@@ -12,6 +12,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "geometry/arrangement/cell_facets.h"
 #include "geometry/core/polygon.h"
 
 namespace xsect {
@@ -287,15 +288,14 @@ double visibleSectionDistance(const PlaneInfo& P, const Vec2& p, double rho,
   return best;
 }
 
-enum class Verdict { inside, outside, undecided };
+enum class Verdict { inside, outside };
 struct Decision {
-  Verdict verdict = Verdict::undecided;
+  Verdict verdict = Verdict::outside;
   float value = 0;
   int section_plane = -1;
   float lift = 0;
   float plane_distance = 0;
   int nearest_plane = -1;
-  double suggest_radius = 0;  ///< undecided: a visible section point lies this far (0: unknown)
 };
 
 struct Candidate {
@@ -314,10 +314,7 @@ struct Scratch {
   std::vector<Candidate> order, pool;
   std::vector<Pending> pend;
   std::vector<HalfPlane> hp;
-  std::vector<int> cand, inList;
-  std::vector<double> inBound;
-  std::vector<std::pair<double, int>> inOrder;
-  std::vector<int> todo, next;
+  std::vector<int> cand, facets;
   std::int64_t exact = 0;
 };
 
@@ -325,9 +322,8 @@ class Evaluator {
  public:
   Evaluator(const std::vector<PlaneInfo>& planes, double slab) : P_(planes), slab_(slab) {}
 
-  /// Within the thickened nearest plane, x is decided by it alone (R' = R there): fills *out and
-  /// returns true. `cand` must hold the nearest plane.
-  bool decideInSlab(const Vec3& x, const std::vector<int>& cand, Decision* out) const {
+  /// The nearest of the planes `cand` to x (ties: the lower index); -1 when cand is empty.
+  int nearestPlane(const Vec3& x, const std::vector<int>& cand) const {
     int best = -1;
     double ba = kInf;
     for (const int q : cand) {
@@ -337,23 +333,41 @@ class Evaluator {
         best = q;
       }
     }
-    if (best < 0 || !(ba < slab_)) return false;
-    const PlaneInfo& P = P_[std::size_t(best)];
+    return best;
+  }
+
+  /// Decides x from its nearest plane alone where that suffices: fills *out and returns true.
+  /// Within the thickened nearest plane R' = R. Elsewhere, a projection on the nearest plane that
+  /// lies in a section is visible (a plane hiding it would be nearer) and no section point is
+  /// nearer than that plane, so x is in the lift of that section (exactly as decide() finds it).
+  bool decideByNearest(const Vec3& x, int nearest, Decision* out) const {
+    if (nearest < 0) return false;
+    const PlaneInfo& P = P_[std::size_t(nearest)];
+    const double a = std::abs(P.row.s(x));
     const Vec3 d = x - P.row.o;
-    const float f = P.field->sample(d.dot(P.row.u), d.dot(P.row.v));
+    const Vec2 p(d.dot(P.row.u), d.dot(P.row.v));
+    const float f = P.field->sample(p.x(), p.y());
+    if (!(a < slab_)) {
+      if (!(f < 0) || !P.has_sections) return false;
+      bool inBox = false;
+      for (const auto& b : P.boxes) inBox = inBox || (p.cwiseMax(b[0]).cwiseMin(b[1]) - p).isZero(0);
+      if (!inBox) return false;
+    }
     out->verdict = f < 0 ? Verdict::inside : Verdict::outside;
     out->value = f;
-    out->nearest_plane = best;
-    out->plane_distance = float(ba);
-    out->section_plane = f < 0 ? best : -1;
-    out->lift = f < 0 ? float(ba) : 0.f;
+    out->nearest_plane = nearest;
+    out->plane_distance = float(a);
+    out->section_plane = f < 0 ? nearest : -1;
+    out->lift = f < 0 ? float(a) : 0.f;
     return true;
   }
 
-  /// Decides x using the planes `cand` (which hold every plane within R of x). `isMax`: cand
-  /// holds every plane.
+  /// Decides x from the planes `cand`: the facets of x's cell of the arrangement (every plane that
+  /// can hide a section point from x or give x a visible projection) and x's nearest plane.
+  /// `inList`: those of them with sections; `cellRadius`: no point of the cell lies farther from x
+  /// (mm), so no visible section point does either.
   Decision decide(const Vec3& x, const std::vector<int>& cand, const std::vector<int>& inList,
-                  const std::vector<double>& inBound, double R, bool isMax, Scratch& w) const {
+                  double cellRadius, Scratch& w) const {
     Decision out;
     // Distances to the candidate planes; the nearest one first (ties: lower index).
     auto& order = w.order;
@@ -363,7 +377,6 @@ class Evaluator {
     std::size_t nearest = 0;
     for (const int q : cand) {
       const double s = P_[q].row.s(x), a = std::abs(s);
-      if (!(a <= R || isMax)) continue;
       pool.push_back({q, s, a});
       const Candidate& n = pool[nearest];
       if (a < n.a || (a == n.a && q < n.plane)) nearest = pool.size() - 1;
@@ -384,28 +397,8 @@ class Evaluator {
       }
       return out;
     }
-    // Only planes whose projection of x falls in a section's bounding box can give x to R'.
-    // inList comes sorted by decreasing upper bound `inBound` of the distance (over the block):
-    // once that bound falls below the best found, no later plane can raise it.
-    // Point queries pass every plane and no bounds: `hopeful` is then left unknown (+inf), which
-    // only delays the conclusion "outside" to the end of the walk.
-    double hopeful = inBound.empty() && !inList.empty() ? kInf : -1;
-    for (std::size_t qi = 0; qi < inList.size() && hopeful < kInf; ++qi) {
-      if (!inBound.empty() && inBound[qi] <= hopeful) break;
-      const int q = inList[qi];
-      const PlaneInfo& I = P_[q];
-      const double a = std::abs(I.row.s(x));
-      if (a <= hopeful) continue;
-      const Vec3 dx = x - I.row.o;
-      const Vec2 p(dx.dot(I.row.u), dx.dot(I.row.v));
-      if (p.x() < I.lo.x() || p.x() > I.hi.x() || p.y() < I.lo.y() || p.y() > I.hi.y()) continue;
-      for (const auto& b : I.boxes)
-        if (p.x() >= b[0].x() && p.x() <= b[1].x() && p.y() >= b[0].y() && p.y() <= b[1].y()) {
-          hopeful = a;
-          break;
-        }
-    }
-    if (hopeful < 0) return outsideWith(out, std::max(double(f0), 0.0));
+    // No facet with sections: S_C is empty and so is R' in this cell.
+    if (inList.empty()) return outsideWith(out, std::max(double(f0), 0.0));
     // Planes in order of distance, popped lazily from a heap: most voxels stop after a few.
     const auto farther = [](const Candidate& l, const Candidate& r) {
       return l.a > r.a || (l.a == r.a && l.plane > r.plane);
@@ -436,8 +429,8 @@ class Evaluator {
       if (near ? tries >= 3 : farTries >= 1) return;
       ++(near ? tries : farTries);
       const double H = order[t].a;
-      // A bound beyond `hopeful` is useless: the walk concludes there anyway.
-      const double cap = std::min(U, hopeful);
+      // A section point beyond the cell's radius is not in the cell, so not visible.
+      const double cap = std::min(U, cellRadius);
       const double maxR = std::sqrt(std::max(0.0, cap * cap - H * H));
       const PlaneInfo& P = P_[order[t].plane];
       Vec2 q;
@@ -445,22 +438,14 @@ class Evaluator {
       if (!(d < kInf)) return;
       const double dist = std::hypot(H, d);
       const Vec3 qw = P.row.o + q.x() * P.row.u + q.y() * P.row.v;
-      // Within R the candidates hold every possible occluder; beyond it, all planes are checked.
-      const bool vis = (isMax || dist <= R) ? pointVisible(order, w.pool, t, qw, dist)
-                                            : visibleAmongAll(x, order[t].plane, qw, dist);
-      if (vis) {
+      if (pointVisible(order, w.pool, t, qw, dist)) {
         U = dist;
         uValue = float(d);
       }
     };
-    bool exhausted = false;  // every plane that could give x to R' was walked
     for (std::size_t t = 0; t < order.size() || popNext(); ++t) {
       const double H = order[t].a;
       if (H >= U) break;
-      if (H > hopeful) {
-        exhausted = true;
-        break;
-      }
       const PlaneInfo& P = P_[order[t].plane];
       if (!P.has_sections) continue;
       const Vec3 dx = x - P.row.o;
@@ -484,15 +469,8 @@ class Evaluator {
       if (f > 0 && lb < U) tryBound(t, p, f < P.field->band);
       pend.push_back({int(t), f, lb, vis, p});
     }
-    if (inIdx < 0) {
-      exhausted = exhausted || hopeful <= R;  // every plane within R was walked
-      if ((U < kInf && (U <= R || isMax)) || isMax || exhausted)
-        return outsideWith(out, U < kInf ? double(uValue) : std::max(double(f0), 0.0));
-      // Every plane that could still matter lies within min(U, hopeful) (`hopeful` counts every
-      // plane, not only those within R): the next search radius needs no more.
-      out.suggest_radius = std::min(U, hopeful);
-      return out;  // undecided: the search radius must grow
-    }
+    // Every facet nearer than U walked without a visible in-section projection: x is not in R'.
+    if (inIdx < 0) return outsideWith(out, U < kInf ? double(uValue) : std::max(double(f0), 0.0));
     const double T = order[std::size_t(inIdx)].a;
     const double v = anyHit(order, std::size_t(inIdx), T, w);
     if (v < kInf) return outsideWith(out, v);
@@ -508,18 +486,6 @@ class Evaluator {
     d.verdict = Verdict::outside;
     d.value = float(std::isfinite(v) ? std::max(v, 1e-6) : 1e30);
     return d;
-  }
-
-  /// The point sw of plane `own`, at distance dist from x, is hidden by no plane at all.
-  bool visibleAmongAll(const Vec3& x, int own, const Vec3& sw, double dist) const {
-    for (std::size_t q = 0; q < P_.size(); ++q) {
-      if (int(q) == own) continue;
-      const double sx = P_[q].row.s(x);
-      if (sx == 0 || std::abs(sx) >= dist) continue;
-      const double ss = P_[q].row.s(sw);
-      if (sx > 0 ? ss < 0 : ss > 0) return false;
-    }
-    return true;
   }
 
   /// The projection of x on order[t]'s plane is hidden by none of order[0..end) (except t).
@@ -651,6 +617,120 @@ std::vector<PlaneInfo> planeInfo(const std::vector<CuttingPlane>& planes,
   return info;
 }
 
+/// What every cell of the arrangement is clipped from: the planes as normals and offsets, and a
+/// box holding the grid and every section (so that the part of a cell cut off by the box holds no
+/// section point, and visibility within the box is visibility in the cell).
+struct CellGeometry {
+  std::vector<Vec3> normals;
+  std::vector<double> offsets;
+  std::vector<std::uint8_t> has_sections;
+  Vec3 lo, hi;
+  double pad = 0;
+  double tolerance = 0;
+  /// The box [lo, hi] (may be empty: lo > hi) grown to hold every section, padded by `pad` mm.
+  CellGeometry(const std::vector<PlaneInfo>& info, const Vec3& boxLo, const Vec3& boxHi, double pad_mm)
+      : lo(boxLo), hi(boxHi), pad(pad_mm) {
+    const Vec3 padding = Vec3::Constant(pad);
+    for (const PlaneInfo& I : info) {
+      normals.push_back(I.row.n);
+      offsets.push_back(I.row.d);
+      has_sections.push_back(I.has_sections);
+      for (const Section& sc : *I.sections)
+        for (const Vec2& p : sc.outer) {
+          const Vec3 w = I.row.o + p.x() * I.row.u + p.y() * I.row.v;
+          lo = lo.cwiseMin(w - padding);
+          hi = hi.cwiseMax(w + padding);
+        }
+    }
+    // Far below a voxel and far above the rounding of coordinates of this size.
+    tolerance = 1e-9 * (hi - lo).norm();
+  }
+};
+
+/// The facets of one cell, and those of them whose plane has sections.
+struct CellFacets {
+  std::vector<std::uint8_t> key;  // side of each plane crossing the block
+  std::vector<int> facets, with_sections;
+  Vec3 origin = Vec3::Zero();     // the point the cell was clipped around
+  double radius = 0;              // no point of the cell lies farther from `origin`, mm
+  /// No point of the cell lies farther from x (in the cell), mm.
+  double radiusFrom(const Vec3& x) const { return radius * (1 + 1e-9) + (x - origin).norm(); }
+};
+
+/// The cells met by the voxels of one 8³ block, each clipped once, when a voxel first needs it:
+/// voxels on the same side of every plane crossing the block share their cell.
+class BlockCells {
+ public:
+  void startBlock(const Vec3& lo, const Vec3& hi, const CellGeometry& g) {
+    c_ = 0.5 * (lo + hi);
+    e_ = 0.5 * (hi - lo);
+    crossing_.clear();
+    for (std::size_t q = 0; q < g.normals.size(); ++q)
+      if (std::abs(g.normals[q].dot(c_) - g.offsets[q]) <= g.normals[q].cwiseAbs().dot(e_) + g.tolerance)
+        crossing_.push_back(int(q));
+    used_ = 0;
+    ordered_ = false;
+  }
+
+  const CellFacets& of(const Vec3& x, const CellGeometry& g) {
+    key_.resize(crossing_.size());
+    for (std::size_t k = 0; k < crossing_.size(); ++k) {
+      const std::size_t q = std::size_t(crossing_[k]);
+      key_[k] = g.normals[q].dot(x) - g.offsets[q] >= 0;
+    }
+    for (std::size_t c = 0; c < used_; ++c)
+      if (cells_[c].key == key_) return cells_[c];
+    if (!ordered_) orderPlanes(g);
+    if (used_ == cells_.size()) cells_.emplace_back();
+    CellFacets& cell = cells_[used_++];
+    cell.key = key_;
+    cell.origin = x;
+    cell.radius = cellFacets(x, g.normals, g.offsets, order_, bound_, g.lo, g.hi, g.tolerance, box_, &cell.facets) +
+                  g.tolerance;
+    cell.with_sections.clear();
+    for (const int q : cell.facets)
+      if (g.has_sections[std::size_t(q)]) cell.with_sections.push_back(q);
+    ++clipped_;
+    return cell;
+  }
+
+  /// Cells clipped since the last call.
+  std::int64_t clipped() {
+    const std::int64_t c = clipped_;
+    clipped_ = 0;
+    return c;
+  }
+
+ private:
+  // Every plane by increasing lower bound of its distance to the block.
+  void orderPlanes(const CellGeometry& g) {
+    byBound_.clear();
+    for (std::size_t q = 0; q < g.normals.size(); ++q) {
+      const double lb = std::abs(g.normals[q].dot(c_) - g.offsets[q]) - g.normals[q].cwiseAbs().dot(e_);
+      byBound_.push_back({std::max(lb, 0.0), int(q)});
+    }
+    std::sort(byBound_.begin(), byBound_.end());
+    order_.clear();
+    bound_.clear();
+    for (const auto& [lb, q] : byBound_) {
+      order_.push_back(q);
+      bound_.push_back(lb);
+    }
+    ordered_ = true;
+  }
+
+  Vec3 c_ = Vec3::Zero(), e_ = Vec3::Zero();
+  std::vector<int> crossing_, order_;
+  std::vector<double> bound_;
+  std::vector<std::pair<double, int>> byBound_;
+  std::vector<std::uint8_t> key_;
+  std::vector<CellFacets> cells_;  // the first used_ belong to this block
+  std::size_t used_ = 0;
+  bool ordered_ = false;
+  std::int64_t clipped_ = 0;
+  ClippedBox box_;
+};
+
 }  // namespace
 
 void forEachSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
@@ -670,19 +750,21 @@ void forEachSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
   for (const auto& f : fields) band = std::max(band, f.band);
 
   const Evaluator ev(info, params.slab_mm);
-  // Blocks of 4³ voxels share their candidate planes and search radius; the output goes by blocks
-  // of 8³ (block_grid.h), each the union of eight of them.
-  constexpr int kBlock = 4, kOut = BlockGrid<float>::kSide;
   const auto& D = grid.dims;
+  const Vec3 voxel = Vec3::Constant(grid.voxel);
+  const CellGeometry cells(info, grid.centre(0, 0, 0) - voxel,
+                           grid.centre(D[0] - 1, D[1] - 1, D[2] - 1) + voxel, grid.voxel);
+  // Blocks of 4³ voxels share the planes that may be nearest (for the thickened planes); the
+  // output goes by blocks of 8³ (block_grid.h), each the union of eight of them, and shares the
+  // cells of the arrangement its voxels lie in.
+  constexpr int kBlock = 4, kOut = BlockGrid<float>::kSide;
   const std::int64_t bx = (D[0] + kOut - 1) / kOut, by = (D[1] + kOut - 1) / kOut, bz = (D[2] + kOut - 1) / kOut;
   const std::int64_t blocks = bx * by * bz;
-  const double h = grid.voxel;
-  const Vec3 gridExt = h * Vec3(D[0], D[1], D[2]);
-  const double rMax = gridExt.norm() + 4 * h;
-  std::atomic<std::int64_t> exact{0}, restarts{0};
+  std::atomic<std::int64_t> exact{0}, cellsClipped{0};
 
   struct Work {
     Scratch w;
+    BlockCells cells;
     SectionVoronoiBlock out;
   };
   const auto doBlock = [&](int i0, int j0, int k0, Work& work) {
@@ -693,107 +775,35 @@ void forEachSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
     if (i0 >= i1 || j0 >= j1 || k0 >= k1) return;
     const Vec3 lo = grid.centre(i0, j0, k0), hi = grid.centre(i1 - 1, j1 - 1, k1 - 1);
     const Vec3 c = 0.5 * (lo + hi), e = 0.5 * (hi - lo);
+    // The planes that may be nearest to a voxel of the block: within the smallest upper bound.
     double minHi = kInf;
     for (const PlaneInfo& I : info) minHi = std::min(minHi, std::abs(I.row.s(c)) + I.row.an.dot(e));
-    const auto candidates = [&](double R, bool isMax) {
-      w.cand.clear();
-      for (std::size_t q = 0; q < info.size(); ++q) {
-        const double lb = std::abs(info[q].row.s(c)) - info[q].row.an.dot(e);
-        if (isMax || lb <= R) w.cand.push_back(int(q));
-      }
-    };
+    w.cand.clear();
+    for (std::size_t q = 0; q < info.size(); ++q)
+      if (std::abs(info[q].row.s(c)) - info[q].row.an.dot(e) <= minHi + 1e-9 * (1 + minHi)) w.cand.push_back(int(q));
     const auto offsetOf = [](int i, int j, int k) { return BlockGrid<float>::offset(i, j, k); };
-    const auto store = [&](int o, const Decision& dcs) {
-      out.value[std::size_t(o)] = std::clamp(dcs.value, -band, band);
-      out.plane_distance[std::size_t(o)] = dcs.plane_distance;
-      out.nearest_plane[std::size_t(o)] = dcs.nearest_plane;
-      out.section_plane[std::size_t(o)] = dcs.section_plane;
-      out.lift_height[std::size_t(o)] = dcs.lift;
-    };
-    // Voxels within the thickened nearest plane first (all of them in dense sweeps). The voxels
-    // left are kept by their place in the 8³ block (and their coordinates recomputed).
-    double R = 2.0 * minHi + 2 * h;
-    candidates(R, R >= rMax);
-    w.todo.clear();
     for (int k = k0; k < k1; ++k)
       for (int j = j0; j < j1; ++j)
         for (int i = i0; i < i1; ++i) {
+          // Within the thickened nearest plane R' = R; elsewhere the facets of the voxel's cell
+          // hold every plane that can hide a section point or give x a visible projection.
+          const Vec3 x = grid.centre(i, j, k);
           Decision dcs;
-          if (ev.decideInSlab(grid.centre(i, j, k), w.cand, &dcs)) store(offsetOf(i, j, k), dcs);
-          else w.todo.push_back((i - i0) + kBlock * ((j - j0) + kBlock * (k - k0)));
+          const int nearest = ev.nearestPlane(x, w.cand);
+          if (!ev.decideByNearest(x, nearest, &dcs)) {
+            const CellFacets& cf = work.cells.of(x, cells);
+            w.facets.assign(cf.facets.begin(), cf.facets.end());
+            if (!std::binary_search(w.facets.begin(), w.facets.end(), nearest))
+              w.facets.insert(std::upper_bound(w.facets.begin(), w.facets.end(), nearest), nearest);
+            dcs = ev.decide(x, w.facets, cf.with_sections, cf.radiusFrom(x), w);
+          }
+          const int o = offsetOf(i, j, k);
+          out.value[std::size_t(o)] = std::clamp(dcs.value, -band, band);
+          out.plane_distance[std::size_t(o)] = dcs.plane_distance;
+          out.nearest_plane[std::size_t(o)] = dcs.nearest_plane;
+          out.section_plane[std::size_t(o)] = dcs.section_plane;
+          out.lift_height[std::size_t(o)] = dcs.lift;
         }
-    if (w.todo.empty()) return;
-    // Planes whose sections the block's projection can reach: without any, no voxel of the
-    // block has an in-section projection and the whole block lies outside R' (and R).
-    w.inList.clear();
-    for (std::size_t q = 0; q < info.size(); ++q) {
-      const PlaneInfo& I = info[q];
-      if (!I.has_sections) continue;
-      const Vec3 dc = c - I.row.o;
-      const Vec2 pa(dc.dot(I.row.u), dc.dot(I.row.v));
-      const Vec2 pr(I.row.u.cwiseAbs().dot(e), I.row.v.cwiseAbs().dot(e));
-      const auto meets = [&](const Vec2& blo, const Vec2& bhi) {
-        return (pa + pr).x() >= blo.x() && (pa - pr).x() <= bhi.x() && (pa + pr).y() >= blo.y() &&
-               (pa - pr).y() <= bhi.y();
-      };
-      if (!meets(I.lo, I.hi)) continue;
-      for (const auto& bb : I.boxes)
-        if (meets(bb[0], bb[1])) {
-          w.inList.push_back(int(q));
-          break;
-        }
-    }
-    {  // by decreasing upper bound of the distance over the block
-      w.inOrder.clear();
-      for (const int q : w.inList)
-        w.inOrder.push_back({std::abs(info[std::size_t(q)].row.s(c)) + info[std::size_t(q)].row.an.dot(e), q});
-      std::sort(w.inOrder.begin(), w.inOrder.end(), [](const auto& l, const auto& r) {
-        return l.first > r.first || (l.first == r.first && l.second < r.second);
-      });
-      w.inList.clear();
-      w.inBound.clear();
-      for (const auto& [bnd, q] : w.inOrder) {
-        w.inList.push_back(q);
-        w.inBound.push_back(bnd);
-      }
-    }
-    const auto voxelOf = [&](int t) {
-      return std::array<int, 3>{i0 + t % kBlock, j0 + (t / kBlock) % kBlock, k0 + t / (kBlock * kBlock)};
-    };
-    if (w.inList.empty()) {
-      for (const int t : w.todo) {
-        const auto v = voxelOf(t);  // outside every section's reach: +band
-        out.value[std::size_t(offsetOf(v[0], v[1], v[2]))] = band;
-        out.plane_distance[std::size_t(offsetOf(v[0], v[1], v[2]))] = 0.f;
-        out.nearest_plane[std::size_t(offsetOf(v[0], v[1], v[2]))] = -1;
-        out.section_plane[std::size_t(offsetOf(v[0], v[1], v[2]))] = -1;
-        out.lift_height[std::size_t(offsetOf(v[0], v[1], v[2]))] = 0.f;
-      }
-      return;
-    }
-    bool first = true;
-    while (!w.todo.empty()) {
-      const bool isMax = R >= rMax;
-      if (!first) candidates(R, isMax);
-      first = false;
-      w.next.clear();
-      double suggest = 0;
-      for (const int t : w.todo) {
-        const auto v = voxelOf(t);
-        const Decision dcs = ev.decide(grid.centre(v[0], v[1], v[2]), w.cand, w.inList, w.inBound, R, isMax, w);
-        if (dcs.verdict == Verdict::undecided) {
-          suggest = std::max(suggest, dcs.suggest_radius);
-          w.next.push_back(t);
-          continue;
-        }
-        store(offsetOf(v[0], v[1], v[2]), dcs);
-      }
-      restarts += std::int64_t(w.next.size());
-      w.todo.swap(w.next);
-      // Grow to the farthest visible section point found by an undecided voxel (every plane that
-      // could still matter to it lies nearer), at least doubling.
-      R = std::max(2 * R, suggest * (1 + 1e-9) + 2 * h);
-    }
   };
   const std::int64_t chunk = std::max<std::int64_t>(16, blocks / 32);
   for (std::int64_t first = 0; first < blocks; first += chunk) {
@@ -802,9 +812,12 @@ void forEachSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
       Work work;
       for (std::int64_t b = r.begin(); b != r.end(); ++b) {
         const int ib = int(b % bx) * kOut, jb = int((b / bx) % by) * kOut, kb = int(b / (bx * by)) * kOut;
+        const int ie = std::min(D[0], ib + kOut) - 1, je = std::min(D[1], jb + kOut) - 1, ke = std::min(D[2], kb + kOut) - 1;
+        work.cells.startBlock(grid.centre(ib, jb, kb), grid.centre(ie, je, ke), cells);
         for (int dz = 0; dz < kOut; dz += kBlock)
           for (int dy = 0; dy < kOut; dy += kBlock)
             for (int dx = 0; dx < kOut; dx += kBlock) doBlock(ib + dx, jb + dy, kb + dz, work);
+        cellsClipped += work.cells.clipped();
         // Voxels beyond the grid repeat the block's first.
         SectionVoronoiBlock& v = work.out;
         forEachBeyondGrid(grid, {ib, jb, kb}, [&](int o) {
@@ -823,7 +836,7 @@ void forEachSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
   }
   if (statistics) {
     statistics->exact_face_tests = exact;
-    statistics->search_restarts = restarts;
+    statistics->cells_clipped = cellsClipped;
   }
 }
 
@@ -853,44 +866,90 @@ SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>
     });
   }, progress, &statistics);
   out.exact_face_tests = statistics.exact_face_tests;
-  out.search_restarts = statistics.search_restarts;
+  out.cells_clipped = statistics.cells_clipped;
   return out;
 }
 
 struct SectionVoronoiPoints::Impl {
   std::vector<PlaneInfo> info;
-  std::vector<int> all, withSections;
   Evaluator ev;
-  Impl(std::vector<PlaneInfo> i, double slab) : info(std::move(i)), ev(info, slab) {}
+  CellGeometry cells;
+  bool any_section = false;
+  Impl(std::vector<PlaneInfo> i, double slab)
+      : info(std::move(i)), ev(info, slab),
+        cells(info, Vec3::Constant(kInf), Vec3::Constant(-kInf), std::max(slab, 1e-6)) {
+    for (const PlaneInfo& I : info) any_section = any_section || I.has_sections;
+  }
 };
 
 SectionVoronoiPoints::SectionVoronoiPoints(const std::vector<CuttingPlane>& planes,
                                            const std::vector<SectionDistanceField>& fields,
                                            const SectionVoronoiParams& params)
-    : impl_(new Impl(planeInfo(planes, fields), params.slab_mm)) {
-  for (std::size_t q = 0; q < impl_->info.size(); ++q) {
-    impl_->all.push_back(int(q));
-    if (impl_->info[q].has_sections) impl_->withSections.push_back(int(q));
-  }
-}
+    : impl_(new Impl(planeInfo(planes, fields), params.slab_mm)) {}
 
 SectionVoronoiPoints::~SectionVoronoiPoints() { delete impl_; }
 
-SectionVoronoiPoints::Answer SectionVoronoiPoints::at(const Vec3& x) const {
-  thread_local Scratch w;
-  thread_local std::vector<int> cand;
-  // First within a few times the nearest plane's distance (most points are decided there), then
-  // with every plane.
-  double d0 = kInf;
-  for (const PlaneInfo& I : impl_->info) d0 = std::min(d0, std::abs(I.row.s(x)));
-  const double R = 4 * d0 + 1e-6;
-  cand.clear();
-  for (std::size_t q = 0; q < impl_->info.size(); ++q)
-    if (std::abs(impl_->info[q].row.s(x)) <= R) cand.push_back(int(q));
-  Decision d = impl_->ev.decide(x, cand, impl_->withSections, {}, R, false, w);
-  if (d.verdict == Verdict::undecided)
-    d = impl_->ev.decide(x, impl_->all, impl_->withSections, {}, kInf, true, w);
+SectionVoronoiPoints::Answer SectionVoronoiPoints::at(const Vec3& x, CellMemo* memo) const {
   Answer a;
+  if (!impl_->any_section) return a;
+  const CellGeometry& g = impl_->cells;
+  Decision d;
+  int nearest = -1;
+  double nearestDistance = kInf;
+  for (std::size_t q = 0; q < g.normals.size(); ++q) {
+    const double s = std::abs(g.normals[q].dot(x) - g.offsets[q]);
+    if (s < nearestDistance) {
+      nearestDistance = s;
+      nearest = int(q);
+    }
+  }
+  if (impl_->ev.decideByNearest(x, nearest, &d)) {
+    a.inside = d.verdict == Verdict::inside;
+    a.section_plane = d.section_plane;
+    return a;
+  }
+  thread_local Scratch w;
+  thread_local CellMemo own;
+  CellMemo& cell = memo ? *memo : own;
+  if (!memo) cell.radius = -1;  // without a memo every query clips its own cell
+  // x is in the memo's cell when it lies strictly on the cell's side of every facet, in its box.
+  bool same = cell.radius >= 0 && (x - x.cwiseMax(cell.lo).cwiseMin(cell.hi)).isZero(0);
+  for (std::size_t k = 0; same && k < cell.facets.size(); ++k) {
+    const std::size_t q = std::size_t(cell.facets[k]);
+    same = cell.sides[k] * (g.normals[q].dot(x) - g.offsets[q]) > g.tolerance;
+  }
+  if (!same) {  // clip x's cell, the planes taken by distance from x
+    thread_local ClippedBox box;
+    thread_local std::vector<std::pair<double, int>> byDistance;
+    thread_local std::vector<int> order;
+    thread_local std::vector<double> bound;
+    byDistance.clear();
+    for (std::size_t q = 0; q < g.normals.size(); ++q)
+      byDistance.push_back({std::abs(g.normals[q].dot(x) - g.offsets[q]), int(q)});
+    std::sort(byDistance.begin(), byDistance.end());
+    order.clear();
+    bound.clear();
+    for (const auto& [dq, q] : byDistance) {
+      order.push_back(q);
+      bound.push_back(dq);
+    }
+    const Vec3 pad = Vec3::Constant(g.pad);
+    cell.lo = g.lo.cwiseMin(x - pad);
+    cell.hi = g.hi.cwiseMax(x + pad);
+    cell.radius = cellFacets(x, g.normals, g.offsets, order, bound, cell.lo, cell.hi, g.tolerance, box, &cell.facets) +
+                  g.tolerance;
+    cell.origin = x;
+    cell.sides.clear();
+    for (const int q : cell.facets)
+      cell.sides.push_back(g.normals[std::size_t(q)].dot(x) - g.offsets[std::size_t(q)] >= 0 ? 1 : -1);
+  }
+  w.facets = cell.facets;
+  if (!std::binary_search(w.facets.begin(), w.facets.end(), nearest))
+    w.facets.insert(std::upper_bound(w.facets.begin(), w.facets.end(), nearest), nearest);
+  w.cand.clear();  // the facets with sections
+  for (const int q : w.facets)
+    if (g.has_sections[std::size_t(q)]) w.cand.push_back(q);
+  d = impl_->ev.decide(x, w.facets, w.cand, cell.radius * (1 + 1e-9) + (x - cell.origin).norm(), w);
   a.inside = d.verdict == Verdict::inside;
   a.section_plane = d.section_plane;
   return a;

@@ -52,7 +52,7 @@ struct SectionVoronoiField {
   /// segment [a, lift'(a)]); 0 elsewhere. Its maximum bounds the lift lengths used by Thm 20.
   std::vector<float> lift_height;
   std::int64_t exact_face_tests = 0;  ///< clipped-face distance evaluations (statistics)
-  std::int64_t search_restarts = 0;   ///< voxels whose search radius had to grow (statistics)
+  std::int64_t cells_clipped = 0;     ///< arrangement cells built for voxels off the thickened planes (statistics)
 };
 
 /// @param planes    cutting planes (real and virtual); planes[i] uses fields[i] and its sections.
@@ -78,7 +78,7 @@ struct SectionVoronoiBlock {
 
 struct SectionVoronoiStatistics {
   std::int64_t exact_face_tests = 0;
-  std::int64_t search_restarts = 0;
+  std::int64_t cells_clipped = 0;
 };
 
 /// Method 2 block by block: visit(b, values) for every block b of BlockGrid's numbering on `grid`,
@@ -99,13 +99,22 @@ class SectionVoronoiPoints {
     bool inside = false;     ///< x ∈ R'
     int section_plane = -1;  ///< plane of the section whose lift holds x (inside only)
   };
+  /// The cell of the arrangement the last query clipped (its facets), kept by the caller between
+  /// queries that follow one path: a query in the same cell reuses it. Filled by at().
+  struct CellMemo {
+    std::vector<int> facets;        ///< facet planes, ascending
+    std::vector<signed char> sides; ///< the cell's side of each facet (+1: the normal's side)
+    Vec3 origin = Vec3::Zero(), lo = Vec3::Zero(), hi = Vec3::Zero();
+    double radius = -1;             ///< no point of the cell lies farther from origin (mm); < 0: none
+  };
   SectionVoronoiPoints(const std::vector<CuttingPlane>& planes,
                        const std::vector<SectionDistanceField>& fields,
                        const SectionVoronoiParams& params);
   ~SectionVoronoiPoints();
   SectionVoronoiPoints(const SectionVoronoiPoints&) = delete;
   SectionVoronoiPoints& operator=(const SectionVoronoiPoints&) = delete;
-  Answer at(const Vec3& x) const;  ///< thread-safe
+  /// Thread-safe; `memo` (optional, one per calling thread) carries the last cell along a path.
+  Answer at(const Vec3& x, CellMemo* memo = nullptr) const;
 
  private:
   struct Impl;
