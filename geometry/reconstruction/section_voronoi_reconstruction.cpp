@@ -1,4 +1,4 @@
-// Method 2 on a voxel grid: nearest visible section by a walk over planes sorted by distance
+// Method 2 on a voxel grid: nearest visible section by a walk over the facets of each voxel's cell
 // (see section_voronoi_reconstruction.h).
 #include "geometry/reconstruction/section_voronoi_reconstruction.h"
 

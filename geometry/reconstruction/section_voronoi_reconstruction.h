@@ -6,11 +6,13 @@
 // section point,
 //     x ∈ R'  ⇔  some plane P has a visible projection p of x inside a section of P, with
 //                |x - p| = d(x, S_C)                                 (ties count, Def. 28).
-// A plane crossing (x, s) is nearer to x than |x - s|, so only planes nearer than the distances
-// compared can hide anything: the evaluation walks planes by increasing distance and stops as soon
-// as the nearest visible in-section projection (height H_in) is found, then checks that no visible
-// section point of a nearer plane lies closer than H_in (exactly, by clipping the plane's contours
-// to the visible face, when another plane's trace passes near the projection).
+// Only the facets of x's cell can hide a section point of ∂C or hold one: the cell is built once
+// per group of voxels sharing it (cell_facets.h, a box clipped by the planes nearest first), and
+// the evaluation walks its facets by increasing distance, stops as soon as the nearest visible
+// in-section projection (height H_in) is found, then checks that no visible section point of a
+// nearer facet lies closer than H_in (exactly, by clipping the plane's contours to the visible
+// face, when another plane's trace passes near the projection). A projection on the nearest plane
+// that lies in a section is visible and nearest of all: such a voxel is decided there (R ⊆ R').
 //
 // Thickened planes (Fig. 2.6): within `slab_mm` of its nearest plane a point belongs to R' exactly
 // when it belongs to R (its projection on that plane lies in a section). Lifts that reach a face of
