@@ -6,6 +6,8 @@
 #include "io/gzip_stream.h"
 #include "io/nrrd_geometry.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -60,20 +62,35 @@ std::string header(const GridSpec& grid, const LabelRows& rowOf) {
   h += nrrdGridLines(grid, "endian: little\nencoding: gzip\n");
 
   // Slicer segmentation metadata: one segment per label present, with its voxel extent.
+  // (slabs of k scanned in parallel; extents merge by min and max, so the order does not matter)
   struct Extent { int lo[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, hi[3] = {-1, -1, -1}; };
-  std::map<int, Extent> present;
-  std::vector<std::uint16_t> row(std::size_t(grid.dims[0]));
-  for (int k = 0; k < grid.dims[2]; ++k)
-    for (int j = 0; j < grid.dims[1]; ++j) {
-      rowOf(j, k, row.data());
-      for (int i = 0; i < grid.dims[0]; ++i) {
-        const int l = row[std::size_t(i)];
-        if (!l) continue;
-        Extent& e = present[l];
-        const int ijk[3] = {i, j, k};
-        for (int c = 0; c < 3; ++c) e.lo[c] = std::min(e.lo[c], ijk[c]), e.hi[c] = std::max(e.hi[c], ijk[c]);
-      }
-    }
+  using Present = std::map<int, Extent>;
+  const Present present = tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, grid.dims[2]), Present{},
+      [&](const tbb::blocked_range<int>& ks, Present p) {
+        std::vector<std::uint16_t> row(std::size_t(grid.dims[0]));
+        for (int k = ks.begin(); k < ks.end(); ++k)
+          for (int j = 0; j < grid.dims[1]; ++j) {
+            rowOf(j, k, row.data());
+            int last = 0;
+            Extent* e = nullptr;
+            for (int i = 0; i < grid.dims[0]; ++i) {
+              const int l = row[std::size_t(i)];
+              if (!l) continue;
+              if (l != last) e = &p[last = l];
+              const int ijk[3] = {i, j, k};
+              for (int c = 0; c < 3; ++c) e->lo[c] = std::min(e->lo[c], ijk[c]), e->hi[c] = std::max(e->hi[c], ijk[c]);
+            }
+          }
+        return p;
+      },
+      [](Present a, const Present& b) {
+        for (const auto& [label, e] : b) {
+          Extent& m = a[label];
+          for (int c = 0; c < 3; ++c) m.lo[c] = std::min(m.lo[c], e.lo[c]), m.hi[c] = std::max(m.hi[c], e.hi[c]);
+        }
+        return a;
+      });
   h += "Segmentation_ContainedRepresentationNames:=Binary labelmap|\n"
        "Segmentation_MasterRepresentation:=Binary labelmap\n"
        "Segmentation_SourceRepresentation:=Binary labelmap\n"
@@ -392,8 +409,8 @@ void writeLabelVolumeNrrd(const std::string& path, const GridSpec& grid, const L
   out.write(h.data(), std::streamsize(h.size()));
 
   const int nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
-  std::vector<std::uint16_t> row(static_cast<std::size_t>(nx));
   writeGzipRows(out, std::size_t(ny) * std::size_t(nz), [&](std::size_t r, std::string* bytes) {
+    std::vector<std::uint16_t> row(static_cast<std::size_t>(nx));  // rows come from several threads
     rowOf(int(r % std::size_t(ny)), int(r / std::size_t(ny)), row.data());
     bytes->resize(2 * std::size_t(nx));
     for (int i = 0; i < nx; ++i) {  // little-endian whatever the host

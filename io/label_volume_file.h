@@ -39,7 +39,8 @@ struct LabelVolume {
 void writeLabelVolumeNrrd(const std::string& path, const GridSpec& grid,
                           const std::vector<std::uint16_t>& labels);
 
-/// Row (0 .. dims[0]-1, j, k) of a label volume into row[0 .. dims[0]-1].
+/// Row (0 .. dims[0]-1, j, k) of a label volume into row[0 .. dims[0]-1]; called from several
+/// threads at once.
 using LabelRows = std::function<void(int j, int k, std::uint16_t* row)>;
 /// The same, the labels given row by row (read twice: the header's segment extents, then the
 /// data), so that no array of the whole volume is needed. The same bytes as the dense version.

@@ -28,8 +28,8 @@ void writeScalarVolumeNrrd(const std::string& path, const GridSpec& grid, const 
   h += "\n";
   out.write(h.data(), std::streamsize(h.size()));
   const int nx = grid.dims[0], ny = grid.dims[1];
-  std::vector<float> row(static_cast<std::size_t>(nx));
   writeGzipRows(out, std::size_t(ny) * std::size_t(grid.dims[2]), [&](std::size_t r, std::string* bytes) {
+    std::vector<float> row(static_cast<std::size_t>(nx));  // rows come from several threads
     rows(int(r % std::size_t(ny)), int(r / std::size_t(ny)), row.data());
     bytes->resize(4 * std::size_t(nx));
     for (int i = 0; i < nx; ++i) {  // little-endian whatever the host

@@ -10,7 +10,8 @@
 
 namespace xsect {
 
-/// Row (0 .. dims[0]-1, j, k) of a scalar volume into row[0 .. dims[0]-1].
+/// Row (0 .. dims[0]-1, j, k) of a scalar volume into row[0 .. dims[0]-1]; called from several
+/// threads at once.
 using ScalarRows = std::function<void(int j, int k, float* row)>;
 
 /// @param description  one line written as a header comment (what the values are, their unit).

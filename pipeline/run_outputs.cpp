@@ -2,6 +2,7 @@
 #include "pipeline/json_values.h"
 #include "pipeline/run_outputs.h"
 
+#include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -108,56 +109,65 @@ std::string graphDot(const RunResults& r) {
 void writeRunOutputs(const RunResults& r, const RunOptions& o, const StageClock& clock, const fs::path& outDir) {
   const RunConfig& c = r.inputs.config;
   StagedOutput out(outDir);
-  for (const auto& fmt : c.mesh_formats) writeMesh(out.file("mesh." + fmt).string(), r.meshes.mesh);
-  if (r.smooth) {
-    for (const auto& fmt : c.mesh_formats)
-      writeMesh(out.file("mesh_unsmoothed." + fmt).string(), r.meshes.method_mesh);
-    writeLevelSetVdb(out.file("level_set.vdb").string(), r.smooth->surface.level_set);
-  }
-  for (const Material& m : r.meshes.materials)
-    for (const auto& fmt : c.mesh_formats)
-      writeMesh(out.file("mesh_label_" + std::to_string(m.label) + "." + fmt).string(), m.mesh);
-  const BlockGrid<std::uint16_t>& labels = r.meshes.voxel_label;
-  writeLabelVolumeNrrd(out.file("labels.nrrd").string(), labels.grid(),
-                       [&](int j, int k, std::uint16_t* row) { labels.readRow(j, k, row); });
-  const json graph = graphJson(r);
-  writeTextFile(out.file("graph.json").string(), graph.dump(2) + "\n");
-  writeTextFile(out.file("graph.dot").string(), graphDot(r));
-  const json conformity = conformityDetailsJson(c.conformity, r.inputs.conformity);
-  writeTextFile(out.file("conformity.json").string(), conformity.dump(2) + "\n");
-  writeTextFile(out.file("sampling.json").string(), samplingDetailsJson(r.sampling).dump(1) + "\n");
-  if (!r.inputs.slice_records.empty() && !r.inputs.conformity.pose_changes.empty()) {
-    // The input's slices with the poses the run used (smoothed, corrected), images relative to
-    // the output folder so that the file can be run from there.
-    std::vector<SliceRecord> corrected = r.inputs.slice_records;
-    const fs::path outAbs = fs::absolute(outDir).lexically_normal();
-    const auto fromOut = [&](const std::string& p) { return fs::path(p).lexically_normal().lexically_relative(outAbs).string(); };
-    for (SliceRecord& s : corrected) {
-      s.image = fromOut(s.image_resolved);
-      if (s.fov_resolved) s.fov = fromOut(*s.fov_resolved);
+  // Three independent groups of files written at once (each file's bytes depend on the results
+  // only); the manifest, which lists the folder, last.
+  const auto meshes = [&] {
+    for (const auto& fmt : c.mesh_formats) writeMesh(out.file("mesh." + fmt).string(), r.meshes.mesh);
+    if (r.smooth) {
+      for (const auto& fmt : c.mesh_formats)
+        writeMesh(out.file("mesh_unsmoothed." + fmt).string(), r.meshes.method_mesh);
+      writeLevelSetVdb(out.file("level_set.vdb").string(), r.smooth->surface.level_set);
     }
-    for (const PoseChange& p : r.inputs.conformity.pose_changes)
-      corrected[std::size_t(p.slice)].image_to_world = p.transform * corrected[std::size_t(p.slice)].image_to_world;
-    writeSlicesFile(out.file("corrected_slices.yaml").string(), corrected);
-  }
-  const GridSpec& g = labels.grid();
-  writeScalarVolumeNrrd(
-      out.file("sampling.nrrd").string(), g,
-      [&](int j, int k, float* row) { samplingRatioRow(r.sampling, g, j, k, row); },
-      "xsect sampling: per voxel, h_C / critical reach of its cell (thesis Def. 23; < 1 passes), -1 unknown");
-  if (!r.sampling.advice_poses.empty()) {
-    std::vector<std::string> notes;
-    for (const AdvisedSlice& a : r.sampling.advice)
-      notes.push_back("splits cell " + std::to_string(a.cell) + "; worst " + (a.ratio ? "ratio " : "height (mm) ") +
-                      jsonNumber(a.worst_before) + " -> " + jsonNumber(a.worst_after));
-    writePosesFile(out.file("advice.yaml").string(), r.sampling.advice_poses,
-                   "xsect advice: slices to add, best first (image_to_world in the input's frame, pixels of " +
-                       jsonNumber(r.sampling.advice_pixel_mm) + " mm)",
-                   notes);
-  }
-  const json report = reportJson(r, clock);
-  writeTextFile(out.file("report.json").string(), report.dump(2) + "\n");
-  writeTextFile(out.file("report.html").string(), reportPageHtml(runReportPage(r, report, conformity, graph)));
+    for (const Material& m : r.meshes.materials)
+      for (const auto& fmt : c.mesh_formats)
+        writeMesh(out.file("mesh_label_" + std::to_string(m.label) + "." + fmt).string(), m.mesh);
+  };
+  const BlockGrid<std::uint16_t>& labels = r.meshes.voxel_label;
+  const auto volumes = [&] {
+    writeLabelVolumeNrrd(out.file("labels.nrrd").string(), labels.grid(),
+                         [&](int j, int k, std::uint16_t* row) { labels.readRow(j, k, row); });
+    const GridSpec& g = labels.grid();
+    writeScalarVolumeNrrd(
+        out.file("sampling.nrrd").string(), g,
+        [&](int j, int k, float* row) { samplingRatioRow(r.sampling, g, j, k, row); },
+        "xsect sampling: per voxel, h_C / critical reach of its cell (thesis Def. 23; < 1 passes), -1 unknown");
+  };
+  const auto documents = [&] {
+    const json graph = graphJson(r);
+    writeTextFile(out.file("graph.json").string(), graph.dump(2) + "\n");
+    writeTextFile(out.file("graph.dot").string(), graphDot(r));
+    const json conformity = conformityDetailsJson(c.conformity, r.inputs.conformity);
+    writeTextFile(out.file("conformity.json").string(), conformity.dump(2) + "\n");
+    writeTextFile(out.file("sampling.json").string(), samplingDetailsJson(r.sampling).dump(1) + "\n");
+    if (!r.inputs.slice_records.empty() && !r.inputs.conformity.pose_changes.empty()) {
+      // The input's slices with the poses the run used (smoothed, corrected), images relative to
+      // the output folder so that the file can be run from there.
+      std::vector<SliceRecord> corrected = r.inputs.slice_records;
+      const fs::path outAbs = fs::absolute(outDir).lexically_normal();
+      const auto fromOut = [&](const std::string& p) { return fs::path(p).lexically_normal().lexically_relative(outAbs).string(); };
+      for (SliceRecord& s : corrected) {
+        s.image = fromOut(s.image_resolved);
+        if (s.fov_resolved) s.fov = fromOut(*s.fov_resolved);
+      }
+      for (const PoseChange& p : r.inputs.conformity.pose_changes)
+        corrected[std::size_t(p.slice)].image_to_world = p.transform * corrected[std::size_t(p.slice)].image_to_world;
+      writeSlicesFile(out.file("corrected_slices.yaml").string(), corrected);
+    }
+    if (!r.sampling.advice_poses.empty()) {
+      std::vector<std::string> notes;
+      for (const AdvisedSlice& a : r.sampling.advice)
+        notes.push_back("splits cell " + std::to_string(a.cell) + "; worst " + (a.ratio ? "ratio " : "height (mm) ") +
+                        jsonNumber(a.worst_before) + " -> " + jsonNumber(a.worst_after));
+      writePosesFile(out.file("advice.yaml").string(), r.sampling.advice_poses,
+                     "xsect advice: slices to add, best first (image_to_world in the input's frame, pixels of " +
+                         jsonNumber(r.sampling.advice_pixel_mm) + " mm)",
+                     notes);
+    }
+    const json report = reportJson(r, clock);
+    writeTextFile(out.file("report.json").string(), report.dump(2) + "\n");
+    writeTextFile(out.file("report.html").string(), reportPageHtml(runReportPage(r, report, conformity, graph)));
+  };
+  tbb::parallel_invoke(meshes, volumes, documents);
   writeTextFile(out.file("manifest.json").string(), manifestJson(r.inputs, o, out.dir()).dump(2) + "\n");
   out.commit();
 }

@@ -21,11 +21,12 @@ namespace {
 /// With observed pieces (issue 20) the distance to P's piece is sqrt(s² + o²), o the in-plane
 /// distance of the projection to the piece, bounded over the box's projection (within the disc of
 /// half-diagonal rho about the centre's projection) by ObservedPiece::bounds. Empty pieces are
-/// never nearest.
+/// never nearest. `covered` (null, or one flag per plane): pieces known to hold the projection of
+/// a box holding this one, whose planes are whole over it.
 template <bool kObserved>
 void cull(const std::vector<PlaneRow>& rows, const std::vector<ObservedPiece>* pieces,
           const std::vector<int>& from, const Vec3& c, const Vec3& e, std::vector<int>& out,
-          std::vector<double>& lo) {
+          std::vector<double>& lo, const std::vector<std::uint8_t>* covered = nullptr) {
   double minHi = std::numeric_limits<double>::infinity();
   out.clear();
   lo.clear();
@@ -36,7 +37,7 @@ void cull(const std::vector<PlaneRow>& rows, const std::vector<ObservedPiece>* p
     double l = a - r, hi = a + r;
     if constexpr (kObserved) {
       const ObservedPiece& piece = (*pieces)[std::size_t(k)];
-      if (!piece.whole && !(l > minHi)) {  // (a piece is no nearer than its plane)
+      if (!piece.whole && !(l > minHi) && !(covered && (*covered)[std::size_t(k)])) {  // (a piece is no nearer than its plane)
         const double pa = p.ux * c.x() + p.uy * c.y() + p.uz * c.z() - p.uo;
         const double pb = p.vx * c.x() + p.vy * c.y() + p.vz * c.z() - p.vo;
         const double rho = planeNorm(std::abs(p.ux) * e.x() + std::abs(p.uy) * e.y() + std::abs(p.uz) * e.z(),
@@ -86,7 +87,10 @@ void nearestPieceBlocks(const std::vector<CuttingPlane>& planes, const std::vect
   };
 
   // Pass 1: planes that may be nearest in each 32³ super-box.
-  std::vector<std::vector<int>> superCand(supers);
+  // With observed pieces, also the candidates whose piece holds the whole super-box's projection:
+  // their planes are whole over every box inside it, and the culls and voxels below skip their
+  // piece (most planes of a dense sweep, away from the edges of the probe's field of view).
+  std::vector<std::vector<int>> superCand(supers), superCovered(kObserved ? supers : 0);
   tbb::parallel_for(0, supers, [&](int s) {
     const int bi = s % sx, bj = (s / sx) % sy, bk = s / (sx * sy);
     const int i0 = bi * kSuper, j0 = bj * kSuper, k0 = bk * kSuper;
@@ -95,6 +99,15 @@ void nearestPieceBlocks(const std::vector<CuttingPlane>& planes, const std::vect
         std::min(D[2], k0 + kSuper), &c, &e);
     std::vector<double> lo;
     cull<kObserved>(rows, pieces, all, c, e, superCand[s], lo);
+    if constexpr (kObserved)
+      for (const int k : superCand[s]) {
+        const PlaneRow& r = rows[std::size_t(k)];
+        const double ra = std::abs(r.ux) * e.x() + std::abs(r.uy) * e.y() + std::abs(r.uz) * e.z();
+        const double rb = std::abs(r.vx) * e.x() + std::abs(r.vy) * e.y() + std::abs(r.vz) * e.z();
+        if (covers((*pieces)[std::size_t(k)], r.ux * c.x() + r.uy * c.y() + r.uz * c.z() - r.uo,
+                   r.vx * c.x() + r.vy * c.y() + r.vz * c.z() - r.vo, planeNorm(ra, rb)))
+          superCovered[std::size_t(s)].push_back(k);
+      }
   });
 
   // Pass 2: inside each 8³ box, an octree of boxes (8 -> 4 -> 2) culls the list again at every
@@ -108,6 +121,19 @@ void nearestPieceBlocks(const std::vector<CuttingPlane>& planes, const std::vect
     std::vector<int> lists[4];  // candidates at box sizes 8, 4, 2 (index = level)
     std::vector<double> lo, s0, nx, ny, nz;
     NearestPlaneBlock block;
+    std::vector<std::uint8_t> covered;  // per plane: superCovered of the super-box `super`
+    int super = -1;
+  };
+  // Points w.covered at super-box s's covered planes.
+  const auto coverSuper = [&](int s, Scratch& w) {
+    if constexpr (kObserved) {
+      if (w.super == s) return;
+      w.covered.resize(planes.size(), 0);
+      if (w.super >= 0)
+        for (const int k : superCovered[std::size_t(w.super)]) w.covered[std::size_t(k)] = 0;
+      for (const int k : superCovered[std::size_t(s)]) w.covered[std::size_t(k)] = 1;
+      w.super = s;
+    }
   };
   const auto evalVoxels = [&](int i0, int j0, int k0, int i1, int j1, int k1,
                               const std::vector<int>& cand, Scratch& w) {
@@ -132,6 +158,7 @@ void nearestPieceBlocks(const std::vector<CuttingPlane>& planes, const std::vect
       Vec3 c, e;
       box(i0, j0, k0, i1, j1, k1, &c, &e);
       for (std::size_t q = 0; q < m && covered; ++q) {
+        if (w.covered[std::size_t(cand[q])]) continue;
         const PlaneRow& r = rows[cand[q]];
         const double ra = std::abs(r.ux) * e.x() + std::abs(r.uy) * e.y() + std::abs(r.uz) * e.z();
         const double rb = std::abs(r.vx) * e.x() + std::abs(r.vy) * e.y() + std::abs(r.vz) * e.z();
@@ -202,7 +229,7 @@ void nearestPieceBlocks(const std::vector<CuttingPlane>& planes, const std::vect
           return;
         }
         std::vector<int>& list = w.lists[level];
-        cull<kObserved>(rows, pieces, from, c, e, list, w.lo);
+        cull<kObserved>(rows, pieces, from, c, e, list, w.lo, &w.covered);
         if (size <= 2 || list.size() <= 2) {
           evalVoxels(i0, j0, k0, i1, j1, k1, list, w);
           return;
@@ -223,7 +250,7 @@ void nearestPieceBlocks(const std::vector<CuttingPlane>& planes, const std::vect
     Vec3 c, e;
     box(i0, j0, k0, std::min(D[0], i0 + kBlock), std::min(D[1], j0 + kBlock), std::min(D[2], k0 + kBlock), &c, &e);
     std::vector<int>& list = w.lists[3];
-    cull<kObserved>(rows, pieces, from, c, e, list, w.lo);
+    cull<kObserved>(rows, pieces, from, c, e, list, w.lo, &w.covered);
     if (list.empty()) return false;
     double lowest = std::numeric_limits<double>::infinity();
     const float band = fields[std::size_t(list[0])].band;
@@ -238,7 +265,7 @@ void nearestPieceBlocks(const std::vector<CuttingPlane>& planes, const std::vect
       if constexpr (kObserved) {
         // The piece's nearest points to the block lie within o(c) + rho of the block's projection.
         const ObservedPiece& piece = (*pieces)[std::size_t(k)];
-        if (!covers(piece, a, b, planeNorm(ra, rb))) {
+        if (!w.covered[std::size_t(k)] && !covers(piece, a, b, planeNorm(ra, rb))) {
           double olo, ohi;
           piece.bounds(a, b, planeNorm(ra, rb), &olo, &ohi);
           if (!std::isfinite(olo)) return false;
@@ -266,6 +293,7 @@ void nearestPieceBlocks(const std::vector<CuttingPlane>& planes, const std::vect
   const auto doBlock = [&](std::int64_t b, Scratch& w) {
     const int ib = int(b % bx) * kBlock, jb = int((b / bx) % by) * kBlock, kb = int(b / (bx * by)) * kBlock;
     const int s = (ib / kSuper) + sx * ((jb / kSuper) + sy * (kb / kSuper));
+    coverSuper(s, w);
     NearestPlaneBlock& v = w.block;
     if (wholeBlocks && outsideBlock(ib, jb, kb, superCand[s], w)) {
       visitBlock(b, v);
