@@ -29,6 +29,9 @@ class DenseRows {
     });
   }
   int uniform(int j, int k) const { return empty_[rowOf(j, k)] ? 0 : -1; }
+  /// The value of every voxel of block column bi (x in 8 bi .. 8 bi + 7) of row (j, k) when known
+  /// to be one value (never here), -1 otherwise.
+  int uniformBlock(int, int, int) const { return -1; }
   const std::uint8_t* row(int j, int k, std::uint8_t*) const { return in_->data() + rowOf(j, k) * std::size_t(nx_); }
   void fill(int j, int k, int x0, int x1, std::uint8_t v) {
     std::uint8_t* r = writable_->data() + rowOf(j, k) * std::size_t(nx_);
@@ -58,6 +61,11 @@ class BlockRows {
     });
   }
   int uniform(int j, int k) const { return uniform_[rowOf(j, k)]; }
+  /// The tile value of the block holding voxels (8 bi .. 8 bi + 7, j, k), -1 for a leaf.
+  int uniformBlock(int bi, int j, int k) const {
+    const std::int64_t b = in_->block(bi, j >> 3, k >> 3);
+    return in_->isLeaf(b) ? -1 : int(in_->tile(b));
+  }
   const std::uint8_t* row(int j, int k, std::uint8_t* scratch) const {
     in_->readRow(j, k, scratch);
     return scratch;
@@ -229,22 +237,31 @@ void setComponents(Rows& in, const Components& c, int ny, const Pick& pick, std:
 }
 
 /// One pass over all 2x2 squares and 2x2x2 cubes, in scan order; adds a voxel to each critical
-/// configuration. Squares and cubes whose four rows of voxels are known to hold one value hold no
-/// configuration and are skipped (the rows' flags follow the voxels added, so the pass is the
-/// full pass).
+/// configuration. Squares and cubes whose voxels are known to hold one value hold no
+/// configuration and are skipped: whole quads of rows known uniform, and, within a quad, the cubes
+/// inside blocks known uniform (tiles); the flags follow the voxels added, so the pass is the full
+/// pass (the same voxels added in the same order), at the cost of the blocks the boundary crosses.
 template <typename Rows>
 int removeCriticalConfigurations(Rows& in, const GridSpec& g) {
   const int nx = g.dims[0], ny = g.dims[1], nz = g.dims[2];
+  const int nbx = (nx + 7) / 8;
   int added = 0;
   // Rows 0 .. 3 of a quad: (j, k), (j+1, k), (j, k+1), (j+1, k+1); corner q of a cube at column i
   // is voxel i + (q & 1) of row q >> 1.
   std::array<std::vector<std::uint8_t>, 4> row;
   for (auto& r : row) r.assign(std::size_t(nx) + 8, 0);
   std::vector<std::uint8_t> scratch(std::size_t(nx) + 8);
+  std::vector<int> block(std::size_t(nbx) + 1, -1);  // per block column: the quad's one value, or -1
   for (int k = 0; k + 1 < nz; ++k)
     for (int j = 0; j + 1 < ny; ++j) {
       const int u[4] = {in.uniform(j, k), in.uniform(j + 1, k), in.uniform(j, k + 1), in.uniform(j + 1, k + 1)};
       if (u[0] >= 0 && u[0] == u[1] && u[0] == u[2] && u[0] == u[3]) continue;
+      for (int bi = 0; bi < nbx; ++bi) {
+        const int v = in.uniformBlock(bi, j, k);
+        const bool same = v >= 0 && in.uniformBlock(bi, j + 1, k) == v && in.uniformBlock(bi, j, k + 1) == v &&
+                          in.uniformBlock(bi, j + 1, k + 1) == v;
+        block[std::size_t(bi)] = same ? v : -1;
+      }
       for (int r = 0; r < 4; ++r) {
         const std::uint8_t* src = in.row(j + (r & 1), k + (r >> 1), scratch.data());
         std::copy(src, src + nx, row[std::size_t(r)].begin());
@@ -253,8 +270,11 @@ int removeCriticalConfigurations(Rows& in, const GridSpec& g) {
         const int r = q >> 1, x = i + (q & 1);
         row[std::size_t(r)][std::size_t(x)] = 1;
         in.fill(j + (r & 1), k + (r >> 1), x, x, 1);
+        block[std::size_t(x >> 3)] = -1;
       };
       for (int i = 0; i + 1 < nx; ++i) {
+        const int b0 = block[std::size_t(i >> 3)];
+        if (b0 >= 0 && b0 == block[std::size_t((i + 1) >> 3)]) continue;  // one value throughout
         std::uint8_t c[8];
         for (int q = 0; q < 8; ++q) c[q] = row[std::size_t(q >> 1)][std::size_t(i + (q & 1))];
         // 2x2 checkerboards in the three axis planes through corner 0 (xy, xz, yz).
