@@ -647,6 +647,25 @@ struct CellGeometry {
   }
 };
 
+/// Every plane of g by increasing lower bound of its distance to the box [c - e, c + e] (e = 0:
+/// the point c), ties by index: the order cellFacets takes.
+void planesByDistanceBound(const CellGeometry& g, const Vec3& c, const Vec3& e,
+                           std::vector<std::pair<double, int>>& scratch, std::vector<int>* order,
+                           std::vector<double>* bound) {
+  scratch.clear();
+  for (std::size_t q = 0; q < g.normals.size(); ++q) {
+    const double lb = std::abs(g.normals[q].dot(c) - g.offsets[q]) - g.normals[q].cwiseAbs().dot(e);
+    scratch.push_back({std::max(lb, 0.0), int(q)});
+  }
+  std::sort(scratch.begin(), scratch.end());
+  order->clear();
+  bound->clear();
+  for (const auto& [lb, q] : scratch) {
+    order->push_back(q);
+    bound->push_back(lb);
+  }
+}
+
 /// The facets of one cell, and those of them whose plane has sections.
 struct CellFacets {
   std::vector<std::uint8_t> key;  // side of each plane crossing the block
@@ -702,20 +721,8 @@ class BlockCells {
   }
 
  private:
-  // Every plane by increasing lower bound of its distance to the block.
   void orderPlanes(const CellGeometry& g) {
-    byBound_.clear();
-    for (std::size_t q = 0; q < g.normals.size(); ++q) {
-      const double lb = std::abs(g.normals[q].dot(c_) - g.offsets[q]) - g.normals[q].cwiseAbs().dot(e_);
-      byBound_.push_back({std::max(lb, 0.0), int(q)});
-    }
-    std::sort(byBound_.begin(), byBound_.end());
-    order_.clear();
-    bound_.clear();
-    for (const auto& [lb, q] : byBound_) {
-      order_.push_back(q);
-      bound_.push_back(lb);
-    }
+    planesByDistanceBound(g, c_, e_, byBound_, &order_, &bound_);
     ordered_ = true;
   }
 
@@ -923,16 +930,7 @@ SectionVoronoiPoints::Answer SectionVoronoiPoints::at(const Vec3& x, CellMemo* m
     thread_local std::vector<std::pair<double, int>> byDistance;
     thread_local std::vector<int> order;
     thread_local std::vector<double> bound;
-    byDistance.clear();
-    for (std::size_t q = 0; q < g.normals.size(); ++q)
-      byDistance.push_back({std::abs(g.normals[q].dot(x) - g.offsets[q]), int(q)});
-    std::sort(byDistance.begin(), byDistance.end());
-    order.clear();
-    bound.clear();
-    for (const auto& [dq, q] : byDistance) {
-      order.push_back(q);
-      bound.push_back(dq);
-    }
+    planesByDistanceBound(g, x, Vec3::Zero(), byDistance, &order, &bound);
     const Vec3 pad = Vec3::Constant(g.pad);
     cell.lo = g.lo.cwiseMin(x - pad);
     cell.hi = g.hi.cwiseMax(x + pad);
