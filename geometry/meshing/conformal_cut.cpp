@@ -140,7 +140,8 @@ ConformalCutStats cutAlongSections(TriangleMesh& mesh, const std::vector<Cutting
   const double skip = 3 * eps + std::sqrt(3.0) * 0.5 * unitC;
 
   std::vector<double> s(V.size());
-  std::vector<int> sign(V.size()), stamp(V.size(), -1);
+  std::vector<signed char> sign(V.size());  // -1, 0 (on P), +1: a byte a vertex
+  std::vector<int> stamp(V.size(), -1);
   std::unordered_map<std::uint64_t, std::uint32_t> edgeVertex;
   for (std::size_t p = 0; p < planes.size(); ++p) {
     const CuttingPlane& cp = planes[p];
@@ -244,7 +245,7 @@ ConformalCutStats cutAlongSections(TriangleMesh& mesh, const std::vector<Cutting
   // mesh stage holds the run's peak memory).
   std::vector<std::vector<Entry>>().swap(bucket);
   std::vector<double>().swap(s);
-  std::vector<int>().swap(sign);
+  std::vector<signed char>().swap(sign);
   std::vector<int>().swap(stamp);
 
   // Adjacency: triangles around each vertex (CSR).
