@@ -26,12 +26,19 @@ std::string deflateGroup(const std::string& in, int level, bool last) {
   std::string out(deflateBound(&zs, uLong(in.size())) + 16, '\0');
   zs.next_in = reinterpret_cast<unsigned char*>(const_cast<char*>(in.data()));
   zs.avail_in = uInt(in.size());
-  zs.next_out = reinterpret_cast<unsigned char*>(out.data());
-  zs.avail_out = uInt(out.size());
-  const int rc = deflate(&zs, last ? Z_FINISH : Z_SYNC_FLUSH);
-  if (rc == Z_STREAM_ERROR || zs.avail_in != 0 || (last && rc != Z_STREAM_END))
-    throw std::runtime_error("zlib: deflate failed");
-  out.resize(out.size() - zs.avail_out);
+  std::size_t used = 0;
+  for (;;) {  // one call suffices with deflateBound's room; more room if zlib ever asks for it
+    zs.next_out = reinterpret_cast<unsigned char*>(out.data() + used);
+    zs.avail_out = uInt(out.size() - used);
+    const int rc = deflate(&zs, last ? Z_FINISH : Z_SYNC_FLUSH);
+    if (rc == Z_STREAM_ERROR) throw std::runtime_error("zlib: deflate failed");
+    used = out.size() - zs.avail_out;
+    const bool done = last ? rc == Z_STREAM_END : (zs.avail_in == 0 && zs.avail_out > 0);
+    if (done) break;
+    if (rc != Z_OK && rc != Z_BUF_ERROR) throw std::runtime_error("zlib: deflate failed");
+    out.resize(out.size() * 2);
+  }
+  out.resize(used);
   return out;
 }
 
@@ -46,8 +53,9 @@ void writeGzipRows(std::ostream& out, std::size_t rows, const ByteRows& rowBytes
   const std::size_t groups = std::max<std::size_t>(1, (rows + perGroup - 1) / perGroup);
   constexpr std::size_t kWave = 16;
 
-  // gzip header (RFC 1952): no name, mtime 0, XFL as zlib sets it, OS 3 (Unix) on every host.
-  const unsigned char xfl = level == 9 ? 2 : level == 1 ? 4 : 0;
+  // gzip header (RFC 1952): no name, mtime 0, XFL as zlib sets it (2: best compression, 4: the
+  // fastest levels 0 and 1), OS 3 (Unix) on every host.
+  const unsigned char xfl = level == 9 ? 2 : (level == 0 || level == 1) ? 4 : 0;
   const unsigned char header[10] = {0x1f, 0x8b, 8, 0, 0, 0, 0, 0, xfl, 3};
   out.write(reinterpret_cast<const char*>(header), sizeof header);
   uLong crc = crc32(0L, Z_NULL, 0);

@@ -70,7 +70,8 @@ ReconstructStage reconstructStage(const RunInputs& in, const SceneStage& built, 
   ReconstructStage r;
   const bool delaunay = scene.params.method == ReconstructionMethod::delaunay;
   if (delaunay) delaunayOnGrid(in, built, a, progress, r, warnings);
-  else r.solid = reconstructOnGrid(scene, progress.counter());
+  else  // the unrepaired set is read only by the smoothing (smooth_stage.cpp)
+    r.solid = reconstructOnGrid(scene, progress.counter(), c.smoothing_method != SmoothingMethod::none);
   const SampledReconstruction& rec = r.solid;
   if (rec.voxels_inside == 0 && !delaunay) {
     // An automatic size the budget forced so coarse that nothing is left: the configuration must

@@ -93,7 +93,8 @@ TEST(CellFacets, EqualTheFacetsOfTheExactHalfspaceIntersection) {
 
 TEST(CellFacets, StopsAtTheCellNotAtTheNumberOfPlanes) {
   // A unit cube of six planes around x, then many parallel planes farther out: none is a facet,
-  // and the clipping stops before them (their bound exceeds the cube's farthest vertex).
+  // and the clipping stops before them (their bound exceeds the cube's farthest vertex). The box
+  // is fresh, so the count of half-spaces offered is this call's.
   std::vector<Vec3> normals;
   std::vector<double> offsets;
   for (int k = 0; k < 3; ++k)
@@ -117,4 +118,6 @@ TEST(CellFacets, StopsAtTheCellNotAtTheNumberOfPlanes) {
                                      Vec3::Constant(100), 1e-9, box, &facets);
   EXPECT_EQ(facets, (std::vector<int>{0, 1, 2, 3, 4, 5}));
   EXPECT_NEAR(farthest, std::sqrt(0.75), 1e-12);
+  // The six faces, and not one of the 200 planes beyond the cube's farthest vertex, were offered.
+  EXPECT_EQ(box.clipsOffered(), 6);
 }

@@ -84,6 +84,34 @@ TEST(GzipStream, SameBytesOnOneThreadAsOnMany) {
   EXPECT_TRUE(one == many);
 }
 
+TEST(GzipStream, IncompressibleRowsAndTheHeaderZlibWrites) {
+  // Random bytes: deflate's stored blocks, the worst case for the room each group is given.
+  const auto noise = [](std::size_t r, std::string* bytes) {
+    std::mt19937_64 rng(r + 1);
+    bytes->resize(70000);
+    for (char& c : *bytes) c = char(rng());
+  };
+  std::string expected;
+  for (std::size_t r = 0; r < 40; ++r) {
+    std::string b;
+    noise(r, &b);
+    expected += b;
+  }
+  for (const int level : {0, 1, 6, 9}) {
+    std::ostringstream gz;
+    writeGzipRows(gz, 40, noise, level);
+    const std::string g = gz.str();
+    int members = 0;
+    EXPECT_TRUE(inflateAll(g, &members) == expected) << "level " << level;
+    EXPECT_EQ(members, 1);
+    // ID1 ID2 CM FLG, MTIME 0, XFL as zlib sets it for the level, OS 3.
+    ASSERT_GE(g.size(), 18u);
+    const unsigned char xfl = level == 9 ? 2 : level <= 1 ? 4 : 0;
+    const unsigned char head[10] = {0x1f, 0x8b, 8, 0, 0, 0, 0, 0, xfl, 3};
+    EXPECT_EQ(std::memcmp(g.data(), head, 10), 0) << "level " << level;
+  }
+}
+
 TEST(GzipStream, NoRowsIsAnEmptyMember) {
   std::ostringstream gz;
   writeGzipRows(gz, 0, rowOf);

@@ -27,6 +27,7 @@ void ClippedBox::reset(const Vec3& lo, const Vec3& hi, double tolerance_mm) {
 
 bool ClippedBox::clip(const Vec3& n, double d, int side, int id) {
   const double eps = tolerance_;
+  ++clips_;
   value_.resize(points_.size());
   bool cuts = false;
   for (std::size_t i = 0; i < points_.size(); ++i) {
@@ -80,14 +81,14 @@ bool ClippedBox::clip(const Vec3& n, double d, int side, int id) {
     for (const Vec3& p : cap_) c += p;
     c /= double(cap_.size());
     const Vec3 u = n.unitOrthogonal(), v = n.cross(u);
-    std::vector<std::pair<double, int>> byAngle(cap_.size());
+    byAngle_.resize(cap_.size());
     for (std::size_t i = 0; i < cap_.size(); ++i) {
       const Vec3 r = cap_[i] - c;
-      byAngle[i] = {std::atan2(r.dot(v), r.dot(u)), int(i)};
+      byAngle_[i] = {std::atan2(r.dot(v), r.dot(u)), int(i)};
     }
-    std::sort(byAngle.begin(), byAngle.end());
+    std::sort(byAngle_.begin(), byAngle_.end());
     const std::size_t first = nextPoints_.size();
-    for (const auto& [angle, i] : byAngle) {
+    for (const auto& [angle, i] : byAngle_) {
       const Vec3& p = cap_[std::size_t(i)];
       if (nextPoints_.size() > first && (nextPoints_.back() - p).norm() <= eps) continue;
       nextPoints_.push_back(p);

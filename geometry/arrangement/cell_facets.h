@@ -10,6 +10,8 @@
 // cuts the cell by less than the tolerance (far below a voxel) changes no decision of method 2.
 #pragma once
 
+#include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "geometry/core/types.h"
@@ -36,6 +38,12 @@ class ClippedBox {
   std::vector<Vec3> points_, nextPoints_, cap_;  // faces' vertices, one face after another
   std::vector<int> start_, plane_, nextStart_, nextPlane_;
   std::vector<double> value_;
+  std::vector<std::pair<double, int>> byAngle_;
+  std::int64_t clips_ = 0;
+
+ public:
+  /// Half-spaces offered to clip() since construction (for tests of the early stop).
+  std::int64_t clipsOffered() const { return clips_; }
 };
 
 /// The facet planes of the cell holding x0 (x0's side of every plane; a plane through x0 counts x0

@@ -93,7 +93,8 @@ class SolidAssembly {
 }  // namespace
 
 SampledReconstruction reconstructOnGrid(const SectionScene& scene,
-                                        const std::function<void(std::int64_t, std::int64_t)>& progress) {
+                                        const std::function<void(std::int64_t, std::int64_t)>& progress,
+                                        bool keep_raw_inside) {
   const ReconstructionParams& params = scene.params;
   const double h = params.voxel_mm;
   const GridSpec& grid = scene.grid();
@@ -122,7 +123,7 @@ SampledReconstruction reconstructOnGrid(const SectionScene& scene,
   out.evaluate_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-  out.raw_inside = out.inside;
+  if (keep_raw_inside) out.raw_inside = out.inside;
   out.storage.blocks = out.field.blockCount();
   out.storage.anchor_leaves = assembly.in_anchor.leafCount() + assembly.out_anchor.leafCount();
   out.repair = repairSampledTopology(out.inside, assembly.in_anchor, assembly.out_anchor);

@@ -36,7 +36,9 @@ struct SampledReconstruction {
   std::int64_t voxels_inside = 0;
   double evaluate_seconds = 0;         ///< time spent evaluating the method on the grid
   /// Unrepaired evaluation of the method (R or R'), one byte per voxel: the set the thesis'
-  /// statements (Theorem 18) are about, before the sampled topology is repaired.
+  /// statements (Theorem 18) are about, before the sampled topology is repaired. Kept only when
+  /// asked (reconstructOnGrid's keep_raw_inside), empty otherwise: a copy of `inside` that only
+  /// the smoothing of a solid decided by observed pieces reads (issue 17: the 4000-frame sweep).
   BlockGrid<std::uint8_t> raw_inside;
   /// Method 2: for voxels of R', the plane (index into the real planes, or -1) of the section
   /// whose Voronoi cell holds the voxel; method 1: the nearest plane for voxels of R. Blocks
@@ -50,9 +52,11 @@ struct SampledReconstruction {
   std::int64_t cells_clipped = 0;
 };
 
-/// @param scene  the planes (real and end), their rasters and the grid (section_scene.h); the
-///               method is scene.params.method.
+/// @param scene            the planes (real and end), their rasters and the grid (section_scene.h);
+///                         the method is scene.params.method.
+/// @param keep_raw_inside  also keep the unrepaired set (raw_inside).
 SampledReconstruction reconstructOnGrid(const SectionScene& scene,
-                                        const std::function<void(std::int64_t, std::int64_t)>& progress = {});
+                                        const std::function<void(std::int64_t, std::int64_t)>& progress = {},
+                                        bool keep_raw_inside = true);
 
 }  // namespace xsect

@@ -314,7 +314,7 @@ struct Scratch {
   std::vector<Candidate> order, pool;
   std::vector<Pending> pend;
   std::vector<HalfPlane> hp;
-  std::vector<int> cand, facets;
+  std::vector<int> cand, facets, inList;
   std::int64_t exact = 0;
 };
 
@@ -359,6 +359,26 @@ class Evaluator {
     out->plane_distance = float(a);
     out->section_plane = f < 0 ? nearest : -1;
     out->lift = f < 0 ? float(a) : 0.f;
+    return true;
+  }
+
+  /// Whether no plane of `inList` projects x into one of its sections' bounding boxes: then no
+  /// projection of x lies in a section and x is not in R' (filled into *out, with the value of the
+  /// nearest plane's raster, clamped at 0, as decide() gives it).
+  bool outsideEveryBox(const Vec3& x, const std::vector<int>& inList, int nearest, Decision* out) const {
+    for (const int q : inList) {
+      const PlaneInfo& I = P_[std::size_t(q)];
+      const Vec3 dx = x - I.row.o;
+      const Vec2 p(dx.dot(I.row.u), dx.dot(I.row.v));
+      if (p.x() < I.lo.x() || p.x() > I.hi.x() || p.y() < I.lo.y() || p.y() > I.hi.y()) continue;
+      for (const auto& b : I.boxes)
+        if (p.x() >= b[0].x() && p.x() <= b[1].x() && p.y() >= b[0].y() && p.y() <= b[1].y()) return false;
+    }
+    const PlaneInfo& P = P_[std::size_t(nearest)];
+    const Vec3 d = x - P.row.o;
+    *out = outsideWith(Decision{}, std::max(double(P.field->sample(d.dot(P.row.u), d.dot(P.row.v))), 0.0));
+    out->nearest_plane = nearest;
+    out->plane_distance = float(std::abs(P.row.s(x)));
     return true;
   }
 
@@ -669,6 +689,7 @@ void planesByDistanceBound(const CellGeometry& g, const Vec3& c, const Vec3& e,
 /// The facets of one cell, and those of them whose plane has sections.
 struct CellFacets {
   std::vector<std::uint8_t> key;  // side of each plane crossing the block
+  std::uint64_t hash = 0;         // of the key (compared first)
   std::vector<int> facets, with_sections;
   Vec3 origin = Vec3::Zero();     // the point the cell was clipped around
   double radius = 0;              // no point of the cell lies farther from `origin`, mm
@@ -693,16 +714,19 @@ class BlockCells {
 
   const CellFacets& of(const Vec3& x, const CellGeometry& g) {
     key_.resize(crossing_.size());
+    std::uint64_t hash = 1469598103934665603ull;  // FNV-1a over the sides
     for (std::size_t k = 0; k < crossing_.size(); ++k) {
       const std::size_t q = std::size_t(crossing_[k]);
       key_[k] = g.normals[q].dot(x) - g.offsets[q] >= 0;
+      hash = (hash ^ key_[k]) * 1099511628211ull;
     }
     for (std::size_t c = 0; c < used_; ++c)
-      if (cells_[c].key == key_) return cells_[c];
+      if (cells_[c].hash == hash && cells_[c].key == key_) return cells_[c];
     if (!ordered_) orderPlanes(g);
     if (used_ == cells_.size()) cells_.emplace_back();
     CellFacets& cell = cells_[used_++];
     cell.key = key_;
+    cell.hash = hash;
     cell.origin = x;
     cell.radius = cellFacets(x, g.normals, g.offsets, order_, bound_, g.lo, g.hi, g.tolerance, box_, &cell.facets) +
                   g.tolerance;
@@ -789,6 +813,32 @@ void forEachSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
     for (std::size_t q = 0; q < info.size(); ++q)
       if (std::abs(info[q].row.s(c)) - info[q].row.an.dot(e) <= minHi + 1e-9 * (1 + minHi)) w.cand.push_back(int(q));
     const auto offsetOf = [](int i, int j, int k) { return BlockGrid<float>::offset(i, j, k); };
+    // Planes whose sections' bounding boxes the block's projection reaches, found when a voxel off
+    // the thickened planes first needs them. Without any, no voxel of the block has an in-section
+    // projection: every such voxel lies outside R' (and R), and, as no plane's sections can reach
+    // it, is outside evidence for the repair (nearest plane -1, sampled_reconstruction.cpp).
+    bool listed = false;
+    const auto listPlanesReached = [&] {
+      w.inList.clear();
+      for (std::size_t q = 0; q < info.size(); ++q) {
+        const PlaneInfo& I = info[q];
+        if (!I.has_sections) continue;
+        const Vec3 dc = c - I.row.o;
+        const Vec2 pa(dc.dot(I.row.u), dc.dot(I.row.v));
+        const Vec2 pr(I.row.u.cwiseAbs().dot(e), I.row.v.cwiseAbs().dot(e));
+        const auto meets = [&](const Vec2& blo, const Vec2& bhi) {
+          return (pa + pr).x() >= blo.x() && (pa - pr).x() <= bhi.x() && (pa + pr).y() >= blo.y() &&
+                 (pa - pr).y() <= bhi.y();
+        };
+        if (!meets(I.lo, I.hi)) continue;
+        for (const auto& bb : I.boxes)
+          if (meets(bb[0], bb[1])) {
+            w.inList.push_back(int(q));
+            break;
+          }
+      }
+      listed = true;
+    };
     for (int k = k0; k < k1; ++k)
       for (int j = j0; j < j1; ++j)
         for (int i = i0; i < i1; ++i) {
@@ -798,11 +848,17 @@ void forEachSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
           Decision dcs;
           const int nearest = ev.nearestPlane(x, w.cand);
           if (!ev.decideByNearest(x, nearest, &dcs)) {
-            const CellFacets& cf = work.cells.of(x, cells);
-            w.facets.assign(cf.facets.begin(), cf.facets.end());
-            if (!std::binary_search(w.facets.begin(), w.facets.end(), nearest))
-              w.facets.insert(std::upper_bound(w.facets.begin(), w.facets.end(), nearest), nearest);
-            dcs = ev.decide(x, w.facets, cf.with_sections, cf.radiusFrom(x), w);
+            if (!listed) listPlanesReached();
+            if (w.inList.empty()) {
+              dcs = Decision{};
+              dcs.value = band;  // outside every section's reach
+            } else if (!ev.outsideEveryBox(x, w.inList, nearest, &dcs)) {
+              const CellFacets& cf = work.cells.of(x, cells);
+              w.facets.assign(cf.facets.begin(), cf.facets.end());
+              if (!std::binary_search(w.facets.begin(), w.facets.end(), nearest))
+                w.facets.insert(std::upper_bound(w.facets.begin(), w.facets.end(), nearest), nearest);
+              dcs = ev.decide(x, w.facets, cf.with_sections, cf.radiusFrom(x), w);
+            }
           }
           const int o = offsetOf(i, j, k);
           out.value[std::size_t(o)] = std::clamp(dcs.value, -band, band);
@@ -925,7 +981,8 @@ SectionVoronoiPoints::Answer SectionVoronoiPoints::at(const Vec3& x, CellMemo* m
     const std::size_t q = std::size_t(cell.facets[k]);
     same = cell.sides[k] * (g.normals[q].dot(x) - g.offsets[q]) > g.tolerance;
   }
-  if (!same) {  // clip x's cell, the planes taken by distance from x
+  if (same) ++cell.reuses;
+  else {  // clip x's cell, the planes taken by distance from x
     thread_local ClippedBox box;
     thread_local std::vector<std::pair<double, int>> byDistance;
     thread_local std::vector<int> order;

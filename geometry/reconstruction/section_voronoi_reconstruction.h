@@ -13,6 +13,9 @@
 // nearer facet lies closer than H_in (exactly, by clipping the plane's contours to the visible
 // face, when another plane's trace passes near the projection). A projection on the nearest plane
 // that lies in a section is visible and nearest of all: such a voxel is decided there (R ⊆ R').
+// A plane that meets the cell only along an edge or at a vertex (planes sharing an axis, a fan) is
+// not a facet: a section point there lies on the adjacent facets too, where sections that agree
+// along their common lines (the thesis' conformity) hold it as well.
 //
 // Thickened planes (Fig. 2.6): within `slab_mm` of its nearest plane a point belongs to R' exactly
 // when it belongs to R (its projection on that plane lies in a section). Lifts that reach a face of
@@ -62,7 +65,9 @@ struct SectionVoronoiField {
 /// @param grid      voxel centres to evaluate (mm).
 /// @param params    thickening of the planes.
 /// @param progress  optional, called with the blocks done and the blocks in all (from the calling thread).
-/// Deterministic: every voxel is decided from its own position only. Dense arrays (small grids,
+/// Deterministic whatever the thread count: a voxel's verdict follows from its position; the value
+/// stored outside R' may depend on the voxel its cell was clipped around, the first of the 8³
+/// block in that cell. Dense arrays (small grids,
 /// tests); the run uses forEachSectionVoronoiBlock.
 SectionVoronoiField sectionVoronoiReconstruction(const std::vector<CuttingPlane>& planes,
                                                  const std::vector<SectionDistanceField>& fields,
@@ -94,7 +99,7 @@ void forEachSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
                                 SectionVoronoiStatistics* statistics = nullptr);
 
 /// Method 2 at single points (for the connectivity graph along lifts): the same decision as the
-/// grid evaluation, with every plane considered.
+/// grid evaluation, among the facets of the point's cell.
 class SectionVoronoiPoints {
  public:
   struct Answer {
@@ -108,6 +113,7 @@ class SectionVoronoiPoints {
     std::vector<signed char> sides; ///< the cell's side of each facet (+1: the normal's side)
     Vec3 origin = Vec3::Zero(), lo = Vec3::Zero(), hi = Vec3::Zero();
     double radius = -1;             ///< no point of the cell lies farther from origin (mm); < 0: none
+    std::int64_t reuses = 0;        ///< queries that found their point in this memo's cell
   };
   SectionVoronoiPoints(const std::vector<CuttingPlane>& planes,
                        const std::vector<SectionDistanceField>& fields,
