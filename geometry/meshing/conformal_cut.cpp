@@ -142,6 +142,18 @@ ConformalCutStats cutAlongSections(TriangleMesh& mesh, const std::vector<Cutting
   std::vector<double> s(V.size());
   std::vector<signed char> sign(V.size());  // -1, 0 (on P), +1: a byte a vertex
   std::vector<int> stamp(V.size(), -1);
+  // The walk grows the vertex and triangle arrays several fold (a dense sweep: 6 to 9 times).
+  // Growing by reallocation holds the old and the new copy at once, and the last doubling of the
+  // triangles set the run's peak on a 4000-frame sweep (issue 17): room for 16 times the start is
+  // reserved instead. Reserved pages that are never written are never resident (large blocks
+  // come from mmap), so the room costs address space, not memory; past it, vectors grow as usual.
+  constexpr std::size_t kRoom = 16;
+  V.reserve(kRoom * V.size());
+  tags.reserve(kRoom * tags.size());
+  s.reserve(kRoom * s.size());
+  sign.reserve(kRoom * sign.size());
+  stamp.reserve(kRoom * stamp.size());
+  T.reserve(kRoom * T.size());
   std::unordered_map<std::uint64_t, std::uint32_t> edgeVertex;
   for (std::size_t p = 0; p < planes.size(); ++p) {
     const CuttingPlane& cp = planes[p];

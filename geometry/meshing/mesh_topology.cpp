@@ -14,23 +14,23 @@
 #include <algorithm>
 #include <cstdint>
 #include <numeric>
+#include <stdexcept>
 
 #include "geometry/core/disjoint_sets.h"
 
 namespace xsect {
 namespace {
 
-/// One directed edge use: the undirected key (lo, hi), whether it runs lo -> hi, its triangle.
+/// One directed edge use, kept in the bucket of its lower vertex lo: the higher vertex hi, and
+/// whether it runs lo -> hi in the top bit above its triangle (8 bytes a use instead of 16: the
+/// uses were the diagnose stage's memory on a 4000-frame sweep, issue 17). Sorting by (hi, word)
+/// sorts by (hi, forward, triangle).
 struct EdgeUse {
-  std::uint32_t lo, hi;
-  bool forward;
-  std::uint32_t triangle;
-  bool operator<(const EdgeUse& o) const {
-    if (lo != o.lo) return lo < o.lo;
-    if (hi != o.hi) return hi < o.hi;
-    if (forward != o.forward) return forward < o.forward;
-    return triangle < o.triangle;
-  }
+  static constexpr std::uint32_t kForward = 0x80000000u;
+  std::uint32_t hi, word;
+  bool forward() const { return word & kForward; }
+  std::uint32_t triangle() const { return word & ~kForward; }
+  bool operator<(const EdgeUse& o) const { return hi != o.hi ? hi < o.hi : word < o.word; }
 };
 
 }  // namespace
@@ -55,6 +55,7 @@ MeshTopology meshTopology(const TriangleMesh& mesh) {
     }
   }
   for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  if (nt >= EdgeUse::kForward) throw std::length_error("meshTopology: more than 2^31 triangles");
   std::vector<EdgeUse> uses(start[nv]);
   {
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
@@ -62,23 +63,30 @@ MeshTopology meshTopology(const TriangleMesh& mesh) {
       const auto& tri = mesh.triangles[t];
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t a = tri[k], b = tri[(k + 1) % 3];
-        if (a != b) uses[fill[std::min(a, b)]++] = {std::min(a, b), std::max(a, b), a < b, t};
+        if (a != b) uses[fill[std::min(a, b)]++] = {std::max(a, b), (a < b ? EdgeUse::kForward : 0u) | t};
       }
     }
   }
   tbb::parallel_for(std::size_t(0), nv, [&](std::size_t v) {
     std::sort(uses.begin() + start[v], uses.begin() + start[v + 1]);
   });
+  // Calls f(i, j) for each undirected edge: uses [i, j) of one bucket with one hi.
+  const auto forEachEdge = [&](const auto& f) {
+    for (std::size_t v = 0; v < nv; ++v)
+      for (std::size_t i = start[v]; i < start[v + 1];) {
+        std::size_t j = i;
+        while (j < start[v + 1] && uses[j].hi == uses[i].hi) ++j;
+        f(i, j);
+        i = j;
+      }
+  };
 
   // Group uses by undirected edge: connectivity and the closedness test.
   DisjointSets sets(nt);
-  for (std::size_t i = 0; i < uses.size();) {
-    std::size_t j = i;
-    while (j < uses.size() && uses[j].lo == uses[i].lo && uses[j].hi == uses[i].hi) ++j;
-    if (j - i != 2 || uses[i].forward == uses[i + 1].forward) watertight = false;
-    for (std::size_t k = i + 1; k < j; ++k) sets.unite(uses[i].triangle, uses[k].triangle);
-    i = j;
-  }
+  forEachEdge([&](std::size_t i, std::size_t j) {
+    if (j - i != 2 || uses[i].forward() == uses[i + 1].forward()) watertight = false;
+    for (std::size_t k = i + 1; k < j; ++k) sets.unite(uses[i].triangle(), uses[k].triangle());
+  });
   result.watertight = watertight;
 
   // Number the surfaces by their smallest triangle (deterministic order).
@@ -106,12 +114,7 @@ MeshTopology meshTopology(const TriangleMesh& mesh) {
     const Eigen::Vector3d c = mesh.vertices[tri[2]].cast<double>() - ref;
     volume[s] += a.dot(b.cross(c)) / 6.0;
   }
-  for (std::size_t i = 0; i < uses.size();) {
-    std::size_t j = i;
-    while (j < uses.size() && uses[j].lo == uses[i].lo && uses[j].hi == uses[i].hi) ++j;
-    ++edges[surfaceOf[uses[i].triangle]];
-    i = j;
-  }
+  forEachEdge([&](std::size_t i, std::size_t) { ++edges[surfaceOf[uses[i].triangle()]]; });
   // Vertices per surface: a vertex shared by two surfaces (touching shells) counts in both. The
   // first surface met at each vertex, and the (rare) further (vertex, surface) pairs apart.
   std::vector<int> firstSurface(nv, -1);
