@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <new>
 #include <unordered_map>
 
 namespace xsect {
@@ -147,13 +148,18 @@ ConformalCutStats cutAlongSections(TriangleMesh& mesh, const std::vector<Cutting
   // triangles set the run's peak on a 4000-frame sweep (issue 17): room for 16 times the start is
   // reserved instead. Reserved pages that are never written are never resident (large blocks
   // come from mmap), so the room costs address space, not memory; past it, vectors grow as usual.
+  // Address space the system refuses (an allocation beyond what it would ever commit) only loses
+  // the room: the vectors then grow as usual.
   constexpr std::size_t kRoom = 16;
-  V.reserve(kRoom * V.size());
-  tags.reserve(kRoom * tags.size());
-  s.reserve(kRoom * s.size());
-  sign.reserve(kRoom * sign.size());
-  stamp.reserve(kRoom * stamp.size());
-  T.reserve(kRoom * T.size());
+  try {
+    V.reserve(kRoom * V.size());
+    tags.reserve(kRoom * tags.size());
+    s.reserve(kRoom * s.size());
+    sign.reserve(kRoom * sign.size());
+    stamp.reserve(kRoom * stamp.size());
+    T.reserve(kRoom * T.size());
+  } catch (const std::bad_alloc&) {
+  }
   std::unordered_map<std::uint64_t, std::uint32_t> edgeVertex;
   for (std::size_t p = 0; p < planes.size(); ++p) {
     const CuttingPlane& cp = planes[p];
