@@ -165,6 +165,13 @@ struct PlaneInfo {
   SegmentGrid segments;
   const std::vector<Section>* sections = nullptr;
   const SectionDistanceField* field = nullptr;
+  /// Plane point p lies in the bounding box of one of the sections (closed boxes).
+  bool inSectionBox(const Vec2& p) const {
+    if (p.x() < lo.x() || p.x() > hi.x() || p.y() < lo.y() || p.y() > hi.y()) return false;
+    for (const auto& b : boxes)
+      if (p.x() >= b[0].x() && p.x() <= b[1].x() && p.y() >= b[0].y() && p.y() <= b[1].y()) return true;
+    return false;
+  }
 };
 
 /// Half-plane a*x + b*y + c >= 0 in a plane's coordinates.
@@ -349,9 +356,7 @@ class Evaluator {
     const float f = P.field->sample(p.x(), p.y());
     if (!(a < slab_)) {
       if (!(f < 0) || !P.has_sections) return false;
-      bool inBox = false;
-      for (const auto& b : P.boxes) inBox = inBox || (p.cwiseMax(b[0]).cwiseMin(b[1]) - p).isZero(0);
-      if (!inBox) return false;
+      if (!P.inSectionBox(p)) return false;
     }
     out->verdict = f < 0 ? Verdict::inside : Verdict::outside;
     out->value = f;
@@ -369,10 +374,7 @@ class Evaluator {
     for (const int q : inList) {
       const PlaneInfo& I = P_[std::size_t(q)];
       const Vec3 dx = x - I.row.o;
-      const Vec2 p(dx.dot(I.row.u), dx.dot(I.row.v));
-      if (p.x() < I.lo.x() || p.x() > I.hi.x() || p.y() < I.lo.y() || p.y() > I.hi.y()) continue;
-      for (const auto& b : I.boxes)
-        if (p.x() >= b[0].x() && p.x() <= b[1].x() && p.y() >= b[0].y() && p.y() <= b[1].y()) return false;
+      if (I.inSectionBox(Vec2(dx.dot(I.row.u), dx.dot(I.row.v)))) return false;
     }
     const PlaneInfo& P = P_[std::size_t(nearest)];
     const Vec3 d = x - P.row.o;
