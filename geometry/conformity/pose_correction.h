@@ -23,9 +23,11 @@
 //  4. outlier slices (a tracker glitch: the median of its pairs' largest endpoint mismatch above 3
 //     times the typical slice's and the gate) are left out of the rounds above, then corrected in
 //     rounds of their own against the others held fixed: they cannot drag their partners;
-//  rounds repeat until no increment moves a point within the median slice radius of its pivot by
-//  more than noise / 10 (at most max_rounds per stage).
-// Solved by Ceres (sparse normal Cholesky, one thread: deterministic).
+//  rounds repeat until the moves left are below noise / 10: a round's largest move of a point
+//  within the median slice radius of its pivot, or the rest of the geometric decrease of the last
+//  two rounds' moves when it halves at least (at most max_rounds per stage).
+// Solved by Ceres (sparse normal Cholesky, one thread: deterministic), with the piercing residual's
+// exact Jacobian (piercing_residual.h).
 //
 // Observability: per slice, the information its own piercings give about its 6 (or 3) motions
 // (JᵀJ of its distances, robustly weighted, at the solution, in the slice's frame u, v, normal)
