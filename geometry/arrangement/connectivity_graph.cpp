@@ -17,6 +17,7 @@
 #include "geometry/core/disjoint_sets.h"
 #include "geometry/core/polygon.h"
 #include "geometry/core/section_ids.h"
+#include "geometry/core/section_locator.h"
 
 namespace xsect {
 
@@ -31,27 +32,9 @@ bool GraphEdge::operator==(const GraphEdge& o) const {
 
 namespace {
 
-/// Bounding boxes of the sections' outer rings, per plane (a cheap test before the polygon's).
-using Boxes = std::vector<std::vector<std::array<Vec2, 2>>>;
-
-Boxes sectionBoxes(const std::vector<CuttingPlane>& planes) {
-  Boxes out(planes.size());
-  for (std::size_t i = 0; i < planes.size(); ++i)
-    for (const Section& s : planes[i].sections) {
-      const Eigen::AlignedBox2d b = ringBounds(s.outer);
-      out[i].push_back({b.min(), b.max()});
-    }
-  return out;
-}
-
-int sectionAt(const CuttingPlane& cp, const std::vector<std::array<Vec2, 2>>& boxes, const Vec3& x) {
-  const Vec2 p = cp.plane.toPlane(x);
-  for (std::size_t s = 0; s < cp.sections.size(); ++s) {
-    const auto& b = boxes[s];
-    if (p.x() < b[0].x() || p.y() < b[0].y() || p.x() > b[1].x() || p.y() > b[1].y()) continue;
-    if (sectionContains(cp.sections[s], p)) return int(s);
-  }
-  return -1;
+/// The section of plane cp holding x (its projection), or -1.
+int sectionAt(const CuttingPlane& cp, const SectionLocator& locator, const Vec3& x) {
+  return locator.holding(cp.plane.toPlane(x));
 }
 
 GraphEdge edge(int pa, int sa, int pb, int sb, int cell) {
@@ -71,7 +54,9 @@ ConnectivityGraphs connectivityGraphs(const SectionScene& scene, const SectionAr
   std::unique_ptr<SectionVoronoiPoints> query;
   if (withGPrime) query = std::make_unique<SectionVoronoiPoints>(planes, fields, method2);
   const double step = arr.sample_spacing_mm;
-  const Boxes boxes = sectionBoxes(planes);
+  std::vector<SectionLocator> locators;
+  locators.reserve(planes.size());
+  for (const CuttingPlane& p : planes) locators.emplace_back(p.sections);
   // Per section: the other planes by distance to its bounding disk. A plane at distance >= 2t
   // from a section point cannot end the lift of length t (|h + t c| = t needs |h| <= 2t), nor
   // bound the ray's exit below |h|: the scan stops at the first plane too far for both.
@@ -79,9 +64,9 @@ ConnectivityGraphs connectivityGraphs(const SectionScene& scene, const SectionAr
   std::vector<std::vector<std::pair<double, int>>> nearPlanes(std::size_t(ids.count()));
   tbb::parallel_for(std::size_t(0), planes.size(), [&](std::size_t i) {
     for (std::size_t s = 0; s < planes[i].sections.size(); ++s) {
-      const auto& [lo, hi] = boxes[i][s];
-      const Vec3 c = planes[i].plane.toWorld(0.5 * (lo + hi));
-      const double rad = 0.5 * (hi - lo).norm() + 1e-9;
+      const Eigen::AlignedBox2d& b = locators[i].boxes()[s];
+      const Vec3 c = planes[i].plane.toWorld(b.center());
+      const double rad = 0.5 * b.diagonal().norm() + 1e-9;
       auto& L = nearPlanes[std::size_t(ids.of(int(i), int(s)))];
       for (std::size_t j = 0; j < planes.size(); ++j)
         if (j != i) L.push_back({std::abs(planes[j].plane.signedDistance(c)) - rad, int(j)});
@@ -115,7 +100,7 @@ ConnectivityGraphs connectivityGraphs(const SectionScene& scene, const SectionAr
         if (c != 0 && -hq / c > 0) exit = std::min(exit, -hq / c);
       }
       if (bq >= 0) {
-        const int b = sectionAt(planes[std::size_t(bq)], boxes[std::size_t(bq)], a + best * n);
+        const int b = sectionAt(planes[std::size_t(bq)], locators[std::size_t(bq)], a + best * n);
         if (b >= 0) out.g.push_back(edge(sp.plane, sp.section, bq, b, cell));
       }
       if (!query) continue;
@@ -135,7 +120,7 @@ ConnectivityGraphs connectivityGraphs(const SectionScene& scene, const SectionAr
         const SectionVoronoiPoints::Answer ans = query->at(x, &memo);
         if (!ans.inside) break;
         if (ans.section_plane == sp.plane) continue;
-        const int b = sectionAt(planes[std::size_t(ans.section_plane)], boxes[std::size_t(ans.section_plane)], x);
+        const int b = sectionAt(planes[std::size_t(ans.section_plane)], locators[std::size_t(ans.section_plane)], x);
         if (b >= 0) out.g_prime.push_back(edge(sp.plane, sp.section, ans.section_plane, b, cell));
         break;
       }

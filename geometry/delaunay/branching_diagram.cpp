@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "geometry/core/polygon.h"
+#include "geometry/core/section_locator.h"
 #include "geometry/core/section_ids.h"
 
 namespace xsect {
@@ -36,17 +37,8 @@ Vec2 segmentPoint(const Vec2& p, const Vec2& a, const Vec2& b) {
   return a + t * d;
 }
 
-double boxDistance(const Eigen::AlignedBox2d& b, const Vec2& p) {
-  return (p - p.cwiseMax(b.min()).cwiseMin(b.max())).norm();
-}
-
-/// A point of a plane's sections: its in-plane distance to the query point (mm), where it is
-/// (plane coordinates, mm) and the section holding it.
-struct Nearest {
-  double d = kInf;
-  Vec2 q = Vec2::Zero();
-  int section = -1;
-};
+using Nearest = SectionLocator::Nearest;
+using RingRef = SectionLocator::RingRef;
 
 /// Half-plane a·u + b·v + c >= 0 in a plane's coordinates (mm).
 struct HalfPlane {
@@ -59,88 +51,14 @@ struct PlaneSections {
   const Plane* plane = nullptr;
   const std::vector<Section>* sections = nullptr;
   const SectionDistanceField* field = nullptr;
-  std::vector<Eigen::AlignedBox2d> boxes;  ///< per section, over all its rings
-  /// A ring with the bounds of its runs of kRun consecutive edges (edge v joins vertex v to v + 1).
-  struct RingRef {
-    int section;
-    const Ring* ring;
-    Eigen::AlignedBox2d box;
-    std::vector<Eigen::AlignedBox2d> runs;
-  };
-  static constexpr std::size_t kRun = 32;
-  std::vector<RingRef> rings;
+  SectionLocator locator;  ///< holding, nearest contour point, runs of edges
 
   explicit PlaneSections(const CuttingPlane& cp, const SectionDistanceField& f)
-      : plane(&cp.plane), sections(&cp.sections), field(&f) {
-    const auto add = [&](int s, const Ring& r) {
-      RingRef ref{s, &r, ringBounds(r), {}};
-      for (std::size_t v = 0; v < r.size(); v += kRun) {
-        Eigen::AlignedBox2d b;
-        for (std::size_t k = v; k <= std::min(v + kRun, r.size()); ++k) b.extend(r[k % r.size()]);
-        ref.runs.push_back(b);
-      }
-      rings.push_back(std::move(ref));
-      return rings.back().box;
-    };
-    for (std::size_t s = 0; s < cp.sections.size(); ++s) {
-      const Section& sec = cp.sections[s];
-      Eigen::AlignedBox2d box = add(int(s), sec.outer);
-      for (const Ring& h : sec.holes) box.extend(add(int(s), h));
-      boxes.push_back(box);
-    }
-  }
+      : plane(&cp.plane), sections(&cp.sections), field(&f), locator(cp.sections) {}
   bool empty() const { return sections->empty(); }
-  /// Calls f(a, b) for the edges (a, b) of ring r in the runs whose bounds satisfy `near`.
-  template <class Near, class F>
-  static void forEdges(const RingRef& r, Near&& near, F&& f) {
-    const Ring& R = *r.ring;
-    for (std::size_t k = 0; k < r.runs.size(); ++k) {
-      if (!near(r.runs[k])) continue;
-      for (std::size_t v = k * kRun; v < std::min((k + 1) * kRun, R.size()); ++v) f(R[v], R[(v + 1) % R.size()]);
-    }
-  }
-  /// Lower bound of the in-plane distance from p to the sections, mm.
-  double boxBound(const Vec2& p) const {
-    double d = kInf;
-    for (const auto& b : boxes) d = std::min(d, boxDistance(b, p));
-    return d;
-  }
-  /// The section holding p (polygons; the crossing rule of polygon.h's ringContains), or -1.
-  int holding(const Vec2& p) const {
-    for (std::size_t s = 0; s < boxes.size(); ++s) {
-      if (!boxes[s].contains(p)) continue;
-      bool outer = false, hole = false;
-      for (const RingRef& r : rings) {
-        if (r.section != int(s)) continue;
-        bool in = false;
-        const auto right = [&](const Eigen::AlignedBox2d& b) {
-          return p.y() >= b.min().y() && p.y() < b.max().y() && p.x() <= b.max().x();
-        };
-        forEdges(r, right, [&](const Vec2& b, const Vec2& a) {  // ringContains' (r[i], r[i - 1])
-          if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < a.x() + (p.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y()))
-            in = !in;
-        });
-        if (r.ring == &(*sections)[s].outer) outer = in;
-        else hole = hole || in;
-      }
-      if (outer && !hole) return int(s);
-    }
-    return -1;
-  }
-  /// The contour point nearest to p (polygons).
-  Nearest nearestContour(const Vec2& p) const {
-    Nearest n;
-    for (const RingRef& r : rings) {
-      if (boxDistance(r.box, p) >= n.d) continue;
-      forEdges(r, [&](const Eigen::AlignedBox2d& b) { return boxDistance(b, p) < n.d; },
-               [&](const Vec2& a, const Vec2& b) {
-                 const Vec2 q = segmentPoint(p, a, b);
-                 const double d = (q - p).norm();
-                 if (d < n.d) n = {d, q, r.section};
-               });
-    }
-    return n;
-  }
+  double boxBound(const Vec2& p) const { return locator.boxBound(p); }
+  int holding(const Vec2& p) const { return locator.holding(p); }
+  Nearest nearestContour(const Vec2& p) const { return locator.nearestContour(p); }
   /// The point of the sections nearest to p (p itself inside one).
   Nearest nearest(const Vec2& p) const {
     const int s = holding(p);
@@ -196,9 +114,9 @@ struct PlaneSections {
     };
     // Contour pieces inside K (Liang-Barsky against K's edges; K is counter-clockwise).
     const auto meetsK = [&](const Eigen::AlignedBox2d& b) { return b.intersects(kb); };
-    for (const RingRef& r : rings) {
+    for (const RingRef& r : locator.rings()) {
       if (!r.box.intersects(kb)) continue;
-      forEdges(r, meetsK, [&](const Vec2& s0, const Vec2& s1) {
+      SectionLocator::forEdges(r, meetsK, [&](const Vec2& s0, const Vec2& s1) {
         const Vec2 d = s1 - s0;
         double t0 = 0, t1 = 1;
         for (std::size_t i = 0; i < m && t0 <= t1; ++i) {
@@ -224,9 +142,9 @@ struct PlaneSections {
       Eigen::AlignedBox2d eb(A.cwiseMin(B), A.cwiseMax(B));
       ts.assign({0.0, 1.0});
       const auto meetsEdge = [&](const Eigen::AlignedBox2d& b) { return b.intersects(eb); };
-      for (const RingRef& r : rings) {
+      for (const RingRef& r : locator.rings()) {
         if (!r.box.intersects(eb)) continue;
-        forEdges(r, meetsEdge, [&](const Vec2& s0, const Vec2& s1) {
+        SectionLocator::forEdges(r, meetsEdge, [&](const Vec2& s0, const Vec2& s1) {
           const Vec2 d = s1 - s0;
           const double den = cross2(e, d);
           if (den == 0) return;
@@ -330,7 +248,7 @@ class Labeller {
     // crossed before t_exit.
     tbb::parallel_for(std::size_t(0), planes_.size(), [&](std::size_t i) {
       for (std::size_t s = 0; s < planes_[i].sections.size(); ++s) {
-        const Eigen::AlignedBox2d& b = info_[i].boxes[s];
+        const Eigen::AlignedBox2d& b = info_[i].locator.boxes()[s];
         const Vec3 c = planes_[i].plane.toWorld(b.center());
         const double rad = 0.5 * b.diagonal().norm() + 1e-9;
         auto& L = near_[std::size_t(ids_.of(int(i), int(s)))];

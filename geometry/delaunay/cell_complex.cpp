@@ -13,6 +13,7 @@
 
 #include "geometry/core/disjoint_sets.h"
 #include "geometry/core/polygon.h"
+#include "geometry/core/section_locator.h"
 
 namespace xsect {
 
@@ -28,10 +29,8 @@ using DT = CGAL::Delaunay_triangulation_3<K, Tds>;
 constexpr int kEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
 
 /// Whether point q (plane coordinates of `plane`) lies in the plane's sampled sections.
-bool inSampledSections(const SectionVertices& sv, int plane, const Vec2& q) {
-  for (const Section& s : sv.sampled[std::size_t(plane)])
-    if (!s.outer.empty() && sectionContains(s, q)) return true;
-  return false;
+bool inSampledSections(const std::vector<SectionLocator>& sampled, int plane, const Vec2& q) {
+  return sampled[std::size_t(plane)].holding(q) >= 0;
 }
 
 }  // namespace
@@ -55,7 +54,8 @@ int commonPlane(const SectionVertices& sv, const int* ids, int n) {
 }
 
 CellComplex cellDelaunay(int cell, const std::vector<int>& ids, const SectionVertices& sv,
-                         const std::vector<CuttingPlane>& planes, const std::unordered_set<std::uint64_t>& contour,
+                         const std::vector<SectionLocator>& sampled, const std::vector<CuttingPlane>& planes,
+                         const std::unordered_set<std::uint64_t>& contour,
                          const std::vector<std::uint64_t>& cellContourEdges, std::vector<std::uint64_t>* missing) {
   CellComplex c;
   c.cell = cell;
@@ -123,7 +123,7 @@ CellComplex cellDelaunay(int cell, const std::vector<int>& ids, const SectionVer
       c.grounded_faces[t] = std::uint8_t(c.grounded_faces[t] | (1 << i));
       const Vec2 q = (planeCoordinates(sv, planes, f[0], p) + planeCoordinates(sv, planes, f[1], p) +
                       planeCoordinates(sv, planes, f[2], p)) / 3.0;
-      if (!inSampledSections(sv, p, q)) external = true;
+      if (!inSampledSections(sampled, p, q)) external = true;
     }
     bool grounded[6];
     for (int e = 0; e < 6; ++e) {
@@ -134,7 +134,7 @@ CellComplex cellDelaunay(int cell, const std::vector<int>& ids, const SectionVer
         grounded[e] = true;
         if (contour.count(edgeKey(ab[0], ab[1]))) continue;
         const Vec2 q = 0.5 * (planeCoordinates(sv, planes, ab[0], p) + planeCoordinates(sv, planes, ab[1], p));
-        if (!inSampledSections(sv, p, q)) external = true;
+        if (!inSampledSections(sampled, p, q)) external = true;
       }
     }
     c.external[t] = external;
@@ -236,24 +236,22 @@ void pruneCell(CellComplex& c) {
   // Work list of edges; an edge is re-examined when a tetrahedron of its shell is removed.
   std::deque<std::pair<std::uint64_t, int>> work;
   std::unordered_set<std::uint64_t> queued;
-  const auto push = [&](std::size_t t) {
+  const auto push = [&](std::size_t t) {  // only grounded edges have shells Def. 50 constrains
     const auto& V = c.v[t];
     for (const auto& e : kEdges) {
       const std::uint64_t key = edgeKey(V[std::size_t(e[0])], V[std::size_t(e[1])]);
-      if (queued.insert(key).second) work.push_back({key, int(t)});
+      if (c.grounded_edges.count(key) && queued.insert(key).second) work.push_back({key, int(t)});
     }
   };
   for (std::size_t t = 0; t < n; ++t)
     if (c.kept[t]) push(t);
-  // Every edge of a removed tetrahedron is re-examined; only grounded edges have shells that
-  // Def. 50 constrains.
+  // Every grounded edge of a removed tetrahedron is re-examined.
   while (true) {
     while (!work.empty()) {
       const auto [key, t0] = work.front();
       work.pop_front();
       queued.erase(key);
       const int a = int(key >> 32), b = int(key & 0xffffffffu);
-      if (!c.grounded_edges.count(key)) continue;
       bool closed = false;
       const std::vector<int> shell = shellOf(c, t0, a, b, &closed);
       for (const std::vector<int>& run : runsOf(shell, closed, c.kept)) {
@@ -285,16 +283,14 @@ void pruneCell(CellComplex& c) {
     std::sort(starOrder.begin(), starOrder.end());
     std::vector<int> remove;
     for (const int p : starOrder) {
-      const std::vector<int>& list = star[p];
-      std::unordered_map<int, std::size_t> at;
-      for (std::size_t k = 0; k < list.size(); ++k) at[list[k]] = k;
+      const std::vector<int>& list = star[p];  // ascending: filled in tetrahedron order
       DisjointSets groups(list.size());
       for (std::size_t k = 0; k < list.size(); ++k) {
         const std::size_t t = std::size_t(list[k]);
         for (int i = 0; i < 4; ++i) {
           if (c.v[t][std::size_t(i)] == p) continue;
-          const auto it = at.find(c.nb[t][std::size_t(i)]);
-          if (it != at.end()) groups.unite(k, it->second);
+          const auto it = std::lower_bound(list.begin(), list.end(), c.nb[t][std::size_t(i)]);
+          if (it != list.end() && *it == c.nb[t][std::size_t(i)]) groups.unite(k, std::size_t(it - list.begin()));
         }
       }
       std::vector<std::uint8_t> grounded(list.size(), 0);

@@ -36,6 +36,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "geometry/core/section_locator.h"
 #include "geometry/delaunay/delaunay_reconstruction.h"
 #include "geometry/delaunay/section_vertices.h"
 
@@ -62,10 +63,12 @@ struct CellComplex {
 std::unordered_set<std::uint64_t> contourEdges(const SectionVertices& sv);
 
 /// D0 of the points `ids` (CGAL Delaunay_triangulation_3), typed, with the external tetrahedra
-/// marked (step 1). Returns the contour edges of `edges` that are not Delaunay edges through
-/// `missing` (Delaunay conformity), when given.
+/// marked (step 1) against `sampled`, the locators of sv.sampled (one per plane). Returns the
+/// contour edges of `edges` that are not Delaunay edges through `missing` (Delaunay conformity),
+/// when given.
 CellComplex cellDelaunay(int cell, const std::vector<int>& ids, const SectionVertices& sv,
-                         const std::vector<CuttingPlane>& planes, const std::unordered_set<std::uint64_t>& contour,
+                         const std::vector<SectionLocator>& sampled, const std::vector<CuttingPlane>& planes,
+                         const std::unordered_set<std::uint64_t>& contour,
                          const std::vector<std::uint64_t>& cellContourEdges, std::vector<std::uint64_t>* missing);
 
 /// Steps 2 and 3 on D1: fills kept, d1, d2, d3.

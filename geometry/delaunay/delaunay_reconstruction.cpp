@@ -390,6 +390,9 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
   for (int round = 0; round < kConformityRounds; ++round) {
     CellSetup setup = cellSetup(sv);
     addContourEdges(sv, setup);
+    std::vector<SectionLocator> sampled;  // step 1's containment tests, per plane
+    sampled.reserve(sv.sampled.size());
+    for (const std::vector<Section>& s : sv.sampled) sampled.emplace_back(s);
     std::vector<std::vector<std::uint64_t>> missing(cells);
     tbb::parallel_for(std::size_t(0), cells, [&](std::size_t c) {
       if (!pending[c]) return;
@@ -398,7 +401,7 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
         cx[c].cell = int(c);
         return;
       }
-      cx[c] = cellDelaunay(int(c), setup.points[c], sv, planes, contour, setup.contour[c], &missing[c]);
+      cx[c] = cellDelaunay(int(c), setup.points[c], sv, sampled, planes, contour, setup.contour[c], &missing[c]);
     });
     std::unordered_set<std::uint64_t> split;
     for (const auto& m : missing) split.insert(m.begin(), m.end());
@@ -488,8 +491,12 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
   for (const auto& f : faces) out.mesh.triangles.push_back({index[f[0]], index[f[1]], index[f[2]]});
 
   // Statistics, tetrahedra and the connections the solid realises.
-  std::set<GraphEdge> joined;
+  std::vector<GraphEdge> joined, inCell;  // a cell's pairs are its own (the edge names the cell)
+  std::size_t kept = 0;
+  for (const CellComplex& C : cx) kept += std::size_t(std::count_if(C.kept.begin(), C.kept.end(), [](std::uint8_t k) { return k != 0; }));
+  out.tetrahedra.reserve(kept);
   for (std::size_t c = 0; c < cells; ++c) {
+    inCell.clear();
     const CellComplex& C = cx[c];
     if (!C.v.empty()) ++out.stats.cells;
     out.stats.d1 += C.d1;
@@ -518,11 +525,15 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
             std::swap(e.plane_a, e.plane_b);
             std::swap(e.section_a, e.section_b);
           }
-          joined.insert(e);
+          inCell.push_back(e);
         }
     }
+    std::sort(inCell.begin(), inCell.end());
+    inCell.erase(std::unique(inCell.begin(), inCell.end()), inCell.end());
+    joined.insert(joined.end(), inCell.begin(), inCell.end());
   }
-  out.connections.assign(joined.begin(), joined.end());
+  std::sort(joined.begin(), joined.end());
+  out.connections = std::move(joined);
   for (const SectionVertex& v : sv.points) out.stats.branching_points += v.kind == SectionVertex::branching && !v.cells.empty();
   for (const auto& pts : cellSetup(sv).points) out.stats.section_vertices += std::int64_t(pts.size());
   return out;

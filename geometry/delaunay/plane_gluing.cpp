@@ -11,6 +11,7 @@
 #include <unordered_map>
 
 #include "geometry/core/polygon.h"
+#include "geometry/core/section_locator.h"
 
 namespace xsect {
 
@@ -127,7 +128,7 @@ PlaneBoundary planeBoundary(int plane, const std::vector<int>& ids, const PlaneF
   for (int s = 0; s < 2; ++s)
     for (const auto& t : fp.covered[std::size_t(s)]) sideTris[std::size_t(s)].push_back(corners(t));
   const TriangleIndex minus(std::move(sideTris[0])), plus(std::move(sideTris[1]));
-  const std::vector<Section>& sections = sv.sampled[std::size_t(plane)];
+  const SectionLocator sections(sv.sampled[std::size_t(plane)]);
   // Each face's state: outside the sections (0), or covered by the negative side only (1), the
   // positive side only (2), both or neither (3: no boundary). A sliver (three contour points
   // collinear up to rounding) cannot be judged at its centroid: it takes the state of the face
@@ -144,9 +145,7 @@ PlaneBoundary planeBoundary(int plane, const std::vector<int>& ids, const PlaneF
       continue;
     }
     const Vec2 c = (q[0] + q[1] + q[2]) / 3.0;
-    bool inside = false;
-    for (const Section& s : sections) inside = inside || (!s.outer.empty() && sectionContains(s, c));
-    if (!inside) {
+    if (sections.holding(c) < 0) {
       state[f] = 0;
       continue;
     }

@@ -1,6 +1,8 @@
 // Components of a union of tetrahedra (see tetrahedra_components.h).
 #include "geometry/delaunay/tetrahedra_components.h"
 
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <tuple>
 
@@ -18,7 +20,8 @@ int tetrahedraComponents(const std::vector<std::array<Vec3, 4>>& tetrahedra) {
   corners.reserve(4 * tetrahedra.size());
   for (std::size_t t = 0; t < tetrahedra.size(); ++t)
     for (const Vec3& v : tetrahedra[t]) corners.push_back({v.x(), v.y(), v.z(), std::uint32_t(t)});
-  std::sort(corners.begin(), corners.end(), [](const Corner& a, const Corner& b) {
+  // A total order (the tetrahedron breaks ties), so the parallel sort's result is one.
+  tbb::parallel_sort(corners.begin(), corners.end(), [](const Corner& a, const Corner& b) {
     return std::tie(a.x, a.y, a.z, a.tetrahedron) < std::tie(b.x, b.y, b.z, b.tetrahedron);
   });
   DisjointSets sets(tetrahedra.size());
