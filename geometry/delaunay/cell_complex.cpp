@@ -106,6 +106,7 @@ CellComplex cellDelaunay(int cell, const std::vector<int>& ids, const SectionVer
   c.external.assign(n, 0);
   c.kept.assign(n, 0);
   c.grounded_faces.assign(n, 0);
+  c.grounded_edges.assign(n, 0);
   for (std::size_t t = 0; t < n; ++t) {
     const auto& V = c.v[t];
     if (commonPlane(sv, V.data(), 4) >= 0) {
@@ -139,7 +140,7 @@ CellComplex cellDelaunay(int cell, const std::vector<int>& ids, const SectionVer
     }
     c.external[t] = external;
     for (int e = 0; e < 6; ++e)
-      if (grounded[e]) c.grounded_edges.insert(edgeKey(V[std::size_t(kEdges[e][0])], V[std::size_t(kEdges[e][1])]));
+      if (grounded[e]) c.grounded_edges[t] = std::uint8_t(c.grounded_edges[t] | (1 << e));
     if (groundedFace) c.type[t] = TetType::vf;
     else if ((grounded[0] && grounded[5]) || (grounded[1] && grounded[4]) || (grounded[2] && grounded[3]))
       c.type[t] = TetType::ee;
@@ -238,9 +239,10 @@ void pruneCell(CellComplex& c) {
   std::unordered_set<std::uint64_t> queued;
   const auto push = [&](std::size_t t) {  // only grounded edges have shells Def. 50 constrains
     const auto& V = c.v[t];
-    for (const auto& e : kEdges) {
-      const std::uint64_t key = edgeKey(V[std::size_t(e[0])], V[std::size_t(e[1])]);
-      if (c.grounded_edges.count(key) && queued.insert(key).second) work.push_back({key, int(t)});
+    for (int e = 0; e < 6; ++e) {
+      if (!(c.grounded_edges[t] >> e & 1)) continue;
+      const std::uint64_t key = edgeKey(V[std::size_t(kEdges[e][0])], V[std::size_t(kEdges[e][1])]);
+      if (queued.insert(key).second) work.push_back({key, int(t)});
     }
   };
   for (std::size_t t = 0; t < n; ++t)
@@ -274,16 +276,17 @@ void pruneCell(CellComplex& c) {
     // tetrahedron with a grounded triangle through p. (The thesis removes the T_vf fans that share
     // no face with a kept T_ee; where two planes meet, a fan also reaches p's ground through T_vf
     // tetrahedra grounded on the other plane, which this form of the condition keeps.)
-    std::unordered_map<int, std::vector<int>> star;
+    // Stars as (vertex, tetrahedron) pairs sorted: each vertex's kept tetrahedra, ascending.
+    std::vector<std::pair<int, int>> stars;
     for (std::size_t t = 0; t < n; ++t)
       if (c.kept[t])
-        for (const int p : c.v[t]) star[p].push_back(int(t));
-    std::vector<int> starOrder;
-    for (const auto& [p, list] : star) starOrder.push_back(p);
-    std::sort(starOrder.begin(), starOrder.end());
-    std::vector<int> remove;
-    for (const int p : starOrder) {
-      const std::vector<int>& list = star[p];  // ascending: filled in tetrahedron order
+        for (const int p : c.v[t]) stars.emplace_back(p, int(t));
+    std::sort(stars.begin(), stars.end());
+    std::vector<int> remove, list;
+    for (std::size_t first = 0, last = 0; first < stars.size(); first = last) {
+      const int p = stars[first].first;
+      list.clear();
+      for (last = first; last < stars.size() && stars[last].first == p; ++last) list.push_back(stars[last].second);
       DisjointSets groups(list.size());
       for (std::size_t k = 0; k < list.size(); ++k) {
         const std::size_t t = std::size_t(list[k]);
@@ -313,10 +316,6 @@ void pruneCell(CellComplex& c) {
   }
   c.d2 = std::count(c.kept.begin(), c.kept.end(), std::uint8_t(1));
   // Step 3.
-  std::unordered_map<std::uint64_t, int> edgeUse;
-  for (std::size_t t = 0; t < n; ++t)
-    if (c.kept[t])
-      for (const auto& e : kEdges) ++edgeUse[edgeKey(c.v[t][std::size_t(e[0])], c.v[t][std::size_t(e[1])])];
   const auto candidate = [&](std::size_t t) {
     return !c.kept[t] && !c.external[t] && c.type[t] != TetType::flat;
   };
@@ -346,17 +345,18 @@ void pruneCell(CellComplex& c) {
       int kl[2], q = 0;
       for (int x = 0; x < 4; ++x)
         if (x != i && x != j) kl[q++] = x;
-      const std::uint64_t uncovered = edgeKey(c.v[t][std::size_t(kl[0])], c.v[t][std::size_t(kl[1])]);
-      const auto it = edgeUse.find(uncovered);
-      if (it != edgeUse.end() && it->second > 0) continue;
+      // The tetrahedra holding an edge are its shell (t is not kept yet).
+      bool closed = false;
+      const std::vector<int> shell = shellOf(c, int(t), c.v[t][std::size_t(kl[0])], c.v[t][std::size_t(kl[1])], &closed);
+      if (std::any_of(shell.begin(), shell.end(), [&](int u) { return c.kept[std::size_t(u)] != 0; })) continue;
     }
     // Solidity at its grounded edges: around each, the tetrahedron must join a run that reaches a
     // grounded triangle through the edge, or it would hang there by an edge.
     c.kept[t] = 1;
     bool solid = true;
-    for (const auto& e : kEdges) {
-      const int a = c.v[t][std::size_t(e[0])], b = c.v[t][std::size_t(e[1])];
-      if (!solid || !c.grounded_edges.count(edgeKey(a, b))) continue;
+    for (int e = 0; e < 6; ++e) {
+      const int a = c.v[t][std::size_t(kEdges[e][0])], b = c.v[t][std::size_t(kEdges[e][1])];
+      if (!solid || !(c.grounded_edges[t] >> e & 1)) continue;
       bool closed = false;
       const std::vector<int> shell = shellOf(c, int(t), a, b, &closed);
       for (const std::vector<int>& run : runsOf(shell, closed, c.kept)) {
@@ -374,7 +374,6 @@ void pruneCell(CellComplex& c) {
       c.kept[t] = 0;
       continue;
     }
-    for (const auto& e : kEdges) ++edgeUse[edgeKey(c.v[t][std::size_t(e[0])], c.v[t][std::size_t(e[1])])];
     for (const int o : c.nb[t])
       if (o >= 0 && candidate(std::size_t(o)) && !inQueue[std::size_t(o)]) {
         queue.push_back(o);

@@ -54,7 +54,9 @@ struct CellComplex {
   std::vector<TetType> type;
   std::vector<std::uint8_t> external;  ///< step 1
   std::vector<std::uint8_t> kept;      ///< D3 (after pruneCell)
-  std::unordered_set<std::uint64_t> grounded_edges;  ///< edges of D0 whose ends share a plane
+  /// Per tetrahedron, bit e: its edge e (vertex slots 01, 02, 03, 12, 13, 23) is grounded (its ends
+  /// share a plane).
+  std::vector<std::uint8_t> grounded_edges;
   std::vector<std::uint8_t> grounded_faces;          ///< per tetrahedron, bit i: face opposite v[i] grounded
   std::int64_t d1 = 0, d2 = 0, d3 = 0;
 };

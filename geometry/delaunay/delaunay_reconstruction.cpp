@@ -482,39 +482,37 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
   for (const auto& f : faces) used.insert(used.end(), f.begin(), f.end());
   std::sort(used.begin(), used.end());
   used.erase(std::unique(used.begin(), used.end()), used.end());
-  std::unordered_map<int, std::uint32_t> index;
+  std::vector<std::uint32_t> index(positions.size(), 0);
   for (const int id : used) {
-    index[id] = std::uint32_t(out.mesh.vertices.size());
+    index[std::size_t(id)] = std::uint32_t(out.mesh.vertices.size());
     out.mesh.vertices.push_back(positions[std::size_t(id)].cast<float>());
   }
   std::sort(faces.begin(), faces.end());
-  for (const auto& f : faces) out.mesh.triangles.push_back({index[f[0]], index[f[1]], index[f[2]]});
+  for (const auto& f : faces)
+    out.mesh.triangles.push_back({index[std::size_t(f[0])], index[std::size_t(f[1])], index[std::size_t(f[2])]});
 
   // Statistics, tetrahedra and the connections the solid realises.
-  std::vector<GraphEdge> joined, inCell;  // a cell's pairs are its own (the edge names the cell)
-  std::size_t kept = 0;
-  for (const CellComplex& C : cx) kept += std::size_t(std::count_if(C.kept.begin(), C.kept.end(), [](std::uint8_t k) { return k != 0; }));
-  out.tetrahedra.reserve(kept);
-  for (std::size_t c = 0; c < cells; ++c) {
-    inCell.clear();
+  // Per cell in parallel (a cell's pairs are its own: the edge names the cell), then in cell order.
+  struct CellTally {
+    DelaunayStats stats;
+    std::size_t kept = 0;
+    std::vector<GraphEdge> joined;
+  };
+  std::vector<CellTally> tally(cells);
+  tbb::parallel_for(std::size_t(0), cells, [&](std::size_t c) {
+    CellTally& T = tally[c];
     const CellComplex& C = cx[c];
-    if (!C.v.empty()) ++out.stats.cells;
-    out.stats.d1 += C.d1;
-    out.stats.d2 += C.d2;
-    out.stats.d3 += C.d3;
     for (std::size_t t = 0; t < C.v.size(); ++t) {
       switch (C.type[t]) {
-        case TetType::vf: ++out.stats.d0.vf; break;
-        case TetType::ee: ++out.stats.d0.ee; break;
-        case TetType::evv: ++out.stats.d0.evv; break;
-        case TetType::vvvv: ++out.stats.d0.vvvv; break;
-        case TetType::flat: ++out.stats.d0.flat; break;
+        case TetType::vf: ++T.stats.d0.vf; break;
+        case TetType::ee: ++T.stats.d0.ee; break;
+        case TetType::evv: ++T.stats.d0.evv; break;
+        case TetType::vvvv: ++T.stats.d0.vvvv; break;
+        case TetType::flat: ++T.stats.d0.flat; break;
       }
-      out.stats.external += C.external[t] && C.type[t] != TetType::flat;
+      T.stats.external += C.external[t] && C.type[t] != TetType::flat;
       if (!C.kept[t]) continue;
-      std::array<Vec3, 4> T;
-      for (int i = 0; i < 4; ++i) T[std::size_t(i)] = sv.points[std::size_t(C.v[t][std::size_t(i)])].x;
-      out.tetrahedra.push_back(T);
+      ++T.kept;
       for (int i = 0; i < 4; ++i)
         for (int j = i + 1; j < 4; ++j) {
           const SectionVertex& a = sv.points[std::size_t(C.v[t][std::size_t(i)])];
@@ -525,13 +523,40 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
             std::swap(e.plane_a, e.plane_b);
             std::swap(e.section_a, e.section_b);
           }
-          inCell.push_back(e);
+          T.joined.push_back(e);
         }
     }
-    std::sort(inCell.begin(), inCell.end());
-    inCell.erase(std::unique(inCell.begin(), inCell.end()), inCell.end());
-    joined.insert(joined.end(), inCell.begin(), inCell.end());
+    std::sort(T.joined.begin(), T.joined.end());
+    T.joined.erase(std::unique(T.joined.begin(), T.joined.end()), T.joined.end());
+  });
+  std::vector<std::size_t> firstTet(cells + 1, 0);
+  std::vector<GraphEdge> joined;
+  for (std::size_t c = 0; c < cells; ++c) {
+    const CellComplex& C = cx[c];
+    const DelaunayStats& S = tally[c].stats;
+    if (!C.v.empty()) ++out.stats.cells;
+    out.stats.d1 += C.d1;
+    out.stats.d2 += C.d2;
+    out.stats.d3 += C.d3;
+    out.stats.d0.vf += S.d0.vf;
+    out.stats.d0.ee += S.d0.ee;
+    out.stats.d0.evv += S.d0.evv;
+    out.stats.d0.vvvv += S.d0.vvvv;
+    out.stats.d0.flat += S.d0.flat;
+    out.stats.external += S.external;
+    firstTet[c + 1] = firstTet[c] + tally[c].kept;
+    joined.insert(joined.end(), tally[c].joined.begin(), tally[c].joined.end());
   }
+  out.tetrahedra.resize(firstTet[cells]);
+  tbb::parallel_for(std::size_t(0), cells, [&](std::size_t c) {
+    const CellComplex& C = cx[c];
+    std::size_t k = firstTet[c];
+    for (std::size_t t = 0; t < C.v.size(); ++t) {
+      if (!C.kept[t]) continue;
+      for (int i = 0; i < 4; ++i) out.tetrahedra[k][std::size_t(i)] = sv.points[std::size_t(C.v[t][std::size_t(i)])].x;
+      ++k;
+    }
+  });
   std::sort(joined.begin(), joined.end());
   out.connections = std::move(joined);
   for (const SectionVertex& v : sv.points) out.stats.branching_points += v.kind == SectionVertex::branching && !v.cells.empty();
