@@ -161,8 +161,10 @@ int indexIn(const std::array<int, 4>& v, int p) {
 }
 
 /// The shell of edge (a, b) from tetrahedron t0 (which contains it): the tetrahedra around the
-/// edge in rotational order; `closed` when they go all the way round.
-std::vector<int> shellOf(const CellComplex& c, int t0, int a, int b, bool* closed) {
+/// edge in rotational order, into `shell`; `closed` when they go all the way round. Reuses the
+/// room of `shell` and `scratch` (the pruning walks millions of shells).
+void shellOf(const CellComplex& c, int t0, int a, int b, std::vector<int>& shell, std::vector<int>& scratch,
+             bool* closed) {
   const auto walk = [&](int exitOpposite, std::vector<int>& seq) {
     int cur = t0, opp = exitOpposite;
     for (std::size_t guard = 0; guard < c.v.size() + 1; ++guard) {
@@ -188,39 +190,45 @@ std::vector<int> shellOf(const CellComplex& c, int t0, int a, int b, bool* close
   int others[2], m = 0;
   for (int k = 0; k < 4; ++k)
     if (V0[std::size_t(k)] != a && V0[std::size_t(k)] != b) others[m++] = V0[std::size_t(k)];
-  std::vector<int> fwd, bwd;
+  std::vector<int>& fwd = scratch;
+  fwd.clear();
+  shell.clear();
   *closed = walk(others[0], fwd);
-  std::vector<int> shell;
   if (!*closed) {
-    walk(others[1], bwd);
-    shell.assign(bwd.rbegin(), bwd.rend());
+    walk(others[1], shell);  // backwards from t0, reversed below
+    std::reverse(shell.begin(), shell.end());
   }
   shell.push_back(t0);
   shell.insert(shell.end(), fwd.begin(), fwd.end());
-  return shell;
 }
 
-/// Runs of consecutive tetrahedra for which `in` holds, around a shell (cyclic when closed).
-std::vector<std::vector<int>> runsOf(const std::vector<int>& shell, bool closed, const std::vector<std::uint8_t>& in) {
-  std::vector<std::vector<int>> runs;
+/// Calls f(run) for each run of consecutive tetrahedra for which `in` holds, around a shell
+/// (cyclic when closed: runs then start after a tetrahedron not in), in order; `run` is the room
+/// each run is gathered in. f may change `in` for the run's own tetrahedra.
+template <class F>
+void forEachRun(const std::vector<int>& shell, bool closed, const std::vector<std::uint8_t>& in, std::vector<int>& run,
+                F&& f) {
   const std::size_t n = shell.size();
   std::size_t start = 0;
   if (closed) {
     while (start < n && in[std::size_t(shell[start])]) ++start;
-    if (start == n) return {shell};  // the whole way round
+    if (start == n) {  // the whole way round
+      run.assign(shell.begin(), shell.end());
+      f(run);
+      return;
+    }
   }
-  std::vector<int> cur;
+  run.clear();
   for (std::size_t k = 0; k < n; ++k) {
     const int t = shell[(start + k) % n];
     if (in[std::size_t(t)]) {
-      cur.push_back(t);
-    } else if (!cur.empty()) {
-      runs.push_back(std::move(cur));
-      cur.clear();
+      run.push_back(t);
+    } else if (!run.empty()) {
+      f(run);
+      run.clear();
     }
   }
-  if (!cur.empty()) runs.push_back(std::move(cur));
-  return runs;
+  if (!run.empty()) f(run);
 }
 
 }  // namespace
@@ -235,6 +243,7 @@ void pruneCell(CellComplex& c) {
     c.kept[t] = 1;
   }
   // Work list of edges; an edge is re-examined when a tetrahedron of its shell is removed.
+  std::vector<int> shell, scratch, run;  // room for shells and their runs, reused
   std::deque<std::pair<std::uint64_t, int>> work;
   std::unordered_set<std::uint64_t> queued;
   const auto push = [&](std::size_t t) {  // only grounded edges have shells Def. 50 constrains
@@ -255,21 +264,21 @@ void pruneCell(CellComplex& c) {
       queued.erase(key);
       const int a = int(key >> 32), b = int(key & 0xffffffffu);
       bool closed = false;
-      const std::vector<int> shell = shellOf(c, t0, a, b, &closed);
-      for (const std::vector<int>& run : runsOf(shell, closed, c.kept)) {
+      shellOf(c, t0, a, b, shell, scratch, &closed);
+      forEachRun(shell, closed, c.kept, run, [&](const std::vector<int>& r) {
         bool grounded = false;
         // Def. 50: reaching a tetrahedron with a grounded triangle through e.
-        for (const int t : run)
+        for (const int t : r)
           for (int i = 0; i < 4; ++i) {
             const int x = c.v[std::size_t(t)][std::size_t(i)];
             if (x != a && x != b && (c.grounded_faces[std::size_t(t)] >> i & 1)) grounded = true;
           }
-        if (grounded) continue;
-        for (const int t : run) {
+        if (grounded) return;
+        for (const int t : r) {
           c.kept[std::size_t(t)] = 0;
           push(std::size_t(t));
         }
-      }
+      });
     }
     // Solidity at section-vertices (Def. 50; Property 2): around each vertex p, the kept
     // tetrahedra containing p, grouped by the faces through p they share, must each reach a
@@ -347,7 +356,7 @@ void pruneCell(CellComplex& c) {
         if (x != i && x != j) kl[q++] = x;
       // The tetrahedra holding an edge are its shell (t is not kept yet).
       bool closed = false;
-      const std::vector<int> shell = shellOf(c, int(t), c.v[t][std::size_t(kl[0])], c.v[t][std::size_t(kl[1])], &closed);
+      shellOf(c, int(t), c.v[t][std::size_t(kl[0])], c.v[t][std::size_t(kl[1])], shell, scratch, &closed);
       if (std::any_of(shell.begin(), shell.end(), [&](int u) { return c.kept[std::size_t(u)] != 0; })) continue;
     }
     // Solidity at its grounded edges: around each, the tetrahedron must join a run that reaches a
@@ -358,17 +367,17 @@ void pruneCell(CellComplex& c) {
       const int a = c.v[t][std::size_t(kEdges[e][0])], b = c.v[t][std::size_t(kEdges[e][1])];
       if (!solid || !(c.grounded_edges[t] >> e & 1)) continue;
       bool closed = false;
-      const std::vector<int> shell = shellOf(c, int(t), a, b, &closed);
-      for (const std::vector<int>& run : runsOf(shell, closed, c.kept)) {
-        if (std::find(run.begin(), run.end(), int(t)) == run.end()) continue;
+      shellOf(c, int(t), a, b, shell, scratch, &closed);
+      forEachRun(shell, closed, c.kept, run, [&](const std::vector<int>& r) {
+        if (std::find(r.begin(), r.end(), int(t)) == r.end()) return;
         bool grounded = false;
-        for (const int u : run)
+        for (const int u : r)
           for (int i = 0; i < 4; ++i) {
             const int x = c.v[std::size_t(u)][std::size_t(i)];
             if (x != a && x != b && (c.grounded_faces[std::size_t(u)] >> i & 1)) grounded = true;
           }
         solid = grounded;
-      }
+      });
     }
     if (!solid) {
       c.kept[t] = 0;

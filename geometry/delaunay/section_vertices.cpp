@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <map>
+#include <unordered_map>
 #include <functional>
 #include <tuple>
 
@@ -108,10 +110,28 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
                                 const std::vector<BranchingPoint>& branching) {
   SectionVertices sv;
   sv.cells = arr.cells;
-  // Merge points at identical coordinates (a contour vertex exactly on another plane's trace).
-  std::map<std::tuple<double, double, double>, int> at;
+  // Merge points at identical coordinates (a contour vertex exactly on another plane's trace):
+  // hashed by their bits, -0 read as +0 (equal coordinates, equal keys).
+  struct Key {
+    double x, y, z;
+    bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z; }
+  };
+  struct KeyHash {
+    std::size_t operator()(const Key& k) const {
+      std::uint64_t h = 0x9e3779b97f4a7c15ull;
+      for (const double d : {k.x + 0.0, k.y + 0.0, k.z + 0.0}) {
+        std::uint64_t b;
+        std::memcpy(&b, &d, sizeof b);
+        h = (h ^ b) * 0x100000001b3ull;
+        h ^= h >> 29;
+      }
+      return std::size_t(h);
+    }
+  };
+  std::unordered_map<Key, int, KeyHash> at;
+  at.reserve(arr.points.size());
   const auto idOf = [&](const Vec3& x, SectionVertex v) {
-    const auto key = std::make_tuple(x.x(), x.y(), x.z());
+    const Key key{x.x(), x.y(), x.z()};
     const auto it = at.find(key);
     if (it != at.end()) {
       // One point: it lies on the planes of both (a contour vertex exactly on another plane's
