@@ -130,6 +130,17 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
           const Vec3 a = cp.plane.toWorld(r[v]), b = cp.plane.toWorld(r[(v + 1) % r.size()]);
           for (const std::size_t j : crossing) {
             const int sa = sign(eq[j], a), sb = sign(eq[j], b);
+            if (sa == 0) {
+              // The contour meets plane j at vertex v itself (pixel contours and planes on the
+              // pixel grid): the crossing is that vertex, a trace point like any other, bounding
+              // the cells on both sides of j. Otherwise no point would mark the crossing (the
+              // edges on either side have sign products 0) and the vertex, if sampled, would bound
+              // the cells on j's positive side only.
+              P.push_back({int(i), int(s), r[v], SectionPoint::trace, {-1, -1}, int(j)});
+              P.back().ring = ringId;
+              P.back().along = double(v);
+              continue;
+            }
             if (sa * sb >= 0) continue;
             // The exact signs say the edge crosses plane j; the rounded distances may not (both
             // about 0 when the planes nearly coincide, e.g. a frame listed twice): the crossing is

@@ -27,6 +27,20 @@ void sortCells(SectionVertex& v) {
   std::sort(v.cells.begin(), v.cells.end(), [](const PointCell& a, const PointCell& b) { return a.cell < b.cell; });
 }
 
+/// x moved onto the planes `on` (-1: none) in turn, twice: a trace point computed in one plane's
+/// coordinates (a crossing interpolated along a contour edge, or the midpoint of a merged pair)
+/// lies on the other plane only up to the interpolation's rounding, and a point of a plane lifted
+/// off it by rounding lets a cell's Delaunay triangles of that plane cross its contour edges.
+Vec3 ontoPlanes(Vec3 x, const std::vector<CuttingPlane>& planes, const std::array<int, 3>& on) {
+  for (int round = 0; round < 2; ++round)
+    for (int k = 2; k >= 0; --k)
+      if (on[std::size_t(k)] >= 0) {
+        const Plane& P = planes[std::size_t(on[std::size_t(k)])].plane;
+        x -= P.signedDistance(x) * P.normal;
+      }
+  return x;
+}
+
 /// Where P's contour crosses Q and Q's contour crosses P, both samples stand for one point of the
 /// object's surface on the line P ∩ Q (the sections conform there, up to their sampling): pairs
 /// nearer than `tolerance` (mutual nearest) and bounding the same cells become one point on both
@@ -276,6 +290,9 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
   }
   sv.cells += int(unseen.size());
   mergeTracePairs(sv, arr.sample_spacing_mm);
+  // Trace points onto both their planes (after the merges, which key on the computed positions).
+  for (SectionVertex& v : sv.points)
+    if (v.kind == SectionVertex::trace && !v.cells.empty()) v.x = ontoPlanes(v.x, planes, v.planes);
   // Branching points come on a square lattice: four of them are often cocircular, and the
   // Delaunay structure of such ties on a plane whose points are coplanar only up to rounding
   // differs between the cells. Each is moved by a fixed pseudo-random offset of at most a tenth of
@@ -299,6 +316,15 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
         nearTrace = int(j) != b.plane && std::abs(planes[j].plane.signedDistance(x)) < 2 * jitter;
       if (!nearTrace) b.p = moved;
     }
+    // Exactly on another plane's trace (two lattice samples on it: the lattice can meet planes
+    // placed on its grid) the point lies on an edge of its cell, not inside the face whose
+    // branching diagram it samples, and its side of that plane is unknown: no branching point.
+    const Vec3 at = planes[std::size_t(b.plane)].plane.toWorld(b.p);
+    bool onTrace = false;
+    for (std::size_t j = 0; j < planes.size() && !onTrace; ++j)
+      onTrace = int(j) != b.plane &&
+                std::abs(planes[j].plane.signedDistance(at)) <= 1e-9 * (1 + at.norm());
+    if (onTrace) continue;
     SectionVertex v;
     v.planes = {b.plane, -1, -1};
     v.section = b.section;
@@ -307,7 +333,7 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
     // bounding that cell; a branching point in a cell no contour point of its plane bounds is
     // dropped.
     v.cells.push_back({b.cell, {0, 0}});
-    idOf(planes[std::size_t(b.plane)].plane.toWorld(b.p), v);
+    idOf(at, v);
   }
   // Sides of branching points.
   std::map<std::pair<int, int>, int> sideOf;  // (plane, cell) -> side
