@@ -71,11 +71,15 @@ bool sectionContains(const Section& s, const Vec2& p) {
   return true;
 }
 
-static double segmentDistance(const Vec2& a, const Vec2& b, const Vec2& p) {
+Vec2 nearestOnSegment(const Vec2& p, const Vec2& a, const Vec2& b) {
   const Vec2 d = b - a;
   const double l2 = d.squaredNorm();
   const double t = l2 > 0 ? std::clamp((p - a).dot(d) / l2, 0.0, 1.0) : 0.0;
-  return (a + t * d - p).norm();
+  return a + t * d;
+}
+
+static double segmentDistance(const Vec2& a, const Vec2& b, const Vec2& p) {
+  return (nearestOnSegment(p, a, b) - p).norm();
 }
 
 double ringDistance(const Ring& r, const Vec2& p) {

@@ -19,6 +19,8 @@ double sectionArea(const Section& s);
 /// Point strictly inside the ring (even-odd crossing rule; boundary points undecided).
 bool ringContains(const Ring& ring, const Vec2& p);
 bool sectionContains(const Section& s, const Vec2& p);
+/// The point of segment [a, b] nearest to p (a when a = b).
+Vec2 nearestOnSegment(const Vec2& p, const Vec2& a, const Vec2& b);
 /// Distance from p to the nearest edge of the ring, mm.
 double ringDistance(const Ring& ring, const Vec2& p);
 /// Exact signed distance from p to the boundary of the union of the sections; negative inside.

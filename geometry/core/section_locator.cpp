@@ -12,13 +12,6 @@ double boxDistance(const Eigen::AlignedBox2d& b, const Vec2& p) {
   return (p - p.cwiseMax(b.min()).cwiseMin(b.max())).norm();
 }
 
-Vec2 segmentPoint(const Vec2& p, const Vec2& a, const Vec2& b) {
-  const Vec2 d = b - a;
-  const double l2 = d.squaredNorm();
-  const double t = l2 > 0 ? std::clamp((p - a).dot(d) / l2, 0.0, 1.0) : 0.0;
-  return a + t * d;
-}
-
 }  // namespace
 
 SectionLocator::SectionLocator(const std::vector<Section>& sections) {
@@ -142,7 +135,7 @@ SectionLocator::Nearest SectionLocator::nearestContour(const Vec2& p) const {
     if (boxDistance(r.box, p) >= n.d) continue;
     forEdges(r, [&](const Eigen::AlignedBox2d& b) { return boxDistance(b, p) < n.d; },
              [&](const Vec2& a, const Vec2& b) {
-               const Vec2 q = segmentPoint(p, a, b);
+               const Vec2 q = nearestOnSegment(p, a, b);
                const double d = (q - p).norm();
                if (d < n.d) n = {d, q, r.section};
              });

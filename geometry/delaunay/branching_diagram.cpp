@@ -29,14 +29,6 @@ constexpr double kTie = 1e-8;
 
 double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
-/// The point of segment [a, b] nearest to p.
-Vec2 segmentPoint(const Vec2& p, const Vec2& a, const Vec2& b) {
-  const Vec2 d = b - a;
-  const double l2 = d.squaredNorm();
-  const double t = l2 > 0 ? std::clamp((p - a).dot(d) / l2, 0.0, 1.0) : 0.0;
-  return a + t * d;
-}
-
 using Nearest = SectionLocator::Nearest;
 using RingRef = SectionLocator::RingRef;
 
@@ -108,7 +100,7 @@ struct PlaneSections {
     const std::size_t m = poly.size();
     Nearest best;
     const auto consider = [&](const Vec2& a, const Vec2& b, int s) {
-      const Vec2 q = segmentPoint(p, a, b);
+      const Vec2 q = nearestOnSegment(p, a, b);
       const double d = (q - p).norm();
       if (d < best.d) best = {d, q, s};
     };
@@ -138,7 +130,7 @@ struct PlaneSections {
     for (std::size_t i = 0; i < m; ++i) {
       if (!onLine[i]) continue;
       const Vec2 A = poly[i], B = poly[(i + 1) % m], e = B - A;
-      if ((segmentPoint(p, A, B) - p).norm() >= best.d) continue;
+      if ((nearestOnSegment(p, A, B) - p).norm() >= best.d) continue;
       Eigen::AlignedBox2d eb(A.cwiseMin(B), A.cwiseMax(B));
       ts.assign({0.0, 1.0});
       const auto meetsEdge = [&](const Eigen::AlignedBox2d& b) { return b.intersects(eb); };
@@ -156,7 +148,7 @@ struct PlaneSections {
       for (std::size_t k = 0; k + 1 < ts.size(); ++k) {
         if (ts[k + 1] - ts[k] <= 1e-12) continue;
         const Vec2 a = A + ts[k] * e, b = A + ts[k + 1] * e;
-        if ((segmentPoint(p, a, b) - p).norm() >= best.d) continue;
+        if ((nearestOnSegment(p, a, b) - p).norm() >= best.d) continue;
         const int s = holding(0.5 * (a + b));
         if (s >= 0) consider(a, b, s);
       }
