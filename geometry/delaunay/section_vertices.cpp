@@ -16,10 +16,19 @@ namespace xsect {
 
 namespace {
 
+/// Adds `cell` to v's cells with the sides s0, s1, s2 of v's planes (0: unknown, e.g. a contour
+/// vertex merged with a trace point at the same coordinates knows no side of the trace's plane).
+/// A cell already there keeps its sides and takes the ones it does not know: a cell lies on one
+/// side of each plane, so two sources never disagree on a known side.
 void addCell(SectionVertex& v, int cell, int s0, int s1, int s2 = 0) {
   if (cell < 0) return;
+  const std::array<int, 3> s{s0, s1, s2};
   for (PointCell& c : v.cells)
-    if (c.cell == cell) return;
+    if (c.cell == cell) {
+      for (std::size_t k = 0; k < 3; ++k)
+        if (c.side[k] == 0) c.side[k] = std::int8_t(s[k]);
+      return;
+    }
   v.cells.push_back({cell, {std::int8_t(s0), std::int8_t(s1), std::int8_t(s2)}});
 }
 
