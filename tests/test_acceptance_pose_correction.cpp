@@ -74,12 +74,18 @@ PoseErrors poseErrors(const fs::path& dir, const fs::path& poses) {
 // one counted.
 TEST(AcceptancePoseCorrection, JitteredTorusSeedsOneToTen) {
   int rightTopology = 0;
+  // The floor, the mesh from the true poses: the seed moves only the recorded poses (the images and
+  // true_poses.yaml are the same for every seed of this spec), so it is reconstructed once.
+  double meshExact = 0;
   for (int seed = 1; seed <= 10; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     const fs::path dir = phantom("pose-torus-" + std::to_string(seed), torusSpec(seed, true));
     const json plain = run(dir, "plain", "");
     const json rigid = run(dir, "rigid", "--set conformity.pose_correction=rigid");
-    const json exact = run(dir, "exact", "--set input.slices=" + (dir / "ph/true_poses.yaml").string());
+    if (seed == 1) {
+      run(dir, "exact", "--set input.slices=" + (dir / "ph/true_poses.yaml").string());
+      meshExact = eval(dir, "exact")["mean_distance_mm"];
+    }
     const std::vector<int> truth{1, 1, 0};
     rightTopology += rigid["betti"].get<std::vector<int>>() == truth;
     EXPECT_EQ(rigid["conformity"]["pose_correction"]["kind"], "rigid");
@@ -98,7 +104,6 @@ TEST(AcceptancePoseCorrection, JitteredTorusSeedsOneToTen) {
     EXPECT_LE(after.pose_rms_mm, 0.6 * before.pose_rms_mm);
     const double meshPlain = eval(dir, "plain")["mean_distance_mm"];
     const double meshRigid = eval(dir, "rigid")["mean_distance_mm"];
-    const double meshExact = eval(dir, "exact")["mean_distance_mm"];
     EXPECT_LE(meshRigid - meshExact, 0.5 * (meshPlain - meshExact));
     std::cerr << "seed " << seed << ": betti " << plain["betti"] << " -> " << rigid["betti"]
               << "; sections' distance to the truth " << before.section_distance_mm << " -> "
