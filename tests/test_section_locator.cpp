@@ -6,6 +6,7 @@
 // horizontal edges and points on edges are met often.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -93,4 +94,28 @@ TEST(SectionLocator, NoSectionsHoldNothing) {
   EXPECT_EQ(locator.holding(Vec2(0, 0)), -1);
   EXPECT_TRUE(std::isinf(locator.nearestContour(Vec2(0, 0)).d));
   EXPECT_TRUE(std::isinf(locator.boxBound(Vec2(0, 0))));
+}
+
+// More rings held at once than the slab scan's list keeps (64): 80 nested annuli, each a section
+// whose hole holds the next one. A point near the centre lies inside every outer ring; the answer
+// must still be the brute force's (the innermost section holding it, or none in a hole).
+TEST(SectionLocator, ManyNestedSectionsAtOnceEqualTheBruteForce) {
+  std::vector<Section> sections;
+  const auto square = [](double h, bool clockwise) {
+    Ring r{Vec2(-h, -h), Vec2(h, -h), Vec2(h, h), Vec2(-h, h)};
+    if (clockwise) std::reverse(r.begin(), r.end());
+    return r;
+  };
+  for (int k = 80; k >= 1; --k) sections.push_back(Section{square(k, false), {square(k - 0.5, true)}, 1});
+  const SectionLocator locator(sections);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-81, 81);
+  int held = 0;
+  for (int q = 0; q < 4000; ++q) {
+    const Vec2 p = q % 2 ? Vec2(u(rng), u(rng)) : Vec2(u(rng) / 40, u(rng) / 40);  // half near the centre
+    const int expected = firstHolding(sections, p);
+    ASSERT_EQ(locator.holding(p), expected) << p.transpose();
+    held += expected >= 0;
+  }
+  EXPECT_GT(held, 500);
 }

@@ -128,6 +128,12 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
           run += (r[(v + 1) % r.size()] - r[v]).norm();
           // Contour points on the traces of other planes crossed by edge (v, v+1).
           const Vec3 a = cp.plane.toWorld(r[v]), b = cp.plane.toWorld(r[(v + 1) % r.size()]);
+          const auto addTrace = [&](std::size_t j, double t) {  // at r[v] + t (r[v + 1] - r[v])
+            P.push_back({int(i), int(s), t == 0 ? r[v] : Vec2(r[v] + t * (r[(v + 1) % r.size()] - r[v])),
+                         SectionPoint::trace, {-1, -1}, int(j)});
+            P.back().ring = ringId;
+            P.back().along = double(v) + t;
+          };
           for (const std::size_t j : crossing) {
             const int sa = sign(eq[j], a), sb = sign(eq[j], b);
             if (sa == 0) {
@@ -136,9 +142,7 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
               // the cells on both sides of j. Otherwise no point would mark the crossing (the
               // edges on either side have sign products 0) and the vertex, if sampled, would bound
               // the cells on j's positive side only.
-              P.push_back({int(i), int(s), r[v], SectionPoint::trace, {-1, -1}, int(j)});
-              P.back().ring = ringId;
-              P.back().along = double(v);
+              addTrace(j, 0.0);
               continue;
             }
             if (sa * sb >= 0) continue;
@@ -148,10 +152,7 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
             const double da = planes[j].plane.signedDistance(a), db = planes[j].plane.signedDistance(b);
             const double q = da / (da - db);
             const double t = std::isfinite(q) ? std::clamp(q, 0.0, 1.0) : 0.5;
-            P.push_back({int(i), int(s), r[v] + t * (r[(v + 1) % r.size()] - r[v]),
-                         SectionPoint::trace, {-1, -1}, int(j)});
-            P.back().ring = ringId;
-            P.back().along = double(v) + t;
+            addTrace(j, t);
           }
         }
       };
