@@ -78,6 +78,12 @@ Vec2 nearestOnSegment(const Vec2& p, const Vec2& a, const Vec2& b) {
   return a + t * d;
 }
 
+bool isSliverTriangle(const Vec2& a, const Vec2& b, const Vec2& c) {
+  const Vec2 u = b - a, w = c - a;
+  const double area2 = std::abs(u.x() * w.y() - u.y() * w.x());
+  return area2 <= 1e-9 * std::max({u.squaredNorm(), w.squaredNorm(), (c - b).squaredNorm()});
+}
+
 static double segmentDistance(const Vec2& a, const Vec2& b, const Vec2& p) {
   return (nearestOnSegment(p, a, b) - p).norm();
 }

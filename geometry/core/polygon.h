@@ -21,6 +21,9 @@ bool ringContains(const Ring& ring, const Vec2& p);
 bool sectionContains(const Section& s, const Vec2& p);
 /// The point of segment [a, b] nearest to p (a when a = b).
 Vec2 nearestOnSegment(const Vec2& p, const Vec2& a, const Vec2& b);
+/// Three points collinear up to rounding: twice the triangle's area at most 1e-9 of its longest
+/// edge squared (contour samples of a straight stretch; a "triangle" of them has no inside).
+bool isSliverTriangle(const Vec2& a, const Vec2& b, const Vec2& c);
 /// Distance from p to the nearest edge of the ring, mm.
 double ringDistance(const Ring& ring, const Vec2& p);
 /// Exact signed distance from p to the boundary of the union of the sections; negative inside.

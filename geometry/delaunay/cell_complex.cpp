@@ -120,11 +120,17 @@ CellComplex cellDelaunay(int cell, const std::vector<int>& ids, const SectionVer
         if (k != i) f[m++] = V[std::size_t(k)];
       const int p = commonPlane(sv, f, 3);
       if (p < 0) continue;
+      const Vec2 q0 = planeCoordinates(sv, planes, f[0], p), q1 = planeCoordinates(sv, planes, f[1], p),
+                 q2 = planeCoordinates(sv, planes, f[2], p);
+      // Three contour samples of a straight stretch are collinear up to rounding: their "triangle"
+      // is a piece of the contour, neither internal nor external (ch. 3 §1), and its intersection
+      // with the section, the ground (Def. 50), has no area. Counted as a ground, it kept a
+      // zero-volume tetrahedron standing on it alone: a fin of the mesh (the plane gluing's sliver
+      // test).
+      if (isSliverTriangle(q0, q1, q2)) continue;
       groundedFace = true;
       c.grounded_faces[t] = std::uint8_t(c.grounded_faces[t] | (1 << i));
-      const Vec2 q = (planeCoordinates(sv, planes, f[0], p) + planeCoordinates(sv, planes, f[1], p) +
-                      planeCoordinates(sv, planes, f[2], p)) / 3.0;
-      if (!inSampledSections(sampled, p, q)) external = true;
+      if (!inSampledSections(sampled, p, (q0 + q1 + q2) / 3.0)) external = true;
     }
     bool grounded[6];
     for (int e = 0; e < 6; ++e) {

@@ -6,7 +6,8 @@
 //    to rounding) and never kept.
 //  - Step 1 (Def. 47): a tetrahedron with a grounded triangle, or a grounded edge that is not a
 //    contour edge, lying outside the sampled sections of its plane (tested at its centroid or
-//    midpoint) is external and removed.
+//    midpoint) is external and removed. A grounded triangle of three collinear contour samples (up
+//    to rounding) is a piece of the contour: neither external nor a ground (zero area).
 //  - Step 2 (Def. 48-50, Prop. 11): around every grounded edge e the tetrahedra of its shell form
 //    runs of kept tetrahedra between removed ones (or the hull); a run reaching no tetrahedron with
 //    a grounded triangle through e is disconnected from the ground of e and removed (the thesis'

@@ -233,7 +233,14 @@ struct OpenedPinches {
 /// wedges, so that the wedges stay joined along the edge, as Def. 50 counts a shell whose runs all
 /// reach the section. Then every vertex gets one copy per umbrella (the faces around it joined
 /// through such pairs): pieces touching at a single point are separate.
-OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Vec3>& positions) {
+/// An edge that joining leaves singular at both ends (a branching line crossing a section from
+/// contour to contour as one Delaunay edge, with no point inside the section to part the sheets
+/// at) is split at its midpoint (a point of the edge: the surface does not move; for a grounded
+/// edge, inside the section, Def. 47) and the pass repeated once (`splitting` false): the
+/// midpoint's copies part the flat sheet from the wedges' as the thickened plane of Fig. 3.8b
+/// would, and the wedges stay joined (R'' is their union). Only an edge still singular then is
+/// paired apart.
+OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Vec3>& positions, bool splitting = true) {
   OpenedPinches out;
   // Per undirected edge: its faces, with +1 when the face runs from the smaller id to the larger.
   std::unordered_map<std::uint64_t, std::vector<std::pair<int, int>>> around;
@@ -331,7 +338,9 @@ OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Ve
     return rootOf;
   };
   // A singular edge stays singular when, at both its ends, all its faces fall in one umbrella:
-  // such an edge is paired the other way (which then splits an end's umbrella).
+  // such an edge is split at its midpoint (see above), or, on the second pass, paired the other
+  // way (which then splits an end's umbrella).
+  std::vector<std::uint64_t> bisect;
   for (const auto& [key, two] : choices) {
     const int a = int(key >> 32), b = int(key & 0xffffffffu);
     const auto split = [&](int v) {
@@ -340,7 +349,37 @@ OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Ve
       for (const auto& pr : *pairsAt(key)) seen.insert(roots.at(pr[0]));
       return seen.size() > 1;
     };
-    if (!split(a) && !split(b)) chosen[key] = 1;
+    if (split(a) || split(b)) continue;
+    if (splitting) bisect.push_back(key);
+    else chosen[key] = 1;
+  }
+  if (!bisect.empty()) {
+    std::unordered_map<std::uint64_t, int> midpoint;
+    for (const std::uint64_t key : bisect) {
+      midpoint[key] = int(positions.size());
+      positions.push_back(0.5 * (positions[std::size_t(key >> 32)] + positions[std::size_t(key & 0xffffffffu)]));
+    }
+    std::vector<std::array<int, 3>> next, todo = faces;  // a face may hold two such edges
+    while (!todo.empty()) {
+      std::vector<std::array<int, 3>> later;
+      for (const auto& f : todo) {
+        int e = 0;
+        while (e < 3 && !midpoint.count(edgeKey(f[std::size_t(e)], f[std::size_t((e + 1) % 3)]))) ++e;
+        if (e == 3) {
+          next.push_back(f);
+          continue;
+        }
+        const int a = f[std::size_t(e)], b = f[std::size_t((e + 1) % 3)], c = f[std::size_t((e + 2) % 3)];
+        const int m = midpoint[edgeKey(a, b)];
+        later.push_back({a, m, c});
+        later.push_back({m, b, c});
+      }
+      todo.swap(later);
+    }
+    faces.swap(next);
+    OpenedPinches again = openPinches(faces, positions, false);
+    again.edges -= int(bisect.size());  // each split edge counted once, not as its two halves
+    return again;
   }
   std::vector<std::array<int, 3>> result = faces;
   for (const int v : vertices) {

@@ -24,8 +24,9 @@
 // 2-manifold whose Betti numbers are the ones reported: at an edge in 4, 6, ... triangles (solid
 // wedges touching along it: under a branching line in a section that ends the object, Fig. 3.14,
 // or pieces of two cells meeting on a trace) the wedges are joined along the edge, as the section
-// they touch joins them (the thickened planes of §2, Fig. 3.8b), unless joining leaves the edge
-// singular at both its ends (then they are kept apart along it); at a vertex whose link is
+// they touch joins them (the thickened planes of §2, Fig. 3.8b); an edge that joining leaves
+// singular at both its ends (no point inside the section to part the sheets at) is first split at
+// its midpoint, and only one still singular then is kept apart; at a vertex whose link is
 // several discs (pieces touching at one point, Fig. 3.8a) each disc gets its own copy of the
 // vertex, so the pieces are apart. What still is not a closed 2-manifold is counted (open_edges)
 // and the pipeline then refuses to write the mesh.

@@ -138,9 +138,7 @@ PlaneBoundary planeBoundary(int plane, const std::vector<int>& ids, const PlaneF
   for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
     Vec2 q[3];
     for (int i = 0; i < 3; ++i) q[i] = Vec2(f->vertex(i)->point().x(), f->vertex(i)->point().y());
-    const double area2 = std::abs((q[1] - q[0]).x() * (q[2] - q[0]).y() - (q[1] - q[0]).y() * (q[2] - q[0]).x());
-    const double longest = std::max({(q[1] - q[0]).squaredNorm(), (q[2] - q[1]).squaredNorm(), (q[0] - q[2]).squaredNorm()});
-    if (area2 <= 1e-9 * longest) {
+    if (isSliverTriangle(q[0], q[1], q[2])) {
       slivers.push_back(f);
       continue;
     }
