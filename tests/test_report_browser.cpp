@@ -84,7 +84,9 @@ BrowserRun openInChromium(const fs::path& page, const fs::path& work, const std:
   r.netlog = work / (tag + "-netlog.json");
   const fs::path dom = work / (tag + "-dom.html"), err = work / (tag + "-stderr.txt");
   const std::string cmd =
-      "timeout -k 5 120 chromium --headless --no-sandbox --disable-gpu-sandbox"
+      // Not ctest's GLIBC_TUNABLES (set for xsect, CMakeLists.txt): with glibc.malloc.hugetlb=1
+      // SwiftShader's Vulkan fails to initialise and the page gets no WebGL.
+      "env -u GLIBC_TUNABLES timeout -k 5 120 chromium --headless --no-sandbox --disable-gpu-sandbox"
       // WebGL in software. (--use-gl=swiftshader no longer works with Chromium 156: the GPU process
       // exits, the WebGL context is lost and the canvas stays black.)
       " --enable-unsafe-swiftshader --use-angle=swiftshader"
