@@ -306,34 +306,35 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
   // Delaunay structure of such ties on a plane whose points are coplanar only up to rounding
   // differs between the cells. Each is moved by a fixed pseudo-random offset of at most a tenth of
   // the lattice spacing (a hash of its position: the same input gives the same points), unless
-  // that could take it across another plane's trace (it then stays where it is).
+  // that could take it across another plane's trace (it then stays where it is). A point exactly
+  // on another plane's trace (two lattice samples on it: the lattice can meet planes placed on its
+  // grid) lies on an edge of its cell, not inside the face whose branching diagram it samples, and
+  // its side of that plane is unknown: it is no branching point. One pass over the planes decides
+  // both (a moved point stays more than half a jitter off every other plane, so only a point left
+  // in place can lie on a trace).
   const double jitter = 0.1 * arr.sample_spacing_mm;
   for (const BranchingPoint& given : branching) {
     BranchingPoint b = given;
     if (b.plane < 0 || std::size_t(b.plane) >= planes.size() || b.cell < 0) continue;
-    {
+    const Vec3 x = planes[std::size_t(b.plane)].plane.toWorld(b.p);
+    bool nearTrace = false, onTrace = false;
+    for (std::size_t j = 0; j < planes.size() && !onTrace; ++j) {
+      if (int(j) == b.plane) continue;
+      const double d = std::abs(planes[j].plane.signedDistance(x));
+      onTrace = d <= 1e-9 * (1 + x.norm());
+      nearTrace = nearTrace || d < 2 * jitter;
+    }
+    if (onTrace) continue;
+    Vec3 at = x;
+    if (!nearTrace) {
       std::uint64_t h = std::hash<double>()(b.p.x()) * 0x9e3779b97f4a7c15ULL ^ std::hash<double>()(b.p.y());
       h ^= h >> 31;
       h *= 0xbf58476d1ce4e5b9ULL;
       h ^= h >> 29;
       const double u = double(h & 0xffff) / 65535.0 - 0.5, v = double((h >> 16) & 0xffff) / 65535.0 - 0.5;
-      const Vec2 moved = b.p + 2 * jitter * Vec2(u, v);
-      // Not across another plane's trace: the point stays in its cell's face.
-      const Vec3 x = planes[std::size_t(b.plane)].plane.toWorld(b.p);
-      bool nearTrace = false;
-      for (std::size_t j = 0; j < planes.size() && !nearTrace; ++j)
-        nearTrace = int(j) != b.plane && std::abs(planes[j].plane.signedDistance(x)) < 2 * jitter;
-      if (!nearTrace) b.p = moved;
+      b.p += 2 * jitter * Vec2(u, v);
+      at = planes[std::size_t(b.plane)].plane.toWorld(b.p);
     }
-    // Exactly on another plane's trace (two lattice samples on it: the lattice can meet planes
-    // placed on its grid) the point lies on an edge of its cell, not inside the face whose
-    // branching diagram it samples, and its side of that plane is unknown: no branching point.
-    const Vec3 at = planes[std::size_t(b.plane)].plane.toWorld(b.p);
-    bool onTrace = false;
-    for (std::size_t j = 0; j < planes.size() && !onTrace; ++j)
-      onTrace = int(j) != b.plane &&
-                std::abs(planes[j].plane.signedDistance(at)) <= 1e-9 * (1 + at.norm());
-    if (onTrace) continue;
     SectionVertex v;
     v.planes = {b.plane, -1, -1};
     v.section = b.section;
