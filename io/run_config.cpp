@@ -231,10 +231,10 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
     if (s["planes"]) {
       c.planes = yamlChoice(s["planes"], path, "reconstruction.planes", kPlaneExtents, "plane extent");
       c.planes_default = false;
-      if (c.planes == PlaneExtent::observed && c.reconstruction_method != ReconstructionMethod::nearest_plane)
+      if (c.planes == PlaneExtent::observed && c.reconstruction_method == ReconstructionMethod::delaunay)
         throw InputError(path, "reconstruction.planes",
-                         "observed pieces are available for method 1 (nearest_plane); methods 2 (section_voronoi) and 3 "
-                         "(delaunay) run on whole planes",
+                         "observed pieces are available for methods 1 (nearest_plane) and 2 (section_voronoi); method 3 "
+                         "(delaunay) runs on whole planes",
                          yamlLine(s["planes"]));
     }
     if (const YAML::Node m = s["end_margin_mm"]) {
@@ -319,9 +319,9 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
     }
   }
   // Observed pieces by default where a slice is an image (its rectangle and field of view say where
-  // it was seen); contour files give all of O ∩ P on each plane. Methods 2 and 3 run on whole planes.
+  // it was seen); contour files give all of O ∩ P on each plane. Method 3 runs on whole planes.
   if (c.planes_default)
-    c.planes = c.reconstruction_method == ReconstructionMethod::nearest_plane &&
+    c.planes = c.reconstruction_method != ReconstructionMethod::delaunay &&
                        (c.input_kind == InputKind::slices || c.input_kind == InputKind::plus_sequence)
                    ? PlaneExtent::observed
                    : PlaneExtent::whole;

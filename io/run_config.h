@@ -71,7 +71,7 @@ struct RunConfig {
   std::int64_t voxel_budget = 4000000;                  ///< auto: the largest grid, voxels
   std::optional<double> end_margin_mm;                  ///< empty = auto
   /// `reconstruction.planes`: whether a slice cuts space only where it was observed (issue 20).
-  /// Default (planes_default): observed for images and PLUS sequences with method 1, else whole.
+  /// Default (planes_default): observed for images and PLUS sequences with methods 1 and 2, else whole.
   PlaneExtent planes = PlaneExtent::whole;
   bool planes_default = true;
   bool conformal_mesh = true;  ///< cut the mesh along the planes onto the section contours

@@ -131,6 +131,10 @@ json reconstructionJson(const RunResults& r) {
           {"cells_clipped", rec.cells_clipped},
           {"volume_mm3", r.diagnosis.topology.volume_mm3}};
   if (r.reconstruction.delaunay) j["delaunay"] = delaunayJson(r);
+  if (c.reconstruction_method == ReconstructionMethod::section_voronoi && c.planes == PlaneExtent::observed)
+    j["observed_pieces"] = {{"lift_voxels_kept", rec.observed_lift_voxels_kept},
+                            {"lift_voxels_dropped", rec.observed_lift_voxels_dropped},
+                            {"voxels_added_by_method_1", rec.observed_pieces_voxels_added}};
   return j;
 }
 

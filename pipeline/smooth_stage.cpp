@@ -42,12 +42,15 @@ TopologyRepair repairSolid(std::vector<std::uint8_t>& inside, const PlaneEvidenc
   return repairSampledTopology(inside, e.inside, e.outside, grid);
 }
 
-/// Voxels of method 1's solid that the observed pieces decide (issue 20): method 1 on whole planes
-/// against the run's, on the pieces (their raw solids, before repair). Zero when every piece is
-/// whole, or the images cover the object.
+/// Voxels of the method's solid that the observed pieces decide (issue 20): the method on whole
+/// planes against the run's, on the pieces (their raw solids, before repair). Zero when every piece
+/// is whole, or the images cover the object. Method 2 counted them as it evaluated R'_Ω (the
+/// voxels where it differs from R': lifts not followed, and method 1's voxels on the pieces added).
 std::int64_t voxelsDecidedByPieces(const SectionScene& scene, const SampledReconstruction& rec) {
   if (std::all_of(scene.pieces.begin(), scene.pieces.end(), [](const ObservedPiece& p) { return p.whole; }))
     return 0;
+  if (scene.params.method == ReconstructionMethod::section_voronoi)
+    return rec.observed_lift_voxels_dropped + rec.observed_pieces_voxels_added;
   const GridSpec& grid = rec.raw_inside.grid();
   std::atomic<std::int64_t> changed{0};
   forEachNearestPlaneBlock(scene.planes, scene.fields, grid, [&](std::int64_t b, const NearestPlaneBlock& v) {
@@ -102,7 +105,7 @@ SmoothStage smoothStage(const RunConfig& c, const SectionScene& scene, const Arr
   // value instead, a sphere cut by 16 parallel planes shrank by 0.1 mm between its planes.
   out.empty_value_mm = scene.layout.end_margin_mm;
   // Shepard's interpolant is defined on whole planes (thesis ch. 1 §1.1: the planes of x's cell);
-  // where the observed pieces decide method 1's solid, the planes beyond the images would carve
+  // where the observed pieces decide the method's solid, the planes beyond the images would carve
   // its surface: the level-set smoothing of the method's solid is written instead.
   if (c.smoothing_method == SmoothingMethod::shepard)
     out.voxels_decided_by_pieces = voxelsDecidedByPieces(scene, rec);

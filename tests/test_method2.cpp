@@ -7,7 +7,9 @@
 
 #include "geometry/reconstruction/nearest_plane_reconstruction.h"
 #include "geometry/core/polygon.h"
+#include "geometry/reconstruction/observed_section_voronoi.h"
 #include "geometry/reconstruction/section_voronoi_reconstruction.h"
+#include "geometry/scene/observed_piece.h"
 #include "section_fixtures.h"
 
 using namespace xsect;
@@ -211,6 +213,166 @@ TEST(Method2, ContainsMethod1VoxelByVoxel) {  // Theorem 18: R ⊆ R'
       EXPECT_GT(inR, 0);
       EXPECT_GE(inR2, inR);
     }
+  }
+}
+
+// Method 2 on observed pieces (README "Observed pieces"): every voxel as the definition says,
+// R'_Ω = R_Ω ∪ {x ∈ R' : within B(x, h(x)) every plane is observed, or no section point but the
+// lift's foot lies}, with R' and R_Ω evaluated on their own, the ball's planes checked by points of
+// each disc's rim and its sections by exact distances to the polygons; the
+// shells' planes cut down to random image rectangles, so that lifts are kept, lifts are dropped
+// and method 1's voxels on the pieces are added. With whole pieces it is method 2 itself.
+namespace {
+
+struct ObservedLiftCounts {
+  std::int64_t kept = 0, dropped = 0, added = 0;
+};
+
+/// Compares R'_Ω on `planes` (their extents the pieces) with its definition voxel by voxel, and
+/// with R' on whole pieces; adds its lift counts to *counts. `dropped_at`: a point whose voxel
+/// must be a dropped lift (R' \ R_Ω, not in R'_Ω), or none.
+void expectObservedMethod2AsDefined(const std::vector<CuttingPlane>& planes, const GridSpec& grid,
+                                    ObservedLiftCounts* counts, const Vec3* dropped_at = nullptr) {
+  const auto fields = rasters(planes, 0.1);
+  SectionVoronoiParams vp;
+  vp.slab_mm = 0.35;
+  const std::vector<ObservedPiece> pieces = observedPieces(planes, true);
+  const SectionVoronoiField r2 = sectionVoronoiReconstruction(planes, fields, grid, vp);
+  const NearestPlaneField r1 = nearestPlaneReconstruction(planes, fields, grid, {}, &pieces);
+  std::vector<float> value(std::size_t(grid.count()), 0.f);
+  const BlockGrid<float> numbering(grid, 0.f);
+  ObservedSectionVoronoiStatistics st;
+  forEachObservedSectionVoronoiBlock(planes, fields, pieces, grid, vp, [&](std::int64_t b, const SectionVoronoiBlock& v) {
+    forEachVoxelOfBlock(grid, numbering.blockOrigin(b), [&](int i, int j, int k, int o) {
+      value[std::size_t(grid.index(i, j, k))] = v.value[std::size_t(o)];
+    });
+  }, {}, &st);
+  std::int64_t mismatches = 0;
+  ObservedLiftCounts here;
+  for (int k = 0; k < grid.dims[2]; ++k)
+    for (int j = 0; j < grid.dims[1]; ++j)
+      for (int i = 0; i < grid.dims[0]; ++i) {
+        const std::size_t q = std::size_t(grid.index(i, j, k));
+        const Vec3 x = grid.centre(i, j, k);
+        const bool in1 = r1.value.values[q] < 0, in2 = r2.value.values[q] < 0;
+        // Every plane within h observed over its disc of B(x, h): the rim at every 22.5° (a
+        // rectangle's extremes among them).
+        bool ball = in2;
+        const double h = r2.lift_height[q];
+        for (std::size_t p = 0; ball && p < planes.size(); ++p) {
+          const double s = std::abs(planes[p].plane.signedDistance(x));
+          if (s > h * (1 + 1e-9)) continue;
+          const double r = std::sqrt(std::max(0.0, h * h - s * s));
+          const Vec2 c = planes[p].plane.toPlane(x);
+          for (int t = 0; t < 16 && ball; ++t) {
+            const double a = t * M_PI / 8;
+            double na, nb;
+            ball = pieces[p].distance(c.x() + r * std::cos(a), c.y() + r * std::sin(a), &na, &nb) == 0;
+          }
+        }
+        // ... or no section point but the lift's foot within B(x, h): distances to the polygons
+        // (a section within 1e-9 mm of the ball is a tie either answer may take).
+        bool alone = in2, tie = false;
+        for (std::size_t p = 0; in2 && !ball && p < planes.size(); ++p) {
+          if (int(p) == r2.section_plane[q] || planes[p].sections.empty()) continue;
+          const double s = std::abs(planes[p].plane.signedDistance(x));
+          if (s >= h) continue;
+          const double r = std::sqrt(h * h - s * s);
+          const double d = signedDistanceToSections(planes[p].sections, planes[p].plane.toPlane(x));
+          if (d < r) alone = false;
+          else if (d < r + 1e-9) tie = true;
+        }
+        const bool want = in1 || ball || alone;
+        if (!(tie && want != (value[q] < 0))) mismatches += want != (value[q] < 0);
+        here.kept += in2 && !in1 && value[q] < 0;
+        here.dropped += in2 && !in1 && !(value[q] < 0);
+        here.added += in1 && !in2;
+      }
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_EQ(st.lift_voxels_kept, here.kept);
+  EXPECT_EQ(st.lift_voxels_dropped, here.dropped);
+  EXPECT_EQ(st.pieces_voxels_added, here.added);
+  counts->kept += here.kept;
+  counts->dropped += here.dropped;
+  counts->added += here.added;
+  if (dropped_at) {
+    const Vec3 f = (*dropped_at - grid.origin) / grid.voxel;
+    const std::size_t q = std::size_t(grid.index(int(std::lround(f.x())), int(std::lround(f.y())), int(std::lround(f.z()))));
+    EXPECT_TRUE(r2.value.values[q] < 0 && !(r1.value.values[q] < 0) && !(value[q] < 0))
+        << "R' " << r2.value.values[q] << ", R_Ω " << r1.value.values[q] << ", R'_Ω " << value[q];
+  }
+  // Whole pieces: R' itself, value for value.
+  const std::vector<ObservedPiece> whole = observedPieces(planes, false);
+  std::int64_t differ = 0;
+  forEachObservedSectionVoronoiBlock(planes, fields, whole, grid, vp, [&](std::int64_t b, const SectionVoronoiBlock& v) {
+    forEachVoxelOfBlock(grid, numbering.blockOrigin(b), [&](int i, int j, int k, int o) {
+      differ += v.value[std::size_t(o)] != r2.value.values[std::size_t(grid.index(i, j, k))];
+    });
+  });
+  EXPECT_EQ(differ, 0);
+}
+
+}  // namespace
+
+// Method 2 on observed pieces (README "Observed pieces"): every voxel as the definition says,
+// R'_Ω = R_Ω ∪ {x ∈ R' : within B(x, h(x)) every plane is observed, or no section point but the
+// lift's foot lies}, with R' and R_Ω evaluated on their own. Shells cut by planes cut down to
+// random image rectangles keep lifts and add method 1's voxels; a lift towards a section behind a
+// plane observed only in part is dropped. With whole pieces it is method 2 itself.
+TEST(Method2, OnObservedPiecesEqualsItsDefinition) {
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> size(1.0, 9.0);
+  ObservedLiftCounts counts;
+  for (const int count : {9, 40, 120}) {
+    SCOPED_TRACE(std::to_string(count) + " planes");
+    auto planes = test::randomShellPlanes(count, rng, kCentre, 7.0, 6.0, 3.0, 96);
+    for (CuttingPlane& p : planes) {
+      p.pixel_mm = 0.1;
+      p.extent = {Vec2(-size(rng), -size(rng)), Vec2(size(rng), size(rng))};
+    }
+    expectObservedMethod2AsDefined(planes, testGrid(0.4, 40), &counts);
+  }
+  EXPECT_GT(counts.kept, 0) << "the test must keep lifts";
+  EXPECT_GT(counts.added, 0) << "the test must add method 1's voxels";
+  // A disc on z = 0; above it a plane z = 2 without section observed only for x <= 0; beyond it a
+  // small disc on z = 2.6 at x = 2.5. At (1.5, 0, 1.5) method 2 on whole planes lifts the lower
+  // disc (the plane z = 2 hides the small disc); through the unobserved part of z = 2 the small
+  // disc is nearer than the lift's foot, not by a projection: the lift is dropped, and method 1 on
+  // the pieces (nearest piece z = 2.6, outside its disc) says outside.
+  {
+    SCOPED_TRACE("a section behind a plane observed in part");
+    std::vector<CuttingPlane> planes;
+    const auto add = [&](int axis, double offset, std::vector<Section> sections, PlaneRect extent, bool closing) {
+      CuttingPlane cp;
+      cp.slice = closing ? -1 : int(planes.size());
+      cp.is_virtual = closing;
+      cp.plane = test::axisPlane(axis, offset);
+      cp.sections = std::move(sections);
+      cp.extent = extent;
+      cp.pixel_mm = 0.1;
+      planes.push_back(cp);
+    };
+    Section big, small;
+    big.outer = test::circle(Vec2(0, 0), 3.0, 128);
+    small.outer = test::circle(Vec2(2.5, 0), 0.5, 64);
+    const PlaneRect all{Vec2(-10, -10), Vec2(10, 10)};
+    add(2, 0.0, {big}, all, false);
+    add(2, 2.0, {}, PlaneRect{Vec2(-10, -10), Vec2(0, 10)}, false);
+    add(2, 2.6, {small}, all, false);
+    for (int axis = 0; axis < 2; ++axis) {
+      add(axis, -5.0, {}, all, true);
+      add(axis, 5.0, {}, all, true);
+    }
+    add(2, -2.0, {}, all, true);
+    add(2, 5.0, {}, all, true);
+    GridSpec grid;
+    grid.voxel = 0.1;
+    grid.origin = Vec3(-4.0, -4.0, -1.5);
+    grid.dims = {81, 81, 61};
+    const Vec3 x(1.5, 0.0, 1.5);
+    const std::int64_t before = counts.dropped;
+    expectObservedMethod2AsDefined(planes, grid, &counts, &x);
+    EXPECT_GT(counts.dropped, before) << "the test must drop lifts";
   }
 }
 

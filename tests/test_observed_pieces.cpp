@@ -85,6 +85,19 @@ TEST_P(BallLargerThanEveryImage, IsOneBallWithObservedPiecesAndCarvedWithWholePl
   EXPECT_GT(s["smoothing"]["voxels_decided_by_observed_pieces"].get<std::int64_t>(), 0);
   EXPECT_EQ(s["smoothing"]["surface_from"], "level_set");
   EXPECT_EQ(s["betti"], (std::vector<int>{1, 0, 0}));
+  // Method 2 on the pieces (README "Observed pieces": R'_Ω): one ball as well, within two voxels;
+  // on whole planes its lifts stop at the planes beyond the images and the ball is carved.
+  const nlohmann::json m2 = test::run(dir, "m2", "--set reconstruction.method=section_voronoi");
+  EXPECT_EQ(m2["reconstruction"]["planes"], "observed");  // the default for images
+  const nlohmann::json& counts = m2["reconstruction"]["observed_pieces"];
+  EXPECT_GT(counts["voxels_added_by_method_1"].get<std::int64_t>(), 0) << counts;
+  const nlohmann::json e2 = test::eval(dir, "m2");
+  EXPECT_EQ(e2["betti"], (std::vector<int>{1, 0, 0}));
+  EXPECT_LE(e2["hausdorff_mm"].get<double>(), 2 * 0.4) << "within two voxels of the truth";
+  test::run(dir, "m2whole", "--set reconstruction.method=section_voronoi --set reconstruction.planes=whole");
+  const nlohmann::json w2 = test::eval(dir, "m2whole");
+  EXPECT_GT(w2["hausdorff_mm"].get<double>(), 3 * e2["hausdorff_mm"].get<double>())
+      << "method 2 on whole planes: betti " << w2["betti"];
 }
 
 INSTANTIATE_TEST_SUITE_P(TwoSweeps, BallLargerThanEveryImage,
@@ -119,6 +132,13 @@ TEST(ObservedPieces, ImagesThatCoverTheObjectGiveTheWholePlanesResult) {
     EXPECT_EQ(eo["betti"], eo["truth_betti"]);
     EXPECT_NEAR(eo["hausdorff_mm"].get<double>(), ew["hausdorff_mm"].get<double>(), h);
     EXPECT_NEAR(eo["mean_distance_mm"].get<double>(), ew["mean_distance_mm"].get<double>(), h);
+    // Method 2 likewise: where the images cover the object, the lifts' balls are observed.
+    test::run(dir, "m2observed", "--set reconstruction.method=section_voronoi --set reconstruction.planes=observed");
+    test::run(dir, "m2whole", "--set reconstruction.method=section_voronoi --set reconstruction.planes=whole");
+    const nlohmann::json mo = test::eval(dir, "m2observed"), mw = test::eval(dir, "m2whole");
+    EXPECT_EQ(mo["betti"], mw["betti"]);  // (method 2 itself closes an extra tunnel of the torus)
+    EXPECT_NEAR(mo["hausdorff_mm"].get<double>(), mw["hausdorff_mm"].get<double>(), h);
+    EXPECT_NEAR(mo["mean_distance_mm"].get<double>(), mw["mean_distance_mm"].get<double>(), h);
   }
 }
 
@@ -127,13 +147,17 @@ TEST(ObservedPieces, TheSettingIsValidated) {
                                  "seed: 1\nshape: {kind: sphere, params: {radius: 5}}\npattern: {kind: multiaxial, count: 4}\n"
                                  "image: {pixel_mm: 0.25}\nconfig: {reconstruction: {voxel_size_mm: 0.5}}\n");
   test::expectRefused(dir, "reconstruction.planes=partly");
-  // Method 2 has no observed-piece form: asking for one is refused, its default is whole planes.
-  const auto r = test::runXsect("run " + (dir / "ph/config.yaml").string() + " --out " + (dir / "m2").string() +
-                          " --set reconstruction.method=section_voronoi --set reconstruction.planes=observed");
+  // Method 3 has no observed-piece form: asking for one is refused, its default is whole planes;
+  // method 2's default for images is observed pieces.
+  const auto r = test::runXsect("run " + (dir / "ph/config.yaml").string() + " --out " + (dir / "m3").string() +
+                          " --set reconstruction.method=delaunay --set reconstruction.planes=observed");
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("reconstruction.planes"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "m3" / "report.json"));
+  const nlohmann::json m3 = test::run(dir, "m3", "--set reconstruction.method=delaunay");
+  EXPECT_EQ(m3["reconstruction"]["planes"], "whole");
   const nlohmann::json m2 = test::run(dir, "m2", "--set reconstruction.method=section_voronoi");
-  EXPECT_EQ(m2["reconstruction"]["planes"], "whole");
+  EXPECT_EQ(m2["reconstruction"]["planes"], "observed");
 }
 
 }  // namespace

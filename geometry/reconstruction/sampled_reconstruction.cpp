@@ -10,7 +10,7 @@
 #include <cmath>
 
 #include "geometry/reconstruction/nearest_plane_reconstruction.h"
-#include "geometry/reconstruction/section_voronoi_reconstruction.h"
+#include "geometry/reconstruction/observed_section_voronoi.h"
 
 namespace xsect {
 
@@ -109,15 +109,21 @@ SampledReconstruction reconstructOnGrid(const SectionScene& scene,
                        v.plane_distance.data(), v.far_outside});
     }, true, progress, &scene.pieces);
   } else {
+    // Method 2; on observed pieces R'_Ω (observed_section_voronoi.h), which is R' itself when
+    // every piece is a whole plane.
     SectionVoronoiParams vp;
     vp.slab_mm = params.slab_voxels * h;
-    SectionVoronoiStatistics statistics;
-    forEachSectionVoronoiBlock(scene.planes, scene.fields, grid, vp, [&](std::int64_t b, const SectionVoronoiBlock& v) {
+    ObservedSectionVoronoiStatistics statistics;
+    forEachObservedSectionVoronoiBlock(scene.planes, scene.fields, scene.pieces, grid, vp,
+                                       [&](std::int64_t b, const SectionVoronoiBlock& v) {
       assembly.add(b, {v.value.data(), v.plane_distance.data(), v.nearest_plane.data(), v.section_plane.data(),
                        v.lift_height.data()});
     }, progress, &statistics);
-    out.exact_face_tests = statistics.exact_face_tests;
-    out.cells_clipped = statistics.cells_clipped;
+    out.exact_face_tests = statistics.voronoi.exact_face_tests;
+    out.cells_clipped = statistics.voronoi.cells_clipped;
+    out.observed_lift_voxels_kept = statistics.lift_voxels_kept;
+    out.observed_lift_voxels_dropped = statistics.lift_voxels_dropped;
+    out.observed_pieces_voxels_added = statistics.pieces_voxels_added;
   }
   out.max_lift_mm = assembly.maxLift();
   out.evaluate_seconds =

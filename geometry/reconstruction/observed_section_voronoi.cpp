@@ -1,0 +1,168 @@
+// Method 2 on observed pieces: R' where the lift's ball is observed, method 1 on the pieces
+// elsewhere (see observed_section_voronoi.h).
+#include "geometry/reconstruction/observed_section_voronoi.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <stdexcept>
+
+#include <tbb/parallel_for.h>
+
+#include "geometry/core/block_grid.h"
+#include "geometry/core/section_locator.h"
+#include "geometry/reconstruction/nearest_plane_reconstruction.h"
+
+namespace xsect {
+
+namespace {
+
+/// Method 1 on the pieces, kept by blocks (uniform blocks are tiles) until method 2's block asks.
+struct PiecesSolid {
+  BlockGrid<float> value, plane_distance;
+  BlockGrid<int> nearest_plane;
+  explicit PiecesSolid(const GridSpec& g) : value(g, 0.f), plane_distance(g, 0.f), nearest_plane(g, -1) {}
+
+  template <typename T>
+  static T read(const BlockGrid<T>& g, std::int64_t b, int q) {
+    const T* l = g.leaf(b);
+    return l ? l[q] : g.tile(b);
+  }
+};
+
+}  // namespace
+
+void forEachObservedSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
+                                        const std::vector<SectionDistanceField>& fields,
+                                        const std::vector<ObservedPiece>& pieces, const GridSpec& grid,
+                                        const SectionVoronoiParams& params,
+                                        const std::function<void(std::int64_t, const SectionVoronoiBlock&)>& visit,
+                                        const std::function<void(std::int64_t, std::int64_t)>& progress,
+                                        ObservedSectionVoronoiStatistics* statistics) {
+  if (pieces.size() != planes.size())
+    throw std::invalid_argument("method 2 on observed pieces: one piece per plane is required");
+  ObservedSectionVoronoiStatistics counts;
+  if (std::all_of(pieces.begin(), pieces.end(), [](const ObservedPiece& p) { return p.whole; })) {
+    forEachSectionVoronoiBlock(planes, fields, grid, params, visit, progress, &counts.voronoi);
+    if (statistics) *statistics = counts;
+    return;
+  }
+  PiecesSolid solid(grid);
+  forEachNearestPlaneBlock(planes, fields, grid, [&](std::int64_t b, const NearestPlaneBlock& v) {
+    solid.value.setBlock(b, v.value.data());
+    solid.plane_distance.setBlock(b, v.plane_distance.data());
+    solid.nearest_plane.setBlock(b, v.nearest_plane.data());
+  }, true, [&](std::int64_t done, std::int64_t all) { if (progress) progress(done, 2 * all); }, &pieces);
+
+  // Point location among each plane's sections, for the lifts' balls.
+  std::vector<SectionLocator> locators(planes.size());
+  tbb::parallel_for(std::size_t(0), planes.size(), [&](std::size_t p) {
+    if (!planes[p].sections.empty()) locators[p] = SectionLocator(planes[p].sections);
+  });
+  std::atomic<std::int64_t> kept{0}, dropped{0}, added{0};
+  const auto combine = [&](std::int64_t b, const SectionVoronoiBlock& m2) {
+    constexpr int kN = SectionVoronoiBlock::kVoxels;
+    SectionVoronoiBlock out;
+    const auto origin = solid.value.blockOrigin(b);
+    // The planes that may meet the ball of a voxel of the block whose lift must be checked: within
+    // the largest such lift of the block's centre, plus the block's half diagonal.
+    float hmax = -1;
+    for (int q = 0; q < kN; ++q)
+      if (m2.value[std::size_t(q)] < 0 && !(PiecesSolid::read(solid.value, b, q) < 0))
+        hmax = std::max(hmax, m2.lift_height[std::size_t(q)]);
+    std::vector<int> near, nearSections;  // planes not observed everywhere / with sections
+    if (hmax >= 0) {
+      const Vec3 lo = grid.centre(origin[0], origin[1], origin[2]);
+      const Vec3 half = Vec3::Constant(0.5 * (BlockGrid<float>::kSide - 1) * grid.voxel);
+      const Vec3 c = lo + half;
+      for (std::size_t p = 0; p < planes.size(); ++p) {
+        const Plane& P = planes[p].plane;
+        if (std::abs(P.signedDistance(c)) - P.normal.cwiseAbs().dot(half) > double(hmax) * (1 + 1e-9)) continue;
+        if (!pieces[p].whole) near.push_back(int(p));
+        if (!planes[p].sections.empty()) nearSections.push_back(int(p));
+      }
+    }
+    // Every plane within h of x is observed over its disc of B(x, h).
+    const auto ballObserved = [&](const Vec3& x, double h) {
+      for (const int p : near) {
+        const Plane& P = planes[std::size_t(p)].plane;
+        const double s = std::abs(P.signedDistance(x));
+        if (s > h * (1 + 1e-9)) continue;
+        const Vec2 at = P.toPlane(x);
+        if (!covers(pieces[std::size_t(p)], at.x(), at.y(), std::sqrt(std::max(0.0, h * h - s * s)))) return false;
+      }
+      return true;
+    };
+    // No section point but the lift's own foot lies within h of x: no plane other than the lift's
+    // has a section within its disc of B(x, h) (exact distances to the polygons).
+    const auto noOtherSectionWithin = [&](const Vec3& x, double h, int lifted) {
+      for (const int p : nearSections) {
+        if (p == lifted) continue;
+        const Plane& P = planes[std::size_t(p)].plane;
+        const double s = std::abs(P.signedDistance(x));
+        if (s >= h) continue;
+        const Vec2 at = P.toPlane(x);
+        const double r = std::sqrt(h * h - s * s);
+        const SectionLocator& L = locators[std::size_t(p)];
+        if (L.boxBound(at) >= r) continue;
+        if (L.holding(at) >= 0 || L.nearestContour(at).d < r) return false;
+      }
+      return true;
+    };
+    const int side = BlockGrid<float>::kSide;
+    for (int q = 0; q < kN; ++q) {
+      const std::size_t u = std::size_t(q);
+      const float v1 = PiecesSolid::read(solid.value, b, q);
+      out.plane_distance[u] = PiecesSolid::read(solid.plane_distance, b, q);
+      out.nearest_plane[u] = PiecesSolid::read(solid.nearest_plane, b, q);
+      bool lift = false;
+      if (m2.value[u] < 0 && !(v1 < 0)) {
+        // x ∈ R' \ R_Ω: kept when, within B(x, h(x)), every plane is observed or no section point
+        // but the lift's foot lies (observed_section_voronoi.h).
+        const int i = origin[0] + q % side, j = origin[1] + (q / side) % side, kk = origin[2] + q / (side * side);
+        const Vec3 x = grid.centre(i, j, kk);
+        const double h = m2.lift_height[u];
+        lift = ballObserved(x, h) || noOtherSectionWithin(x, h, m2.section_plane[u]);
+      }
+      if (lift) {
+        out.value[u] = m2.value[u];
+        out.section_plane[u] = m2.section_plane[u];
+        out.lift_height[u] = m2.lift_height[u];
+      } else {
+        out.value[u] = v1;
+        out.section_plane[u] = v1 < 0 ? out.nearest_plane[u] : -1;
+        out.lift_height[u] = v1 < 0 ? out.plane_distance[u] : 0.f;
+      }
+    }
+    // Voxels beyond the grid repeat the block's first (a block uniform within the grid stays a tile).
+    forEachBeyondGrid(grid, origin, [&](int o) {
+      const std::size_t u = std::size_t(o);
+      out.value[u] = out.value[0];
+      out.plane_distance[u] = out.plane_distance[0];
+      out.nearest_plane[u] = out.nearest_plane[0];
+      out.section_plane[u] = out.section_plane[0];
+      out.lift_height[u] = out.lift_height[0];
+    });
+    std::int64_t k = 0, d = 0, a = 0;
+    if (hmax >= 0 || solid.value.isLeaf(b) || solid.value.tile(b) < 0)
+      forEachVoxelOfBlock(grid, origin, [&](int, int, int, int q) {
+        const std::size_t u = std::size_t(q);
+        const bool in2 = m2.value[u] < 0, in1 = PiecesSolid::read(solid.value, b, q) < 0;
+        if (in2 && !in1) (out.value[u] < 0 ? k : d) += 1;
+        if (in1 && !in2) ++a;
+      });
+    kept += k;
+    dropped += d;
+    added += a;
+    visit(b, out);
+  };
+  forEachSectionVoronoiBlock(planes, fields, grid, params, combine,
+                             [&](std::int64_t done, std::int64_t all) { if (progress) progress(all + done, 2 * all); },
+                             &counts.voronoi);
+  counts.lift_voxels_kept = kept;
+  counts.lift_voxels_dropped = dropped;
+  counts.pieces_voxels_added = added;
+  if (statistics) *statistics = counts;
+}
+
+}  // namespace xsect
