@@ -216,21 +216,16 @@ TEST(Method2, ContainsMethod1VoxelByVoxel) {  // Theorem 18: R ⊆ R'
   }
 }
 
-// Method 2 on observed pieces (README "Observed pieces"): every voxel as the definition says,
-// R'_Ω = R_Ω ∪ {x ∈ R' : within B(x, h(x)) every plane is observed, or no section point but the
-// lift's foot lies}, with R' and R_Ω evaluated on their own, the ball's planes checked by points of
-// each disc's rim and its sections by exact distances to the polygons; the
-// shells' planes cut down to random image rectangles, so that lifts are kept, lifts are dropped
-// and method 1's voxels on the pieces are added. With whole pieces it is method 2 itself.
 namespace {
 
 struct ObservedLiftCounts {
   std::int64_t kept = 0, dropped = 0, added = 0;
+  std::int64_t kept_by_observed_ball = 0, kept_alone = 0;  ///< which condition kept them (the first that holds)
 };
 
 /// Compares R'_Ω on `planes` (their extents the pieces) with its definition voxel by voxel, and
-/// with R' on whole pieces; adds its lift counts to *counts. `dropped_at`: a point whose voxel
-/// must be a dropped lift (R' \ R_Ω, not in R'_Ω), or none.
+/// with R' on whole pieces and on pieces that cover every ball; adds its lift counts to *counts.
+/// `dropped_at`: a point whose voxel must be a dropped lift (R' \ R_Ω, not in R'_Ω), or none.
 void expectObservedMethod2AsDefined(const std::vector<CuttingPlane>& planes, const GridSpec& grid,
                                     ObservedLiftCounts* counts, const Vec3* dropped_at = nullptr) {
   const auto fields = rasters(planes, 0.1);
@@ -255,9 +250,16 @@ void expectObservedMethod2AsDefined(const std::vector<CuttingPlane>& planes, con
         const std::size_t q = std::size_t(grid.index(i, j, k));
         const Vec3 x = grid.centre(i, j, k);
         const bool in1 = r1.value.values[q] < 0, in2 = r2.value.values[q] < 0;
+        const int A = r2.section_plane[q];
+        bool foot = in2 && A >= 0;
+        if (foot) {  // x's projection on the lift's plane is observed
+          const Vec2 c = planes[std::size_t(A)].plane.toPlane(x);
+          double na, nb;
+          foot = pieces[std::size_t(A)].distance(c.x(), c.y(), &na, &nb) == 0;
+        }
         // Every plane within h observed over its disc of B(x, h): the rim at every 22.5° (a
         // rectangle's extremes among them).
-        bool ball = in2;
+        bool ball = foot;
         const double h = r2.lift_height[q];
         for (std::size_t p = 0; ball && p < planes.size(); ++p) {
           const double s = std::abs(planes[p].plane.signedDistance(x));
@@ -272,9 +274,9 @@ void expectObservedMethod2AsDefined(const std::vector<CuttingPlane>& planes, con
         }
         // ... or no section point but the lift's foot within B(x, h): distances to the polygons
         // (a section within 1e-9 mm of the ball is a tie either answer may take).
-        bool alone = in2, tie = false;
-        for (std::size_t p = 0; in2 && !ball && p < planes.size(); ++p) {
-          if (int(p) == r2.section_plane[q] || planes[p].sections.empty()) continue;
+        bool alone = foot, tie = false;
+        for (std::size_t p = 0; foot && !ball && p < planes.size(); ++p) {
+          if (int(p) == A || planes[p].sections.empty()) continue;
           const double s = std::abs(planes[p].plane.signedDistance(x));
           if (s >= h) continue;
           const double r = std::sqrt(h * h - s * s);
@@ -287,6 +289,8 @@ void expectObservedMethod2AsDefined(const std::vector<CuttingPlane>& planes, con
         here.kept += in2 && !in1 && value[q] < 0;
         here.dropped += in2 && !in1 && !(value[q] < 0);
         here.added += in1 && !in2;
+        here.kept_by_observed_ball += in2 && !in1 && ball && value[q] < 0;
+        here.kept_alone += in2 && !in1 && !ball && alone && value[q] < 0;
       }
   EXPECT_EQ(mismatches, 0);
   EXPECT_EQ(st.lift_voxels_kept, here.kept);
@@ -295,30 +299,45 @@ void expectObservedMethod2AsDefined(const std::vector<CuttingPlane>& planes, con
   counts->kept += here.kept;
   counts->dropped += here.dropped;
   counts->added += here.added;
+  counts->kept_by_observed_ball += here.kept_by_observed_ball;
+  counts->kept_alone += here.kept_alone;
   if (dropped_at) {
     const Vec3 f = (*dropped_at - grid.origin) / grid.voxel;
     const std::size_t q = std::size_t(grid.index(int(std::lround(f.x())), int(std::lround(f.y())), int(std::lround(f.z()))));
     EXPECT_TRUE(r2.value.values[q] < 0 && !(r1.value.values[q] < 0) && !(value[q] < 0))
         << "R' " << r2.value.values[q] << ", R_Ω " << r1.value.values[q] << ", R'_Ω " << value[q];
   }
-  // Whole pieces: R' itself, value for value.
+  // Whole pieces: R' itself, value for value; pieces that cover every ball (rectangles 100 mm
+  // across, the general path): R' voxel for voxel.
   const std::vector<ObservedPiece> whole = observedPieces(planes, false);
-  std::int64_t differ = 0;
+  std::vector<CuttingPlane> covering = planes;
+  for (CuttingPlane& p : covering)
+    if (!p.is_virtual) p.extent = {Vec2(-50, -50), Vec2(50, 50)};
+  const std::vector<ObservedPiece> large = observedPieces(covering, true);
+  ASSERT_FALSE(large[0].whole);
+  std::int64_t differ = 0, differLarge = 0;
   forEachObservedSectionVoronoiBlock(planes, fields, whole, grid, vp, [&](std::int64_t b, const SectionVoronoiBlock& v) {
     forEachVoxelOfBlock(grid, numbering.blockOrigin(b), [&](int i, int j, int k, int o) {
       differ += v.value[std::size_t(o)] != r2.value.values[std::size_t(grid.index(i, j, k))];
     });
   });
+  forEachObservedSectionVoronoiBlock(planes, fields, large, grid, vp, [&](std::int64_t b, const SectionVoronoiBlock& v) {
+    forEachVoxelOfBlock(grid, numbering.blockOrigin(b), [&](int i, int j, int k, int o) {
+      differLarge += (v.value[std::size_t(o)] < 0) != (r2.value.values[std::size_t(grid.index(i, j, k))] < 0);
+    });
+  });
   EXPECT_EQ(differ, 0);
+  EXPECT_EQ(differLarge, 0);
 }
 
 }  // namespace
 
 // Method 2 on observed pieces (README "Observed pieces"): every voxel as the definition says,
-// R'_Ω = R_Ω ∪ {x ∈ R' : within B(x, h(x)) every plane is observed, or no section point but the
-// lift's foot lies}, with R' and R_Ω evaluated on their own. Shells cut by planes cut down to
-// random image rectangles keep lifts and add method 1's voxels; a lift towards a section behind a
-// plane observed only in part is dropped. With whole pieces it is method 2 itself.
+// R'_Ω = R_Ω ∪ {x ∈ R' : the lift's foot observed, and within B(x, h(x)) every plane observed or
+// no section point but the foot}, with R' and R_Ω evaluated on their own. Shells cut by planes cut
+// down to random image rectangles keep lifts by either condition, drop lifts and add method 1's
+// voxels; a lift towards a section behind a plane observed only in part is dropped. With whole
+// pieces, or pieces that cover every ball, it is method 2 itself.
 TEST(Method2, OnObservedPiecesEqualsItsDefinition) {
   std::mt19937_64 rng(23);
   std::uniform_real_distribution<double> size(1.0, 9.0);
@@ -332,7 +351,9 @@ TEST(Method2, OnObservedPiecesEqualsItsDefinition) {
     }
     expectObservedMethod2AsDefined(planes, testGrid(0.4, 40), &counts);
   }
-  EXPECT_GT(counts.kept, 0) << "the test must keep lifts";
+  EXPECT_GT(counts.kept_by_observed_ball, 0) << "the test must keep lifts whose ball is observed";
+  EXPECT_GT(counts.kept_alone, 0) << "the test must keep lifts whose ball holds no other section";
+  EXPECT_GT(counts.dropped, 0) << "the test must drop lifts";
   EXPECT_GT(counts.added, 0) << "the test must add method 1's voxels";
   // A disc on z = 0; above it a plane z = 2 without section observed only for x <= 0; beyond it a
   // small disc on z = 2.6 at x = 2.5. At (1.5, 0, 1.5) method 2 on whole planes lifts the lower

@@ -82,6 +82,13 @@ void forEachObservedSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
         if (!planes[p].sections.empty()) nearSections.push_back(int(p));
       }
     }
+    // The lift's foot p, x's projection on the lift's plane A, lies in Ω_A (then it is also the
+    // nearest point of Ω_A to x).
+    const auto footObserved = [&](const Vec3& x, int A) {
+      const Vec2 at = planes[std::size_t(A)].plane.toPlane(x);
+      double na, nb;
+      return pieces[std::size_t(A)].distance(at.x(), at.y(), &na, &nb) == 0;
+    };
     // Every plane within h of x is observed over its disc of B(x, h).
     const auto ballObserved = [&](const Vec3& x, double h) {
       for (const int p : near) {
@@ -122,7 +129,8 @@ void forEachObservedSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
         const int i = origin[0] + q % side, j = origin[1] + (q / side) % side, kk = origin[2] + q / (side * side);
         const Vec3 x = grid.centre(i, j, kk);
         const double h = m2.lift_height[u];
-        lift = ballObserved(x, h) || noOtherSectionWithin(x, h, m2.section_plane[u]);
+        const int A = m2.section_plane[u];
+        lift = A >= 0 && footObserved(x, A) && (ballObserved(x, h) || noOtherSectionWithin(x, h, A));
       }
       if (lift) {
         out.value[u] = m2.value[u];
@@ -132,6 +140,9 @@ void forEachObservedSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
         out.value[u] = v1;
         out.section_plane[u] = v1 < 0 ? out.nearest_plane[u] : -1;
         out.lift_height[u] = v1 < 0 ? out.plane_distance[u] : 0.f;
+        // Method 2's outside evidence where no plane's sections reach x by projection (nearest
+        // plane -1, section_voronoi_reconstruction.cpp) stands where x stays outside.
+        if (m2.nearest_plane[u] < 0 && !(v1 < 0)) out.nearest_plane[u] = -1;
       }
     }
     // Voxels beyond the grid repeat the block's first (a block uniform within the grid stays a tile).

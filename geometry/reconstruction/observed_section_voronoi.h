@@ -5,16 +5,17 @@
 // xsect computes, h(x) = d(x, np'(x)) being the height of x on its lift (method 2 on whole planes,
 // section_voronoi_reconstruction.h) and R_Ω method 1 on the pieces (nearest_plane_reconstruction.h):
 //
-//     R'_Ω = R_Ω ∪ { x ∈ R' : within B(x, h(x)) every cutting plane is observed (Q ∩ B(x, h(x))
-//                             ⊆ Ω_Q for every Q), or no section point but x's projection p lies }.
+//     R'_Ω = R_Ω ∪ { x ∈ R' : p ∈ Ω_A, and within B(x, h(x)) every cutting plane is observed
+//                             (Q ∩ B(x, h(x)) ⊆ Ω_Q for every Q) or no section point but p lies },
+// p being x's projection on the plane A of the section whose lift holds x.
 //
 // Why: Def. 27-28 with each plane replaced by its piece (visibility through pieces, the nearest
 // point of Ω_P for the projection) keeps such an x in R'. On a ball where every plane is observed
 // the pieces and the planes coincide, so the section points visible from x within h(x) are the
 // same (a segment from x shorter than h(x) crosses Q inside B(x, h(x)), where Q is observed). On a
 // ball that holds no section point but p, whatever the pieces reveal lies farther than p. In both
-// cases p, visible and in a section, is the nearest visible section point, and the nearest point
-// of Ω_P to x. Otherwise a lift would pass where some plane was not observed, towards sections the
+// cases p, visible and in a section, is the nearest visible section point, and (as p ∈ Ω_A) the
+// nearest point of Ω_A to x. Otherwise a lift would pass where some plane was not observed, towards sections the
 // pieces may reveal; it is not followed, and x is decided by method 1 on the pieces instead
 // (beyond the images the nearest piece's sections extend). With every piece whole, R_Ω = R ⊆ R'
 // (Theorem 18) and every ball qualifies: R'_Ω = R', and this function is
@@ -42,8 +43,12 @@ struct ObservedSectionVoronoiStatistics {
 /// the polygons. Values of a voxel of R' kept by its ball are method 2's
 /// (value, deciding section's plane, lift height); every other voxel has method 1's values on the
 /// pieces (section plane: the nearest piece's plane for voxels of R_Ω, -1 outside). The distance
-/// and nearest plane are the pieces' (method 1's) for every voxel: the repair's evidence next to a
-/// plane is taken only where the plane was observed. Deterministic whatever the thread count.
+/// and nearest plane are the pieces' (method 1's) for every voxel, so the repair's evidence next to
+/// a plane is taken only where the plane was observed; method 2's nearest plane -1 (no plane's
+/// sections reach x by projection: outside evidence) is kept where x stays outside. Memory: method
+/// 1's values on the pieces are kept for the grid (about 12 B per voxel in blocks the boundary or
+/// the planes' bisectors pass through) until method 2 has run. Deterministic whatever the thread
+/// count.
 void forEachObservedSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
                                         const std::vector<SectionDistanceField>& fields,
                                         const std::vector<ObservedPiece>& pieces, const GridSpec& grid,
