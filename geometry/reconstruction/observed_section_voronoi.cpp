@@ -146,14 +146,7 @@ void forEachObservedSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
       }
     }
     // Voxels beyond the grid repeat the block's first (a block uniform within the grid stays a tile).
-    forEachBeyondGrid(grid, origin, [&](int o) {
-      const std::size_t u = std::size_t(o);
-      out.value[u] = out.value[0];
-      out.plane_distance[u] = out.plane_distance[0];
-      out.nearest_plane[u] = out.nearest_plane[0];
-      out.section_plane[u] = out.section_plane[0];
-      out.lift_height[u] = out.lift_height[0];
-    });
+    repeatFirstBeyondGrid(grid, origin, out);
     std::int64_t k = 0, d = 0, a = 0;
     if (hmax >= 0 || solid.value.isLeaf(b) || solid.value.tile(b) < 0)
       forEachVoxelOfBlock(grid, origin, [&](int, int, int, int q) {

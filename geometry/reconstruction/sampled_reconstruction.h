@@ -50,8 +50,9 @@ struct SampledReconstruction {
   SolidStorage storage;
   std::int64_t exact_face_tests = 0;   ///< method 2 statistics
   std::int64_t cells_clipped = 0;
-  /// Method 2 on observed pieces (observed_section_voronoi.h): voxels of R' \ R_Ω kept (their
-  /// lift's ball observed) and dropped, and voxels of R_Ω \ R' added. Zero on whole planes.
+  /// Method 2 on observed pieces (observed_section_voronoi.h): voxels of R' \ R_Ω kept (foot
+  /// observed, ball observed or holding no other section) and dropped, and voxels of R_Ω \ R'
+  /// added. Zero on whole planes.
   std::int64_t observed_lift_voxels_kept = 0;
   std::int64_t observed_lift_voxels_dropped = 0;
   std::int64_t observed_pieces_voxels_added = 0;

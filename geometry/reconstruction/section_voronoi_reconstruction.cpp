@@ -884,16 +884,8 @@ void forEachSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
             for (int dx = 0; dx < kOut; dx += kBlock) doBlock(ib + dx, jb + dy, kb + dz, work);
         cellsClipped += work.cells.clipped();
         // Voxels beyond the grid repeat the block's first.
-        SectionVoronoiBlock& v = work.out;
-        forEachBeyondGrid(grid, {ib, jb, kb}, [&](int o) {
-          const std::size_t q = std::size_t(o);
-          v.value[q] = v.value[0];
-          v.plane_distance[q] = v.plane_distance[0];
-          v.nearest_plane[q] = v.nearest_plane[0];
-          v.section_plane[q] = v.section_plane[0];
-          v.lift_height[q] = v.lift_height[0];
-        });
-        visitBlock(b, v);
+        repeatFirstBeyondGrid(grid, {ib, jb, kb}, work.out);
+        visitBlock(b, work.out);
       }
       exact += work.w.exact;
     });

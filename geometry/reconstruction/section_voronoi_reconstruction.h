@@ -83,6 +83,19 @@ struct SectionVoronoiBlock {
   std::array<int, kVoxels> nearest_plane, section_plane;
 };
 
+/// Sets the voxels of `block` (its first voxel at `origin`) that lie beyond the grid to its first
+/// voxel's values, so that a block uniform within the grid is uniform.
+inline void repeatFirstBeyondGrid(const GridSpec& grid, const std::array<int, 3>& origin, SectionVoronoiBlock& block) {
+  forEachBeyondGrid(grid, origin, [&](int o) {
+    const std::size_t q = std::size_t(o);
+    block.value[q] = block.value[0];
+    block.plane_distance[q] = block.plane_distance[0];
+    block.nearest_plane[q] = block.nearest_plane[0];
+    block.section_plane[q] = block.section_plane[0];
+    block.lift_height[q] = block.lift_height[0];
+  });
+}
+
 struct SectionVoronoiStatistics {
   std::int64_t exact_face_tests = 0;
   std::int64_t cells_clipped = 0;
