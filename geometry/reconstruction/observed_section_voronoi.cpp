@@ -22,12 +22,6 @@ struct PiecesSolid {
   BlockGrid<float> value, plane_distance;
   BlockGrid<int> nearest_plane;
   explicit PiecesSolid(const GridSpec& g) : value(g, 0.f), plane_distance(g, 0.f), nearest_plane(g, -1) {}
-
-  template <typename T>
-  static T read(const BlockGrid<T>& g, std::int64_t b, int q) {
-    const T* l = g.leaf(b);
-    return l ? l[q] : g.tile(b);
-  }
 };
 
 }  // namespace
@@ -61,15 +55,15 @@ void forEachObservedSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
   });
   std::atomic<std::int64_t> kept{0}, dropped{0}, added{0};
   const auto combine = [&](std::int64_t b, const SectionVoronoiBlock& m2) {
-    constexpr int kN = SectionVoronoiBlock::kVoxels;
     SectionVoronoiBlock out;
     const auto origin = solid.value.blockOrigin(b);
     // The planes that may meet the ball of a voxel of the block whose lift must be checked: within
     // the largest such lift of the block's centre, plus the block's half diagonal.
     float hmax = -1;
-    for (int q = 0; q < kN; ++q)
-      if (m2.value[std::size_t(q)] < 0 && !(PiecesSolid::read(solid.value, b, q) < 0))
+    forEachVoxelOfBlock(grid, origin, [&](int i, int j, int k, int q) {
+      if (m2.value[std::size_t(q)] < 0 && !(solid.value.at(i, j, k) < 0))
         hmax = std::max(hmax, m2.lift_height[std::size_t(q)]);
+    });
     std::vector<int> near, nearSections;  // planes not observed everywhere / with sections
     if (hmax >= 0) {
       const Vec3 lo = grid.centre(origin[0], origin[1], origin[2]);
@@ -116,45 +110,39 @@ void forEachObservedSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
       }
       return true;
     };
-    const int side = BlockGrid<float>::kSide;
-    for (int q = 0; q < kN; ++q) {
+    std::int64_t k = 0, d = 0, a = 0;
+    forEachVoxelOfBlock(grid, origin, [&](int i, int j, int kk, int q) {
       const std::size_t u = std::size_t(q);
-      const float v1 = PiecesSolid::read(solid.value, b, q);
-      out.plane_distance[u] = PiecesSolid::read(solid.plane_distance, b, q);
-      out.nearest_plane[u] = PiecesSolid::read(solid.nearest_plane, b, q);
+      const float v1 = solid.value.at(i, j, kk);
+      out.plane_distance[u] = solid.plane_distance.at(i, j, kk);
+      out.nearest_plane[u] = solid.nearest_plane.at(i, j, kk);
+      const bool in1 = v1 < 0, in2 = m2.value[u] < 0;
       bool lift = false;
-      if (m2.value[u] < 0 && !(v1 < 0)) {
-        // x ∈ R' \ R_Ω: kept when, within B(x, h(x)), every plane is observed or no section point
-        // but the lift's foot lies (observed_section_voronoi.h).
-        const int i = origin[0] + q % side, j = origin[1] + (q / side) % side, kk = origin[2] + q / (side * side);
+      if (in2 && !in1) {
+        // x ∈ R' \ R_Ω: kept when its foot is observed and, within B(x, h(x)), every plane is
+        // observed or no section point but the foot lies (observed_section_voronoi.h).
         const Vec3 x = grid.centre(i, j, kk);
         const double h = m2.lift_height[u];
         const int A = m2.section_plane[u];
         lift = A >= 0 && footObserved(x, A) && (ballObserved(x, h) || noOtherSectionWithin(x, h, A));
+        (lift ? k : d) += 1;
       }
+      a += in1 && !in2;
       if (lift) {
         out.value[u] = m2.value[u];
         out.section_plane[u] = m2.section_plane[u];
         out.lift_height[u] = m2.lift_height[u];
       } else {
         out.value[u] = v1;
-        out.section_plane[u] = v1 < 0 ? out.nearest_plane[u] : -1;
-        out.lift_height[u] = v1 < 0 ? out.plane_distance[u] : 0.f;
+        out.section_plane[u] = in1 ? out.nearest_plane[u] : -1;
+        out.lift_height[u] = in1 ? out.plane_distance[u] : 0.f;
         // Method 2's outside evidence where no plane's sections reach x by projection (nearest
         // plane -1, section_voronoi_reconstruction.cpp) stands where x stays outside.
-        if (m2.nearest_plane[u] < 0 && !(v1 < 0)) out.nearest_plane[u] = -1;
+        if (m2.nearest_plane[u] < 0 && !in1) out.nearest_plane[u] = -1;
       }
-    }
+    });
     // Voxels beyond the grid repeat the block's first (a block uniform within the grid stays a tile).
     repeatFirstBeyondGrid(grid, origin, out);
-    std::int64_t k = 0, d = 0, a = 0;
-    if (hmax >= 0 || solid.value.isLeaf(b) || solid.value.tile(b) < 0)
-      forEachVoxelOfBlock(grid, origin, [&](int, int, int, int q) {
-        const std::size_t u = std::size_t(q);
-        const bool in2 = m2.value[u] < 0, in1 = PiecesSolid::read(solid.value, b, q) < 0;
-        if (in2 && !in1) (out.value[u] < 0 ? k : d) += 1;
-        if (in1 && !in2) ++a;
-      });
     kept += k;
     dropped += d;
     added += a;
