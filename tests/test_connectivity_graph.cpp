@@ -47,6 +47,64 @@ std::vector<CuttingPlane> boxAround(double half) {
 
 }  // namespace
 
+/// `count` planes through the line {centre + t axis}, at evenly spread angles about it, cutting the
+/// ball of `radius` about the origin.
+std::vector<CuttingPlane> fanOfPlanes(int count, const Vec3& centre, const Vec3& axis, double radius) {
+  const Vec3 d = axis.normalized(), e = d.unitOrthogonal(), f = d.cross(e);
+  std::vector<CuttingPlane> planes;
+  for (int i = 0; i < count; ++i) {
+    const double a = M_PI * (i + 0.13) / count;
+    CuttingPlane cp;
+    cp.slice = i;
+    cp.plane.u = std::cos(a) * e + std::sin(a) * f;
+    cp.plane.v = d;
+    cp.plane.normal = cp.plane.u.cross(d);
+    cp.plane.origin = centre;
+    cp.sections = test::shellSections(cp.plane, Vec3::Zero(), radius, 0, 200);
+    planes.push_back(cp);
+  }
+  return planes;
+}
+
+// Method 3 needs general position along the sections (pipeline/arrange_stage.cpp refuses it
+// otherwise): the arrangement counts contour crossings lying on three planes of one pencil. A fan
+// through the ball: every plane's contour crosses the axis twice, on all the other planes at once.
+// The same fan with its axis beside the ball, random planes, a plane listed twice, and planes on a
+// lattice meeting three at a point on the contours: none.
+TEST(SectionArrangement, CountsContourCrossingsOnAPencilOfPlanes) {
+  std::mt19937_64 rng(17);
+  std::normal_distribution<double> g(0, 1);
+  for (int trial = 0; trial < 6; ++trial) {
+    const int n = 5 + 3 * trial;
+    const Vec3 axis(g(rng), g(rng), g(rng)), off = 2.0 * Vec3(g(rng), g(rng), g(rng)).cross(axis).normalized();
+    const SectionArrangement fan = arrangeSections(fanOfPlanes(n, off, axis, 10), 0.5);
+    EXPECT_EQ(fan.pencil_crossings, 2 * n * (n - 1)) << "trial " << trial;  // two per plane pair, on each plane
+    EXPECT_NE(fan.pencil_planes[2], -1);
+    const SectionArrangement beside = arrangeSections(fanOfPlanes(n, 6.0 * off, axis, 10), 0.5);
+    EXPECT_EQ(beside.pencil_crossings, 0) << "axis 12 mm off the centre of a ball of radius 10";
+    std::vector<CuttingPlane> random = test::randomShellPlanes(5 * n, rng, Vec3::Zero(), 8, 10, 4);
+    random.push_back(random.front());
+    const SectionArrangement r = arrangeSections(random, 0.5);
+    EXPECT_GT(r.trace_points, 0);
+    EXPECT_EQ(r.pencil_crossings, 0);
+    EXPECT_EQ(r.pencil_planes[0], -1);
+  }
+  // Planes x, y, z = integers: contours of the ball of radius sqrt(3) pass through (1, 1, 1), where
+  // three planes meet in a point (not a line).
+  std::vector<CuttingPlane> lattice;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int t = -1; t <= 1; ++t) {
+      CuttingPlane cp;
+      cp.slice = int(lattice.size());
+      cp.plane = test::axisPlane(axis, t);
+      cp.sections = test::shellSections(cp.plane, Vec3::Zero(), std::sqrt(3.0), 0, 360);
+      lattice.push_back(cp);
+    }
+  const SectionArrangement l = arrangeSections(lattice, 0.25);
+  EXPECT_GT(l.trace_points, 0);
+  EXPECT_EQ(l.pencil_crossings, 0);
+}
+
 TEST(SectionArrangement, CellsOfAStackAndOfAStackCutAcross) {
   std::vector<CuttingPlane> planes = {diskPlane(2, 0, 2), diskPlane(2, 1, 2), diskPlane(2, 2, 2)};
   for (auto& p : boxAround(5)) planes.push_back(p);

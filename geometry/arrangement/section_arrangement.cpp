@@ -57,6 +57,33 @@ struct PointKeys {
   Key minusAlt, plusAlt;  // trace points: the same, on the negative side of their trace's plane
 };
 
+/// Trace points on a third plane of the same pencil (SectionArrangement::pencil_crossings).
+struct PencilCrossings {
+  int count = 0;
+  std::array<int, 3> example{-1, -1, -1};
+};
+
+/// Whether trace point w of plane i on plane t's trace also lies on a third plane j of the pencil
+/// through their common line: |d_j(w)| within 1e-9 of the section's size plus w's coordinates (the
+/// rounding of a trace point is about 1e-15 of them; a contour crossing that near a third plane by
+/// chance is as unlikely), and the three normals coplanar (1e-9: planes through one line; planes
+/// meeting in a point, such as the three axes' planes on a pixel grid, are not a pencil), j not
+/// parallel to i or t (a plane listed twice is a coincidence, not a pencil).
+void notePencilCrossing(const std::vector<CuttingPlane>& planes, std::size_t i, std::size_t t,
+                        const std::vector<std::size_t>& crossing, const Vec3& w, double sectionRadius,
+                        PencilCrossings& out) {
+  const Vec3 ni = planes[i].plane.normal, nt = planes[t].plane.normal, line = ni.cross(nt);
+  const double tol = 1e-9 * (sectionRadius + w.cwiseAbs().maxCoeff());
+  for (const std::size_t j : crossing) {
+    if (j == t) continue;
+    const Vec3 nj = planes[j].plane.normal;
+    if (std::abs(planes[j].plane.signedDistance(w)) > tol || std::abs(line.dot(nj)) > 1e-9) continue;
+    if (nj.cross(ni).norm() <= 1e-6 || nj.cross(nt).norm() <= 1e-6) continue;
+    if (out.count++ == 0) out.example = {int(i), int(t), int(j)};
+    return;
+  }
+}
+
 struct KeyHash {
   std::size_t operator()(const Key& k) const { return std::size_t(k.first); }  // already random bits
 };
@@ -85,6 +112,7 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
   // Points of each plane's sections, and their keys, computed per plane in parallel.
   std::vector<std::vector<SectionPoint>> pts(k);
   std::vector<std::vector<PointKeys>> keys(k);
+  std::vector<PencilCrossings> pencils(k);
   tbb::parallel_for(std::size_t(0), k, [&](std::size_t i) {
     const CuttingPlane& cp = planes[i];
     auto& P = pts[i];
@@ -94,6 +122,7 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
     // points x planes.
     std::vector<std::vector<std::size_t>> crossingOf(cp.sections.size());
     std::vector<Key> baseOf(cp.sections.size(), Key{0, 0});
+    std::vector<double> sectionRadius(cp.sections.size(), 0.0);
     for (std::size_t s = 0; s < cp.sections.size(); ++s) {
       const Section& sec = cp.sections[s];
       // Planes that may cross the section: those nearer to its bounding disk's centre than its
@@ -104,6 +133,7 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
       const Vec2 lo = box.min(), hi = box.max();
       const Vec3 centre = cp.plane.toWorld(box.center());
       const double radius = 0.5 * box.diagonal().norm() * (1 + 1e-9) + 1e-9;
+      sectionRadius[s] = radius;
       std::vector<std::size_t>& crossing = crossingOf[s];
       Key& base = baseOf[s];
       for (std::size_t j = 0; j < k; ++j) {
@@ -187,6 +217,9 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
       const Vec3 w = cp.plane.toWorld(P[q].p);
       const std::size_t sec = std::size_t(P[q].section);
       std::uint64_t ha = baseOf[sec].first, hb = baseOf[sec].second;
+      if (P[q].trace_plane >= 0)
+        notePencilCrossing(planes, i, std::size_t(P[q].trace_plane), crossingOf[sec], w, sectionRadius[sec],
+                           pencils[i]);
       for (const std::size_t j : crossingOf[sec]) {
         // On another plane (trace points by construction, or vertices lying exactly on it): the
         // point bounds the cells on both sides; keys are made for the positive side (and, for a
@@ -240,6 +273,10 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
       }
       out.points.push_back(sp);
     }
+  for (const PencilCrossings& pc : pencils) {  // in plane order: the example does not depend on threads
+    if (out.pencil_crossings == 0 && pc.count > 0) out.pencil_planes = pc.example;
+    out.pencil_crossings += pc.count;
+  }
   out.cells = int(cellOf.size());
   out.keys = std::move(cellKeys);
   return out;

@@ -54,6 +54,12 @@ struct SectionArrangement {
   std::vector<SubSection> sub_sections;
   std::vector<SectionPoint> points;  ///< in plane, section, then point order
   int trace_points = 0;              ///< contour points added on traces of other planes
+  /// Trace points that also lie, up to rounding, on a third plane through the same line (a fan's
+  /// axis crossing the sections): three or more planes of one pencil meet there, which the thesis'
+  /// general position excludes (ch. 3 §2.4). Each is a crossing where the sign vectors against those
+  /// planes are decided by rounding alone. `pencil_planes` is one such triple (-1: none).
+  int pencil_crossings = 0;
+  std::array<int, 3> pencil_planes{-1, -1, -1};
   double sample_spacing_mm = 0;
   std::shared_ptr<const CellKeys> keys;  ///< for cellsAround
 };
