@@ -170,6 +170,8 @@ json graphSummaryJson(const RunResults& r) {
           {"pairs_joined_by_voxels_only", g.pairs_joined_by_voxels_only},
           {"sections_not_located", g.sections_unlocated},
           {"per_cell", cellsJson(r.reconstruction.cell_check)}};
+  // Observed pieces: cells that lifts join through unobserved parts of faces are not compared.
+  j["per_cell"]["cells_left_through_unobserved_faces"] = a.graphs.cells_left_through_unobserved.size();
   if (a.with_g_double_prime) {  // method 3: its graph is G'' (the voxel checks above are against it)
     j["edges_g_double_prime"] = a.graphs.g_double_prime.size();
     j["g_prime_subset_of_g_double_prime"] = a.g_prime_not_in_g_double_prime == 0;

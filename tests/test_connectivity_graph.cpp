@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <random>
+#include <set>
 
 #include "geometry/arrangement/connectivity_graph.h"
 #include "geometry/reconstruction/nearest_plane_reconstruction.h"
@@ -349,4 +350,296 @@ TEST(ConnectivityGraph, RefinementResolvesAPassageThinnerThanAVoxel) {
                                            solidOn(true), 8, 1000);
   EXPECT_EQ(tooBig[0].factor, 0);
   EXPECT_FALSE(tooBig[0].accepted);
+}
+
+// G on observed pieces (issue 20, connectivity_graph.h): method 1 on the pieces, R_Ω, decides x by
+// the nearest point of the union of the pieces, so its lifts pass unobserved parts of planes and
+// end on pieces. Two balls cut by random planes, each observed only on a random image rectangle
+// (the sections are the discs cut down to it, as a segmentation sees them): G_Ω groups the
+// sections as R_Ω's voxels do, globally and cell by cell (edges listed where the lifts meet), more
+// closely than G on whole planes does; with whole pieces G_Ω is G, edge for edge.
+#include "geometry/core/polygon.h"
+#include "geometry/reconstruction/observed_section_voronoi.h"
+#include "geometry/scene/observed_piece.h"
+
+namespace {
+
+/// The part of convex ring `r` inside rectangle `box` (Sutherland-Hodgman), counter-clockwise.
+Ring clipToRect(const Ring& r, const PlaneRect& box) {
+  Ring out = r;
+  for (int side = 0; side < 4 && !out.empty(); ++side) {
+    const int axis = side / 2;
+    const double bound = side % 2 ? box.max[axis] : box.min[axis], sgn = side % 2 ? -1.0 : 1.0;
+    const auto inside = [&](const Vec2& p) { return sgn * (p[axis] - bound) >= 0; };
+    Ring in = out;
+    out.clear();
+    for (std::size_t k = 0; k < in.size(); ++k) {
+      const Vec2 &a = in[k], &b = in[(k + 1) % in.size()];
+      if (inside(a)) out.push_back(a);
+      if (inside(a) != inside(b)) out.push_back(a + (bound - a[axis]) / (b[axis] - a[axis]) * (b - a));
+    }
+  }
+  return out;
+}
+
+/// G_Ω's section pairs by its definition, brute force: from each section point's foot on its piece
+/// (the point itself inside it), rays along ±n and, where the point lies beyond the piece, every
+/// 2° of the edge's normal cone; on each, the first t where another plane's piece is as near as
+/// t, by bisection on [0, 40] mm for each plane (d(x, Ω_Q) - t is non-increasing), and the section
+/// holding that piece's nearest point.
+std::set<std::pair<int, int>> observedGraphPairsByDefinition(const SectionScene& scene, const SectionArrangement& arr) {
+  const std::vector<CuttingPlane>& planes = scene.planes;
+  const SectionIds ids = scene.ids();
+  const auto nearestOn = [&](std::size_t q, const Vec3& x, Vec2* foot) {
+    const Vec2 at = planes[q].plane.toPlane(x);
+    double na, nb;
+    const double o = scene.pieces[q].distance(at.x(), at.y(), &na, &nb), s = planes[q].plane.signedDistance(x);
+    *foot = Vec2(na, nb);
+    return std::sqrt(s * s + o * o);
+  };
+  const auto sectionHolding = [&](std::size_t q, const Vec2& p) {
+    for (std::size_t t = 0; t < planes[q].sections.size(); ++t)
+      if (sectionContains(planes[q].sections[t], p)) return int(t);
+    return -1;
+  };
+  std::set<std::pair<int, int>> pairs;
+  for (const SectionPoint& sp : arr.points) {
+    if (sp.kind == SectionPoint::trace) continue;
+    const std::size_t A = std::size_t(sp.plane);
+    const Plane& P = planes[A].plane;
+    double na, nb;
+    const double o = scene.pieces[A].distance(sp.p.x(), sp.p.y(), &na, &nb);
+    if (o > 0 && sectionHolding(A, Vec2(na, nb)) != sp.section) continue;  // a point of the section beyond Ω_A
+    const Vec3 a = P.toWorld(Vec2(na, nb));
+    std::vector<Vec3> dirs{P.normal, -P.normal};
+    if (o > 0) {
+      const Vec2 m = (sp.p - Vec2(na, nb)) / o;
+      const Vec3 out = m.x() * P.u + m.y() * P.v;
+      for (int deg = 2; deg < 90; deg += 2)
+        for (const double side : {-1.0, 1.0})
+          dirs.push_back(std::cos(deg * M_PI / 180) * side * P.normal + std::sin(deg * M_PI / 180) * out);
+    }
+    for (const Vec3& d : dirs) {
+      double best = std::numeric_limits<double>::infinity();
+      std::size_t bq = 0;
+      Vec2 foot;
+      for (std::size_t q = 0; q < planes.size(); ++q) {
+        if (q == A || scene.pieces[q].empty) continue;
+        const auto f = [&](double t) { return nearestOn(q, a + t * d, &foot) - t; };
+        double lo = 0, hi = 40;
+        if (f(hi) > 0) continue;
+        for (int k = 0; k < 45; ++k) (f(0.5 * (lo + hi)) > 0 ? lo : hi) = 0.5 * (lo + hi);
+        if (hi < best) {
+          best = hi;
+          bq = q;
+        }
+      }
+      if (!std::isfinite(best)) continue;
+      nearestOn(bq, a + best * d, &foot);
+      const int b = sectionHolding(bq, foot);
+      if (b < 0) continue;
+      const int u = ids.of(sp.plane, sp.section), v = ids.of(int(bq), b);
+      pairs.insert({std::min(u, v), std::max(u, v)});
+    }
+  }
+  return pairs;
+}
+
+std::set<std::pair<int, int>> pairsOf(const std::vector<GraphEdge>& edges, const SectionIds& ids) {
+  std::set<std::pair<int, int>> pairs;
+  for (const GraphEdge& e : edges) {
+    const int u = ids.of(e.plane_a, e.section_a), v = ids.of(e.plane_b, e.section_b);
+    pairs.insert({std::min(u, v), std::max(u, v)});
+  }
+  return pairs;
+}
+
+}  // namespace
+
+TEST(ConnectivityGraph, OnObservedPiecesGroupsTheSectionsAsMethod1OnThePieces) {
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> small(1.0, 8.0), large(4.0, 14.0), offset(-5.0, 5.0);
+  std::normal_distribution<double> g(0, 1);
+  const std::array<Vec3, 2> centres{Vec3(-3.2, 0.1, 0.2), Vec3(3.6, -0.3, -0.1)};
+  const std::array<double, 2> radii{3.4, 2.8};
+  int wholeSolidOnly = 0, observedSolidOnly = 0, wholeGraphOnly = 0, observedGraphOnly = 0, compared = 0, edgesAdded = 0, left = 0, samePartition = 0, samePrimePartition = 0, primeAdded = 0, primeWholeSolidOnly = 0, primeSolidOnly = 0, runs = 0, pairsCompared = 0, pairsDiffering = 0;
+  for (const int count : {6, 10, 14, 20, 30, 6, 10, 14, 20, 30}) {
+    ++runs;
+    SCOPED_TRACE(std::to_string(count) + " planes");
+    std::vector<CuttingPlane> planes;
+    for (int i = 0; i < count; ++i) {
+      CuttingPlane cp;
+      cp.slice = i;
+      const Vec3 n = Vec3(g(rng), g(rng), g(rng)).normalized();
+      cp.plane.normal = n;
+      cp.plane.u = n.unitOrthogonal();
+      cp.plane.v = n.cross(cp.plane.u);
+      cp.plane.origin = offset(rng) * n + Vec3(offset(rng), 0, 0);
+      cp.pixel_mm = 0.1;
+      auto& size = runs <= 5 ? small : large;  // images smaller than the balls, then most larger
+      cp.extent = {Vec2(-size(rng), -size(rng)), Vec2(size(rng), size(rng))};
+      const Vec2 shift = cp.plane.toPlane(Vec3(0.3 * offset(rng), 0, 0));  // about the balls
+      cp.extent.min += shift;
+      cp.extent.max += shift;
+      for (int b = 0; b < 2; ++b) {
+        const double d = cp.plane.signedDistance(centres[std::size_t(b)]), r = radii[std::size_t(b)];
+        if (std::abs(d) >= r) continue;
+        Section s;
+        s.outer = clipToRect(test::circle(cp.plane.toPlane(centres[std::size_t(b)]), std::sqrt(r * r - d * d), 96), cp.extent);
+        if (s.outer.size() >= 3 && std::abs(signedArea(s.outer)) > 0.05) cp.sections.push_back(s);
+      }
+      planes.push_back(cp);
+    }
+    for (CuttingPlane& p : boxAround(7.5)) {
+      p.is_virtual = true;
+      p.slice = -1;
+      planes.push_back(p);
+    }
+    std::vector<SectionDistanceField> fields;
+    for (const auto& p : planes) fields.push_back(sectionDistanceField(p.sections, 0.05, 0.6));
+    const SectionArrangement arr = arrangeSections(planes, 0.2);
+    SectionScene whole = sceneOf(planes, fields), observed = whole;
+    whole.pieces = observedPieces(planes, false);
+    observed.pieces = observedPieces(planes, true);
+    SectionVoronoiParams vp;
+    vp.slab_mm = 0.17;
+    const ConnectivityGraphs g = connectivityGraphs(whole, arr, {}, false);
+    const ConnectivityGraphs gOmega = connectivityGraphs(observed, arr, vp, true);
+    EXPECT_TRUE(g.g == connectivityGraphs(sceneOf(planes, fields), arr, {}, false).g) << "whole pieces: G itself";
+    edgesAdded += int(gOmega.g.size()) - int(g.g.size());
+    if (runs <= 5) {  // the section pairs, against the definition computed by brute force
+      const std::set<std::pair<int, int>> byDefinition = observedGraphPairsByDefinition(observed, arr),
+                                          computed = pairsOf(gOmega.g, observed.ids());
+      std::vector<std::pair<int, int>> onlyOne;
+      std::set_symmetric_difference(byDefinition.begin(), byDefinition.end(), computed.begin(), computed.end(),
+                                    std::back_inserter(onlyOne));
+      pairsCompared += int(byDefinition.size());
+      pairsDiffering += int(onlyOne.size());
+    }
+
+    const GridSpec grid = offPlanesGrid();
+    const auto m1 = nearestPlaneReconstruction(planes, fields, grid, {}, &observed.pieces);
+    std::vector<std::uint8_t> inside(m1.value.values.size());
+    for (std::size_t q = 0; q < inside.size(); ++q) inside[q] = m1.value.values[q] < 0;
+    const GraphVoxelCheck global = compareWithVoxels(gOmega.g, observed, arr, inside, grid);
+    samePartition += global.same_partition;
+    // G'_Ω along the lifts of R'_Ω = R_Ω ∪ the lifts of R' that the pieces keep: G_Ω ⊆ G'_Ω
+    // (R_Ω ⊆ R'_Ω), and the same grouping as R'_Ω's voxels.
+    EXPECT_TRUE(std::includes(gOmega.g_prime.begin(), gOmega.g_prime.end(), gOmega.g.begin(), gOmega.g.end()));
+    primeAdded += int(gOmega.g_prime.size() - gOmega.g.size());
+    {
+      std::vector<std::uint8_t> in2(std::size_t(grid.count()), 0);
+      const BlockGrid<float> numbering(grid, 0.f);
+      forEachObservedSectionVoronoiBlock(planes, fields, observed.pieces, grid, vp,
+                                         [&](std::int64_t b, const SectionVoronoiBlock& v) {
+                                           forEachVoxelOfBlock(grid, numbering.blockOrigin(b), [&](int i, int j, int k, int o) {
+                                             in2[std::size_t(grid.index(i, j, k))] = v.value[std::size_t(o)] < 0;
+                                           });
+                                         });
+      const GraphVoxelCheck c2 = compareWithVoxels(gOmega.g_prime, observed, arr, in2, grid);
+      const CellConnectivityCheck cp = compareCellsWithVoxels(gOmega.g_prime, observed, arr, in2, grid);
+      const CellConnectivityCheck cpw =
+          compareCellsWithVoxels(connectivityGraphs(whole, arr, vp, true).g_prime, whole, arr, in2, grid);
+      primeWholeSolidOnly += cpw.pairs_joined_by_voxels_only;
+      primeSolidOnly += cp.pairs_joined_by_voxels_only;
+      samePrimePartition += c2.same_partition;
+    }
+    const CellConnectivityCheck cw = compareCellsWithVoxels(g.g, whole, arr, inside, grid);
+    const CellConnectivityCheck co = compareCellsWithVoxels(gOmega.g, observed, arr, inside, grid);
+    EXPECT_TRUE(g.cells_left_through_unobserved.empty());
+    wholeGraphOnly += cw.pairs_joined_by_graph_only;
+    observedGraphOnly += co.pairs_joined_by_graph_only;
+    wholeSolidOnly += cw.pairs_joined_by_voxels_only;
+    observedSolidOnly += co.pairs_joined_by_voxels_only;
+    compared += co.cells_compared;
+    left += int(gOmega.cells_left_through_unobserved.size());
+  }
+  EXPECT_GT(edgesAdded, 0) << "the pieces must join sections that whole planes keep apart";
+  EXPECT_GT(pairsCompared, 100);
+  EXPECT_LE(pairsDiffering, pairsCompared / 100) << "section pairs joined by G_Ω or by its definition only";
+  EXPECT_GT(left, 0) << "lifts must pass unobserved parts of planes, or the test shows nothing";
+  EXPECT_GT(wholeSolidOnly, 0) << "G on whole planes must disagree with R_Ω somewhere, or the test shows nothing";
+  // Solid-only pairs: R_Ω joins sections in a cell that the graph keeps apart there (what G on
+  // whole planes misses); graph-only pairs: a lift's meeting narrower than a voxel, as on whole
+  // planes (G_Ω has more edges, so somewhat more of them).
+  EXPECT_LE(observedSolidOnly, wholeSolidOnly / 4) << "of " << compared << " cells compared";
+  EXPECT_LE(observedGraphOnly, wholeGraphOnly * 3 / 2 + 5) << "of " << compared << " cells compared";
+  EXPECT_GE(samePartition, runs - 2) << "the same grouping globally (a contact narrower than the sample spacing can be missed)";
+  EXPECT_GE(samePrimePartition, runs - 2) << "G'_Ω: the same grouping as R'_Ω";
+  EXPECT_GT(primeAdded, 0) << "R'_Ω's kept lifts must join sections that G_Ω does not";
+  EXPECT_LE(primeSolidOnly, primeWholeSolidOnly / 4) << "G'_Ω against R'_Ω cell by cell, G' on whole planes "
+                                                      << primeWholeSolidOnly;
+}
+
+
+// Pieces that cover every ball (image rectangles 100 mm across, on the observed-piece code path):
+// G_Ω and G'_Ω are the thesis' G and G', edge for edge and cell for cell, on random shells; and on
+// the slanted tube of thesis Fig. 2.1-2.2, with planes beside it, G' joins the two discs where G
+// does not (method 2's lift passes the planes beside the tube).
+TEST(ConnectivityGraph, OnPiecesThatCoverEveryBallAreTheThesisGraphs) {
+  std::mt19937_64 rng(31);
+  const PlaneRect all{Vec2(-50, -50), Vec2(50, 50)};
+  SectionVoronoiParams vp;
+  vp.slab_mm = 0.17;
+  for (const int count : {5, 12, 25}) {
+    SCOPED_TRACE(std::to_string(count) + " planes");
+    std::vector<CuttingPlane> planes = test::randomShellPlanes(count, rng, Vec3(0.2, 0.1, -0.1), 5.5, 6.0, 3.0, 96);
+    for (CuttingPlane& p : boxAround(7.5)) {
+      p.is_virtual = true;
+      p.slice = -1;
+      planes.push_back(p);
+    }
+    for (CuttingPlane& p : planes) {
+      p.pixel_mm = 0.1;
+      p.extent = all;
+    }
+    std::vector<SectionDistanceField> fields;
+    for (const auto& p : planes) fields.push_back(sectionDistanceField(p.sections, 0.05, 0.6));
+    const SectionArrangement arr = arrangeSections(planes, 0.2);
+    SectionScene covering = sceneOf(planes, fields);
+    covering.pieces = observedPieces(planes, true);
+    ASSERT_FALSE(covering.pieces.front().whole) << "the observed-piece code path";
+    const ConnectivityGraphs w = connectivityGraphs(sceneOf(planes, fields), arr, vp, true);
+    const ConnectivityGraphs o = connectivityGraphs(covering, arr, vp, true);
+    EXPECT_GT(w.g.size(), 10u);
+    EXPECT_TRUE(o.g == w.g);
+    EXPECT_TRUE(o.g_prime == w.g_prime);
+    EXPECT_TRUE(o.cells_left_through_unobserved.empty());
+  }
+  std::vector<CuttingPlane> tube;
+  const auto add = [&](const Plane& p, std::vector<Section> s, bool closing) {
+    CuttingPlane cp;
+    cp.slice = closing ? -1 : int(tube.size());
+    cp.is_virtual = closing;
+    cp.plane = p;
+    cp.sections = std::move(s);
+    cp.extent = all;
+    cp.pixel_mm = 0.02;
+    tube.push_back(cp);
+  };
+  Section a, b;
+  a.outer = test::circle(Vec2(0, 0), 1.0, 128);
+  b.outer = test::circle(Vec2(1.5, 0), 1.0, 128);
+  add(test::axisPlane(2, 0.0), {a}, false);
+  add(test::axisPlane(2, 6.0), {b}, false);
+  for (int axis = 0; axis < 2; ++axis) {
+    add(test::axisPlane(axis, -8.0), {}, true);
+    add(test::axisPlane(axis, 9.0), {}, true);
+  }
+  add(test::axisPlane(2, -3.0), {}, true);
+  add(test::axisPlane(2, 9.0), {}, true);
+  add(test::axisPlane(0, -1.6), {}, false);  // beside the tube (x in [-1, 2.5])
+  add(test::axisPlane(0, 3.1), {}, false);
+  std::vector<SectionDistanceField> fields;
+  for (const auto& p : tube) fields.push_back(sectionDistanceField(p.sections, 0.02, 0.3));
+  const SectionArrangement arr = arrangeSections(tube, 0.1);
+  SectionScene scene = sceneOf(tube, fields);
+  scene.pieces = observedPieces(tube, true);
+  vp.slab_mm = 0.09;
+  const ConnectivityGraphs o = connectivityGraphs(scene, arr, vp, true);
+  const auto discs = [](const std::vector<GraphEdge>& edges) {
+    return std::count_if(edges.begin(), edges.end(), [](const GraphEdge& e) { return e.plane_a == 0 && e.plane_b == 1; });
+  };
+  EXPECT_EQ(discs(o.g), 0) << "method 1: the planes beside the tube part the discs";
+  EXPECT_EQ(discs(o.g_prime), 1) << "method 2: the discs' lifts meet";
 }

@@ -367,7 +367,7 @@ CellConnectivityCheck compareCells(const std::vector<GraphEdge>& edges, const Se
     const auto place = [&](int node) {
       return std::size_t(std::lower_bound(c.nodes.begin(), c.nodes.end(), node) - c.nodes.begin());
     };
-    DisjointSets solid(c.nodes.size()), graph(c.nodes.size());
+    DisjointSets solid(c.nodes.size());
     std::map<int, int> ownerOf;  // component -> a section touching it
     for (const Seed& s : c.seeds) {
       const std::int64_t v = s.voxel;
@@ -376,11 +376,23 @@ CellConnectivityCheck compareCells(const std::vector<GraphEdge>& edges, const Se
       const auto [it, fresh] = ownerOf.try_emplace(cv, s.node);
       if (!fresh) solid.unite(place(s.node), place(it->second));
     }
-    for (const GraphEdge* e : edgesOf[ci]) {
-      const int a = ids.of(e->plane_a, e->section_a), b = ids.of(e->plane_b, e->section_b);
-      if (std::binary_search(c.nodes.begin(), c.nodes.end(), a) && std::binary_search(c.nodes.begin(), c.nodes.end(), b))
-        graph.unite(place(a), place(b));
-    }
+    // With observed pieces a lift can enter the cell through an unobserved part of a face: a
+    // section beyond the cell then joins two of its sections inside it (edges of the cell with an
+    // end off the cell's faces), as its region joins their components.
+    std::vector<int> foreign;
+    for (const GraphEdge* e : edgesOf[ci])
+      for (const int s : {ids.of(e->plane_a, e->section_a), ids.of(e->plane_b, e->section_b)})
+        if (!std::binary_search(c.nodes.begin(), c.nodes.end(), s)) foreign.push_back(s);
+    std::sort(foreign.begin(), foreign.end());
+    foreign.erase(std::unique(foreign.begin(), foreign.end()), foreign.end());
+    DisjointSets graph(c.nodes.size() + foreign.size());
+    const auto anyPlace = [&](int s) {
+      const auto it = std::lower_bound(c.nodes.begin(), c.nodes.end(), s);
+      if (it != c.nodes.end() && *it == s) return std::size_t(it - c.nodes.begin());
+      return c.nodes.size() + std::size_t(std::lower_bound(foreign.begin(), foreign.end(), s) - foreign.begin());
+    };
+    for (const GraphEdge* e : edgesOf[ci])
+      graph.unite(anyPlace(ids.of(e->plane_a, e->section_a)), anyPlace(ids.of(e->plane_b, e->section_b)));
     Result& r = results[ci];
     r.compared = true;
     for (std::size_t x = 0; x < c.nodes.size(); ++x)

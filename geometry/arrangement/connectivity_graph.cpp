@@ -18,6 +18,7 @@
 #include "geometry/core/polygon.h"
 #include "geometry/core/section_ids.h"
 #include "geometry/core/section_locator.h"
+#include "geometry/reconstruction/observed_section_voronoi.h"
 
 namespace xsect {
 
@@ -37,6 +38,66 @@ int sectionAt(const CuttingPlane& cp, const SectionLocator& locator, const Vec3&
   return locator.holding(cp.plane.toPlane(x));
 }
 
+/// The section of plane cp holding the nearest point of its observed piece to x, or -1.
+int sectionAtPiece(const CuttingPlane& cp, const ObservedPiece& piece, const SectionLocator& locator, const Vec3& x) {
+  const Vec2 at = cp.plane.toPlane(x);
+  double na, nb;
+  if (!std::isfinite(piece.distance(at.x(), at.y(), &na, &nb))) return -1;
+  return locator.holding(Vec2(na, nb));
+}
+
+/// G on observed pieces: the first t > 0 where d(a + t n, Ω_Q) = t, or +inf when it is not below
+/// `below`. f(t) = d(a + t n, Ω_Q) - t is non-increasing (the distance is 1-Lipschitz along the
+/// unit-speed ray) and f(root) >= 0 at the plane's root (d(x, Ω_Q) >= |d(x, Q)|), so the first
+/// zero is bracketed from there and found by bisection to 1e-12 of its value. With no finite bound
+/// yet, the bracket's end doubles (a piece behind the ray is never reached: +inf).
+double pieceRoot(const ObservedPiece& piece, const Plane& Q, const Vec3& a, const Vec3& n, double root, double below) {
+  if (piece.empty) return std::numeric_limits<double>::infinity();
+  const auto f = [&](double t) {
+    const Vec3 x = a + t * n;
+    const Vec2 at = Q.toPlane(x);
+    double na, nb;
+    const double o = piece.distance(at.x(), at.y(), &na, &nb), s = Q.signedDistance(x);
+    return std::sqrt(s * s + o * o) - t;
+  };
+  double lo = root, hi = below;
+  if (!std::isfinite(hi)) {
+    hi = 2 * root;
+    for (int k = 0; k < 60 && f(hi) > 0; ++k) hi *= 2;
+  }
+  if (f(hi) > 0) return std::numeric_limits<double>::infinity();
+  if (f(lo) <= 0) return lo;
+  for (int k = 0; k < 200 && hi - lo > 1e-12 * hi; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (f(mid) > 0 ? lo : hi) = mid;
+  }
+  return hi;
+}
+
+/// G_Ω's lift of a, started into `cell`, ends at x: the cell holding x, or `cell` when no
+/// section point bounds it. The segment [a, x] touches no piece, so every plane it crosses is
+/// crossed where it was not observed; each crossing flips that plane's sign in the cell's key.
+/// `scanned`: the planes that may cross it (all within 2|x - a| of a's section). When it crosses
+/// any, `cell` is appended to `passed`.
+int meetingCell(const std::vector<CuttingPlane>& planes, const SectionArrangement& arr, const std::vector<int>& scanned,
+                int own, const Vec3& a, const Vec3& x, int cell, std::vector<int>& passed) {
+  CellKey key = cellKey(arr, cell);
+  bool crossed = false;
+  for (const int j : scanned) {
+    if (j == own) continue;
+    const Plane& P = planes[std::size_t(j)].plane;
+    const double sa = P.signedDistance(a), sx = P.signedDistance(x);
+    if ((sa < 0 && sx > 0) || (sa > 0 && sx < 0)) {
+      key = keyAcross(arr, key, j);
+      crossed = true;
+    }
+  }
+  if (!crossed) return cell;
+  passed.push_back(cell);
+  const int id = cellOfKey(arr, key);
+  return id >= 0 ? id : cell;
+}
+
 GraphEdge edge(int pa, int sa, int pb, int sb, int cell) {
   if (std::tie(pb, sb) < std::tie(pa, sa)) {
     std::swap(pa, pb);
@@ -54,9 +115,15 @@ ConnectivityGraphs connectivityGraphs(const SectionScene& scene, const SectionAr
   std::unique_ptr<SectionVoronoiPoints> query;
   if (withGPrime) query = std::make_unique<SectionVoronoiPoints>(planes, fields, method2);
   const double step = arr.sample_spacing_mm;
+  // Observed pieces (issue 20): G's lifts end where another plane's piece is as near as the lift's
+  // own plane, and join the section holding that piece's nearest point (connectivity_graph.h).
+  const bool partial = scene.pieces.size() == planes.size() &&
+                       std::any_of(scene.pieces.begin(), scene.pieces.end(), [](const ObservedPiece& p) { return !p.whole; });
   std::vector<SectionLocator> locators;
   locators.reserve(planes.size());
   for (const CuttingPlane& p : planes) locators.emplace_back(p.sections);
+  std::unique_ptr<ObservedLiftTest> liftTest;
+  if (partial && query) liftTest = std::make_unique<ObservedLiftTest>(planes, scene.pieces, locators);
   // Per section: the other planes by distance to its bounding disk. A plane at distance >= 2t
   // from a section point cannot end the lift of length t (|h + t c| = t needs |h| <= 2t), nor
   // bound the ray's exit below |h|: the scan stops at the first plane too far for both.
@@ -77,37 +144,136 @@ ConnectivityGraphs connectivityGraphs(const SectionScene& scene, const SectionAr
   tbb::parallel_for(std::size_t(0), arr.points.size(), [&](std::size_t q) {
     const SectionPoint& sp = arr.points[q];
     if (sp.kind == SectionPoint::trace) return;
-    ConnectivityGraphs& out = local.local();
     const CuttingPlane& P = planes[std::size_t(sp.plane)];
-    const Vec3 a = P.plane.toWorld(sp.p);
     SectionVoronoiPoints::CellMemo memo;
+    const int sectionId = ids.of(sp.plane, sp.section);
+    // Method 1: first t > 0 with d(a + t d, Q) = t for some other plane Q (or its piece); `exit`:
+    // where the ray first crosses another plane.
+    struct LiftEnd {
+      double best = std::numeric_limits<double>::infinity(), exit = best;
+      int bq = -1;
+    };
+    std::vector<int> scanned;  // observed pieces: the planes the lift's scan met
+    std::vector<int> ball;     // and those that may meet a ball of method 2's test
+    const auto liftEnd = [&](const Vec3& a, const Vec3& d, bool onPieces) {
+      LiftEnd e;
+      scanned.clear();
+      for (const auto& [lb, jj] : nearPlanes[std::size_t(sectionId)]) {
+        if (lb >= std::max(2 * e.best, e.exit)) break;
+        const std::size_t j = std::size_t(jj);
+        const double hq = planes[j].plane.signedDistance(a), c = planes[j].plane.normal.dot(d);
+        if (partial) scanned.push_back(int(j));
+        double root = std::numeric_limits<double>::infinity();  // first t with |d(a + t d, Q)| = t
+        for (const double t : {c != 1 ? hq / (1 - c) : -1.0, c != -1 ? -hq / (1 + c) : -1.0})
+          if (t > 1e-9) root = std::min(root, t);
+        if (onPieces && root < e.best && !scene.pieces[j].whole)
+          root = pieceRoot(scene.pieces[j], planes[j].plane, a, d, root, e.best);
+        if (root < e.best) {
+          e.best = root;
+          e.bq = int(j);
+        }
+        if (c != 0 && -hq / c > 0) e.exit = std::min(e.exit, -hq / c);
+      }
+      return e;
+    };
+    // Method 1 on the pieces at x = a + t n: the plane and section holding the nearest point of
+    // the union of the pieces, or -1s when that point is in no section. A plane Q with bound lb
+    // (nearPlanes) is at least lb - t from x.
+    const auto nearestPieceSection = [&](const Vec3& x, double t) {
+      double best = std::numeric_limits<double>::infinity();
+      int bp = -1;
+      Vec2 foot = Vec2::Zero();
+      const auto consider = [&](int j) {
+        const Plane& Q = planes[std::size_t(j)].plane;
+        const Vec2 at = Q.toPlane(x);
+        double na, nb;
+        const double o = scene.pieces[std::size_t(j)].distance(at.x(), at.y(), &na, &nb), sq = Q.signedDistance(x);
+        const double d = std::sqrt(sq * sq + o * o);
+        if (d < best || (d == best && j < bp)) {
+          best = d;
+          bp = j;
+          foot = Vec2(na, nb);
+        }
+      };
+      consider(sp.plane);
+      for (const auto& [lb, j] : nearPlanes[std::size_t(sectionId)]) {
+        if (lb - t > best) break;
+        consider(j);
+      }
+      const int section = bp >= 0 ? locators[std::size_t(bp)].holding(foot) : -1;
+      return std::pair<int, int>(section >= 0 ? bp : -1, section);
+    };
+    // The section the lift meets (-1: none), and the edge of G in the cell where they meet.
+    const auto meets = [&](const Vec3& a, const Vec3& d, const LiftEnd& e, int cell, ConnectivityGraphs& out) {
+      if (e.bq < 0) return -1;
+      const Vec3 x = a + e.best * d;
+      const CuttingPlane& Q = planes[std::size_t(e.bq)];
+      const int b = partial ? sectionAtPiece(Q, scene.pieces[std::size_t(e.bq)], locators[std::size_t(e.bq)], x)
+                            : sectionAt(Q, locators[std::size_t(e.bq)], x);
+      const int meeting = partial && cell >= 0 && e.best > e.exit
+                              ? meetingCell(planes, arr, scanned, sp.plane, a, x, cell, out.cells_left_through_unobserved)
+                              : cell;
+      if (b >= 0) out.g.push_back(edge(sp.plane, sp.section, e.bq, b, meeting));
+      return b >= 0 ? ids.of(e.bq, b) : -1;
+    };
+    // Observed pieces: the lift starts at the nearest point of Ω_A (the point itself inside it),
+    // and only from a point of the section. A section runs past its piece by up to a pixel (where
+    // the contour follows the image's edge); beyond the piece's edge the region of A is swept by
+    // rays in the edge's normal cone, cos θ (±n) + sin θ m (m the outward normal in the plane):
+    // sampled at 15° steps and halved between two rays that meet different sections (or none)
+    // and end farther apart than the sample spacing, to 1/64 of the first step.
+    Vec3 a = P.plane.toWorld(sp.p), outward = Vec3::Zero();
+    if (partial && !scene.pieces[std::size_t(sp.plane)].whole) {
+      double na, nb;
+      const double o = scene.pieces[std::size_t(sp.plane)].distance(sp.p.x(), sp.p.y(), &na, &nb);
+      if (!std::isfinite(o)) return;
+      if (o > 0) {
+        if (locators[std::size_t(sp.plane)].holding(Vec2(na, nb)) != sp.section) return;
+        a = P.plane.toWorld(Vec2(na, nb));
+        const Vec2 m = (sp.p - Vec2(na, nb)) / o;
+        outward = m.x() * P.plane.u + m.y() * P.plane.v;
+      }
+    }
+    ConnectivityGraphs& out = local.local();
     for (int side = 0; side < 2; ++side) {
       const Vec3 n = (side == 0 ? -1.0 : 1.0) * P.plane.normal;
       const int cell = sp.cell[std::size_t(side)];
-      // Method 1: first t > 0 with d(a + t n, Q) = t for some other plane Q; the ray leaves the
-      // cell (crosses Q) only after that.
-      double best = std::numeric_limits<double>::infinity(), exit = best;
-      int bq = -1;
-      for (const auto& [lb, jj] : nearPlanes[std::size_t(ids.of(sp.plane, sp.section))]) {
-        if (lb >= std::max(2 * best, exit)) break;
-        const std::size_t j = std::size_t(jj);
-        const double hq = planes[j].plane.signedDistance(a), c = planes[j].plane.normal.dot(n);
-        for (const double t : {c != 1 ? hq / (1 - c) : -1.0, c != -1 ? -hq / (1 + c) : -1.0})
-          if (t > 1e-9 && t < best) {
-            best = t;
-            bq = int(j);
+      const LiftEnd e = liftEnd(a, n, partial);
+      meets(a, n, e, cell, out);
+      if (outward != Vec3::Zero()) {
+        struct Ray {
+          double theta;
+          int met;
+          Vec3 end;
+        };
+        const auto cast = [&](double theta) {
+          const Vec3 d = std::cos(theta) * n + std::sin(theta) * outward;
+          const LiftEnd f = liftEnd(a, d, true);
+          const int met = meets(a, d, f, cell, out);
+          return Ray{theta, met, std::isfinite(f.best) ? Vec3(a + f.best * d) : Vec3(a + 1e3 * step * d)};
+        };
+        const double first = M_PI / 12;
+        std::vector<Ray> fan;
+        for (int k = 1; k <= 6; ++k) fan.push_back(cast(std::min(k * first, 0.5 * M_PI - first / 64)));
+        for (std::size_t k = 0; k + 1 < fan.size();) {
+          const Ray &r0 = fan[k], &r1 = fan[k + 1];
+          if ((r0.met != r1.met || r0.met < 0) && (r0.end - r1.end).norm() > step && r1.theta - r0.theta > first / 64) {
+            fan.insert(fan.begin() + std::ptrdiff_t(k + 1), cast(0.5 * (r0.theta + r1.theta)));
+            continue;
           }
-        if (c != 0 && -hq / c > 0) exit = std::min(exit, -hq / c);
-      }
-      if (bq >= 0) {
-        const int b = sectionAt(planes[std::size_t(bq)], locators[std::size_t(bq)], a + best * n);
-        if (b >= 0) out.g.push_back(edge(sp.plane, sp.section, bq, b, cell));
+          ++k;
+        }
       }
       if (!query) continue;
       // Method 2: the ray from a lies in A's lift up to method 1's lift point (proof of Theorem
       // 18), where lift'(a) = lift(a) whenever that point projects into a section. From there on
       // it is followed at evenly spaced points (at least one before it leaves the cell), starting
-      // just beyond lift(a), while it stays in A's lift.
+      // just beyond lift(a), while it stays in A's lift. On observed pieces R'_Ω = R_Ω ∪ the points
+      // of R' its test keeps (observed_section_voronoi.h): G'_Ω is G_Ω (added below) and the
+      // meetings of R''s lifts along the same walk (method 1's lift point on whole planes) while
+      // every point is kept.
+      const LiftEnd w = partial ? liftEnd(a, n, false) : e;
+      const double best = w.best, exit = w.exit;
       const double from = std::min(best, exit);
       std::vector<double> ts;
       if (best < exit) ts.push_back(best * (1 + 1e-9) + 1e-9);
@@ -119,6 +285,23 @@ ConnectivityGraphs connectivityGraphs(const SectionScene& scene, const SectionAr
         const Vec3 x = a + t * n;
         const SectionVoronoiPoints::Answer ans = query->at(x, &memo);
         if (!ans.inside) break;
+        if (partial) {  // the planes that may meet B(x, h): within h + t of a's section, and A's
+          const double h = ans.lift_height;
+          ball.assign(1, sp.plane);
+          for (const auto& [lb, j] : nearPlanes[std::size_t(sectionId)]) {
+            if (lb > (h + t) * (1 + 1e-9)) break;
+            ball.push_back(j);
+          }
+          if (!liftTest->keeps(x, h, ans.section_plane, ball)) {
+            // Not kept: x is method 1's on the pieces (R_Ω), the section holding its nearest
+            // piece point (or outside).
+            const auto [plane, section] = nearestPieceSection(x, t);
+            if (plane < 0) break;
+            if (plane == sp.plane && section == sp.section) continue;
+            out.g_prime.push_back(edge(sp.plane, sp.section, plane, section, cell));
+            break;
+          }
+        }
         if (ans.section_plane == sp.plane) continue;
         const int b = sectionAt(planes[std::size_t(ans.section_plane)], locators[std::size_t(ans.section_plane)], x);
         if (b >= 0) out.g_prime.push_back(edge(sp.plane, sp.section, ans.section_plane, b, cell));
@@ -130,7 +313,13 @@ ConnectivityGraphs connectivityGraphs(const SectionScene& scene, const SectionAr
   for (auto& l : local) {
     all.g.insert(all.g.end(), l.g.begin(), l.g.end());
     all.g_prime.insert(all.g_prime.end(), l.g_prime.begin(), l.g_prime.end());
+    all.cells_left_through_unobserved.insert(all.cells_left_through_unobserved.end(), l.cells_left_through_unobserved.begin(),
+                                        l.cells_left_through_unobserved.end());
   }
+  if (partial && query) all.g_prime.insert(all.g_prime.end(), all.g.begin(), all.g.end());  // R_Ω ⊆ R'_Ω
+  std::vector<int>& passed = all.cells_left_through_unobserved;
+  std::sort(passed.begin(), passed.end());
+  passed.erase(std::unique(passed.begin(), passed.end()), passed.end());
   for (auto* v : {&all.g, &all.g_prime}) {
     std::sort(v->begin(), v->end());
     v->erase(std::unique(v->begin(), v->end()), v->end());

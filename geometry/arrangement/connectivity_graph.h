@@ -9,6 +9,13 @@
 //    into the lift of a section B of another plane.
 // A connection narrower than the sample spacing can be missed; both graphs are sampled on the same
 // points, and G's edges are exact at those points.
+// Observed pieces (issue 20, README "Observed pieces"; the scene's pieces, when some is partial):
+// method 1 on the pieces decides x by the nearest point of the union of the pieces, so G_Ω's lift
+// of a ends at the first t where d(a + t n, Ω_Q) = t for another plane Q (a root of a
+// non-increasing function, bracketed by the whole plane's root), and A joins the section B of Q
+// holding the nearest point of Ω_Q. A lift may pass an unobserved part of a plane and meet B
+// beyond the cell it starts in; the edge is listed in the cell where the lifts meet (the start
+// cell when no section bounds that one). With whole pieces this is G.
 #pragma once
 
 #include <cstdint>
@@ -37,6 +44,10 @@ struct ConnectivityGraphs {
   /// G'' (Def. 44, symmetric labeling), sorted, unique: not filled by connectivityGraphs; see
   /// branchingDiagram (geometry/delaunay/branching_diagram.h). Proposition 10: G' ⊆ G''.
   std::vector<GraphEdge> g_double_prime;
+  /// Observed pieces: the cells (ids, ascending) from which a lift of G_Ω passes an unobserved part
+  /// of a face into another cell (its edge is listed in the cell where it meets the other lift).
+  /// Empty with whole pieces.
+  std::vector<int> cells_left_through_unobserved;
 };
 
 /// @param scene        the cutting planes (real and virtual, as given to arrangeSections) and

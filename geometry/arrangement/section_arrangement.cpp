@@ -95,6 +95,7 @@ struct CellKeys {
   Zobrist z;
   std::vector<K::Plane_3> eq;
   std::unordered_map<Key, int, KeyHash> cellOf;
+  std::vector<Key> keyOf;  // by cell id
 };
 
 SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, double spacing) {
@@ -278,8 +279,30 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
     out.pencil_crossings += pc.count;
   }
   out.cells = int(cellOf.size());
+  cellKeys->keyOf.resize(cellOf.size());
+  for (const auto& [key, id] : cellOf) cellKeys->keyOf[std::size_t(id)] = key;
   out.keys = std::move(cellKeys);
   return out;
+}
+
+CellKey cellKey(const SectionArrangement& arr, int cell) {
+  if (!arr.keys || cell < 0 || cell >= arr.cells) throw std::invalid_argument("cellKey: no such cell");
+  const Key& k = arr.keys->keyOf[std::size_t(cell)];
+  return {k.first, k.second};
+}
+
+CellKey keyAcross(const SectionArrangement& arr, const CellKey& key, int plane) {
+  if (!arr.keys || plane < 0 || std::size_t(plane) >= arr.keys->z.a.size())
+    throw std::invalid_argument("keyAcross: no such plane");
+  const Zobrist& z = arr.keys->z;
+  const std::size_t j = std::size_t(plane);
+  return {key[0] ^ z.a[j][0] ^ z.a[j][2], key[1] ^ z.b[j][0] ^ z.b[j][2]};
+}
+
+int cellOfKey(const SectionArrangement& arr, const CellKey& key) {
+  if (!arr.keys) return -1;
+  const auto it = arr.keys->cellOf.find({key[0], key[1]});
+  return it == arr.keys->cellOf.end() ? -1 : it->second;
 }
 
 CellsAround cellsAround(const SectionArrangement& arr, const std::vector<CuttingPlane>& planes, const Vec3& x,

@@ -69,6 +69,16 @@ struct SectionArrangement {
 /// Deterministic: cell ids follow the order in which points are listed.
 SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, double spacing);
 
+/// A cell's sign-vector key (as CellsAround::keys): cells met or not by section points.
+using CellKey = std::array<std::uint64_t, 2>;
+/// The key of cell `cell` (an id of the arrangement).
+CellKey cellKey(const SectionArrangement& arrangement, int cell);
+/// The key of the cell across plane `plane` from the cell with key `key` (the same sides of every
+/// other plane).
+CellKey keyAcross(const SectionArrangement& arrangement, const CellKey& key, int plane);
+/// The id of the cell with key `key`, or -1 when no section point bounds it.
+int cellOfKey(const SectionArrangement& arrangement, const CellKey& key);
+
 /// The cells around point x lying on the planes `on` (1 to 3 of them): one per choice of side of
 /// each, the side of on[k] being bit k of the index (set: positive). x's signs against every other
 /// plane are exact (as for the arrangement's points).

@@ -26,6 +26,42 @@ struct PiecesSolid {
 
 }  // namespace
 
+bool ObservedLiftTest::keeps(const Vec3& x, double h, int lifted, const std::vector<int>& candidates) const {
+  // The lift's foot, x's projection on its plane, lies in the plane's piece (then it is also the
+  // nearest point of the piece to x).
+  const Vec2 foot = planes_[std::size_t(lifted)].plane.toPlane(x);
+  double na, nb;
+  if (pieces_[std::size_t(lifted)].distance(foot.x(), foot.y(), &na, &nb) != 0) return false;
+  // Every plane within h of x is observed over its disc of B(x, h).
+  bool observed = true;
+  for (const int p : candidates) {
+    if (pieces_[std::size_t(p)].whole) continue;
+    const Plane& P = planes_[std::size_t(p)].plane;
+    const double s = std::abs(P.signedDistance(x));
+    if (s > h * (1 + 1e-9)) continue;
+    const Vec2 at = P.toPlane(x);
+    if (!covers(pieces_[std::size_t(p)], at.x(), at.y(), std::sqrt(std::max(0.0, h * h - s * s)))) {
+      observed = false;
+      break;
+    }
+  }
+  if (observed) return true;
+  // Or no section point but the foot lies within h of x: no plane other than the lift's has a
+  // section within its disc of B(x, h).
+  for (const int p : candidates) {
+    if (p == lifted || planes_[std::size_t(p)].sections.empty()) continue;
+    const Plane& P = planes_[std::size_t(p)].plane;
+    const double s = std::abs(P.signedDistance(x));
+    if (s >= h) continue;
+    const Vec2 at = P.toPlane(x);
+    const double r = std::sqrt(h * h - s * s);
+    const SectionLocator& L = locators_[std::size_t(p)];
+    if (L.boxBound(at) >= r) continue;
+    if (L.holding(at) >= 0 || L.nearestContour(at).d < r) return false;
+  }
+  return true;
+}
+
 void forEachObservedSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
                                         const std::vector<SectionDistanceField>& fields,
                                         const std::vector<ObservedPiece>& pieces, const GridSpec& grid,
@@ -53,6 +89,7 @@ void forEachObservedSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
   tbb::parallel_for(std::size_t(0), planes.size(), [&](std::size_t p) {
     if (!planes[p].sections.empty()) locators[p] = SectionLocator(planes[p].sections);
   });
+  const ObservedLiftTest test(planes, pieces, locators);
   std::atomic<std::int64_t> kept{0}, dropped{0}, added{0};
   const auto combine = [&](std::int64_t b, const SectionVoronoiBlock& m2) {
     SectionVoronoiBlock out;
@@ -64,7 +101,7 @@ void forEachObservedSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
       if (m2.value[std::size_t(q)] < 0 && !(solid.value.at(i, j, k) < 0))
         hmax = std::max(hmax, m2.lift_height[std::size_t(q)]);
     });
-    std::vector<int> near, nearSections;  // planes not observed everywhere / with sections
+    std::vector<int> near;  // planes that may meet the ball of a voxel of the block
     if (hmax >= 0) {
       const Vec3 lo = grid.centre(origin[0], origin[1], origin[2]);
       const Vec3 half = Vec3::Constant(0.5 * (BlockGrid<float>::kSide - 1) * grid.voxel);
@@ -72,44 +109,9 @@ void forEachObservedSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
       for (std::size_t p = 0; p < planes.size(); ++p) {
         const Plane& P = planes[p].plane;
         if (std::abs(P.signedDistance(c)) - P.normal.cwiseAbs().dot(half) > double(hmax) * (1 + 1e-9)) continue;
-        if (!pieces[p].whole) near.push_back(int(p));
-        if (!planes[p].sections.empty()) nearSections.push_back(int(p));
+        if (!pieces[p].whole || !planes[p].sections.empty()) near.push_back(int(p));
       }
     }
-    // The lift's foot p, x's projection on the lift's plane A, lies in Ω_A (then it is also the
-    // nearest point of Ω_A to x).
-    const auto footObserved = [&](const Vec3& x, int A) {
-      const Vec2 at = planes[std::size_t(A)].plane.toPlane(x);
-      double na, nb;
-      return pieces[std::size_t(A)].distance(at.x(), at.y(), &na, &nb) == 0;
-    };
-    // Every plane within h of x is observed over its disc of B(x, h).
-    const auto ballObserved = [&](const Vec3& x, double h) {
-      for (const int p : near) {
-        const Plane& P = planes[std::size_t(p)].plane;
-        const double s = std::abs(P.signedDistance(x));
-        if (s > h * (1 + 1e-9)) continue;
-        const Vec2 at = P.toPlane(x);
-        if (!covers(pieces[std::size_t(p)], at.x(), at.y(), std::sqrt(std::max(0.0, h * h - s * s)))) return false;
-      }
-      return true;
-    };
-    // No section point but the lift's own foot lies within h of x: no plane other than the lift's
-    // has a section within its disc of B(x, h) (exact distances to the polygons).
-    const auto noOtherSectionWithin = [&](const Vec3& x, double h, int lifted) {
-      for (const int p : nearSections) {
-        if (p == lifted) continue;
-        const Plane& P = planes[std::size_t(p)].plane;
-        const double s = std::abs(P.signedDistance(x));
-        if (s >= h) continue;
-        const Vec2 at = P.toPlane(x);
-        const double r = std::sqrt(h * h - s * s);
-        const SectionLocator& L = locators[std::size_t(p)];
-        if (L.boxBound(at) >= r) continue;
-        if (L.holding(at) >= 0 || L.nearestContour(at).d < r) return false;
-      }
-      return true;
-    };
     std::int64_t k = 0, d = 0, a = 0;
     forEachVoxelOfBlock(grid, origin, [&](int i, int j, int kk, int q) {
       const std::size_t u = std::size_t(q);
@@ -124,7 +126,7 @@ void forEachObservedSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
         const Vec3 x = grid.centre(i, j, kk);
         const double h = m2.lift_height[u];
         const int A = m2.section_plane[u];
-        lift = A >= 0 && footObserved(x, A) && (ballObserved(x, h) || noOtherSectionWithin(x, h, A));
+        lift = A >= 0 && test.keeps(x, h, A, near);
         (lift ? k : d) += 1;
       }
       a += in1 && !in2;

@@ -26,6 +26,7 @@
 #include <functional>
 #include <vector>
 
+#include "geometry/core/section_locator.h"
 #include "geometry/reconstruction/section_voronoi_reconstruction.h"
 #include "geometry/scene/observed_piece.h"
 
@@ -36,6 +37,26 @@ struct ObservedSectionVoronoiStatistics {
   std::int64_t lift_voxels_kept = 0;   ///< voxels of R' \ R_Ω whose ball qualifies: kept in R'_Ω
   std::int64_t lift_voxels_dropped = 0;  ///< voxels of R' \ R_Ω whose lift passes an unobserved part
   std::int64_t pieces_voxels_added = 0;  ///< voxels of R_Ω \ R' (the pieces' method 1 holds them)
+};
+
+/// The definition's test for a point x of R' \ R_Ω: x lies on the lift of a section of plane
+/// `lifted` at height h (method 2's lift_height); it is kept in R'_Ω when its foot (x's projection
+/// on that plane) lies in the plane's piece and, within B(x, h), every plane is observed or no
+/// section point but the foot lies (exact distances to the section polygons). Used by the grid
+/// evaluation below and by G' along lifts (connectivity_graph.h).
+class ObservedLiftTest {
+ public:
+  /// @param locators  one per plane, over its sections (empty for a plane without sections).
+  ObservedLiftTest(const std::vector<CuttingPlane>& planes, const std::vector<ObservedPiece>& pieces,
+                   const std::vector<SectionLocator>& locators)
+      : planes_(planes), pieces_(pieces), locators_(locators) {}
+  /// @param candidates  planes that may meet B(x, h) (a superset: planes farther than h are skipped).
+  bool keeps(const Vec3& x, double h, int lifted, const std::vector<int>& candidates) const;
+
+ private:
+  const std::vector<CuttingPlane>& planes_;
+  const std::vector<ObservedPiece>& pieces_;
+  const std::vector<SectionLocator>& locators_;
 };
 
 /// R'_Ω block by block, as forEachSectionVoronoiBlock gives R' (parameters as there; `pieces` one

@@ -963,6 +963,7 @@ SectionVoronoiPoints::Answer SectionVoronoiPoints::at(const Vec3& x, CellMemo* m
   if (impl_->ev.decideByNearest(x, nearest, &d)) {
     a.inside = d.verdict == Verdict::inside;
     a.section_plane = d.section_plane;
+    a.lift_height = d.lift;
     return a;
   }
   thread_local Scratch w;
@@ -1001,6 +1002,7 @@ SectionVoronoiPoints::Answer SectionVoronoiPoints::at(const Vec3& x, CellMemo* m
   d = impl_->ev.decide(x, w.facets, w.cand, cell.radius * (1 + 1e-9) + (x - cell.origin).norm(), w);
   a.inside = d.verdict == Verdict::inside;
   a.section_plane = d.section_plane;
+  a.lift_height = d.lift;
   return a;
 }
 

@@ -118,6 +118,7 @@ class SectionVoronoiPoints {
   struct Answer {
     bool inside = false;     ///< x ∈ R'
     int section_plane = -1;  ///< plane of the section whose lift holds x (inside only)
+    float lift_height = 0;   ///< x's height on that lift, mm (inside only; the grid's lift_height)
   };
   /// The cell of the arrangement the last query clipped (its facets), kept by the caller between
   /// queries that follow one path: a query in the same cell reuses it. Filled by at().
