@@ -66,7 +66,7 @@ struct PencilCrossings {
 /// Whether trace point w of plane i on plane t's trace also lies on a third plane j of the pencil
 /// through their common line: |d_j(w)| within 1e-9 of the section's size plus w's coordinates (the
 /// rounding of a trace point is about 1e-15 of them; a contour crossing that near a third plane by
-/// chance is as unlikely), and the three normals coplanar (1e-9: planes through one line; planes
+/// chance is as unlikely), and the three normals coplanar (1e-9 of the sine between i and t: planes through one line; planes
 /// meeting in a point, such as the three axes' planes on a pixel grid, are not a pencil), j not
 /// parallel to i or t (a plane listed twice is a coincidence, not a pencil).
 void notePencilCrossing(const std::vector<CuttingPlane>& planes, std::size_t i, std::size_t t,
@@ -77,7 +77,7 @@ void notePencilCrossing(const std::vector<CuttingPlane>& planes, std::size_t i, 
   for (const std::size_t j : crossing) {
     if (j == t) continue;
     const Vec3 nj = planes[j].plane.normal;
-    if (std::abs(planes[j].plane.signedDistance(w)) > tol || std::abs(line.dot(nj)) > 1e-9) continue;
+    if (std::abs(planes[j].plane.signedDistance(w)) > tol || std::abs(line.dot(nj)) > 1e-9 * line.norm()) continue;
     if (nj.cross(ni).norm() <= 1e-6 || nj.cross(nt).norm() <= 1e-6) continue;
     if (out.count++ == 0) out.example = {int(i), int(t), int(j)};
     return;
