@@ -63,34 +63,57 @@ json manifestJson(const RunInputs& in, const RunOptions& o, const fs::path& dir)
 
 }  // namespace
 
-json graphJson(const RunResults& r) {
-  json nodes = json::array();
+SectionGraph sectionGraph(const RunResults& r) {
+  SectionGraph graph;
   int id = 0;
   for (const CuttingPlane& p : r.inputs.planes)
     for (std::size_t s = 0; s < p.sections.size(); ++s) {
       const Section& sec = p.sections[s];
-      nodes.push_back({{"id", id++}, {"slice", p.slice}, {"section", s}, {"label", sec.label},
-                       {"area_mm2", sectionArea(sec)},
-                       {"centroid_mm", vecJson(p.plane.toWorld(sectionCentroid(sec)))}});
+      graph.nodes.push_back({{"id", id++}, {"slice", p.slice}, {"section", s}, {"label", sec.label},
+                             {"area_mm2", sectionArea(sec)},
+                             {"centroid_mm", vecJson(p.plane.toWorld(sectionCentroid(sec)))}});
     }
-  json edges = json::array();
+  graph.method = nameOf(kReconstructionMethods, r.inputs.config.reconstruction_method);
   forEachEdge(r, [&](int a, int b, int cell, const char* method, const char*) {
-    edges.push_back({{"a", a}, {"b", b}, {"cell", cell}, {"method", method}});
+    if (graph.method == method) graph.edges.push_back({a, b, cell});
   });
+  return graph;
+}
+
+std::string graphJsonText(const RunResults& r, const json& nodes) {
+  // The document with its edge lists empty, then each list spliced in where dump(2) wrote "[]":
+  // objects of an array under a top-level key are indented by 4 spaces, their fields by 6.
   json graph = {{"method", nameOf(kReconstructionMethods, r.inputs.config.reconstruction_method)},
                 {"cells", r.arrangement.arrangement.cells},
                 {"sample_spacing_mm", r.arrangement.arrangement.sample_spacing_mm},
                 {"nodes", nodes},
-                {"edges", edges}};
-  if (const auto& d = r.reconstruction.delaunay) {
-    // Method 3: the section pairs R'''s tetrahedra join, per cell (beside G'', its graph).
+                {"edges", json::array()}};
+  const auto& delaunay = r.reconstruction.delaunay;
+  if (delaunay) graph["delaunay_connections"] = json::array();  // the pairs joined by a tetrahedron of R''
+  std::string text = graph.dump(2) + "\n";
+  const auto splice = [&](const std::string& key, const std::string& items) {
+    if (items.empty()) return;
+    const std::string empty = "\n  \"" + key + "\": []";
+    text.replace(text.find(empty), empty.size(), "\n  \"" + key + "\": [\n" + items + "\n  ]");
+  };
+  const auto item = [](std::string& out, int a, int b, int cell, const char* method) {
+    if (!out.empty()) out += ",\n";
+    out += "    {\n      \"a\": " + std::to_string(a) + ",\n      \"b\": " + std::to_string(b) +
+           ",\n      \"cell\": " + std::to_string(cell);
+    if (method) out += ",\n      \"method\": \"" + std::string(method) + "\"";
+    out += "\n    }";
+  };
+  std::string edges;
+  forEachEdge(r, [&](int a, int b, int cell, const char* method, const char*) { item(edges, a, b, cell, method); });
+  splice("edges", edges);
+  if (delaunay) {
     const SectionIds ids = r.scene_stage.scene.ids();
-    json joined = json::array();
-    for (const GraphEdge& e : d->connections)
-      joined.push_back({{"a", ids.of(e.plane_a, e.section_a)}, {"b", ids.of(e.plane_b, e.section_b)}, {"cell", e.cell}});
-    graph["delaunay_connections"] = joined;
+    std::string joined;
+    for (const GraphEdge& e : delaunay->connections)
+      item(joined, ids.of(e.plane_a, e.section_a), ids.of(e.plane_b, e.section_b), e.cell, nullptr);
+    splice("delaunay_connections", joined);
   }
-  return graph;
+  return text;
 }
 
 std::string graphDot(const RunResults& r) {
@@ -133,8 +156,8 @@ void writeRunOutputs(const RunResults& r, const RunOptions& o, const StageClock&
         "xsect sampling: per voxel, h_C / critical reach of its cell (thesis Def. 23; < 1 passes), -1 unknown");
   };
   const auto documents = [&] {
-    const json graph = graphJson(r);
-    writeTextFile(out.file("graph.json").string(), graph.dump(2) + "\n");
+    const SectionGraph graph = sectionGraph(r);
+    writeTextFile(out.file("graph.json").string(), graphJsonText(r, graph.nodes));
     writeTextFile(out.file("graph.dot").string(), graphDot(r));
     const json conformity = conformityDetailsJson(c.conformity, r.inputs.conformity);
     writeTextFile(out.file("conformity.json").string(), conformity.dump(2) + "\n");

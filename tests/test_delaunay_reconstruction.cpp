@@ -476,7 +476,8 @@ void expectSolid(const Method3Run& run, double spacing, const std::string& what)
   // Tetrahedra: vertices on planes with sections, their volume the mesh's.
   int tetOff = 0;
   double tetSum = 0;
-  for (const auto& T : run.rec.tetrahedra) {
+  for (std::size_t t = 0; t < run.rec.tetrahedra.size(); ++t) {
+    const std::array<Vec3, 4> T = run.rec.tetrahedra.at(t);
     const double vol = std::abs(tetVolume(T));
     tetSum += vol;
     for (const Vec3& x : T) {
@@ -626,7 +627,7 @@ bool faceConnected(const Method3Run& r, std::pair<int, int> a, std::pair<int, in
   for (std::size_t t = 0; t < r.rec.tetrahedra.size(); ++t) {
     int na = 0, nb = 0;
     bool only = true;
-    for (const Vec3& x : r.rec.tetrahedra[t]) {
+    for (const Vec3& x : r.rec.tetrahedra.at(t)) {
       const bool ia = on(x, a), ib = on(x, b);
       na += ia, nb += ib;
       only = only && (ia || ib);
@@ -638,7 +639,7 @@ bool faceConnected(const Method3Run& r, std::pair<int, int> a, std::pair<int, in
   const std::function<int(int)> find = [&](int x) { return parent[std::size_t(x)] == x ? x : parent[std::size_t(x)] = find(parent[std::size_t(x)]); };
   std::map<std::array<Key, 3>, int> faces;
   for (std::size_t i = 0; i < ids.size(); ++i) {
-    const auto& T = r.rec.tetrahedra[std::size_t(ids[i])];
+    const std::array<Vec3, 4> T = r.rec.tetrahedra.at(std::size_t(ids[i]));
     for (int skip = 0; skip < 4; ++skip) {
       std::array<Key, 3> f;
       int n = 0;

@@ -242,10 +242,11 @@ TEST(ReportPage, DecimationKeepsTheShapeWithinBudget) {
 
 TEST(ReportPage, GraphComponentsAndFallback) {
   // Two components: sections 0-1-2 and 3-4; a self-loop and an out-of-range edge are ignored.
-  nlohmann::ordered_json g = {{"method", "nearest_plane"}, {"nodes", nlohmann::ordered_json::array()}, {"edges", nlohmann::ordered_json::array()}};
-  for (int i = 0; i < 5; ++i) g["nodes"].push_back({{"id", i}, {"slice", i}, {"section", 0}, {"label", 1}, {"area_mm2", 1.0}});
+  SectionGraph g;
+  g.method = "nearest_plane";
+  for (int i = 0; i < 5; ++i) g.nodes.push_back({{"id", i}, {"slice", i}, {"section", 0}, {"label", 1}, {"area_mm2", 1.0}});
   for (const auto& [a, b] : std::vector<std::pair<int, int>>{{0, 1}, {1, 2}, {1, 0}, {3, 4}, {2, 2}, {4, 9}})
-    g["edges"].push_back({{"a", a}, {"b", b}, {"cell", 0}, {"method", "nearest_plane"}});
+    g.edges.push_back({a, b, 0});
   const std::string table = sectionGraphHtml(g, 2);  // above max_nodes: the table
   EXPECT_NE(table.find("graph-fallback"), std::string::npos);
   EXPECT_NE(table.find("3 pairs joined"), std::string::npos);

@@ -16,6 +16,12 @@ class DisjointSets {
 
   std::size_t size() const { return parent_.size(); }
 
+  /// Back to n singletons (reusing the room: for many small sets in a loop).
+  void reset(std::size_t n) {
+    parent_.resize(n);
+    std::iota(parent_.begin(), parent_.end(), std::size_t(0));
+  }
+
   /// The smallest element of x's set.
   std::size_t find(std::size_t x) {
     while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];

@@ -14,6 +14,7 @@
 #include <unordered_set>
 
 #include "geometry/core/disjoint_sets.h"
+#include "geometry/core/section_ids.h"
 #include "geometry/delaunay/cell_complex.h"
 #include "geometry/delaunay/plane_gluing.h"
 #include "geometry/delaunay/section_vertices.h"
@@ -538,9 +539,22 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
     std::vector<GraphEdge> joined;
   };
   std::vector<CellTally> tally(cells);
+  // Each section-vertex's section as a flat id (-1: none), so that a cell's pairs sort as integers
+  // (in the flat ids' order, which is GraphEdge's (plane, section) order).
+  const SectionIds ids(planes);
+  std::vector<int> sectionOf(sv.points.size(), -1);
+  for (std::size_t id = 0; id < sv.points.size(); ++id)
+    if (sv.points[id].section >= 0) sectionOf[id] = ids.of(sv.points[id].planes[0], sv.points[id].section);
+  std::vector<int> planeOfId(std::size_t(ids.count()), 0), sectionOfId(std::size_t(ids.count()), 0);
+  for (std::size_t p = 0; p < planes.size(); ++p)
+    for (std::size_t k = 0; k < planes[p].sections.size(); ++k) {
+      planeOfId[std::size_t(ids.of(int(p), int(k)))] = int(p);
+      sectionOfId[std::size_t(ids.of(int(p), int(k)))] = int(k);
+    }
   tbb::parallel_for(std::size_t(0), cells, [&](std::size_t c) {
     CellTally& T = tally[c];
     const CellComplex& C = cx[c];
+    std::vector<std::uint64_t> pairs;
     for (std::size_t t = 0; t < C.v.size(); ++t) {
       switch (C.type[t]) {
         case TetType::vf: ++T.stats.d0.vf; break;
@@ -554,19 +568,18 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
       ++T.kept;
       for (int i = 0; i < 4; ++i)
         for (int j = i + 1; j < 4; ++j) {
-          const SectionVertex& a = sv.points[std::size_t(C.v[t][std::size_t(i)])];
-          const SectionVertex& b = sv.points[std::size_t(C.v[t][std::size_t(j)])];
-          if (a.planes[0] == b.planes[0] || a.section < 0 || b.section < 0) continue;
-          GraphEdge e{a.planes[0], a.section, b.planes[0], b.section, int(c)};
-          if (std::tie(e.plane_b, e.section_b) < std::tie(e.plane_a, e.section_a)) {
-            std::swap(e.plane_a, e.plane_b);
-            std::swap(e.section_a, e.section_b);
-          }
-          T.joined.push_back(e);
+          const std::size_t a = std::size_t(C.v[t][std::size_t(i)]), b = std::size_t(C.v[t][std::size_t(j)]);
+          if (sectionOf[a] < 0 || sectionOf[b] < 0 || sv.points[a].planes[0] == sv.points[b].planes[0]) continue;
+          const auto [lo, hi] = std::minmax(sectionOf[a], sectionOf[b]);
+          pairs.push_back(std::uint64_t(lo) << 32 | std::uint64_t(hi));
         }
     }
-    std::sort(T.joined.begin(), T.joined.end());
-    T.joined.erase(std::unique(T.joined.begin(), T.joined.end()), T.joined.end());
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    for (const std::uint64_t k : pairs) {
+      const std::size_t lo = std::size_t(k >> 32), hi = std::size_t(k & 0xffffffffu);
+      T.joined.push_back({planeOfId[lo], sectionOfId[lo], planeOfId[hi], sectionOfId[hi], int(c)});
+    }
   });
   std::vector<std::size_t> firstTet(cells + 1, 0);
   std::vector<GraphEdge> joined;
@@ -586,13 +599,27 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
     firstTet[c + 1] = firstTet[c] + tally[c].kept;
     joined.insert(joined.end(), tally[c].joined.begin(), tally[c].joined.end());
   }
-  out.tetrahedra.resize(firstTet[cells]);
+  // D3's tetrahedra on the section-vertices they use, numbered in id order.
+  std::vector<int> vertexOf(sv.points.size(), -1);
+  for (std::size_t c = 0; c < cells; ++c) {
+    const CellComplex& C = cx[c];
+    for (std::size_t t = 0; t < C.v.size(); ++t)
+      if (C.kept[t])
+        for (const int id : C.v[t]) vertexOf[std::size_t(id)] = 0;
+  }
+  for (std::size_t id = 0; id < sv.points.size(); ++id)
+    if (vertexOf[id] == 0) {
+      vertexOf[id] = int(out.tetrahedra.vertices.size());
+      out.tetrahedra.vertices.push_back(sv.points[id].x);
+    }
+  out.tetrahedra.corners.resize(firstTet[cells]);
   tbb::parallel_for(std::size_t(0), cells, [&](std::size_t c) {
     const CellComplex& C = cx[c];
     std::size_t k = firstTet[c];
     for (std::size_t t = 0; t < C.v.size(); ++t) {
       if (!C.kept[t]) continue;
-      for (int i = 0; i < 4; ++i) out.tetrahedra[k][std::size_t(i)] = sv.points[std::size_t(C.v[t][std::size_t(i)])].x;
+      for (int i = 0; i < 4; ++i)
+        out.tetrahedra.corners[k][std::size_t(i)] = vertexOf[std::size_t(C.v[t][std::size_t(i)])];
       ++k;
     }
   });

@@ -39,6 +39,7 @@
 #include "geometry/arrangement/connectivity_graph.h"
 #include "geometry/arrangement/section_arrangement.h"
 #include "geometry/core/types.h"
+#include "geometry/delaunay/tetrahedron_set.h"
 
 namespace xsect {
 
@@ -81,8 +82,8 @@ struct DelaunayReconstruction {
   /// ∂R'': every triangle oriented outwards; its vertices are section-vertices (contour points
   /// lie exactly on the sampled contours).
   TriangleMesh mesh;
-  /// D3's tetrahedra over all cells (world coordinates, mm): R'' is their union.
-  std::vector<std::array<Vec3, 4>> tetrahedra;
+  /// D3's tetrahedra over all cells (world coordinates, mm), in cell order: R'' is their union.
+  TetrahedronSet tetrahedra;
   /// Section pairs that a tetrahedron of D3 joins, per cell (a vertex on each): the connectivity
   /// that R'' realises, sorted and unique.
   std::vector<GraphEdge> connections;

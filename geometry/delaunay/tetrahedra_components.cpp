@@ -10,27 +10,28 @@
 
 namespace xsect {
 
-int tetrahedraComponents(const std::vector<std::array<Vec3, 4>>& tetrahedra) {
-  // Every vertex as (position, tetrahedron), sorted by position: equal positions are neighbours.
-  struct Corner {
-    double x, y, z;
-    std::uint32_t tetrahedron;
-  };
-  std::vector<Corner> corners;
-  corners.reserve(4 * tetrahedra.size());
-  for (std::size_t t = 0; t < tetrahedra.size(); ++t)
-    for (const Vec3& v : tetrahedra[t]) corners.push_back({v.x(), v.y(), v.z(), std::uint32_t(t)});
-  // A total order (the tetrahedron breaks ties), so the parallel sort's result is one.
-  tbb::parallel_sort(corners.begin(), corners.end(), [](const Corner& a, const Corner& b) {
-    return std::tie(a.x, a.y, a.z, a.tetrahedron) < std::tie(b.x, b.y, b.z, b.tetrahedron);
+int tetrahedraComponents(const TetrahedronSet& tetrahedra) {
+  // Vertices joined through the tetrahedra, then vertices at one position (sorted by position,
+  // ids breaking ties: one order whatever the sort).
+  const std::size_t n = tetrahedra.vertices.size();
+  DisjointSets sets(n);
+  std::vector<std::uint8_t> used(n, 0);
+  for (const std::array<int, 4>& c : tetrahedra.corners)
+    for (int i = 0; i < 4; ++i) {
+      used[std::size_t(c[std::size_t(i)])] = 1;
+      sets.unite(std::size_t(c[0]), std::size_t(c[std::size_t(i)]));
+    }
+  std::vector<std::uint32_t> order;
+  for (std::size_t v = 0; v < n; ++v)
+    if (used[v]) order.push_back(std::uint32_t(v));
+  const auto& x = tetrahedra.vertices;
+  tbb::parallel_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return std::make_tuple(x[a].x(), x[a].y(), x[a].z(), a) < std::make_tuple(x[b].x(), x[b].y(), x[b].z(), b);
   });
-  DisjointSets sets(tetrahedra.size());
-  for (std::size_t q = 1; q < corners.size(); ++q) {
-    const Corner &a = corners[q - 1], &b = corners[q];
-    if (a.x == b.x && a.y == b.y && a.z == b.z) sets.unite(a.tetrahedron, b.tetrahedron);
-  }
+  for (std::size_t q = 1; q < order.size(); ++q)
+    if (x[order[q - 1]] == x[order[q]]) sets.unite(order[q - 1], order[q]);
   int components = 0;
-  for (std::size_t t = 0; t < tetrahedra.size(); ++t) components += sets.find(t) == t;
+  for (const std::uint32_t v : order) components += sets.find(v) == v;
   return components;
 }
 

@@ -76,7 +76,7 @@ TetrahedronBox boxOf(const std::array<Vec3, 4>& t, const GridSpec& grid) {
 /// Fills the rows of blocks of one layer, row by row (see tetrahedra_voxels.h).
 class LayerScan {
  public:
-  LayerScan(const std::vector<std::array<Vec3, 4>>& tetrahedra, const std::vector<TetrahedronBox>& boxes,
+  LayerScan(const TetrahedronSet& tetrahedra, const std::vector<TetrahedronBox>& boxes,
             const std::vector<CuttingPlane>& planes, SampledReconstruction& out)
       : tetrahedra_(tetrahedra), boxes_(boxes), planes_(planes), out_(out), grid_(out.inside.grid()),
         width_(out.inside.blockDims()[0] * kSide), tol_(1e-6 * grid_.voxel) {}
@@ -91,7 +91,7 @@ class LayerScan {
     for (std::size_t q = 0; q < count; ++q) {
       const int t = list[q];
       const TetrahedronBox& box = boxes_[std::size_t(t)];
-      const Faces f = facesOf(tetrahedra_[std::size_t(t)]);
+      const Faces f = facesOf(tetrahedra_.at(std::size_t(t)));
       const int k0 = std::max(box.lo[2], bk * kSide), k1 = std::min(box.hi[2], bk * kSide + kSide - 1);
       const int j0 = std::max(box.lo[1], bj * kSide), j1 = std::min(box.hi[1], bj * kSide + kSide - 1);
       for (int k = k0; k <= k1; ++k)
@@ -155,7 +155,7 @@ class LayerScan {
   }
 
  private:
-  const std::vector<std::array<Vec3, 4>>& tetrahedra_;
+  const TetrahedronSet& tetrahedra_;
   const std::vector<TetrahedronBox>& boxes_;
   const std::vector<CuttingPlane>& planes_;
   SampledReconstruction& out_;
@@ -212,7 +212,7 @@ void fillField(SampledReconstruction& out, float band) {
 
 }  // namespace
 
-SampledReconstruction tetrahedraOnGrid(const std::vector<std::array<Vec3, 4>>& tetrahedra,
+SampledReconstruction tetrahedraOnGrid(const TetrahedronSet& tetrahedra,
                                        const std::vector<CuttingPlane>& planes, std::size_t realPlanes,
                                        const GridSpec& grid, float band_mm,
                                        const std::function<void(std::int64_t, std::int64_t)>& progress) {
@@ -228,11 +228,16 @@ SampledReconstruction tetrahedraOnGrid(const std::vector<std::array<Vec3, 4>>& t
   for (std::size_t p = 0; p < std::min(realPlanes, planes.size()); ++p)
     if (!planes[p].sections.empty()) holding.push_back(int(p));
   const double planeTol = 1e-3 * grid.voxel;
+  std::vector<int> vertexPlane(tetrahedra.vertices.size());
+  tbb::parallel_for(std::size_t(0), vertexPlane.size(), [&](std::size_t v) {
+    vertexPlane[v] = planeOf(tetrahedra.vertices[v], planes, holding, planeTol);
+  });
   std::vector<TetrahedronBox> boxes(tetrahedra.size());
   tbb::parallel_for(std::size_t(0), tetrahedra.size(), [&](std::size_t t) {
-    boxes[t] = boxOf(tetrahedra[t], grid);
+    boxes[t] = boxOf(tetrahedra.at(t), grid);
     if (boxes[t].empty()) return;
-    for (int v = 0; v < 4; ++v) boxes[t].plane[std::size_t(v)] = planeOf(tetrahedra[t][std::size_t(v)], planes, holding, planeTol);
+    for (int v = 0; v < 4; ++v)
+      boxes[t].plane[std::size_t(v)] = vertexPlane[std::size_t(tetrahedra.corners[t][std::size_t(v)])];
   });
 
   // Layers of blocks along z, in order: the tetrahedra whose boxes meet the layer (kept in

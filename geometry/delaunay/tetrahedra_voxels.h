@@ -22,11 +22,12 @@
 #include <vector>
 
 #include "geometry/core/types.h"
+#include "geometry/delaunay/tetrahedron_set.h"
 #include "geometry/reconstruction/sampled_reconstruction.h"
 
 namespace xsect {
 
-/// @param tetrahedra  #T tetrahedra, world coordinates (mm); flat ones (volume below 1e-12 of
+/// @param tetrahedra  #T tetrahedra on their vertex table (world coordinates, mm); flat ones (volume below 1e-12 of
 ///                    their longest edge cubed) are skipped.
 /// @param planes      the cutting planes; the first `realPlanes` are the real ones that hold the
 ///                    tetrahedra's vertices (section-vertices lie on them).
@@ -44,7 +45,7 @@ namespace xsect {
 ///    the voxel's label on;
 ///  - `max_lift_mm`: the largest distance of a voxel of the solid to that plane;
 ///  - `voxels_inside`, `voxel_betti`, `storage`, `evaluate_seconds`; no repair (zero counts).
-SampledReconstruction tetrahedraOnGrid(const std::vector<std::array<Vec3, 4>>& tetrahedra,
+SampledReconstruction tetrahedraOnGrid(const TetrahedronSet& tetrahedra,
                                        const std::vector<CuttingPlane>& planes, std::size_t realPlanes,
                                        const GridSpec& grid, float band_mm,
                                        const std::function<void(std::int64_t, std::int64_t)>& progress = {});

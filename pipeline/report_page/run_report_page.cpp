@@ -14,7 +14,7 @@ namespace xsect {
 
 using json = nlohmann::ordered_json;
 
-ReportPage runReportPage(const RunResults& r, const json& report, const json& conformity, const json& graph) {
+ReportPage runReportPage(const RunResults& r, const json& report, const json& conformity, const SectionGraph& graph) {
   ReportPage page;
   page.title = "xsect: " + std::filesystem::path(r.inputs.config.path).filename().string() + " (" +
                std::filesystem::path(r.inputs.config.input_path).filename().string() + ")";

@@ -29,18 +29,15 @@ std::string methodGraphName(const std::string& method) {
 
 }  // namespace
 
-std::string sectionGraphHtml(const json& graph, std::size_t maxNodes, std::size_t maxEdges) {
-  const json& nodes = graph.at("nodes");
+std::string sectionGraphHtml(const SectionGraph& graph, std::size_t maxNodes, std::size_t maxEdges) {
+  const json& nodes = graph.nodes;
   const std::size_t n = nodes.size();
-  // The method's edges (graph.json also lists G beside G', and both beside G''), one per pair of
-  // sections, with the cells where their lifts meet.
-  const std::string method = graph.value("method", "");
+  const std::string& method = graph.method;
+  // One entry per pair of sections, with the cells where their lifts meet.
   std::map<std::pair<int, int>, std::set<int>> cellsOfPair;
-  for (const json& e : graph.at("edges")) {
-    const int a = e.at("a").get<int>(), b = e.at("b").get<int>();
-    if (a == b || a < 0 || b < 0 || std::size_t(a) >= n || std::size_t(b) >= n) continue;
-    if (e.value("method", method) != method) continue;
-    cellsOfPair[{std::min(a, b), std::max(a, b)}].insert(e.value("cell", -1));
+  for (const SectionGraph::Edge& e : graph.edges) {
+    if (e.a == e.b || e.a < 0 || e.b < 0 || std::size_t(e.a) >= n || std::size_t(e.b) >= n) continue;
+    cellsOfPair[{std::min(e.a, e.b), std::max(e.a, e.b)}].insert(e.cell);
   }
   DisjointSets sets(n);
   for (const auto& [pair, cells] : cellsOfPair) sets.unite(std::size_t(pair.first), std::size_t(pair.second));
