@@ -30,10 +30,11 @@ std::vector<std::uint8_t> solidOf(const ScalarField& f) {
 }
 
 /// The planes' evidence on a lattice, as the method's repair reads it (sampled_reconstruction.cpp):
-/// voxels within half a voxel diagonal of a plane, clearly (half a voxel) inside or outside.
-PlaneEvidence evidenceOn(const std::vector<CuttingPlane>& planes, const std::vector<SectionDistanceField>& fields,
-                         const GridSpec& grid) {
-  return planeEvidence(planes, fields, grid, 0.5 * std::sqrt(3.0) * grid.voxel, 0.5 * grid.voxel);
+/// voxels within half a voxel diagonal of a plane, clearly (half a voxel) inside or outside, where
+/// the plane was observed.
+PlaneEvidence evidenceOn(const SectionScene& scene, const GridSpec& grid) {
+  return planeEvidence(scene.planes, scene.fields, grid, 0.5 * std::sqrt(3.0) * grid.voxel, 0.5 * grid.voxel,
+                       &scene.pieces);
 }
 
 /// The smooth solid, as the method's (digital_topology.h): components without section evidence
@@ -44,7 +45,7 @@ TopologyRepair repairSolid(std::vector<std::uint8_t>& inside, const PlaneEvidenc
 
 /// Voxels of the method's solid that the observed pieces decide (issue 20): the method on whole
 /// planes against the run's, on the pieces (their raw solids, before repair). Zero when every piece
-/// is whole, or the images cover the object. Method 2 counted them as it evaluated R'_Ω (the
+/// is whole, or the images cover the object. Reported: how much the images' extent matters here. Method 2 counted them as it evaluated R'_Ω (the
 /// voxels where it differs from R': lifts not followed, and method 1's voxels on the pieces added).
 std::int64_t voxelsDecidedByPieces(const SectionScene& scene, const SampledReconstruction& rec) {
   if (std::all_of(scene.pieces.begin(), scene.pieces.end(), [](const ObservedPiece& p) { return p.whole; }))
@@ -104,19 +105,18 @@ SmoothStage smoothStage(const RunConfig& c, const SectionScene& scene, const Arr
   // the grid) do not bias the surface between sections. With the largest section's radius as the
   // value instead, a sphere cut by 16 parallel planes shrank by 0.1 mm between its planes.
   out.empty_value_mm = scene.layout.end_margin_mm;
-  // Shepard's interpolant is defined on whole planes (thesis ch. 1 §1.1: the planes of x's cell);
-  // where the observed pieces decide the method's solid, the planes beyond the images would carve
-  // its surface: the level-set smoothing of the method's solid is written instead.
+  // Shepard's interpolant on the observed pieces (shepard_interpolant.h: the thesis' definition
+  // when every piece is whole).
   if (c.smoothing_method == SmoothingMethod::shepard)
     out.voxels_decided_by_pieces = voxelsDecidedByPieces(scene, rec);
-  if (c.smoothing_method == SmoothingMethod::shepard && out.voxels_decided_by_pieces == 0) {
+  if (c.smoothing_method == SmoothingMethod::shepard) {
     std::vector<PlaneDistanceFunction> f(planes.size());
     tbb::parallel_for(std::size_t(0), planes.size(), [&](std::size_t i) {
       f[i] = planeDistanceFunction(fields[i], planes[i].plane, grid,
                                    planes[i].sections.empty() ? out.empty_value_mm : out.cap_mm);
     });
     const std::vector<double> factor = endPlaneWeightFactors(planes, scene.real_planes);
-    const ShepardData data{&planes, &fields, &f, &factor};
+    const ShepardData data{&planes, &fields, &f, &factor, &scene.pieces};
     const auto t0 = std::chrono::steady_clock::now();
     ShepardField sf = shepardInterpolant(data, grid, out.exponent, progress);
     out.evaluate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -126,17 +126,21 @@ SmoothStage smoothStage(const RunConfig& c, const SectionScene& scene, const Arr
     out.end_plane_weights.assign(factor.begin() + std::ptrdiff_t(scene.real_planes), factor.end());
     // The zero set of f meets every plane in its sections (Property 3); on the grid, where the
     // solid bulges past a contour by more than a quarter voxel, the voxels around it take f_i
-    // (not where it misses the contour, nor between planes closer than a voxel: contour_pinning.h).
+    // (not where it misses the contour, nor between planes closer than a voxel, nor beyond the
+    // observed piece, where a contour follows the image's edge: contour_pinning.h).
     out.pinning = pinSectionContours(
         out.field, planes,
         [&](std::size_t i, double a, double b) { return double(planeDistanceValue(fields[i], f[i], a, b)); },
-        0.25 * h);
+        0.25 * h, [&](std::size_t i, double a, double b) {
+          double na, nb;
+          return scene.pieces[i].distance(a, b, &na, &nb) == 0;
+        });
     // Its solid repaired before anything reads it, so that the mesh, the level set, the
     // connectivity checks and the Betti numbers all see one solid: with p = 1 on 120 random
     // planes through the genus-2 solid, f has two voxel-sized positive pockets inside the solid
     // that no plane shows.
     std::vector<std::uint8_t> solid = solidOf(out.field);
-    out.repair = repairSolid(solid, evidenceOn(planes, fields, grid), grid);
+    out.repair = repairSolid(solid, evidenceOn(scene, grid), grid);
     imposeSolid(out.field, solid, float(0.05 * h));
     out.shepard_check = compareWithVoxels(edges, scene, arrangement, solid, grid);
     out.shepard_cells = compareCellsWithVoxels(edges, scene, arrangement, solid, grid);
@@ -162,9 +166,9 @@ SmoothStage smoothStage(const RunConfig& c, const SectionScene& scene, const Arr
   // The level-set smoothing of the method's solid (asked for, or in place of a Shepard surface
   // that joins the sections differently): curvature flow with the planes' values held, stopped
   // before it changes how the sections are joined.
-  if (c.smoothing_method == SmoothingMethod::level_set || out.voxels_decided_by_pieces > 0 ||
+  if (c.smoothing_method == SmoothingMethod::level_set ||
       (c.smoothing_keep_connectivity && !out.shepard_keeps_connectivity)) {
-    const PlaneEvidence evidence = evidenceOn(planes, fields, rec.field.grid());
+    const PlaneEvidence evidence = evidenceOn(scene, rec.field.grid());
     const auto keeps = [&](std::vector<std::uint8_t> inside) {
       repairSolid(inside, evidence, rec.field.grid());  // the solid that would be meshed
       const GraphVoxelCheck k =
@@ -204,11 +208,6 @@ SmoothStage smoothStage(const RunConfig& c, const SectionScene& scene, const Arr
 }
 
 std::string shepardConnectivityWarning(const RunConfig& c, const SmoothStage& smooth) {
-  if (c.smoothing_method == SmoothingMethod::shepard && smooth.voxels_decided_by_pieces > 0)
-    return "Shepard's interpolant is defined on whole planes, and the observed pieces (reconstruction.planes: "
-           "observed) decide " + std::to_string(smooth.voxels_decided_by_pieces) +
-           " voxels of the method's solid (images that do not cover the object): the surface written is the "
-           "level-set smoothing of the method's solid";
   if (c.smoothing_method != SmoothingMethod::shepard || smooth.shepard_keeps_connectivity) return "";
   const GraphVoxelCheck& g = smooth.shepard_check;
   const auto declined = std::count_if(smooth.refined_cells.begin(), smooth.refined_cells.end(),

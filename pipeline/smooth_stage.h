@@ -45,8 +45,8 @@ struct SmoothStage {
   std::vector<CellRefinement> refined_cells;
   bool shepard_keeps_connectivity = false;
   bool fell_back = false;             ///< Shepard's surface replaced by the level-set smoothing
-  /// Voxels of method 1's solid the observed pieces decide (Shepard asked for: when > 0, Shepard's
-  /// whole-plane interpolant is not evaluated and the level-set smoothing is written instead).
+  /// Voxels of the method's solid the observed pieces decide (Shepard asked for): how much the
+  /// images' extent matters; Shepard's interpolant is then evaluated on the pieces.
   std::int64_t voxels_decided_by_pieces = 0;
   int iterations_applied = 0;         ///< level-set smoothing steps kept
   /// The smooth solid repaired as the method's is (digital_topology.h, plane_evidence.h): what

@@ -79,12 +79,19 @@ TEST_P(BallLargerThanEveryImage, IsOneBallWithObservedPiecesAndCarvedWithWholePl
   EXPECT_TRUE(w["betti"] != e["betti"] || w["hausdorff_mm"].get<double>() > 3.0)
       << "whole planes: betti " << w["betti"] << ", Hausdorff " << w["hausdorff_mm"];
   EXPECT_GT(w["hausdorff_mm"].get<double>(), 3 * e["hausdorff_mm"].get<double>());
-  // Shepard's interpolant is defined on whole planes: where the pieces decide the solid, the
-  // smooth surface is the level-set smoothing of method 1's solid, one ball still.
+  // Shepard's interpolant on the pieces (shepard_interpolant.h): where the pieces decide the
+  // solid, its surface is one ball within two voxels as well; on whole planes it is carved.
   const nlohmann::json s = test::run(dir, "shepard", "--set smoothing.method=shepard");
   EXPECT_GT(s["smoothing"]["voxels_decided_by_observed_pieces"].get<std::int64_t>(), 0);
-  EXPECT_EQ(s["smoothing"]["surface_from"], "level_set");
+  EXPECT_EQ(s["smoothing"]["surface_from"], "shepard");
   EXPECT_EQ(s["betti"], (std::vector<int>{1, 0, 0}));
+  const nlohmann::json es = test::eval(dir, "shepard");
+  EXPECT_EQ(es["betti"], (std::vector<int>{1, 0, 0}));
+  EXPECT_LE(es["hausdorff_mm"].get<double>(), 2 * 0.4) << "Shepard on the pieces: within two voxels of the truth";
+  test::run(dir, "shepard_whole", "--set smoothing.method=shepard --set reconstruction.planes=whole");
+  const nlohmann::json ws = test::eval(dir, "shepard_whole");
+  EXPECT_GT(ws["hausdorff_mm"].get<double>(), 3 * es["hausdorff_mm"].get<double>())
+      << "Shepard on whole planes: betti " << ws["betti"];
   // Method 2 on the pieces (README "Observed pieces": R'_Ω): one ball as well, within two voxels;
   // on whole planes its lifts stop at the planes beyond the images and the ball is carved.
   const nlohmann::json m2 = test::run(dir, "m2", "--set reconstruction.method=section_voronoi");

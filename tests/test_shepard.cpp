@@ -1,7 +1,9 @@
 // Shepard's interpolant (thesis ch. 1 §1.1): the grid evaluation equals the O(k²) definition, the
 // far-field f_i stays within its stated error of the exact polygon distance, f equals f_i on the
 // planes (Property 3: the zero set passes through the contours), and as p grows the solid
-// approaches method 1's (the thesis' "sufficiently large n" remark), p = inf being method 1.
+// approaches method 1's (the thesis' "sufficiently large n" remark), p = inf being method 1. On
+// observed pieces (issue 20) the grid equals the pieces' definition, and is the whole planes' where
+// the pieces hold every projection.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -231,4 +233,93 @@ TEST(Shepard, RejectsInvalidArguments) {
   EXPECT_THROW(shepardInterpolant({&s.planes, &s.near, &s.f, &shortFactors}, s.grid, 2.0), std::invalid_argument);
   EXPECT_THROW(shepardInterpolant({&s.planes, &s.near, &s.f, &negative}, s.grid, 2.0), std::invalid_argument);
   EXPECT_THROW(planeDistanceFunction(s.near[0], s.planes[0].plane, s.grid, 0.0), std::invalid_argument);
+}
+
+namespace {
+
+/// Distance of x to the nearest visibility tie on observed pieces: a plane q nearer than t_i whose
+/// sign at x_i (the piece's nearest point) is nearly 0, or whose crossing of [x, x_i] lies within
+/// reach of its rectangle's edge lines.
+double pieceTieMargin(const std::vector<CuttingPlane>& planes, const std::vector<ObservedPiece>& pieces, const Vec3& x) {
+  double m = 1e300;
+  for (std::size_t i = 0; i < planes.size(); ++i) {
+    const Plane& P = planes[i].plane;
+    const Vec2 ab = P.toPlane(x);
+    double na, nb;
+    const double o = pieces[i].distance(ab.x(), ab.y(), &na, &nb), si = P.signedDistance(x);
+    const Vec3 xi = P.toWorld(Vec2(na, nb));
+    const double ti = std::sqrt(si * si + o * o);
+    for (std::size_t q = 0; q < planes.size(); ++q) {
+      const double sq = planes[q].plane.signedDistance(x), sqi = planes[q].plane.signedDistance(xi);
+      if (q == i || !(std::abs(sq) < ti)) continue;
+      m = std::min(m, std::abs(sqi));
+      if (sq * sqi < 0 && !pieces[q].whole) {
+        const Vec2 z = planes[q].plane.toPlane(x + (sq / (sq - sqi)) * (xi - x));
+        const PlaneRect& r = pieces[q].rect;
+        m = std::min({m, std::abs(z.x() - r.min.x()), std::abs(z.x() - r.max.x()), std::abs(z.y() - r.min.y()),
+                      std::abs(z.y() - r.max.y())});
+      }
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
+// Shepard on observed pieces (shepard_interpolant.h): the block-culled grid equals the definition
+// (x_i the piece's nearest point, visibility blocked only inside other pieces) on random planes cut
+// down to random rectangles; with pieces that hold every projection it is the whole-plane grid.
+TEST(Shepard, OnObservedPiecesTheGridEqualsTheDefinition) {
+  std::mt19937_64 rng(77);
+  for (const int count : {4, 9, 16})
+    for (const double p : {1.0, 2.0, std::numeric_limits<double>::infinity()}) {
+      Scene s = scene(count, 300 + count, 0.25, 22, 1.2);
+      std::vector<ObservedPiece> pieces(s.planes.size());
+      int partial = 0;
+      for (std::size_t i = 0; i < std::size_t(count); ++i) {
+        if (std::uniform_real_distribution<double>(0, 1)(rng) < 0.2) continue;  // some stay whole
+        // A rectangle about a random point within 2 mm of the sections' centre, 1-4 mm a side.
+        std::uniform_real_distribution<double> c(-2.0, 2.0), side(1.0, 4.0);
+        const Vec2 centre = s.planes[i].plane.toPlane(kCentre) + Vec2(c(rng), c(rng));
+        const Vec2 half(0.5 * side(rng), 0.5 * side(rng));
+        pieces[i].whole = false;
+        pieces[i].rect = PlaneRect{centre - half, centre + half};
+        ++partial;
+      }
+      ShepardData data = s.data();
+      data.pieces = &pieces;
+      const ShepardField fast = shepardInterpolant(data, s.grid, p);
+      int compared = 0, skipped = 0, worstCount = 0;
+      double worst = 0;
+      const auto& D = s.grid.dims;
+      for (int k = 0; k < D[2]; ++k)
+        for (int j = 0; j < D[1]; ++j)
+          for (int i = 0; i < D[0]; ++i) {
+            const Vec3 x = s.grid.centre(i, j, k);
+            if (pieceTieMargin(s.planes, pieces, x) < 1e-6) {
+              ++skipped;
+              continue;
+            }
+            const double d = std::abs(shepardValue(data, x, p) - double(fast.value.at(i, j, k)));
+            worst = std::max(worst, d);
+            worstCount += d > 1e-5;
+            ++compared;
+          }
+      EXPECT_GT(partial, 0);
+      EXPECT_LE(worst, 1e-5) << count << " planes, p = " << p << ", " << worstCount << " voxels differ";
+      EXPECT_LT(skipped, compared / 1000 + 1) << count << " planes";
+      // The pieces differ from whole planes somewhere on this grid.
+      const ShepardField whole = shepardInterpolant(s.data(), s.grid, p);
+      int differ = 0;
+      for (std::size_t q = 0; q < whole.value.values.size(); ++q)
+        differ += std::abs(whole.value.values[q] - fast.value.values[q]) > 1e-4f;
+      EXPECT_GT(differ, 0) << count << " planes, p = " << p;
+      // Rectangles 100 mm across hold every projection: the whole planes' values, bit for bit.
+      for (std::size_t i = 0; i < std::size_t(count); ++i)
+        if (!pieces[i].whole) {
+          const Vec2 centre = s.planes[i].plane.toPlane(kCentre);
+          pieces[i].rect = PlaneRect{centre - Vec2(50, 50), centre + Vec2(50, 50)};
+        }
+      EXPECT_EQ(shepardInterpolant(data, s.grid, p).value.values, whole.value.values) << count << " planes, p = " << p;
+    }
 }

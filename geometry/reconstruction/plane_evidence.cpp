@@ -12,7 +12,8 @@ namespace xsect {
 
 PlaneEvidence planeEvidence(const std::vector<CuttingPlane>& planes,
                             const std::vector<SectionDistanceField>& fields, const GridSpec& grid,
-                            double near_mm, double margin_mm) {
+                            double near_mm, double margin_mm, const std::vector<ObservedPiece>* pieces) {
+  if (pieces && pieces->size() != planes.size()) throw std::invalid_argument("one observed piece per plane is required");
   if (fields.size() != planes.size()) throw std::invalid_argument("one distance field per plane is required");
   if (!(near_mm >= 0) || !(margin_mm >= 0)) throw std::invalid_argument("evidence distances must be >= 0");
   const std::size_t n = std::size_t(grid.count());
@@ -20,6 +21,13 @@ PlaneEvidence planeEvidence(const std::vector<CuttingPlane>& planes,
   // Calls visit(q, d) for every voxel q whose centre is within near_mm of plane p (d: distance),
   // column by column along the axis most normal to the plane: |n_a| >= 1/√3, so a column meets the
   // slab in at most 2 near / (|n_a| h) + 1 voxels. Columns are disjoint: visit may write voxel q.
+  // Whether voxel idx's projection lies in plane p's observed piece.
+  const auto observedAt = [&](std::size_t p, const std::array<int, 3>& idx) {
+    if (!pieces || (*pieces)[p].whole) return true;
+    const Vec2 x = planes[p].plane.toPlane(grid.centre(idx[0], idx[1], idx[2]));
+    double na, nb;
+    return (*pieces)[p].distance(x.x(), x.y(), &na, &nb) == 0;
+  };
   const auto forVoxelsNear = [&](std::size_t p, const auto& visit) {
     const Plane& P = planes[p].plane;
     int a = 0;
@@ -41,7 +49,7 @@ PlaneEvidence planeEvidence(const std::vector<CuttingPlane>& planes,
         for (int t = lo; t <= hi; ++t) {
           idx[a] = t;
           const double d = std::abs(d0 + na * h * t);
-          if (d <= near_mm) visit(std::size_t(grid.index(idx[0], idx[1], idx[2])), d, idx);
+          if (d <= near_mm && observedAt(p, idx)) visit(std::size_t(grid.index(idx[0], idx[1], idx[2])), d, idx);
         }
       }
     });

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "geometry/scene/observed_piece.h"
 #include "geometry/scene/section_distance_field.h"
 #include "geometry/core/types.h"
 
@@ -29,9 +30,12 @@ struct PlaneEvidence {
 ///                   millionth of a voxel: coincident planes) decide together, inside when one
 ///                   says inside, outside when all say outside.
 /// @param margin_mm  clearly inside / outside: f_i at the projection <= -margin / >= margin (mm).
+/// @param pieces     optional observed piece of each plane (issue 20): a plane gives evidence only
+///                   at voxels whose projection lies in its piece (beyond an image nothing was seen).
 /// Throws std::invalid_argument when fields.size() != planes.size() or a length is negative.
 PlaneEvidence planeEvidence(const std::vector<CuttingPlane>& planes,
                             const std::vector<SectionDistanceField>& fields, const GridSpec& grid,
-                            double near_mm, double margin_mm);
+                            double near_mm, double margin_mm,
+                            const std::vector<ObservedPiece>* pieces = nullptr);
 
 }  // namespace xsect

@@ -24,7 +24,8 @@ struct Request {
 /// The voxels around each sample of plane p's contours where the trilinear reading of `field` is
 /// more than `tol` inside; counts into `stats`.
 void offSamples(const ScalarField& field, const std::vector<CuttingPlane>& planes, std::size_t p,
-                double tol, std::vector<Request>& out, ContourPinning& stats) {
+                double tol, const std::function<bool(std::size_t, double, double)>& observed,
+                std::vector<Request>& out, ContourPinning& stats) {
   const GridSpec& g = field.grid;
   const CuttingPlane& plane = planes[p];
   const double step = 0.25 * g.voxel;
@@ -61,21 +62,23 @@ void offSamples(const ScalarField& field, const std::vector<CuttingPlane>& plane
       out.push_back({g.index(ii, jj, kk), std::abs(plane.plane.signedDistance(g.centre(ii, jj, kk))), p});
     }
   };
-  for (const Vec2& a : contourSamples(plane.sections, step)) visit(plane.plane.toWorld(a));
+  for (const Vec2& a : contourSamples(plane.sections, step))
+    if (!observed || observed(p, a.x(), a.y())) visit(plane.plane.toWorld(a));
 }
 
 }  // namespace
 
 ContourPinning pinSectionContours(ScalarField& field, const std::vector<CuttingPlane>& planes,
                                   const std::function<double(std::size_t, double, double)>& plane_value,
-                                  double tolerance_mm) {
+                                  double tolerance_mm,
+                                  const std::function<bool(std::size_t, double, double)>& observed) {
   if (!(tolerance_mm >= 0)) throw std::invalid_argument("contour pinning: the tolerance must be >= 0");
   if (std::int64_t(field.values.size()) != field.grid.count())
     throw std::invalid_argument("contour pinning: the field does not fill its grid");
   std::vector<std::vector<Request>> perPlane(planes.size());
   std::vector<ContourPinning> stats(planes.size());
   tbb::parallel_for(std::size_t(0), planes.size(), [&](std::size_t p) {
-    offSamples(field, planes, p, tolerance_mm, perPlane[p], stats[p]);
+    offSamples(field, planes, p, tolerance_mm, observed, perPlane[p], stats[p]);
   });
   // Each voxel once, from the nearest plane that asks for it (ties: the lowest index).
   std::vector<Request> pinned;

@@ -19,6 +19,8 @@
 //    (e.g. it misses a thin section); pinning the rim alone would make a ring or a loose disc;
 //  - samples with another plane holding sections within a voxel (a dense sweep): the grid cannot
 //    hold both planes' contours, which differ by their noise.
+// Samples where the plane was not observed (`observed` false: a contour following an image's
+// edge, beyond its observed piece, is where the image ends, not the object) are not read.
 // Deterministic; parallel over planes.
 #pragma once
 
@@ -43,8 +45,11 @@ struct ContourPinning {
 /// @param planes        the cutting planes; those with sections are pinned
 /// @param plane_value   f_i(a, b) of plane i at plane coordinates (a, b), mm
 /// @param tolerance_mm  largest |f| accepted at a contour sample (>= 0), mm
+/// @param observed      optional: whether plane i was observed at plane coordinates (a, b) (absent:
+///                      everywhere)
 ContourPinning pinSectionContours(ScalarField& field, const std::vector<CuttingPlane>& planes,
                                   const std::function<double(std::size_t, double, double)>& plane_value,
-                                  double tolerance_mm);
+                                  double tolerance_mm,
+                                  const std::function<bool(std::size_t, double, double)>& observed = {});
 
 }  // namespace xsect

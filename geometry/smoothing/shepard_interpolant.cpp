@@ -60,12 +60,31 @@ double combine(const int* plane, const double* t, const double* fv, int m, doubl
   return swf / sw;
 }
 
+/// Plane p's observed piece when it is not whole (nullptr: whole, or no pieces given).
+const ObservedPiece* partialPiece(const ShepardData& data, int p) {
+  if (!data.pieces) return nullptr;
+  const ObservedPiece& piece = (*data.pieces)[std::size_t(p)];
+  return piece.whole ? nullptr : &piece;
+}
+
+/// Whether the segment [x, y], whose ends plane Q separates (sx = s_Q(x), sy = s_Q(y), sx sy < 0),
+/// crosses Q in its piece (nullptr: Q whole).
+bool crossesInPiece(const ObservedPiece* piece, const Plane& Q, const Vec3& x, const Vec3& y, double sx, double sy) {
+  if (!piece) return true;
+  if (piece->empty) return false;
+  const Vec2 z = Q.toPlane(x + (sx / (sx - sy)) * (y - x));
+  double na, nb;
+  return piece->distance(z.x(), z.y(), &na, &nb) == 0;
+}
+
 /// Throws unless `data` has one distance function and (if any) one finite, non-negative weight
 /// factor per plane.
 void checkData(const ShepardData& data) {
   const auto& planes = *data.planes;
   if (data.near->size() != planes.size() || data.f->size() != planes.size())
     throw std::invalid_argument("Shepard: one distance function per plane is required");
+  if (data.pieces && data.pieces->size() != planes.size())
+    throw std::invalid_argument("Shepard: one observed piece per plane is required");
   if (data.weight_factor &&
       (data.weight_factor->size() != planes.size() ||
        std::any_of(data.weight_factor->begin(), data.weight_factor->end(),
@@ -77,11 +96,14 @@ using Row = PlaneRow;
 
 struct Entry {
   int plane;
-  bool candidate;  ///< may be seen from some voxel of the box (else kept only as a blocker)
+  bool candidate;       ///< may be seen from some voxel of the box (else kept only as a blocker)
+  bool covered = true;  ///< its piece holds the box's projections (x_i is the projection there)
 };
 
 struct Scratch {
   std::vector<Entry> lists[4];
+  std::vector<std::uint8_t> covered;       ///< per entry: x_i is the projection all over the box
+  std::vector<const ObservedPiece*> piece;  ///< per entry: its partial piece (nullptr: whole)
   std::vector<double> sc, r, lo, hi, s0, dsx, dsy, dsz, cm, tv, fv, sv;
   std::vector<int> order, cand, vp;
   std::vector<std::uint8_t> keep, isCand;
@@ -93,9 +115,11 @@ constexpr double kEps = 1e-9;  // mm: slack on the box-level sign bounds (kept c
 /// Planes of `from` that may be seen from a voxel of the box [c - e, c + e], and the planes that
 /// may hide one of them there (see the file comment of shepard_interpolant.h), sorted by lower
 /// distance bound.
-void cullBox(const std::vector<Row>& rows, const std::vector<Entry>& from, const Vec3& c,
+void cullBox(const ShepardData& data, const std::vector<Row>& rows, const std::vector<Entry>& from, const Vec3& c,
              const Vec3& e, std::vector<Entry>& out, Scratch& w) {
   const std::size_t m = from.size();
+  const double rho = e.norm();
+  w.covered.assign(m, 1);
   w.sc.resize(m);
   w.r.resize(m);
   w.lo.resize(m);
@@ -107,8 +131,31 @@ void cullBox(const std::vector<Row>& rows, const std::vector<Entry>& from, const
     w.r[k] = p.ax * e.x() + p.ay * e.y() + p.az * e.z();
     w.lo[k] = std::max(0.0, std::abs(w.sc[k]) - w.r[k]);
     w.hi[k] = std::abs(w.sc[k]) + w.r[k];
+    if (const ObservedPiece* piece = partialPiece(data, from[k].plane)) {  // t_i <= sqrt(s² + o²) over the box
+      const double a = p.ux * c.x() + p.uy * c.y() + p.uz * c.z() - p.uo;
+      const double b = p.vx * c.x() + p.vy * c.y() + p.vz * c.z() - p.vo;
+      double olo, ohi;
+      piece->bounds(a, b, rho, &olo, &ohi);
+      w.hi[k] = std::sqrt(w.hi[k] * w.hi[k] + ohi * ohi);
+      w.covered[k] = covers(*piece, a, b, rho);
+    }
     if (std::abs(w.sc[k]) > w.r[k] + kEps) w.order.push_back(int(k));  // does not cross the box
   }
+  // Whether q's piece holds every point where a segment from the box to x_i crosses P_q (q
+  // separating the box from x_i everywhere; see shepard_interpolant.h).
+  const auto holdsCrossings = [&](std::size_t q, std::size_t i) {
+    const ObservedPiece* piece = partialPiece(data, from[q].plane);
+    if (!piece) return true;
+    const Row &Q = rows[from[q].plane], &I = rows[from[i].plane];
+    const double cqi = Q.dot(I);
+    if (!(std::abs(cqi) > 1e-6)) return false;
+    const Vec3 ci = c - w.sc[i] * Vec3(I.nx, I.ny, I.nz);
+    const double sci = Q.s(ci);
+    const Vec3 z = c + (w.sc[q] / (w.sc[q] - sci)) * (ci - c);
+    const double a = Q.ux * z.x() + Q.uy * z.y() + Q.uz * z.z() - Q.uo;
+    const double b = Q.vx * z.x() + Q.vy * z.y() + Q.vz * z.z() - Q.vo;
+    return covers(*piece, a, b, rho * (1 + 1 / std::abs(cqi)));
+  };
   // g(x) = σ_q (s_q(x) - (n_q·n_i) s_i(x)) = σ_q s_q(x_i): q separates x from x_i where g < 0.
   const auto gRange = [&](std::size_t q, std::size_t i, double* gmin, double* gmax) {
     const Row &Q = rows[from[q].plane], &I = rows[from[i].plane];
@@ -134,7 +181,7 @@ void cullBox(const std::vector<Row>& rows, const std::vector<Entry>& from, const
       if (q == i) continue;
       double gmin, gmax;
       gRange(q, i, &gmin, &gmax);
-      if (gmax < -kEps) seen = false;  // q hides x_i from every voxel of the box
+      if (gmax < -kEps && w.covered[i] && holdsCrossings(q, i)) seen = false;  // q hides x_i from every voxel of the box
     }
     if (seen) {
       w.isCand[i] = 1;
@@ -150,7 +197,7 @@ void cullBox(const std::vector<Row>& rows, const std::vector<Entry>& from, const
     const bool crossing = !(std::abs(w.sc[q]) > w.r[q] + kEps);
     for (const int i : w.cand) {
       if (!(w.lo[q] < w.hi[i] + kEps)) continue;  // q is farther than x_i everywhere
-      if (crossing) {
+      if (crossing || !w.covered[std::size_t(i)]) {  // x_i off the projection: any plane this near may cut
         w.keep[q] = 1;
         break;
       }
@@ -169,7 +216,7 @@ void cullBox(const std::vector<Row>& rows, const std::vector<Entry>& from, const
     return a.first < b.first || (a.first == b.first && from[a.second].plane < from[b.second].plane);
   });
   out.clear();
-  for (const auto& [l, k] : w.sortKey) out.push_back({from[k].plane, bool(w.isCand[k])});
+  for (const auto& [l, k] : w.sortKey) out.push_back({from[k].plane, bool(w.isCand[k]), bool(w.covered[k])});
 }
 
 }  // namespace
@@ -199,14 +246,29 @@ double shepardValue(const ShepardData& data, const Vec3& x, double exponent, int
   std::vector<double> t, fv;
   for (std::size_t i = 0; i < k; ++i) {
     const Plane& P = planes[i].plane;
-    const Vec3 xi = x - s[i] * P.normal;
+    const ObservedPiece* piece = partialPiece(data, int(i));
+    if (piece && piece->empty) continue;
+    Vec3 xi = x - s[i] * P.normal;
+    Vec2 ab = P.toPlane(x);
+    double ti = std::abs(s[i]);
+    if (piece) {  // the nearest point of the piece
+      double na, nb;
+      const double o = piece->distance(ab.x(), ab.y(), &na, &nb);
+      if (o > 0) {
+        ab = Vec2(na, nb);
+        xi = P.toWorld(ab);
+        ti = std::sqrt(s[i] * s[i] + o * o);
+      }
+    }
     bool seen = true;
-    for (std::size_t q = 0; q < k && seen; ++q)
-      if (q != i && s[q] * planes[q].plane.signedDistance(xi) < 0) seen = false;
+    for (std::size_t q = 0; q < k && seen; ++q) {
+      if (q == i) continue;
+      const double sq = planes[q].plane.signedDistance(xi);
+      if (s[q] * sq < 0 && crossesInPiece(partialPiece(data, int(q)), planes[q].plane, x, xi, s[q], sq)) seen = false;
+    }
     if (!seen) continue;
-    const Vec2 ab = P.toPlane(x);
     idx.push_back(int(i));
-    t.push_back(std::abs(s[i]));
+    t.push_back(ti);
     fv.push_back(planeDistanceValue((*data.near)[i], (*data.f)[i], ab.x(), ab.y()));
   }
   if (visible) *visible = int(idx.size());
@@ -222,8 +284,9 @@ ShepardField shepardInterpolant(const ShepardData& data, const GridSpec& grid, d
   if (!(exponent > 0)) throw std::invalid_argument("Shepard: the exponent must be positive");
   if (!(grid.voxel > 0)) throw std::invalid_argument("Shepard: voxel size must be positive");
   const std::vector<Row> rows = planeRows(planes);
-  std::vector<Entry> all(planes.size());
-  for (std::size_t i = 0; i < all.size(); ++i) all[i] = {int(i), true};
+  std::vector<Entry> all;  // an empty piece neither sees nor hides
+  for (std::size_t i = 0; i < planes.size(); ++i)
+    if (!data.pieces || !(*data.pieces)[i].empty) all.push_back({int(i), true});
 
   ShepardField out;
   out.value.grid = grid;
@@ -248,7 +311,7 @@ ShepardField shepardInterpolant(const ShepardData& data, const GridSpec& grid, d
     box(i0, j0, k0, std::min(D[0], i0 + kSuper), std::min(D[1], j0 + kSuper),
         std::min(D[2], k0 + kSuper), &c, &e);
     Scratch w;
-    cullBox(rows, all, c, e, superList[std::size_t(s)], w);
+    cullBox(data, rows, all, c, e, superList[std::size_t(s)], w);
   });
 
   const auto evalVoxels = [&](int i0, int j0, int k0, int i1, int j1, int k1,
@@ -274,6 +337,8 @@ ShepardField shepardInterpolant(const ShepardData& data, const GridSpec& grid, d
     for (std::size_t q = 0; q < m; ++q)
       for (std::size_t a = 0; a < nc; ++a)
         w.cm[q * nc + a] = rows[list[q].plane].dot(rows[list[std::size_t(w.cand[a])].plane]);
+    w.piece.resize(m);
+    for (std::size_t q = 0; q < m; ++q) w.piece[q] = partialPiece(data, list[q].plane);
     w.sv.resize(m);
     w.tv.resize(nc);
     w.fv.resize(nc);
@@ -287,19 +352,37 @@ ShepardField shepardInterpolant(const ShepardData& data, const GridSpec& grid, d
           int nv = 0;
           for (std::size_t a = 0; a < nc; ++a) {
             const std::size_t ia = std::size_t(w.cand[a]);
-            const double si = w.sv[ia], t = std::abs(si);
+            const int p = list[ia].plane;
+            const Row& r = rows[p];
+            const double si = w.sv[ia];
+            double t = std::abs(si);
+            double ua = r.ux * x.x() + r.uy * x.y() + r.uz * x.z() - r.uo;
+            double vb = r.vx * x.x() + r.vy * x.y() + r.vz * x.z() - r.vo;
+            // x_i: the projection, or the piece's nearest point when the projection is off it.
+            Vec3 xi = x - si * Vec3(r.nx, r.ny, r.nz);
+            bool moved = false;
+            if (const ObservedPiece* piece = list[ia].covered ? nullptr : w.piece[ia]) {
+              double na, nb;
+              const double o = piece->distance(ua, vb, &na, &nb);
+              if (o > 0) {
+                moved = true;
+                ua = na;
+                vb = nb;
+                xi = planes[std::size_t(p)].plane.toWorld(Vec2(na, nb));
+                t = std::sqrt(si * si + o * o);
+              }
+            }
             bool seen = true;
             for (std::size_t q = 0; q < m && seen; ++q) {
               if (q == ia) continue;
               const double sq = w.sv[q];
               if (!(std::abs(sq) < t)) continue;
-              if (sq * (sq - w.cm[q * nc + a] * si) < 0) seen = false;
+              const double sqi = moved ? rows[list[q].plane].s(xi) : sq - w.cm[q * nc + a] * si;
+              if (sq * sqi < 0 &&
+                  (!w.piece[q] || crossesInPiece(w.piece[q], planes[std::size_t(list[q].plane)].plane, x, xi, sq, sqi)))
+                seen = false;
             }
             if (!seen) continue;
-            const int p = list[ia].plane;
-            const Row& r = rows[p];
-            const double ua = r.ux * x.x() + r.uy * x.y() + r.uz * x.z() - r.uo;
-            const double vb = r.vx * x.x() + r.vy * x.y() + r.vz * x.z() - r.vo;
             w.vp[nv] = p;
             w.tv[nv] = t;
             w.fv[nv] = planeDistanceValue((*data.near)[p], (*data.f)[p], ua, vb);
@@ -321,7 +404,7 @@ ShepardField shepardInterpolant(const ShepardData& data, const GridSpec& grid, d
         Vec3 c, e;
         box(i0, j0, k0, i1, j1, k1, &c, &e);
         std::vector<Entry>& list = w.lists[level];
-        cullBox(rows, from, c, e, list, w);
+        cullBox(data, rows, from, c, e, list, w);
         if (size <= 2 || list.size() <= 3) {
           evalVoxels(i0, j0, k0, i1, j1, k1, list, w, vis, vmax);
           return;

@@ -19,12 +19,27 @@
 // plane, where the visible set changes and f jumps (a plane that stops being visible is never the
 // nearest, so the jump shrinks as p grows).
 //
+// On observed pieces (issue 20, README "Observed pieces"; geometry/scene/observed_piece.h) each
+// plane P_i is replaced by its piece Ω_i, as methods 1 and 2 do:
+//     x_i = the point of Ω_i nearest x (x's projection when Ω_i holds it), t_i = |x - x_i|,
+//     P_i sees x when no other piece meets the segment [x, x_i] inside it: no plane P_j, j ≠ i,
+//     with s_j(x) s_j(x_i) < 0 whose crossing point lies in Ω_j,
+// and f(x) = Σ w_i f_i(x_i) / Σ w_i over the planes that see x, w_i = 1 / g(t_i). An empty piece
+// neither sees nor hides. When every piece is whole this is the definition above; the nearest
+// piece always sees x (a piece met before x_i would be nearer); on Ω_i, f = f_i (Property 3 where
+// the plane was observed).
+//
 // Speed: the thesis' test is O(k²) per point. Here, as in method 1, boxes of voxels (32³, 8³, 4³,
 // 2³) cull the planes. Over a box every plane's signed distance is an exact interval, and whether
 // plane q separates x from x_i is the sign of the linear function s_q(x) - (n_q·n_i) s_i(x); a plane
 // i is dropped for the whole box when one plane q (not crossing the box) separates it for every x
 // of the box, and a plane q is kept as a possible blocker only when it may separate some remaining
-// candidate somewhere in the box. Voxels test the survivors (a few planes) exactly.
+// candidate somewhere in the box. Voxels test the survivors (a few planes) exactly. With pieces,
+// q drops i only where Ω_i holds the box's projections (then x_i is the projection) and Ω_q holds
+// every point where those segments may cross P_q (a disc about the crossing of the box centre's
+// segment: the segments lie within ρ of that axis, ρ the box's half-diagonal, so they cross P_q
+// within ρ (1 + 1 / |n_q·n_i|) of it); every plane that may cut a segment to a piece point is kept
+// as a blocker.
 #pragma once
 
 #include <cstdint>
@@ -32,6 +47,7 @@
 #include <vector>
 
 #include "geometry/smoothing/plane_distance_function.h"
+#include "geometry/scene/observed_piece.h"
 #include "geometry/scene/section_distance_field.h"
 #include "geometry/core/types.h"
 
@@ -44,6 +60,8 @@ struct ShepardData {
   const std::vector<PlaneDistanceFunction>* f = nullptr;
   /// Optional factor on each plane's weight w_i (1 when absent): see endPlaneWeightFactors.
   const std::vector<double>* weight_factor = nullptr;
+  /// Optional observed piece of each plane (absent: every plane whole, the thesis' definition).
+  const std::vector<ObservedPiece>* pieces = nullptr;
 };
 
 /// Weight factors for `planes` whose entries from `first_end_plane` on are the virtual end planes

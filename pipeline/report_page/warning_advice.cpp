@@ -74,10 +74,6 @@ constexpr Rule kRules[] = {
      "The voxel solid connects the sections differently from the thesis' connectivity graph: the voxels are "
      "too coarse where sections come close.",
      "Use a smaller reconstruction.voxel_size_mm; check the sampling verdict."},
-    {"Shepard's interpolant is defined on whole planes",
-     "Shepard's interpolant needs slices that cover the object; these do not, so the level-set smoothing of "
-     "the method's solid was written instead.",
-     "Nothing, or set smoothing.method: level_set to ask for it directly."},
     {"Shepard's surface joins the sections differently",
      "The smooth surface connects the sections differently from the method's graph in some cells.",
      "Compare with mesh_unsmoothed; set smoothing.method: level_set to keep the method's connectivity."},
