@@ -1,6 +1,8 @@
 // Section-vertices of method 3 from the arrangement's contour points (see section_vertices.h).
 #include "geometry/delaunay/section_vertices.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -10,6 +12,7 @@
 #include <tuple>
 
 #include "geometry/core/polygon.h"
+#include "geometry/core/section_locator.h"
 #include "geometry/delaunay/delaunay_reconstruction.h"
 
 namespace xsect {
@@ -372,19 +375,18 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
   // chord and the true contour would make its triangles external, one next to a contour vertex
   // a sliver.
   const double margin = 0.5 * arr.sample_spacing_mm;
-  for (SectionVertex& v : sv.points) {
-    if (v.kind != SectionVertex::branching || v.cells.empty()) continue;
-    const std::vector<Section>& sampled = sv.sampled[std::size_t(v.planes[0])];
+  // (The section holding the point is bounded by the nearest contour: another section's contour
+  // lies beyond its own. Located, not scanned: 0.25 s of multiaxial-3x40's 0.4 s here.)
+  std::vector<SectionLocator> located;
+  located.reserve(sv.sampled.size());
+  for (const std::vector<Section>& s : sv.sampled) located.emplace_back(s);
+  tbb::parallel_for(std::size_t(0), sv.points.size(), [&](std::size_t id) {
+    SectionVertex& v = sv.points[id];
+    if (v.kind != SectionVertex::branching || v.cells.empty()) return;
+    const SectionLocator& L = located[std::size_t(v.planes[0])];
     const Vec2 q = planes[std::size_t(v.planes[0])].plane.toPlane(v.x);
-    bool keep = false;
-    for (const Section& s : sampled) {
-      if (s.outer.empty() || !sectionContains(s, q)) continue;
-      double d = ringDistance(s.outer, q);
-      for (const Ring& h : s.holes) d = std::min(d, ringDistance(h, q));
-      keep = d > margin;
-    }
-    if (!keep) v.cells.clear();
-  }
+    if (!(L.holding(q) >= 0 && L.nearestContour(q).d > margin)) v.cells.clear();
+  });
   return sv;
 }
 
