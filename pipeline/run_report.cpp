@@ -77,6 +77,7 @@ json delaunayStatsJson(const DelaunayStats& s) {
           {"singular_vertices", s.singular_vertices},
           {"open_edges", s.open_edges},
           {"welded_vertices", s.welded_vertices},
+          {"holes_closed", s.holes_closed},
           {"cells_unseen", s.cells_unseen}};
 }
 

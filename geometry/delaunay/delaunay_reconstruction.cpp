@@ -133,7 +133,7 @@ void splitTJunctions(std::vector<std::array<int, 3>>& faces, const std::function
         const Vec3 A = at(a), B = at(b);
         const double len = (B - A).norm();
         for (const int m : it->second) {
-          if (m == a) continue;
+          if (m == a || m == c) continue;  // c on [a, b]: a face of no area, not a T-junction
           const Vec3 M = at(m);
           const double t = (M - A).dot(B - A) / (len * len);
           if (!(t > 0 && t < 1) || (A + t * (B - A) - M).norm() > 1e-6 * len) continue;
@@ -220,6 +220,36 @@ int weldNearVertices(std::vector<std::array<int, 3>>& faces, const std::vector<V
     for (int k = 0; k < -n; ++k) faces.push_back({key[0], key[2], key[1]});
   }
   return welded;
+}
+
+/// Closes each hole bounded by three directed edges a→b, b→c, c→a that are each in one face
+/// (an odd number of faces) and whose vertices all lie on one plane (`onOnePlane`) with the face
+/// (a, c, b). Returns the holes closed.
+int closeFlatTriangularHoles(std::vector<std::array<int, 3>>& faces, const std::function<bool(int, int, int)>& onOnePlane) {
+  std::unordered_map<std::uint64_t, int> uses;
+  for (const auto& f : faces)
+    for (int e = 0; e < 3; ++e) ++uses[edgeKey(f[std::size_t(e)], f[std::size_t((e + 1) % 3)])];
+  std::map<int, std::vector<int>> next;  // directed half-edges of the odd edges, a -> b
+  for (const auto& f : faces)
+    for (int e = 0; e < 3; ++e) {
+      const int a = f[std::size_t(e)], b = f[std::size_t((e + 1) % 3)];
+      if (uses[edgeKey(a, b)] % 2 == 1) next[a].push_back(b);
+    }
+  std::set<std::array<int, 3>> holes;
+  for (const auto& [a, bs] : next)
+    for (const int b : bs) {
+      const auto nb = next.find(b);
+      if (nb == next.end()) continue;
+      for (const int c : nb->second) {
+        const auto nc = next.find(c);
+        if (c == a || nc == next.end() || std::find(nc->second.begin(), nc->second.end(), a) == nc->second.end()) continue;
+        std::array<int, 3> h{a, b, c};
+        std::rotate(h.begin(), std::min_element(h.begin(), h.end()), h.end());
+        if (onOnePlane(a, b, c)) holes.insert(h);
+      }
+    }
+  for (const auto& h : holes) faces.push_back({h[0], h[2], h[1]});
+  return int(holes.size());
 }
 
 struct OpenedPinches {
@@ -490,6 +520,8 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
   std::vector<Vec3> positions;
   positions.reserve(sv.points.size());
   for (const SectionVertex& v : sv.points) positions.push_back(v.x);
+  std::vector<int> newPointPlane;  // the plane whose gluing made each point beyond sv.points
+  for (std::size_t p = 0; p < flat.size(); ++p) newPointPlane.insert(newPointPlane.end(), flat[p].new_points.size(), int(p));
   for (const PlaneBoundary& f : flat) {
     const int offset = int(positions.size()) - firstNew;
     for (std::array<int, 3> t : f.faces) {
@@ -506,12 +538,24 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
     const auto& p = sv.points[std::size_t(id)].planes;
     return int(p[0] >= 0) + int(p[1] >= 0) + int(p[2] >= 0);
   }, [&](int rep, int id) {
-    if (std::size_t(id) >= sv.points.size() || std::size_t(rep) >= sv.points.size()) return false;
+    // A point made where a plane's constraints crossed lies on that plane only.
+    const auto onPlane = [&](int point, int p) {
+      return std::size_t(point) < sv.points.size() ? sv.points[std::size_t(point)].on(p)
+                                                    : newPointPlane[std::size_t(point) - sv.points.size()] == p;
+    };
+    if (std::size_t(id) >= sv.points.size()) return onPlane(rep, newPointPlane[std::size_t(id) - sv.points.size()]);
     for (const int p : sv.points[std::size_t(id)].planes)
-      if (p >= 0 && !sv.points[std::size_t(rep)].on(p)) return false;
+      if (p >= 0 && !onPlane(rep, p)) return false;
     return true;
   });
   splitTJunctions(faces, [&](int id) { return positions[std::size_t(id)]; });
+  out.stats.holes_closed = closeFlatTriangularHoles(faces, [&](int a, int b, int c) {
+    if (std::size_t(a) >= sv.points.size() || std::size_t(b) >= sv.points.size() || std::size_t(c) >= sv.points.size())
+      return false;
+    for (const int p : sv.points[std::size_t(a)].planes)
+      if (p >= 0 && sv.points[std::size_t(b)].on(p) && sv.points[std::size_t(c)].on(p)) return true;
+    return false;
+  });
   const OpenedPinches opened = openPinches(faces, positions);
   out.stats.singular_edges = opened.edges;
   out.stats.singular_vertices = opened.vertices;
