@@ -36,6 +36,13 @@ SCENARIOS = {
     "multiaxial-3x40-m3": ("torus-multiaxial-3x40.yaml", ["reconstruction.method=delaunay"]),
     "random-200-m3": ("genus2-random-200.yaml", ["reconstruction.end_margin_mm=1.0",
                                                  "reconstruction.method=delaunay"]),
+    # and on the other inputs of this table (not the conformity and pose variants below)
+    "random-400-m3": ("genus2-random-400.yaml", ["reconstruction.end_margin_mm=1.0",
+                                                 "reconstruction.method=delaunay"]),
+    "random-800-m3": ("genus2-random-800.yaml", ["reconstruction.end_margin_mm=1.0",
+                                                 "reconstruction.method=delaunay"]),
+    "freehand-2000-m3": ("vessel-tree-freehand-2000.yaml", ["reconstruction.method=delaunay"]),
+    "plus-400-m3": ("vessel-tree-plus-400.yaml", ["reconstruction.method=delaunay"]),
     # method 1 smoothed by the Shepard interpolant (thesis ch. 1 §1.1) on the same inputs
     "freehand-400-shepard": ("vessel-tree-freehand.yaml", ["smoothing.method=shepard",
                                                            "smoothing.exponent=1"]),
@@ -65,7 +72,7 @@ SCENARIOS = {
     "plus-400": ("vessel-tree-plus-400.yaml", []),
 }
 # The run configuration the phantom folder provides for a scenario (default config.yaml).
-RUN_CONFIG = {"plus-400": "config_plus.yaml"}
+RUN_CONFIG = {"plus-400": "config_plus.yaml", "plus-400-m3": "config_plus.yaml"}
 QUICK = ["freehand-400", "multiaxial-3x40", "random-200", "freehand-400-m2", "freehand-400-shepard"]
 METHOD_LABELS = {"nearest_plane": "method 1", "section_voronoi": "method 2", "delaunay": "method 3"}
 BASES = ["freehand-400", "multiaxial-3x40", "random-200", "freehand-400-exact"]
@@ -374,17 +381,22 @@ def main():
             m1, m2 = results[base]["stages"]["reconstruct"]["wall_s"], results[base + "-m2"]["stages"]["reconstruct"]["wall_s"]
             print(f"method 2 / method 1 reconstruct stage on {base}: x{m2 / m1:.2f} ({m2:.3f} s / {m1:.3f} s)")
             results.setdefault("method2_over_method1_reconstruct", {})[base] = m2 / m1
-    for base in BASES:
+    for base in [n[:-3] for n in SCENARIOS if n.endswith("-m3")]:
+        if base + "-m3" in results and not ok(base + "-m3"):
+            print(f"method 3 on {base}: {results[base + '-m3']['error']}")
         if ok(base) and ok(base + "-m3"):
             b, m3 = results[base], results[base + "-m3"]
             m1 = b["stages"]["reconstruct"]["wall_s"]
             # method 3's graphs (G' and the branching diagram) are built in the arrange stage
             a1, a3 = b["stages"]["arrange"]["wall_s"], m3["stages"]["arrange"]["wall_s"]
             r3 = m3["stages"]["reconstruct"]["wall_s"]
-            print(f"method 3 / method 1 on {base}: reconstruct x{r3 / m1:.2f} ({r3:.3f} s / {m1:.3f} s), "
+            w1, w3 = b["run"]["wall_s"], m3["run"]["wall_s"]
+            print(f"method 3 / method 1 on {base}: whole run x{w3 / w1:.2f} ({w3:.3f} s / {w1:.3f} s), "
+                  f"reconstruct x{r3 / m1:.2f} ({r3:.3f} s / {m1:.3f} s), "
                   f"arrange + reconstruct x{(a3 + r3) / (a1 + m1):.2f}; mean distance {m3['mean_distance_mm']:.3f} "
                   f"vs {b['mean_distance_mm']:.3f} mm, betti {m3['betti']} vs {b['betti']} (truth {b['truth_betti']})")
             results.setdefault("method3_over_method1_reconstruct", {})[base] = r3 / m1
+            results.setdefault("method3_over_method1_run", {})[base] = w3 / w1
     for base in BASES:
         sh = results.get(base + "-shepard")
         if sh is None:

@@ -10,6 +10,7 @@
 #include "geometry/core/polygon.h"
 #include "geometry/core/section_ids.h"
 #include "io/file_hash.h"
+#include "io/json_edge_lists.h"
 #include "io/label_volume_file.h"
 #include "io/level_set_file.h"
 #include "io/mesh_io.h"
@@ -81,39 +82,24 @@ SectionGraph sectionGraph(const RunResults& r) {
 }
 
 std::string graphJsonText(const RunResults& r, const json& nodes) {
-  // The document with its edge lists empty, then each list spliced in where dump(2) wrote "[]":
-  // objects of an array under a top-level key are indented by 4 spaces, their fields by 6.
   json graph = {{"method", nameOf(kReconstructionMethods, r.inputs.config.reconstruction_method)},
                 {"cells", r.arrangement.arrangement.cells},
                 {"sample_spacing_mm", r.arrangement.arrangement.sample_spacing_mm},
                 {"nodes", nodes},
                 {"edges", json::array()}};
-  const auto& delaunay = r.reconstruction.delaunay;
-  if (delaunay) graph["delaunay_connections"] = json::array();  // the pairs joined by a tetrahedron of R''
-  std::string text = graph.dump(2) + "\n";
-  const auto splice = [&](const std::string& key, const std::string& items) {
-    if (items.empty()) return;
-    const std::string empty = "\n  \"" + key + "\": []";
-    text.replace(text.find(empty), empty.size(), "\n  \"" + key + "\": [\n" + items + "\n  ]");
-  };
-  const auto item = [](std::string& out, int a, int b, int cell, const char* method) {
-    if (!out.empty()) out += ",\n";
-    out += "    {\n      \"a\": " + std::to_string(a) + ",\n      \"b\": " + std::to_string(b) +
-           ",\n      \"cell\": " + std::to_string(cell);
-    if (method) out += ",\n      \"method\": \"" + std::string(method) + "\"";
-    out += "\n    }";
-  };
-  std::string edges;
-  forEachEdge(r, [&](int a, int b, int cell, const char* method, const char*) { item(edges, a, b, cell, method); });
-  splice("edges", edges);
-  if (delaunay) {
+  std::vector<std::pair<std::string, std::vector<EdgeObject>>> lists(1);
+  lists[0].first = "edges";
+  forEachEdge(r, [&](int a, int b, int cell, const char* method, const char*) {
+    lists[0].second.push_back({a, b, cell, method});
+  });
+  if (const auto& delaunay = r.reconstruction.delaunay) {  // the pairs joined by a tetrahedron of R''
+    graph["delaunay_connections"] = json::array();
     const SectionIds ids = r.scene_stage.scene.ids();
-    std::string joined;
+    lists.push_back({"delaunay_connections", {}});
     for (const GraphEdge& e : delaunay->connections)
-      item(joined, ids.of(e.plane_a, e.section_a), ids.of(e.plane_b, e.section_b), e.cell, nullptr);
-    splice("delaunay_connections", joined);
+      lists.back().second.push_back({ids.of(e.plane_a, e.section_a), ids.of(e.plane_b, e.section_b), e.cell, nullptr});
   }
-  return text;
+  return jsonWithEdgeLists(graph, lists);
 }
 
 std::string graphDot(const RunResults& r) {

@@ -39,8 +39,7 @@ SectionGraph sectionGraph(const RunResults& r);
 /// graph.json: the sections (nodes) and the edges of G and, for methods 2 and 3, G' (thesis Def. 30)
 /// and, for method 3, G'' (Def. 44, `method` "delaunay"), each with the cell of the arrangement
 /// where the lifts meet; for method 3 also `delaunay_connections`, the pairs R'' joins per cell.
-/// The text nlohmann's dump(2) gives, with the edge lists written directly (a json value per edge
-/// took 0.8 s of the 1.4 s of writing for multiaxial-3x40's 255 000 edges with method 3).
+/// The text nlohmann's dump(2) gives, with the edge lists written directly (io/json_edge_lists.h).
 /// @param nodes  sectionGraph(r).nodes
 std::string graphJsonText(const RunResults& r, const nlohmann::ordered_json& nodes);
 /// graph.dot: the same graph for Graphviz.

@@ -29,9 +29,9 @@ std::vector<std::uint8_t> solidOf(const ScalarField& f) {
   return in;
 }
 
-/// The planes' evidence on a lattice, as the method's repair reads it (sampled_reconstruction.cpp):
-/// voxels within half a voxel diagonal of a plane, clearly (half a voxel) inside or outside, where
-/// the plane was observed.
+/// The planes' evidence on a lattice for the smooth solid's repair: voxels within half a voxel
+/// diagonal of a plane, clearly (half a voxel) inside or outside, whose projection lies in the
+/// plane's observed piece (beyond an image the plane saw nothing).
 PlaneEvidence evidenceOn(const SectionScene& scene, const GridSpec& grid) {
   return planeEvidence(scene.planes, scene.fields, grid, 0.5 * std::sqrt(3.0) * grid.voxel, 0.5 * grid.voxel,
                        &scene.pieces);
@@ -43,10 +43,11 @@ TopologyRepair repairSolid(std::vector<std::uint8_t>& inside, const PlaneEvidenc
   return repairSampledTopology(inside, e.inside, e.outside, grid);
 }
 
-/// Voxels of the method's solid that the observed pieces decide (issue 20): the method on whole
-/// planes against the run's, on the pieces (their raw solids, before repair). Zero when every piece
-/// is whole, or the images cover the object. Reported: how much the images' extent matters here. Method 2 counted them as it evaluated R'_Ω (the
-/// voxels where it differs from R': lifts not followed, and method 1's voxels on the pieces added).
+/// Voxels of the method's solid that the observed pieces decide (issue 20), reported to say how much
+/// the images' extent matters: the method on whole planes against the run's, on the pieces (their
+/// raw solids, before repair); zero when every piece is whole, or the images cover the object.
+/// Method 2 counted them as it evaluated R'_Ω (the voxels where it differs from R': lifts not
+/// followed, and method 1's voxels on the pieces added). Cost: one method-1 pass on whole planes.
 std::int64_t voxelsDecidedByPieces(const SectionScene& scene, const SampledReconstruction& rec) {
   if (std::all_of(scene.pieces.begin(), scene.pieces.end(), [](const ObservedPiece& p) { return p.whole; }))
     return 0;
@@ -131,10 +132,7 @@ SmoothStage smoothStage(const RunConfig& c, const SectionScene& scene, const Arr
     out.pinning = pinSectionContours(
         out.field, planes,
         [&](std::size_t i, double a, double b) { return double(planeDistanceValue(fields[i], f[i], a, b)); },
-        0.25 * h, [&](std::size_t i, double a, double b) {
-          double na, nb;
-          return scene.pieces[i].distance(a, b, &na, &nb) == 0;
-        });
+        0.25 * h, [&](std::size_t i, double a, double b) { return scene.pieces[i].holds(a, b); });
     // Its solid repaired before anything reads it, so that the mesh, the level set, the
     // connectivity checks and the Betti numbers all see one solid: with p = 1 on 120 random
     // planes through the genus-2 solid, f has two voxel-sized positive pockets inside the solid

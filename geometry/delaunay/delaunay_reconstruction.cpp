@@ -224,8 +224,14 @@ int weldNearVertices(std::vector<std::array<int, 3>>& faces, const std::vector<V
 
 /// Closes each hole bounded by three directed edges a→b, b→c, c→a that are each in one face
 /// (an odd number of faces) and whose vertices all lie on one plane (`onOnePlane`) with the face
-/// (a, c, b). Returns the holes closed.
+/// (a, c, b), unless a face on those three vertices exists (a lone triangle is its own cycle: its
+/// reverse would only hide it as a sheet of no volume). Returns the holes closed.
 int closeFlatTriangularHoles(std::vector<std::array<int, 3>>& faces, const std::function<bool(int, int, int)>& onOnePlane) {
+  std::set<std::array<int, 3>> existing;
+  for (std::array<int, 3> f : faces) {
+    std::sort(f.begin(), f.end());
+    existing.insert(f);
+  }
   std::unordered_map<std::uint64_t, int> uses;
   for (const auto& f : faces)
     for (int e = 0; e < 3; ++e) ++uses[edgeKey(f[std::size_t(e)], f[std::size_t((e + 1) % 3)])];
@@ -243,9 +249,10 @@ int closeFlatTriangularHoles(std::vector<std::array<int, 3>>& faces, const std::
       for (const int c : nb->second) {
         const auto nc = next.find(c);
         if (c == a || nc == next.end() || std::find(nc->second.begin(), nc->second.end(), a) == nc->second.end()) continue;
-        std::array<int, 3> h{a, b, c};
+        std::array<int, 3> h{a, b, c}, sorted = h;
+        std::sort(sorted.begin(), sorted.end());
         std::rotate(h.begin(), std::min_element(h.begin(), h.end()), h.end());
-        if (onOnePlane(a, b, c)) holes.insert(h);
+        if (!existing.count(sorted) && onOnePlane(a, b, c)) holes.insert(h);
       }
     }
   for (const auto& h : holes) faces.push_back({h[0], h[2], h[1]});
@@ -589,12 +596,6 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
   std::vector<int> sectionOf(sv.points.size(), -1);
   for (std::size_t id = 0; id < sv.points.size(); ++id)
     if (sv.points[id].section >= 0) sectionOf[id] = ids.of(sv.points[id].planes[0], sv.points[id].section);
-  std::vector<int> planeOfId(std::size_t(ids.count()), 0), sectionOfId(std::size_t(ids.count()), 0);
-  for (std::size_t p = 0; p < planes.size(); ++p)
-    for (std::size_t k = 0; k < planes[p].sections.size(); ++k) {
-      planeOfId[std::size_t(ids.of(int(p), int(k)))] = int(p);
-      sectionOfId[std::size_t(ids.of(int(p), int(k)))] = int(k);
-    }
   tbb::parallel_for(std::size_t(0), cells, [&](std::size_t c) {
     CellTally& T = tally[c];
     const CellComplex& C = cx[c];
@@ -622,7 +623,8 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
     for (const std::uint64_t k : pairs) {
       const std::size_t lo = std::size_t(k >> 32), hi = std::size_t(k & 0xffffffffu);
-      T.joined.push_back({planeOfId[lo], sectionOfId[lo], planeOfId[hi], sectionOfId[hi], int(c)});
+      const int pl = ids.planeOf(int(lo)), ph = ids.planeOf(int(hi));
+      T.joined.push_back({pl, int(lo) - ids.first(pl), ph, int(hi) - ids.first(ph), int(c)});
     }
   });
   std::vector<std::size_t> firstTet(cells + 1, 0);

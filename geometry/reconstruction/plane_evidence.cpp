@@ -25,8 +25,7 @@ PlaneEvidence planeEvidence(const std::vector<CuttingPlane>& planes,
   const auto observedAt = [&](std::size_t p, const std::array<int, 3>& idx) {
     if (!pieces || (*pieces)[p].whole) return true;
     const Vec2 x = planes[p].plane.toPlane(grid.centre(idx[0], idx[1], idx[2]));
-    double na, nb;
-    return (*pieces)[p].distance(x.x(), x.y(), &na, &nb) == 0;
+    return (*pieces)[p].holds(x.x(), x.y());
   };
   const auto forVoxelsNear = [&](std::size_t p, const auto& visit) {
     const Plane& P = planes[p].plane;

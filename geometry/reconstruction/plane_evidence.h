@@ -32,7 +32,8 @@ struct PlaneEvidence {
 /// @param margin_mm  clearly inside / outside: f_i at the projection <= -margin / >= margin (mm).
 /// @param pieces     optional observed piece of each plane (issue 20): a plane gives evidence only
 ///                   at voxels whose projection lies in its piece (beyond an image nothing was seen).
-/// Throws std::invalid_argument when fields.size() != planes.size() or a length is negative.
+/// Throws std::invalid_argument when fields.size() != planes.size(), pieces (if given) do not match
+/// the planes, or a length is negative.
 PlaneEvidence planeEvidence(const std::vector<CuttingPlane>& planes,
                             const std::vector<SectionDistanceField>& fields, const GridSpec& grid,
                             double near_mm, double margin_mm,

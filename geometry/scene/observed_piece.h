@@ -89,6 +89,12 @@ struct ObservedPiece {
     return planeNorm(a - p.x(), b - p.y());
   }
 
+  /// Whether plane point (a, b) lies in Ω_P (distance() is 0 there).
+  bool holds(double a, double b) const {
+    double na, nb;
+    return distance(a, b, &na, &nb) == 0;
+  }
+
   /// How far distance() may exceed the true distance near a field-of-view distance D (mm): the
   /// raster's rounding (two nodes) and the chamfer transform's relative error (5%).
   double fovSlack(double D) const { return fov ? 2 * fov->step + 0.05 * D : 0.0; }

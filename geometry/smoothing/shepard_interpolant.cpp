@@ -73,8 +73,7 @@ bool crossesInPiece(const ObservedPiece* piece, const Plane& Q, const Vec3& x, c
   if (!piece) return true;
   if (piece->empty) return false;
   const Vec2 z = Q.toPlane(x + (sx / (sx - sy)) * (y - x));
-  double na, nb;
-  return piece->distance(z.x(), z.y(), &na, &nb) == 0;
+  return piece->holds(z.x(), z.y());
 }
 
 /// Throws unless `data` has one distance function and (if any) one finite, non-negative weight
@@ -134,16 +133,20 @@ void cullBox(const ShepardData& data, const std::vector<Row>& rows, const std::v
     if (const ObservedPiece* piece = partialPiece(data, from[k].plane)) {  // t_i <= sqrt(s² + o²) over the box
       const double a = p.ux * c.x() + p.uy * c.y() + p.uz * c.z() - p.uo;
       const double b = p.vx * c.x() + p.vy * c.y() + p.vz * c.z() - p.vo;
-      double olo, ohi;
-      piece->bounds(a, b, rho, &olo, &ohi);
-      w.hi[k] = std::sqrt(w.hi[k] * w.hi[k] + ohi * ohi);
       w.covered[k] = covers(*piece, a, b, rho);
+      if (!w.covered[k]) {  // covered: x_i is the projection, t_i = |s_i| as on a whole plane
+        double olo, ohi;
+        piece->bounds(a, b, rho, &olo, &ohi);
+        w.hi[k] = std::sqrt(w.hi[k] * w.hi[k] + ohi * ohi);
+      }
     }
     if (std::abs(w.sc[k]) > w.r[k] + kEps) w.order.push_back(int(k));  // does not cross the box
   }
   // Whether q's piece holds every point where a segment from the box to x_i crosses P_q (q
   // separating the box from x_i everywhere; see shepard_interpolant.h).
   const auto holdsCrossings = [&](std::size_t q, std::size_t i) {
+    // x = c + d crosses P_q at z(x) = x - (s_q(x) / c_qi) n_i; with d = d⊥ + α n_i,
+    // |z(x) - z(c)|² = |d⊥|² + (n_q·d⊥)² / c_qi² <= |d⊥|² / c_qi²: within ρ / |c_qi| of z(c).
     const ObservedPiece* piece = partialPiece(data, from[q].plane);
     if (!piece) return true;
     const Row &Q = rows[from[q].plane], &I = rows[from[i].plane];
@@ -154,7 +157,7 @@ void cullBox(const ShepardData& data, const std::vector<Row>& rows, const std::v
     const Vec3 z = c + (w.sc[q] / (w.sc[q] - sci)) * (ci - c);
     const double a = Q.ux * z.x() + Q.uy * z.y() + Q.uz * z.z() - Q.uo;
     const double b = Q.vx * z.x() + Q.vy * z.y() + Q.vz * z.z() - Q.vo;
-    return covers(*piece, a, b, rho * (1 + 1 / std::abs(cqi)));
+    return covers(*piece, a, b, rho / std::abs(cqi));
   };
   // g(x) = σ_q (s_q(x) - (n_q·n_i) s_i(x)) = σ_q s_q(x_i): q separates x from x_i where g < 0.
   const auto gRange = [&](std::size_t q, std::size_t i, double* gmin, double* gmax) {
@@ -287,6 +290,7 @@ ShepardField shepardInterpolant(const ShepardData& data, const GridSpec& grid, d
   std::vector<Entry> all;  // an empty piece neither sees nor hides
   for (std::size_t i = 0; i < planes.size(); ++i)
     if (!data.pieces || !(*data.pieces)[i].empty) all.push_back({int(i), true});
+  if (all.empty()) throw std::invalid_argument("Shepard: every observed piece is empty");
 
   ShepardField out;
   out.value.grid = grid;

@@ -37,9 +37,9 @@
 // candidate somewhere in the box. Voxels test the survivors (a few planes) exactly. With pieces,
 // q drops i only where Ω_i holds the box's projections (then x_i is the projection) and Ω_q holds
 // every point where those segments may cross P_q (a disc about the crossing of the box centre's
-// segment: the segments lie within ρ of that axis, ρ the box's half-diagonal, so they cross P_q
-// within ρ (1 + 1 / |n_q·n_i|) of it); every plane that may cut a segment to a piece point is kept
-// as a blocker.
+// segment, of radius ρ / |n_q·n_i|, ρ the box's half-diagonal: the segments run along n_i, so
+// their crossings are the box's oblique projection onto P_q); every plane that may cut a segment
+// to a piece point is kept as a blocker.
 #pragma once
 
 #include <cstdint>
