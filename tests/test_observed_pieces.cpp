@@ -81,30 +81,29 @@ TEST_P(BallLargerThanEveryImage, IsOneBallWithObservedPiecesAndCarvedWithWholePl
   EXPECT_GT(w["hausdorff_mm"].get<double>(), 3 * e["hausdorff_mm"].get<double>());
   // Shepard's interpolant on the pieces (shepard_interpolant.h): where the pieces decide the
   // solid, its surface is one ball within two voxels as well; on whole planes it is carved.
-  const nlohmann::json s = test::run(dir, "shepard", "--set smoothing.method=shepard");
+  // The run with `sets` on the pieces: one ball within two voxels; on whole planes more than three
+  // times farther. Returns the run's report.
+  const auto ballOnPiecesCarvedOnWholePlanes = [&](const std::string& name, const std::string& sets) {
+    const nlohmann::json run = test::run(dir, name, sets);
+    EXPECT_EQ(run["reconstruction"]["planes"], "observed");  // the default for images
+    const nlohmann::json on = test::eval(dir, name);
+    EXPECT_EQ(on["betti"], (std::vector<int>{1, 0, 0})) << name;
+    EXPECT_LE(on["hausdorff_mm"].get<double>(), 2 * 0.4) << name << ": within two voxels of the truth";
+    test::run(dir, name + "_whole", sets + " --set reconstruction.planes=whole");
+    const nlohmann::json whole = test::eval(dir, name + "_whole");
+    EXPECT_GT(whole["hausdorff_mm"].get<double>(), 3 * on["hausdorff_mm"].get<double>())
+        << name << " on whole planes: betti " << whole["betti"];
+    return run;
+  };
+  const nlohmann::json s = ballOnPiecesCarvedOnWholePlanes("shepard", "--set smoothing.method=shepard");
   EXPECT_GT(s["smoothing"]["voxels_decided_by_observed_pieces"].get<std::int64_t>(), 0);
   EXPECT_EQ(s["smoothing"]["surface_from"], "shepard");
   EXPECT_EQ(s["betti"], (std::vector<int>{1, 0, 0}));
-  const nlohmann::json es = test::eval(dir, "shepard");
-  EXPECT_EQ(es["betti"], (std::vector<int>{1, 0, 0}));
-  EXPECT_LE(es["hausdorff_mm"].get<double>(), 2 * 0.4) << "Shepard on the pieces: within two voxels of the truth";
-  test::run(dir, "shepard_whole", "--set smoothing.method=shepard --set reconstruction.planes=whole");
-  const nlohmann::json ws = test::eval(dir, "shepard_whole");
-  EXPECT_GT(ws["hausdorff_mm"].get<double>(), 3 * es["hausdorff_mm"].get<double>())
-      << "Shepard on whole planes: betti " << ws["betti"];
-  // Method 2 on the pieces (README "Observed pieces": R'_Ω): one ball as well, within two voxels;
-  // on whole planes its lifts stop at the planes beyond the images and the ball is carved.
-  const nlohmann::json m2 = test::run(dir, "m2", "--set reconstruction.method=section_voronoi");
-  EXPECT_EQ(m2["reconstruction"]["planes"], "observed");  // the default for images
+  // Method 2 on the pieces (README "Observed pieces": R'_Ω); on whole planes its lifts stop at the
+  // planes beyond the images and the ball is carved.
+  const nlohmann::json m2 = ballOnPiecesCarvedOnWholePlanes("m2", "--set reconstruction.method=section_voronoi");
   const nlohmann::json& counts = m2["reconstruction"]["observed_pieces"];
   EXPECT_GT(counts["voxels_added_by_method_1"].get<std::int64_t>(), 0) << counts;
-  const nlohmann::json e2 = test::eval(dir, "m2");
-  EXPECT_EQ(e2["betti"], (std::vector<int>{1, 0, 0}));
-  EXPECT_LE(e2["hausdorff_mm"].get<double>(), 2 * 0.4) << "within two voxels of the truth";
-  test::run(dir, "m2whole", "--set reconstruction.method=section_voronoi --set reconstruction.planes=whole");
-  const nlohmann::json w2 = test::eval(dir, "m2whole");
-  EXPECT_GT(w2["hausdorff_mm"].get<double>(), 3 * e2["hausdorff_mm"].get<double>())
-      << "method 2 on whole planes: betti " << w2["betti"];
 }
 
 INSTANTIATE_TEST_SUITE_P(TwoSweeps, BallLargerThanEveryImage,

@@ -6,6 +6,7 @@
 // the pieces hold every projection.
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <random>
 
 #include "geometry/scene/end_planes.h"
@@ -62,6 +63,34 @@ double tieMargin(const std::vector<CuttingPlane>& planes, const Vec3& x) {
   return m;
 }
 
+/// The grid evaluation against the definition at every voxel centre not within 1e-6 of a
+/// visibility tie (`margin`).
+struct Comparison {
+  int compared = 0, skipped = 0, max_visible = 0, differing = 0;  ///< differing: by more than 1e-5
+  double worst = 0;
+};
+Comparison compareWithDefinition(const ShepardData& data, const GridSpec& grid, double p, const ShepardField& fast,
+                                 const std::function<double(const Vec3&)>& margin) {
+  Comparison c;
+  const auto& D = grid.dims;
+  for (int k = 0; k < D[2]; ++k)
+    for (int j = 0; j < D[1]; ++j)
+      for (int i = 0; i < D[0]; ++i) {
+        const Vec3 x = grid.centre(i, j, k);
+        if (margin(x) < 1e-6) {
+          ++c.skipped;
+          continue;
+        }
+        int visible = 0;
+        const double d = std::abs(shepardValue(data, x, p, &visible) - double(fast.value.at(i, j, k)));
+        c.max_visible = std::max(c.max_visible, visible);
+        c.worst = std::max(c.worst, d);
+        c.differing += d > 1e-5;
+        ++c.compared;
+      }
+  return c;
+}
+
 }  // namespace
 
 TEST(Shepard, GridEvaluationEqualsTheDefinition) {
@@ -69,26 +98,11 @@ TEST(Shepard, GridEvaluationEqualsTheDefinition) {
     for (const double p : {1.0, 2.0, 8.0, std::numeric_limits<double>::infinity()}) {
       const Scene s = scene(count, 100 + count, 0.25, 26, 1.2);
       const ShepardField fast = shepardInterpolant(s.data(), s.grid, p);
-      int compared = 0, skipped = 0, maxVisible = 0;
-      double worst = 0;
-      const auto& D = s.grid.dims;
-      for (int k = 0; k < D[2]; ++k)
-        for (int j = 0; j < D[1]; ++j)
-          for (int i = 0; i < D[0]; ++i) {
-            const Vec3 x = s.grid.centre(i, j, k);
-            if (tieMargin(s.planes, x) < 1e-6) {
-              ++skipped;
-              continue;
-            }
-            int visible = 0;
-            const double ref = shepardValue(s.data(), x, p, &visible);
-            maxVisible = std::max(maxVisible, visible);
-            worst = std::max(worst, std::abs(ref - double(fast.value.at(i, j, k))));
-            ++compared;
-          }
-      EXPECT_LE(worst, 1e-5) << count << " planes, p = " << p;
-      EXPECT_LT(skipped, compared / 1000 + 1) << count << " planes";
-      EXPECT_EQ(fast.max_visible_planes, maxVisible) << count << " planes, p = " << p;
+      const Comparison c =
+          compareWithDefinition(s.data(), s.grid, p, fast, [&](const Vec3& x) { return tieMargin(s.planes, x); });
+      EXPECT_LE(c.worst, 1e-5) << count << " planes, p = " << p;
+      EXPECT_LT(c.skipped, c.compared / 1000 + 1) << count << " planes";
+      EXPECT_EQ(fast.max_visible_planes, c.max_visible) << count << " planes, p = " << p;
     }
 }
 
@@ -289,25 +303,12 @@ TEST(Shepard, OnObservedPiecesTheGridEqualsTheDefinition) {
       ShepardData data = s.data();
       data.pieces = &pieces;
       const ShepardField fast = shepardInterpolant(data, s.grid, p);
-      int compared = 0, skipped = 0, worstCount = 0;
-      double worst = 0;
-      const auto& D = s.grid.dims;
-      for (int k = 0; k < D[2]; ++k)
-        for (int j = 0; j < D[1]; ++j)
-          for (int i = 0; i < D[0]; ++i) {
-            const Vec3 x = s.grid.centre(i, j, k);
-            if (pieceTieMargin(s.planes, pieces, x) < 1e-6) {
-              ++skipped;
-              continue;
-            }
-            const double d = std::abs(shepardValue(data, x, p) - double(fast.value.at(i, j, k)));
-            worst = std::max(worst, d);
-            worstCount += d > 1e-5;
-            ++compared;
-          }
+      const Comparison c =
+          compareWithDefinition(data, s.grid, p, fast, [&](const Vec3& x) { return pieceTieMargin(s.planes, pieces, x); });
       EXPECT_GT(partial, 0);
-      EXPECT_LE(worst, 1e-5) << count << " planes, p = " << p << ", " << worstCount << " voxels differ";
-      EXPECT_LT(skipped, compared / 1000 + 1) << count << " planes";
+      EXPECT_LE(c.worst, 1e-5) << count << " planes, p = " << p << ", " << c.differing << " voxels differ";
+      EXPECT_LT(c.skipped, c.compared / 1000 + 1) << count << " planes";
+      EXPECT_EQ(fast.max_visible_planes, c.max_visible) << count << " planes, p = " << p;
       // The pieces differ from whole planes somewhere on this grid.
       const ShepardField whole = shepardInterpolant(s.data(), s.grid, p);
       int differ = 0;
