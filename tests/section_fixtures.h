@@ -32,6 +32,20 @@ inline Plane axisPlane(int axis, double offset) {
 }
 
 /// Sections of the shell Ri < |x - centre| < Ro (Ri = 0: a ball) by one plane.
+/// A cutting plane observed over `extent` (plane coordinates, mm) at `pixel_mm`; a closing plane is
+/// virtual (slice -1), any other takes `slice`.
+inline CuttingPlane observedPlane(const Plane& plane, std::vector<Section> sections, const PlaneRect& extent,
+                                  double pixel_mm, int slice, bool closing) {
+  CuttingPlane cp;
+  cp.slice = closing ? -1 : slice;
+  cp.is_virtual = closing;
+  cp.plane = plane;
+  cp.sections = std::move(sections);
+  cp.extent = extent;
+  cp.pixel_mm = pixel_mm;
+  return cp;
+}
+
 inline std::vector<Section> shellSections(const Plane& p, const Vec3& centre, double Ro, double Ri,
                                           int vertices = 256) {
   const double d = p.signedDistance(centre);

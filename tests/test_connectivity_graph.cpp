@@ -608,14 +608,7 @@ TEST(ConnectivityGraph, OnPiecesThatCoverEveryBallAreTheThesisGraphs) {
   }
   std::vector<CuttingPlane> tube;
   const auto add = [&](const Plane& p, std::vector<Section> s, bool closing) {
-    CuttingPlane cp;
-    cp.slice = closing ? -1 : int(tube.size());
-    cp.is_virtual = closing;
-    cp.plane = p;
-    cp.sections = std::move(s);
-    cp.extent = all;
-    cp.pixel_mm = 0.02;
-    tube.push_back(cp);
+    tube.push_back(test::observedPlane(p, std::move(s), all, 0.02, int(tube.size()), closing));
   };
   Section a, b;
   a.outer = test::circle(Vec2(0, 0), 1.0, 128);

@@ -364,14 +364,8 @@ TEST(Method2, OnObservedPiecesEqualsItsDefinition) {
     SCOPED_TRACE("a section behind a plane observed in part");
     std::vector<CuttingPlane> planes;
     const auto add = [&](int axis, double offset, std::vector<Section> sections, PlaneRect extent, bool closing) {
-      CuttingPlane cp;
-      cp.slice = closing ? -1 : int(planes.size());
-      cp.is_virtual = closing;
-      cp.plane = test::axisPlane(axis, offset);
-      cp.sections = std::move(sections);
-      cp.extent = extent;
-      cp.pixel_mm = 0.1;
-      planes.push_back(cp);
+      planes.push_back(test::observedPlane(test::axisPlane(axis, offset), std::move(sections), extent, 0.1,
+                                           int(planes.size()), closing));
     };
     Section big, small;
     big.outer = test::circle(Vec2(0, 0), 3.0, 128);

@@ -362,8 +362,9 @@ ShepardField shepardInterpolant(const ShepardData& data, const GridSpec& grid, d
             double t = std::abs(si);
             double ua = r.ux * x.x() + r.uy * x.y() + r.uz * x.z() - r.uo;
             double vb = r.vx * x.x() + r.vy * x.y() + r.vz * x.z() - r.vo;
-            // x_i: the projection, or the piece's nearest point when the projection is off it.
-            Vec3 xi = x - si * Vec3(r.nx, r.ny, r.nz);
+            // x_i: the piece's nearest point when the projection is off the piece (`moved`); the
+            // projection is formed only where a partial piece's crossing must be located.
+            Vec3 xi;
             bool moved = false;
             if (const ObservedPiece* piece = list[ia].covered ? nullptr : w.piece[ia]) {
               double na, nb;
@@ -382,9 +383,13 @@ ShepardField shepardInterpolant(const ShepardData& data, const GridSpec& grid, d
               const double sq = w.sv[q];
               if (!(std::abs(sq) < t)) continue;
               const double sqi = moved ? rows[list[q].plane].s(xi) : sq - w.cm[q * nc + a] * si;
-              if (sq * sqi < 0 &&
-                  (!w.piece[q] || crossesInPiece(w.piece[q], planes[std::size_t(list[q].plane)].plane, x, xi, sq, sqi)))
+              if (!(sq * sqi < 0)) continue;
+              if (!w.piece[q]) {
                 seen = false;
+              } else {
+                const Vec3 end = moved ? xi : Vec3(x - si * Vec3(r.nx, r.ny, r.nz));
+                seen = !crossesInPiece(w.piece[q], planes[std::size_t(list[q].plane)].plane, x, end, sq, sqi);
+              }
             }
             if (!seen) continue;
             w.vp[nv] = p;
