@@ -78,6 +78,7 @@ json delaunayStatsJson(const DelaunayStats& s) {
           {"open_edges", s.open_edges},
           {"welded_vertices", s.welded_vertices},
           {"holes_closed", s.holes_closed},
+          {"flat_shells_dropped", s.flat_shells_dropped},
           {"cells_unseen", s.cells_unseen}};
 }
 

@@ -13,6 +13,7 @@
 #include <climits>
 #include <cmath>
 
+#include "geometry/core/disjoint_sets.h"
 #include "geometry/core/polygon.h"
 #include "segmentation/iso_contours.h"
 
@@ -27,27 +28,56 @@ struct ImageSides {
   bool left = true, top = true, right = true, bottom = true;
 };
 
-/// Removes 8-connected components of `mask` (0/255) smaller than minPixels. With keepOpen,
-/// components touching a side of the crop that is not a side of the image are kept: they go on
-/// outside the crop, so their size there says nothing.
-void removeSmall(cv::Mat& mask, double minPixels, const ImageSides& sides, bool keepOpen) {
+/// Removes the components of `mask` (0/255) smaller than minPixels, connected as isoContours
+/// traces them: pixels joined through an edge, and diagonal pixels through a saddle cell whose
+/// bilinear centre value (of f as step 3 will leave it, agreeing with `inside`) is on their side. With 8-connectivity, a one-pixel hole touching the background at
+/// a corner counted as part of the background while its contour closed around it: such holes of
+/// a vessel tree's crotch stayed as sections' holes whatever min_area_mm2 said.
+/// @param inside  the mask of f > 0 that cleaning has made so far.
+/// @param holes   `mask` holds the holes (the complement of `inside`), not the regions. Holes
+///                touching a side of the crop that is not a side of the image are kept: they go
+///                on outside the crop, so their size there says nothing.
+void removeSmall(cv::Mat& mask, const cv::Mat& f, const cv::Mat& inside, float nudge, double minPixels,
+                 const ImageSides& sides, bool holes) {
   cv::Mat labels, stats, centroids;
-  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
-  std::vector<unsigned char> keep(n, 1);
-  for (int l = 1; l < n; ++l) {
-    keep[l] = stats.at<int>(l, cv::CC_STAT_AREA) >= minPixels;
-    if (keepOpen) {
-      const int x = stats.at<int>(l, cv::CC_STAT_LEFT), y = stats.at<int>(l, cv::CC_STAT_TOP);
-      const int w = stats.at<int>(l, cv::CC_STAT_WIDTH), h = stats.at<int>(l, cv::CC_STAT_HEIGHT);
-      if ((x == 0 && !sides.left) || (y == 0 && !sides.top) ||
-          (x + w == mask.cols && !sides.right) || (y + h == mask.rows && !sides.bottom))
-        keep[l] = 1;
+  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 4, CV_32S);
+  if (n <= 1) return;
+  const auto value = [&](int j, int i) {
+    const float v = f.at<float>(j, i);
+    return inside.at<unsigned char>(j, i) ? (v > 0 ? v : nudge) : (v <= 0 ? v : -nudge);  // as step 3 leaves it
+  };
+  DisjointSets joined{std::size_t(n)};
+  for (int j = 0; j + 1 < mask.rows; ++j)
+    for (int i = 0; i + 1 < mask.cols; ++i) {
+      const int a = labels.at<int>(j, i), b = labels.at<int>(j, i + 1);
+      const int c = labels.at<int>(j + 1, i), d = labels.at<int>(j + 1, i + 1);
+      const bool diagonal = a > 0 && d > 0 && b == 0 && c == 0, anti = b > 0 && c > 0 && a == 0 && d == 0;
+      if (!diagonal && !anti) continue;
+      const double centre = double(value(j, i)) + value(j, i + 1) + value(j + 1, i) + value(j + 1, i + 1);
+      if ((centre > 0.0) == holes) continue;  // the saddle joins the other pair
+      if (diagonal) joined.unite(std::size_t(a), std::size_t(d));
+      else joined.unite(std::size_t(b), std::size_t(c));
     }
+  std::vector<std::int64_t> area(std::size_t(n), 0);
+  std::vector<unsigned char> open(std::size_t(n), 0);
+  for (int l = 1; l < n; ++l) {
+    const std::size_t r = joined.find(std::size_t(l));
+    area[r] += stats.at<int>(l, cv::CC_STAT_AREA);
+    const int x = stats.at<int>(l, cv::CC_STAT_LEFT), y = stats.at<int>(l, cv::CC_STAT_TOP);
+    const int w = stats.at<int>(l, cv::CC_STAT_WIDTH), h = stats.at<int>(l, cv::CC_STAT_HEIGHT);
+    if ((x == 0 && !sides.left) || (y == 0 && !sides.top) || (x + w == mask.cols && !sides.right) ||
+        (y + h == mask.rows && !sides.bottom))
+      open[r] = 1;
+  }
+  std::vector<unsigned char> keep(std::size_t(n), 1);
+  for (int l = 1; l < n; ++l) {
+    const std::size_t r = joined.find(std::size_t(l));
+    keep[std::size_t(l)] = double(area[r]) >= minPixels || (holes && open[r]);
   }
   for (int j = 0; j < mask.rows; ++j)
     for (int i = 0; i < mask.cols; ++i) {
       const int l = labels.at<int>(j, i);
-      if (l > 0 && !keep[l]) mask.at<unsigned char>(j, i) = 0;
+      if (l > 0 && !keep[std::size_t(l)]) mask.at<unsigned char>(j, i) = 0;
     }
 }
 
@@ -66,9 +96,9 @@ bool cleanField(cv::Mat& f, const cv::Mat& fov, const Vec2& spacing, const Segme
   if (!fov.empty()) mask &= (fov != 0);
   if (p.min_area_mm2 > 0) {
     const double minPixels = p.min_area_mm2 / (spacing.x() * spacing.y());
-    removeSmall(mask, minPixels, sides, false);
+    removeSmall(mask, f, mask, nudge, minPixels, sides, false);
     cv::Mat holes = ~mask;
-    removeSmall(holes, minPixels, sides, true);
+    removeSmall(holes, f, mask, nudge, minPixels, sides, true);
     mask = ~holes;
   }
 

@@ -115,3 +115,31 @@ TEST(AcceptanceMethod3, FourHundredRandomPlanesGiveAClosedMesh) {
   std::cerr << "random-400, method 3: betti " << r["betti"] << ", holes closed " << d["holes_closed"] << ", welded "
             << d["welded_vertices"] << "\n";
 }
+
+// Random plane sets through the genus-2 solid (configs/phantoms/genus2-random-200.yaml with other
+// seeds and counts). 300 planes, seed 1: two holes of four edges on one plane each, next to three
+// planes' corners where a trace point lies 0.005 mm from the corner, were left open (exit 1); now
+// closed as flat faces. 200 planes, seed 2: a sliver tetrahedron (four points on different planes
+// but nearly coplanar, 3e-8 mm thick) that the pinch handling parted from the solid made a second
+// surface of no volume; now dropped. Both: one closed surface, no cavity. (Their b1 is 3, not the
+// truth's 2: the sampling verdict is "violated" on both; see the README on method 3.)
+TEST(AcceptanceMethod3, RandomPlaneSetsGiveOneClosedSurface) {
+  const std::string spec = test::slurp(fs::path(XSECT_SOURCE_DIR) / "configs/phantoms/genus2-random-200.yaml");
+  for (const auto& [count, seed] : {std::pair{300, 1}, std::pair{200, 2}}) {
+    const std::string tag = "m3-random-" + std::to_string(count) + "-" + std::to_string(seed);
+    SCOPED_TRACE(tag);
+    std::string s = spec;
+    s.replace(s.find("seed: 5"), 7, "seed: " + std::to_string(seed));
+    s.replace(s.find("count: 200"), 10, "count: " + std::to_string(count));
+    const fs::path dir = test::phantom(tag, s);
+    const json r = test::run(dir, "m3", "--set reconstruction.method=delaunay --set reconstruction.end_margin_mm=1.0");
+    ASSERT_TRUE(fs::exists(dir / "m3/mesh.ply"));
+    const json& d = r["reconstruction"]["delaunay"];
+    EXPECT_EQ(d["open_edges"], 0);
+    EXPECT_EQ(r["watertight"], true);
+    EXPECT_EQ(r["betti"][0], 1);
+    EXPECT_EQ(r["betti"][2], 0);
+    std::cerr << tag << ": betti " << r["betti"] << ", holes closed " << d["holes_closed"] << ", flat shells dropped "
+              << d["flat_shells_dropped"] << "\n";
+  }
+}

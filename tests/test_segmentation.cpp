@@ -128,6 +128,53 @@ TEST(Segmentation, SmallComponentsAndHolesAreRemoved) {
   EXPECT_TRUE(clean.sections[0].holes.empty());  // the small hole is filled too
 }
 
+// min_area_mm2 removes what the contours would show as small: regions and holes are connected as
+// the contours trace them (through pixel edges, and through saddle cells by their centre value).
+// Random grey images (pixels of 1 mm, so mm² are pixels): every section's outline holds at least
+// min_area pixel centres of its sections, and every hole at least min_area centres of no section. Before, a one-pixel hole touching the
+// background at a corner was one 8-connected component with it, kept, and traced as a hole.
+TEST(Segmentation, SmallAreasAreJudgedAsTheContoursConnectThem) {
+  std::mt19937 rng(3);
+  int holesSeen = 0;
+  for (int it = 0; it < 200; ++it) {
+    SCOPED_TRACE(it);
+    const int w = 12 + int(rng() % 30), h = 12 + int(rng() % 30);
+    cv::Mat img(h, w, CV_8U);
+    const int bright = 100 + int(rng() % 100);  // % of 128: how often a pixel is inside
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i) {
+        const int v = int(rng() % 256) * bright / 200 + 40;
+        img.at<std::uint8_t>(j, i) = std::uint8_t(v == 128 ? 127 : v);  // no contour through a centre
+      }
+    SegmentationParams p;
+    p.min_area_mm2 = 1 + int(rng() % 4);
+    const SegmentedSlice s = segmentSlice(img, cv::Mat(), Vec2(1, 1), p);
+    // Pixel centres of a ring's inside that lie in a section (inside) or in none (a hole's).
+    const auto centres = [&](const Ring& ring, bool inside) {
+      Section one;
+      one.outer = ring;
+      if (signedArea(ring) < 0) std::reverse(one.outer.begin(), one.outer.end());
+      int n = 0;
+      for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
+          if (!sectionContains(one, Vec2(i, j))) continue;
+          bool inAny = false;
+          for (const Section& sec : s.sections) inAny = inAny || sectionContains(sec, Vec2(i, j));
+          n += inAny == inside;
+        }
+      return n;
+    };
+    for (const Section& sec : s.sections) {
+      ASSERT_GE(centres(sec.outer, true), p.min_area_mm2);
+      for (const Ring& hole : sec.holes) {
+        ++holesSeen;
+        ASSERT_GE(centres(hole, false), p.min_area_mm2);
+      }
+    }
+  }
+  EXPECT_GT(holesSeen, 50);  // the rule is exercised
+}
+
 TEST(Segmentation, OpeningCutsThinBridges) {
   const cv::Mat img = render(80, 40, [](double x, double y) {
     return std::hypot(x - 20, y - 20) < 10 || std::hypot(x - 60, y - 20) < 10 ||

@@ -28,12 +28,19 @@
 // singular at both its ends (no point inside the section to part the sheets at) is first split at
 // its midpoint, and only one still singular then is kept apart; at a vertex whose link is
 // several discs (pieces touching at one point, Fig. 3.8a) each disc gets its own copy of the
-// vertex, so the pieces are apart. A hole bounded by three edges in one face each whose vertices
-// lie on one cutting plane is a flat face the plane's triangulation lost to rounding (a crossing
-// of its constraints within a hundredth of a sample spacing of a trace point splits slivers off
-// whose centroids are misjudged: 400 random planes through the genus-2 solid left one) and is
-// closed by that triangle (holes_closed). What still is not a closed 2-manifold is counted
-// (open_edges) and the pipeline then refuses to write the mesh.
+// vertex, so the pieces are apart. The split halves of an edge keep its pairing (paired again by
+// angle, two nearly coplanar faces rounded into different orders at the two halves, and the
+// midpoint then parted nothing: 800 random planes through the genus-2 solid left two edges in four
+// faces). A hole bounded by three or four edges in one face each whose vertices lie on one
+// cutting plane is a flat face the plane's triangulation lost to rounding (a crossing of its
+// constraints within a hundredth of a sample spacing of a trace point, or a trace point 0.005 mm
+// from a corner of three planes, splits slivers off whose centroids are misjudged: 400 random
+// planes through the genus-2 solid left a triangle, 300 planes two quadrilaterals) and is closed
+// by that polygon (holes_closed). A component of the boundary whose mean thickness (3 volume /
+// area) is below a thousandth of the sample spacing bounds no volume (a sliver tetrahedron the
+// pinches parted from the solid or such a void, a flat sheet lying twice on a plane, slivers along
+// nearly collinear points of a plane) and is dropped (flat_shells_dropped). What still is not a
+// closed 2-manifold is counted (open_edges) and the pipeline then refuses to write the mesh.
 #pragma once
 
 #include <cstdint>
@@ -79,7 +86,8 @@ struct DelaunayStats {
   int singular_vertices = 0;  ///< vertices of the glued boundary with several umbrellas (split)
   int open_edges = 0;         ///< edges in an odd number of triangles (a defect: the mesh is not closed)
   int welded_vertices = 0;    ///< boundary vertices within 1% of the sample spacing of another, welded
-  int holes_closed = 0;       ///< three-edge holes on one cutting plane closed by their triangle
+  int holes_closed = 0;       ///< three- and four-edge holes on one cutting plane closed as flat faces
+  int flat_shells_dropped = 0;  ///< boundary components thinner than a thousandth of the sample spacing
   int cells_unseen = 0;       ///< cells no arrangement point met (ids arrangement.cells and up)
 };
 

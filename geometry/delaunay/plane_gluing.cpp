@@ -3,11 +3,11 @@
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <unordered_map>
 
 #include "geometry/core/polygon.h"
@@ -22,7 +22,7 @@ struct VertexId {
   int value = 0;  ///< point id + 1; 0: a vertex made where constraints crossed
 };
 using Vb = CGAL::Triangulation_vertex_base_with_info_2<VertexId, K>;
-using Fb = CGAL::Constrained_triangulation_face_base_2<K>;
+using Fb = CGAL::Triangulation_face_base_with_info_2<int, K, CGAL::Constrained_triangulation_face_base_2<K>>;  // index
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 using CDT = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::Exact_predicates_tag>;
 
@@ -133,8 +133,12 @@ PlaneBoundary planeBoundary(int plane, const std::vector<int>& ids, const PlaneF
   // positive side only (2), both or neither (3: no boundary). A sliver (three contour points
   // collinear up to rounding) cannot be judged at its centroid: it takes the state of the face
   // across its longest unconstrained edge.
-  std::map<CDT::Face_handle, int> state;
+  std::vector<int> state;  // per finite face, by its index (info); -1: not judged yet
   std::vector<CDT::Face_handle> slivers;
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+    f->info() = int(state.size());
+    state.push_back(-1);
+  }
   for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
     Vec2 q[3];
     for (int i = 0; i < 3; ++i) q[i] = Vec2(f->vertex(i)->point().x(), f->vertex(i)->point().y());
@@ -144,11 +148,11 @@ PlaneBoundary planeBoundary(int plane, const std::vector<int>& ids, const PlaneF
     }
     const Vec2 c = (q[0] + q[1] + q[2]) / 3.0;
     if (sections.holding(c) < 0) {
-      state[f] = 0;
+      state[std::size_t(f->info())] = 0;
       continue;
     }
     const bool m = minus.covers(c), p = plus.covers(c);
-    state[f] = m == p ? 3 : (m ? 1 : 2);
+    state[std::size_t(f->info())] = m == p ? 3 : (m ? 1 : 2);
   }
   for (int pass = 0; pass < 4 && !slivers.empty(); ++pass) {
     std::vector<CDT::Face_handle> left;
@@ -168,24 +172,25 @@ PlaneBoundary planeBoundary(int plane, const std::vector<int>& ids, const PlaneF
         }
       }
       if (longest < 0) continue;  // all three constrained: no boundary face
-      const auto it = state.find(f->neighbor(longest));
-      if (it == state.end()) {
+      const CDT::Face_handle across = f->neighbor(longest);
+      const int known = cdt.is_infinite(across) ? -1 : state[std::size_t(across->info())];
+      if (known < 0) {
         left.push_back(f);
         continue;
       }
-      state[f] = it->second;
+      state[std::size_t(f->info())] = known;
     }
     if (left.size() == slivers.size()) break;
     slivers.swap(left);
   }
   for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
-    const auto it = state.find(f);
-    if (it == state.end() || it->second == 0 || it->second == 3) continue;
+    const int st = state[std::size_t(f->info())];
+    if (st < 0 || st == 0 || st == 3) continue;
     std::array<int, 3> v{};
     for (int i = 0; i < 3; ++i) v[std::size_t(i)] = f->vertex(i)->info().value - 1;
     // CDT faces are counter-clockwise in (u, v): their normal is the plane's. The solid on the
     // positive side is bounded here by a face whose outward normal is -normal.
-    if (it->second == 2) std::swap(v[1], v[2]);
+    if (st == 2) std::swap(v[1], v[2]);
     out.faces.push_back(v);
   }
   std::sort(out.faces.begin(), out.faces.end());
