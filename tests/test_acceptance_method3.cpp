@@ -30,6 +30,18 @@ std::string hollowSphere(int count, double pixel) {
          std::to_string(pixel) + "}\nconfig: {reconstruction: {voxel_size_mm: 0.4}}\n";
 }
 
+/// Method 3 on a genus-2 phantom cut by random planes (`spec`): the run writes its mesh, closed,
+/// with one outer surface. Returns report.json.
+json closedRandomPlanesRun(const std::string& tag, const std::string& spec) {
+  const fs::path dir = test::phantom(tag, spec);
+  const json r = test::run(dir, "m3", "--set reconstruction.method=delaunay --set reconstruction.end_margin_mm=1.0");
+  EXPECT_TRUE(fs::exists(dir / "m3/mesh.ply"));
+  EXPECT_EQ(r["reconstruction"]["delaunay"]["open_edges"], 0);
+  EXPECT_EQ(r["watertight"], true);
+  EXPECT_EQ(r["betti"][0], 1);
+  return r;
+}
+
 }  // namespace
 
 TEST(AcceptanceMethod3, HollowSphereOnAndOffThePixelGridIsClosedWithItsCavity) {
@@ -105,13 +117,9 @@ TEST(AcceptanceMethod3, AFanOfPlanesThroughTheSectionsIsRefused) {
 // (the points they made were never welded, and one flat triangle was lost to its slivers), and
 // `xsect run` refused the mesh as a defect.
 TEST(AcceptanceMethod3, FourHundredRandomPlanesGiveAClosedMesh) {
-  const fs::path dir = test::phantom("m3-random-400", test::slurp(fs::path(XSECT_SOURCE_DIR) / "configs/phantoms/genus2-random-400.yaml"));
-  const json r = test::run(dir, "m3", "--set reconstruction.method=delaunay --set reconstruction.end_margin_mm=1.0");
-  ASSERT_TRUE(fs::exists(dir / "m3/mesh.ply"));
+  const json r = closedRandomPlanesRun(
+      "m3-random-400", test::slurp(fs::path(XSECT_SOURCE_DIR) / "configs/phantoms/genus2-random-400.yaml"));
   const json& d = r["reconstruction"]["delaunay"];
-  EXPECT_EQ(d["open_edges"], 0);
-  EXPECT_EQ(r["watertight"], true);
-  EXPECT_EQ(r["betti"][0], 1);
   std::cerr << "random-400, method 3: betti " << r["betti"] << ", holes closed " << d["holes_closed"] << ", welded "
             << d["welded_vertices"] << "\n";
 }
@@ -131,13 +139,8 @@ TEST(AcceptanceMethod3, RandomPlaneSetsGiveOneClosedSurface) {
     std::string s = spec;
     s.replace(s.find("seed: 5"), 7, "seed: " + std::to_string(seed));
     s.replace(s.find("count: 200"), 10, "count: " + std::to_string(count));
-    const fs::path dir = test::phantom(tag, s);
-    const json r = test::run(dir, "m3", "--set reconstruction.method=delaunay --set reconstruction.end_margin_mm=1.0");
-    ASSERT_TRUE(fs::exists(dir / "m3/mesh.ply"));
+    const json r = closedRandomPlanesRun(tag, s);
     const json& d = r["reconstruction"]["delaunay"];
-    EXPECT_EQ(d["open_edges"], 0);
-    EXPECT_EQ(r["watertight"], true);
-    EXPECT_EQ(r["betti"][0], 1);
     EXPECT_EQ(r["betti"][2], 0);
     std::cerr << tag << ": betti " << r["betti"] << ", holes closed " << d["holes_closed"] << ", flat shells dropped "
               << d["flat_shells_dropped"] << "\n";
