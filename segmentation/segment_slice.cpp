@@ -40,24 +40,23 @@ struct ImageSides {
 void removeSmall(cv::Mat& mask, const cv::Mat& f, const cv::Mat& inside, float nudge, double minPixels,
                  const ImageSides& sides, bool holes) {
   cv::Mat labels, stats, centroids;
-  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 4, CV_32S);
+  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 4, CV_32S, cv::CCL_BOLELLI);
   if (n <= 1) return;
   const auto value = [&](int j, int i) {
     const float v = f.at<float>(j, i);
     return inside.at<unsigned char>(j, i) ? (v > 0 ? v : nudge) : (v <= 0 ? v : -nudge);  // as step 3 leaves it
   };
   DisjointSets joined{std::size_t(n)};
-  for (int j = 0; j + 1 < mask.rows; ++j)
+  for (int j = 0; j + 1 < mask.rows; ++j) {
+    const unsigned char *m0 = mask.ptr<unsigned char>(j), *m1 = mask.ptr<unsigned char>(j + 1);
     for (int i = 0; i + 1 < mask.cols; ++i) {
-      const int a = labels.at<int>(j, i), b = labels.at<int>(j, i + 1);
-      const int c = labels.at<int>(j + 1, i), d = labels.at<int>(j + 1, i + 1);
-      const bool diagonal = a > 0 && d > 0 && b == 0 && c == 0, anti = b > 0 && c > 0 && a == 0 && d == 0;
-      if (!diagonal && !anti) continue;
+      if (m0[i] != m1[i + 1] || m0[i + 1] != m1[i] || m0[i] == m0[i + 1]) continue;  // not a saddle
       const double centre = double(value(j, i)) + value(j, i + 1) + value(j + 1, i) + value(j + 1, i + 1);
       if ((centre > 0.0) == holes) continue;  // the saddle joins the other pair
-      if (diagonal) joined.unite(std::size_t(a), std::size_t(d));
-      else joined.unite(std::size_t(b), std::size_t(c));
+      if (m0[i]) joined.unite(std::size_t(labels.at<int>(j, i)), std::size_t(labels.at<int>(j + 1, i + 1)));
+      else joined.unite(std::size_t(labels.at<int>(j, i + 1)), std::size_t(labels.at<int>(j + 1, i)));
     }
+  }
   std::vector<std::int64_t> area(std::size_t(n), 0);
   std::vector<unsigned char> open(std::size_t(n), 0);
   for (int l = 1; l < n; ++l) {
@@ -74,11 +73,13 @@ void removeSmall(cv::Mat& mask, const cv::Mat& f, const cv::Mat& inside, float n
     const std::size_t r = joined.find(std::size_t(l));
     keep[std::size_t(l)] = double(area[r]) >= minPixels || (holes && open[r]);
   }
-  for (int j = 0; j < mask.rows; ++j)
-    for (int i = 0; i < mask.cols; ++i) {
-      const int l = labels.at<int>(j, i);
-      if (l > 0 && !keep[std::size_t(l)]) mask.at<unsigned char>(j, i) = 0;
-    }
+  if (std::all_of(keep.begin(), keep.end(), [](unsigned char k) { return k != 0; })) return;
+  for (int j = 0; j < mask.rows; ++j) {
+    const int* l = labels.ptr<int>(j);
+    unsigned char* m = mask.ptr<unsigned char>(j);
+    for (int i = 0; i < mask.cols; ++i)
+      if (l[i] > 0 && !keep[std::size_t(l[i])]) m[i] = 0;
+  }
 }
 
 /// Steps 2-4 on a field f (zero level = boundary; whole image or a crop of it with the crop's
