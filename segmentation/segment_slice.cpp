@@ -40,7 +40,7 @@ struct ImageSides {
 void removeSmall(cv::Mat& mask, const cv::Mat& f, const cv::Mat& inside, float nudge, double minPixels,
                  const ImageSides& sides, bool holes) {
   cv::Mat labels, stats, centroids;
-  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 4, CV_32S, cv::CCL_BOLELLI);
+  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 4, CV_32S);
   if (n <= 1) return;
   const auto value = [&](int j, int i) {
     const float v = f.at<float>(j, i);
