@@ -28,26 +28,30 @@ struct ImageSides {
   bool left = true, top = true, right = true, bottom = true;
 };
 
-/// Removes the components of `mask` (0/255) smaller than minPixels, connected as isoContours
-/// traces them: pixels joined through an edge, and diagonal pixels through a saddle cell whose
-/// bilinear centre value (of f as step 3 will leave it, agreeing with `inside`) is on their side. With 8-connectivity, a one-pixel hole touching the background at
-/// a corner counted as part of the background while its contour closed around it: such holes of
-/// a vessel tree's crotch stayed as sections' holes whatever min_area_mm2 said.
+/// Removes the components of `mask` (0/255) smaller than minPixels.
+/// With `saddles` (one field traced by isoContours), connected as isoContours traces them: through
+/// pixel edges, and diagonally through a saddle cell whose bilinear centre value is on their side
+/// (f as it stands for the current mask: a pixel cleaning changed counts as just across zero, an
+/// exact zero as just below it). 8-connected, a one-pixel hole touching the background at a corner
+/// was part of the background while its contour closed around it: such holes at a vessel tree's
+/// crotches stayed sections' holes whatever min_area_mm2 said. Without `saddles` (labels, which
+/// labelIsoContours joins across saddles by the other corners' materials and the labels' maximum):
+/// 8-connected.
 /// @param inside  the mask of f > 0 that cleaning has made so far.
 /// @param holes   `mask` holds the holes (the complement of `inside`), not the regions. Holes
 ///                touching a side of the crop that is not a side of the image are kept: they go
 ///                on outside the crop, so their size there says nothing.
 void removeSmall(cv::Mat& mask, const cv::Mat& f, const cv::Mat& inside, float nudge, double minPixels,
-                 const ImageSides& sides, bool holes) {
+                 const ImageSides& sides, bool holes, bool saddles) {
   cv::Mat labels, stats, centroids;
-  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 4, CV_32S);
+  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, saddles ? 4 : 8, CV_32S);
   if (n <= 1) return;
   const auto value = [&](int j, int i) {
     const float v = f.at<float>(j, i);
-    return inside.at<unsigned char>(j, i) ? (v > 0 ? v : nudge) : (v <= 0 ? v : -nudge);  // as step 3 leaves it
+    return inside.at<unsigned char>(j, i) ? (v > 0 ? v : nudge) : (v < 0 ? v : v == 0 ? -1e-6f : -nudge);
   };
   DisjointSets joined{std::size_t(n)};
-  for (int j = 0; j + 1 < mask.rows; ++j) {
+  for (int j = 0; saddles && j + 1 < mask.rows; ++j) {
     const unsigned char *m0 = mask.ptr<unsigned char>(j), *m1 = mask.ptr<unsigned char>(j + 1);
     for (int i = 0; i + 1 < mask.cols; ++i) {
       if (m0[i] != m1[i + 1] || m0[i + 1] != m1[i] || m0[i] == m0[i + 1]) continue;  // not a saddle
@@ -86,8 +90,9 @@ void removeSmall(cv::Mat& mask, const cv::Mat& f, const cv::Mat& inside, float n
 /// `sides` on the image border): cleaned mask (field of view, morphology, small components and
 /// holes), f nudged to agree with it. Returns whether the mask reaches the edge of what was
 /// observed (image border or field of view).
+/// `saddles`: f alone is traced (isoContours), not with other labels (see removeSmall).
 bool cleanField(cv::Mat& f, const cv::Mat& fov, const Vec2& spacing, const SegmentationParams& p,
-                float nudge, const ImageSides& sides) {
+                float nudge, const ImageSides& sides, bool saddles) {
   // 2. Cleaned mask: threshold, field of view, morphology, small components (and small holes).
   cv::Mat mask = f > 0;
   if (!fov.empty()) mask &= (fov != 0);
@@ -97,9 +102,9 @@ bool cleanField(cv::Mat& f, const cv::Mat& fov, const Vec2& spacing, const Segme
   if (!fov.empty()) mask &= (fov != 0);
   if (p.min_area_mm2 > 0) {
     const double minPixels = p.min_area_mm2 / (spacing.x() * spacing.y());
-    removeSmall(mask, f, mask, nudge, minPixels, sides, false);
+    removeSmall(mask, f, mask, nudge, minPixels, sides, false, saddles);
     cv::Mat holes = ~mask;
-    removeSmall(holes, f, mask, nudge, minPixels, sides, true);
+    removeSmall(holes, f, mask, nudge, minPixels, sides, true, saddles);
     mask = ~holes;
   }
 
@@ -198,7 +203,7 @@ SegmentedSlice segmentLabels(const cv::Mat& image, const cv::Mat& fov, const Vec
       cv::GaussianBlur(f, f, cv::Size(0, 0), p.sigma_px, p.sigma_px, cv::BORDER_REPLICATE);
     f -= 0.5;
     const cv::Mat fovBox = fov.empty() ? cv::Mat() : fov(box);
-    out.touches_fov_edge |= cleanField(f, fovBox, spacing, p, nudge, sides);
+    out.touches_fov_edge |= cleanField(f, fovBox, spacing, p, nudge, sides, false);
     fields.push_back({l, box, std::move(f)});
   }
 
@@ -244,7 +249,7 @@ SegmentedSlice segmentSlice(const cv::Mat& image, const cv::Mat& fov, const Vec2
 
   // 2-4. Cleaning, nudging, edge test.
   const float nudge = 1e-3f * float(std::max(1.0, std::abs(t)));
-  out.touches_fov_edge = cleanField(f, fov, spacing, p, nudge, ImageSides());
+  out.touches_fov_edge = cleanField(f, fov, spacing, p, nudge, ImageSides(), true);
 
   // 5. Sub-pixel contours -> rings in mm; simplification; holes attached to their outer ring.
   //    Every section keeps Section::label = 1 (one material).

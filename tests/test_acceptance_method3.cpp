@@ -142,6 +142,7 @@ TEST(AcceptanceMethod3, RandomPlaneSetsGiveOneClosedSurface) {
     const json r = closedRandomPlanesRun(tag, s);
     const json& d = r["reconstruction"]["delaunay"];
     EXPECT_EQ(r["betti"][2], 0);
+    EXPECT_GE((count == 300 ? d["holes_closed"] : d["flat_shells_dropped"]).get<int>(), 1);  // the repair ran
     std::cerr << tag << ": betti " << r["betti"] << ", holes closed " << d["holes_closed"] << ", flat shells dropped "
               << d["flat_shells_dropped"] << "\n";
   }

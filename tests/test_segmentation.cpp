@@ -38,6 +38,26 @@ cv::Mat disk(int w, int h, double cx, double cy, double r) {
   return render(w, h, [&](double x, double y) { return std::hypot(x - cx, y - cy) < r; });
 }
 
+/// Pixel centres (1 mm pixels) of each section of `raw` that holds at least minPixels of them but
+/// lie in no section of `clean` with its label: what min_area cleaning took from a region the
+/// contours show as large enough.
+int centresLostByCleaning(const SegmentedSlice& raw, const SegmentedSlice& clean, int w, int h, double minPixels) {
+  int lost = 0;
+  for (const Section& sec : raw.sections) {
+    std::vector<Vec2> own;
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i)
+        if (sectionContains(sec, Vec2(i, j))) own.emplace_back(i, j);
+    if (double(own.size()) < minPixels) continue;
+    for (const Vec2& q : own) {
+      bool kept = false;
+      for (const Section& c : clean.sections) kept = kept || (c.label == sec.label && sectionContains(c, q));
+      lost += !kept;
+    }
+  }
+  return lost;
+}
+
 double totalArea(const SegmentedSlice& s) {
   double a = 0;
   for (const auto& sec : s.sections) a += sectionArea(sec);
@@ -131,7 +151,8 @@ TEST(Segmentation, SmallComponentsAndHolesAreRemoved) {
 // min_area_mm2 removes what the contours would show as small: regions and holes are connected as
 // the contours trace them (through pixel edges, and through saddle cells by their centre value).
 // Random grey images (pixels of 1 mm, so mm² are pixels): every section's outline holds at least
-// min_area pixel centres of its sections, and every hole at least min_area centres of no section. Before, a one-pixel hole touching the
+// min_area pixel centres of its sections, every hole at least min_area centres of no section, and
+// every section of the uncleaned result with at least min_area centres keeps them all. Before, a one-pixel hole touching the
 // background at a corner was one 8-connected component with it, kept, and traced as a hole.
 TEST(Segmentation, SmallAreasAreJudgedAsTheContoursConnectThem) {
   std::mt19937 rng(3);
@@ -171,6 +192,10 @@ TEST(Segmentation, SmallAreasAreJudgedAsTheContoursConnectThem) {
         ASSERT_GE(centres(hole, false), p.min_area_mm2);
       }
     }
+    // Nor is more taken: a region the contours show as large enough keeps every pixel.
+    SegmentationParams none = p;
+    none.min_area_mm2 = 0;
+    ASSERT_EQ(centresLostByCleaning(segmentSlice(img, cv::Mat(), Vec2(1, 1), none), s, w, h, p.min_area_mm2), 0);
   }
   EXPECT_GT(holesSeen, 50);  // the rule is exercised
 }
@@ -583,5 +608,25 @@ TEST(Segmentation, RandomLabelImagesNeverOverlap) {
       const double uni = totalArea(segmentSlice(all, fov, Vec2(1, 1), p));
       ASSERT_NEAR(totalArea(s), uni, 1e-9 * uni);
     }
+  }
+}
+
+// Label images keep their former small-area rule (8-connected: labelIsoContours joins a label's
+// diagonal pixels by the other corners' materials, not by one label's field): a label's region
+// that the contours show with at least min_area pixel centres keeps them all. (Judged by one
+// label's field alone, two diagonal pixels of label 1 beside a pixel of label 2 were removed:
+// 16 333 of 109 070 such centres over 400 images of two labels.)
+TEST(Segmentation, SmallAreasOfLabelsKeepWhatTheContoursShowLargeEnough) {
+  std::mt19937 rng(5);
+  for (int it = 0; it < 150; ++it) {
+    SCOPED_TRACE(it);
+    const int w = 10 + int(rng() % 20), h = 10 + int(rng() % 20), labels = 2 + int(rng() % 2);
+    cv::Mat img(h, w, CV_8U);
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i) img.at<std::uint8_t>(j, i) = std::uint8_t(rng() % (labels + 1));
+    SegmentationParams p = labelParams();
+    const SegmentedSlice raw = segmentSlice(img, cv::Mat(), Vec2(1, 1), p);
+    p.min_area_mm2 = 1 + int(rng() % 3);
+    ASSERT_EQ(centresLostByCleaning(raw, segmentSlice(img, cv::Mat(), Vec2(1, 1), p), w, h, p.min_area_mm2), 0);
   }
 }

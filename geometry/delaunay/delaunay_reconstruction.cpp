@@ -223,11 +223,13 @@ int weldNearVertices(std::vector<std::array<int, 3>>& faces, const std::vector<V
 }
 
 /// Closes each hole bounded by three or four directed edges a→b→c(→d)→a that are each in an odd
-/// number of faces and whose vertices all lie on one plane (`onOnePlane`), with the reversed cycle
-/// (fanned from its smallest vertex), unless a face on three of its vertices exists (a lone
-/// triangle is its own cycle: its reverse would only hide it as a sheet of no volume). An odd
-/// edge closes at most one hole. Returns the holes closed.
-int closeFlatHoles(std::vector<std::array<int, 3>>& faces, const std::function<bool(const std::vector<int>&)>& onOnePlane) {
+/// number of faces and whose vertices all lie on one plane (`onOnePlane`), with the reversed cycle,
+/// unless a face on three of its vertices exists (a lone triangle is its own cycle: its reverse
+/// would only hide it as a sheet of no volume). A quadrilateral is split along the diagonal that
+/// is no edge of the mesh yet and whose two triangles face the same way (a - c when both do). An
+/// odd edge closes at most one hole. Returns the holes closed.
+int closeFlatHoles(std::vector<std::array<int, 3>>& faces, const std::vector<Vec3>& positions,
+                   const std::function<bool(const std::vector<int>&)>& onOnePlane) {
   std::set<std::array<int, 3>> existing;
   for (std::array<int, 3> f : faces) {
     std::sort(f.begin(), f.end());
@@ -270,13 +272,23 @@ int closeFlatHoles(std::vector<std::array<int, 3>>& faces, const std::function<b
             if (!exists(a, b, c) && !exists(a, c, d) && !exists(a, b, d) && !exists(b, c, d)) cycles.push_back({a, b, c, d});
           }
         }
+  const auto normal = [&](int a, int b, int c) {
+    const Vec3& o = positions[std::size_t(a)];
+    return Vec3((positions[std::size_t(b)] - o).cross(positions[std::size_t(c)] - o));
+  };
   std::set<std::uint64_t> closedEdges;
   int closed = 0;
-  for (const auto& h : cycles) {
+  for (std::vector<int> h : cycles) {
     bool free = true;
     for (std::size_t k = 0; k < h.size(); ++k) free = free && !closedEdges.count(edgeKey(h[k], h[(k + 1) % h.size()]));
     if (!free || !onOnePlane(h)) continue;
     for (std::size_t k = 0; k < h.size(); ++k) closedEdges.insert(edgeKey(h[k], h[(k + 1) % h.size()]));
+    if (h.size() == 4) {  // the reversed triangles (a, d, c), (a, c, b) or (b, a, d), (b, d, c)
+      const bool acFree = !uses.count(edgeKey(h[0], h[2])), bdFree = !uses.count(edgeKey(h[1], h[3]));
+      const bool acFlat = normal(h[0], h[3], h[2]).dot(normal(h[0], h[2], h[1])) > 0;
+      const bool bdFlat = normal(h[1], h[0], h[3]).dot(normal(h[1], h[3], h[2])) > 0;
+      if (!(acFree && acFlat) && bdFree && bdFlat) std::rotate(h.begin(), h.begin() + 1, h.end());
+    }
     for (std::size_t k = h.size() - 1; k >= 2; --k) faces.push_back({h[0], h[k], h[k - 1]});
     ++closed;
   }
@@ -648,7 +660,7 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
     return true;
   });
   splitTJunctions(faces, [&](int id) { return positions[std::size_t(id)]; });
-  out.stats.holes_closed = closeFlatHoles(faces, [&](const std::vector<int>& hole) {
+  out.stats.holes_closed = closeFlatHoles(faces, positions, [&](const std::vector<int>& hole) {
     for (const int p : planesOfPoint(hole[0]))
       if (std::all_of(hole.begin(), hole.end(), [&](int id) { return pointOnPlane(id, p); })) return true;
     return false;
