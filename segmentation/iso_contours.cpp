@@ -74,9 +74,8 @@ std::vector<Ring> isoContours(const cv::Mat& field) {
         continue;
       }
       // Saddle: decided by the bilinear value at the cell centre.
-      const double centre = double(f.at<float>(j, i)) + f.at<float>(j, i + 1) +
-                            f.at<float>(j + 1, i + 1) + f.at<float>(j + 1, i);
-      const bool joined = centre > 0.0;  // inside corners connected through the cell
+      const bool joined =  // inside corners connected through the cell
+          saddleJoinsInside(f.at<float>(j, i), f.at<float>(j, i + 1), f.at<float>(j + 1, i + 1), f.at<float>(j + 1, i));
       for (int a = 0; a < 2; ++a) {
         const int e = exits[a];
         int best = -1;  // next out->in crossing counter-clockwise after e (joined) or before e
@@ -277,9 +276,8 @@ class LabelContourer {
       if (nr == 0) return;
       bool joined = false;
       if (nr == 2) {  // background saddle: isoContours' rule on F
-        const double centre = double(fmax_.at<float>(j, i)) + fmax_.at<float>(j, i + 1) +
-                              fmax_.at<float>(j + 1, i + 1) + fmax_.at<float>(j + 1, i);
-        joined = centre > 0.0;
+        joined = saddleJoinsInside(fmax_.at<float>(j, i), fmax_.at<float>(j, i + 1), fmax_.at<float>(j + 1, i + 1),
+                                   fmax_.at<float>(j + 1, i));
       }
       const auto addRun = [&](Poly& p, const Run& r, const Run& closeTo) {
         for (int c = 0; c < r.n; ++c) {

@@ -21,6 +21,13 @@
 
 namespace xsect {
 
+/// The saddle rule: in a cell whose diagonal corners agree and differ from the other two, the
+/// inside corners are joined through the cell when the bilinear value at its centre is positive
+/// (corners (i, j), (i+1, j), (i+1, j+1), (i, j+1); the sum of four floats is exact in double).
+inline bool saddleJoinsInside(float f00, float f10, float f11, float f01) {
+  return double(f00) + f10 + f11 + f01 > 0.0;
+}
+
 /// @param field  CV_32F, row j, column i; positive = inside. Values outside the image count as
 ///               negative, so every contour is closed.
 /// @return closed rings in pixel coordinates (x = i, y = j), no repeated end vertex.

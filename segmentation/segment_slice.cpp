@@ -55,8 +55,8 @@ void removeSmall(cv::Mat& mask, const cv::Mat& f, const cv::Mat& inside, float n
     const unsigned char *m0 = mask.ptr<unsigned char>(j), *m1 = mask.ptr<unsigned char>(j + 1);
     for (int i = 0; i + 1 < mask.cols; ++i) {
       if (m0[i] != m1[i + 1] || m0[i + 1] != m1[i] || m0[i] == m0[i + 1]) continue;  // not a saddle
-      const double centre = double(value(j, i)) + value(j, i + 1) + value(j + 1, i) + value(j + 1, i + 1);
-      if ((centre > 0.0) == holes) continue;  // the saddle joins the other pair
+      if (saddleJoinsInside(value(j, i), value(j, i + 1), value(j + 1, i + 1), value(j + 1, i)) == holes)
+        continue;  // the saddle joins the other pair
       if (m0[i]) joined.unite(std::size_t(labels.at<int>(j, i)), std::size_t(labels.at<int>(j + 1, i + 1)));
       else joined.unite(std::size_t(labels.at<int>(j, i + 1)), std::size_t(labels.at<int>(j + 1, i)));
     }

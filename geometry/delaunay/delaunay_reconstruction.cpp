@@ -327,6 +327,9 @@ int dropFlatShells(std::vector<std::array<int, 3>>& faces, const std::vector<Vec
   return int(flat.size());
 }
 
+/// Pairs of faces (indices) across an edge: the faces of one sheet there.
+using FacePairs = std::vector<std::array<int, 2>>;
+
 struct OpenedPinches {
   int edges = 0;       ///< edges in 4, 6, ... faces whose sheets were separated
   int vertices = 0;    ///< vertices given more than one copy
@@ -345,10 +348,11 @@ struct OpenedPinches {
 /// midpoint's copies part the flat sheet from the wedges' as the thickened plane of Fig. 3.8b
 /// would, and the wedges stay joined (R'' is their union). Only an edge still singular then is
 /// paired apart.
-/// `given`: face pairs fixed in advance for some edges (the split pass's; see there), used as they
-/// are instead of pairs by angle.
+/// `given`, `givenChoices`: face pairs and the two pairings of singular edges fixed in advance
+/// (the split pass's; see there), used as they are instead of pairs by angle.
 OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Vec3>& positions, bool splitting = true,
-                          const std::unordered_map<std::uint64_t, std::vector<std::array<int, 2>>>& given = {}) {
+                          const std::unordered_map<std::uint64_t, FacePairs>& given = {},
+                          const std::map<std::uint64_t, std::array<FacePairs, 2>>& givenChoices = {}) {
   OpenedPinches out;
   // Per undirected edge: its faces, with +1 when the face runs from the smaller id to the larger.
   std::unordered_map<std::uint64_t, std::vector<std::pair<int, int>>> around;
@@ -360,8 +364,8 @@ OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Ve
   // Face pairs across each edge (the faces of one sheet there). At an edge in 2k > 2 faces, sorted
   // by angle around it, two pairings alternate: across the empty wedges (`join`, preferred) and
   // across the solid wedges (`apart`).
-  std::unordered_map<std::uint64_t, std::vector<std::array<int, 2>>> pairs;
-  std::map<std::uint64_t, std::array<std::vector<std::array<int, 2>>, 2>> choices;  // singular edges
+  std::unordered_map<std::uint64_t, FacePairs> pairs;
+  std::map<std::uint64_t, std::array<FacePairs, 2>> choices;  // singular edges
   std::vector<std::uint64_t> keys;
   for (const auto& [key, list] : around) keys.push_back(key);
   std::sort(keys.begin(), keys.end());
@@ -377,6 +381,10 @@ OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Ve
     }
     if (list.size() % 2) continue;  // an open edge: left as it is (counted by the caller)
     ++out.edges;
+    if (const auto g = givenChoices.find(key); g != givenChoices.end()) {
+      choices[key] = g->second;
+      continue;
+    }
     const int a = int(key >> 32), b = int(key & 0xffffffffu);
     const Vec3 A = positions[std::size_t(a)], d = (positions[std::size_t(b)] - A).normalized();
     Vec3 u = Vec3::Zero();
@@ -421,7 +429,7 @@ OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Ve
   // Umbrellas: faces around each vertex joined through the pairs of the edges at the vertex.
   std::map<std::uint64_t, int> chosen;  // singular edge -> 0 (join) or 1 (apart)
   for (const auto& [key, two] : choices) chosen[key] = 0;
-  const auto pairsAt = [&](std::uint64_t key) -> const std::vector<std::array<int, 2>>* {
+  const auto pairsAt = [&](std::uint64_t key) -> const FacePairs* {
     const auto c = chosen.find(key);
     if (c != chosen.end()) return &choices[key][std::size_t(c->second)];
     const auto it = pairs.find(key);
@@ -501,7 +509,7 @@ OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Ve
         const int a = next[f][std::size_t(e)], b = next[f][std::size_t((e + 1) % 3)];
         if (a >= firstMidpoint || b >= firstMidpoint) facesOn[edgeKey(a, b)].push_back(int(f));
       }
-    std::unordered_map<std::uint64_t, std::vector<std::array<int, 2>>> inherited;
+    std::unordered_map<std::uint64_t, FacePairs> inherited;
     for (auto& [key, list] : facesOn) {
       const int a = int(key >> 32), b = int(key & 0xffffffffu);  // a < b: b is the midpoint
       const std::uint64_t parent = b >= firstMidpoint ? bisect[std::size_t(b - firstMidpoint)] : 0;
@@ -521,8 +529,32 @@ OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Ve
         for (std::size_t y = x + 1; y < list.size(); ++y)
           if (origin[std::size_t(list[x])] == origin[std::size_t(list[y])]) given.push_back({list[x], list[y]});
     }
+    // The singular edges not split keep both their pairings too: where a face of theirs was split
+    // at another edge, its third vertex is now a midpoint, whose angle around them rounds anew.
+    std::unordered_map<std::uint64_t, std::vector<int>> subFaces;
+    for (std::size_t f = 0; f < next.size(); ++f)
+      for (int e = 0; e < 3; ++e) {
+        const std::uint64_t key = edgeKey(next[f][std::size_t(e)], next[f][std::size_t((e + 1) % 3)]);
+        if (choices.count(key) && !midpoint.count(key)) subFaces[key].push_back(int(f));
+      }
+    std::map<std::uint64_t, std::array<FacePairs, 2>> inheritedChoices;
+    for (const auto& [key, two] : choices) {
+      const auto list = subFaces.find(key);
+      if (midpoint.count(key) || list == subFaces.end()) continue;
+      std::array<FacePairs, 2> mapped;
+      for (int c = 0; c < 2; ++c)
+        for (const auto& pr : two[std::size_t(c)]) {
+          int i = -1, j = -1;
+          for (const int f : list->second) {
+            if (origin[std::size_t(f)] == pr[0]) i = f;
+            if (origin[std::size_t(f)] == pr[1]) j = f;
+          }
+          if (i >= 0 && j >= 0) mapped[std::size_t(c)].push_back({i, j});
+        }
+      inheritedChoices[key] = std::move(mapped);
+    }
     faces.swap(next);
-    OpenedPinches again = openPinches(faces, positions, false, inherited);
+    OpenedPinches again = openPinches(faces, positions, false, inherited, inheritedChoices);
     again.edges += int(bisect.size());  // the split edges (their halves are paired as given)
     return again;
   }
