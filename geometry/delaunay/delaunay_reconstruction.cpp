@@ -509,20 +509,26 @@ OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Ve
         const int a = next[f][std::size_t(e)], b = next[f][std::size_t((e + 1) % 3)];
         if (a >= firstMidpoint || b >= firstMidpoint) facesOn[edgeKey(a, b)].push_back(int(f));
       }
+    // A pairing of original faces, as pairs of their parts among `list` (the faces on one edge).
+    const auto throughOrigin = [&](const FacePairs& pairing, const std::vector<int>& list) {
+      FacePairs mapped;
+      for (const auto& pr : pairing) {
+        int i = -1, j = -1;
+        for (const int f : list) {
+          if (origin[std::size_t(f)] == pr[0]) i = f;
+          if (origin[std::size_t(f)] == pr[1]) j = f;
+        }
+        if (i >= 0 && j >= 0) mapped.push_back({i, j});
+      }
+      return mapped;
+    };
     std::unordered_map<std::uint64_t, FacePairs> inherited;
     for (auto& [key, list] : facesOn) {
       const int a = int(key >> 32), b = int(key & 0xffffffffu);  // a < b: b is the midpoint
       const std::uint64_t parent = b >= firstMidpoint ? bisect[std::size_t(b - firstMidpoint)] : 0;
       auto& given = inherited[key];
       if (parent != 0 && (int(parent >> 32) == a || int(parent & 0xffffffffu) == a)) {
-        for (const auto& pr : *pairsAt(parent)) {
-          int i = -1, j = -1;
-          for (const int f : list) {
-            if (origin[std::size_t(f)] == pr[0]) i = f;
-            if (origin[std::size_t(f)] == pr[1]) j = f;
-          }
-          if (i >= 0 && j >= 0) given.push_back({i, j});
-        }
+        given = throughOrigin(*pairsAt(parent), list);
         continue;
       }
       for (std::size_t x = 0; x < list.size(); ++x)
@@ -541,17 +547,7 @@ OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Ve
     for (const auto& [key, two] : choices) {
       const auto list = subFaces.find(key);
       if (midpoint.count(key) || list == subFaces.end()) continue;
-      std::array<FacePairs, 2> mapped;
-      for (int c = 0; c < 2; ++c)
-        for (const auto& pr : two[std::size_t(c)]) {
-          int i = -1, j = -1;
-          for (const int f : list->second) {
-            if (origin[std::size_t(f)] == pr[0]) i = f;
-            if (origin[std::size_t(f)] == pr[1]) j = f;
-          }
-          if (i >= 0 && j >= 0) mapped[std::size_t(c)].push_back({i, j});
-        }
-      inheritedChoices[key] = std::move(mapped);
+      inheritedChoices[key] = {throughOrigin(two[0], list->second), throughOrigin(two[1], list->second)};
     }
     faces.swap(next);
     OpenedPinches again = openPinches(faces, positions, false, inherited, inheritedChoices);
