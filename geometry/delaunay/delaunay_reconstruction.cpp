@@ -23,6 +23,14 @@ namespace xsect {
 
 namespace {
 
+/// The number of faces on each edge (edgeKey) of `faces`.
+std::unordered_map<std::uint64_t, int> edgeUses(const std::vector<std::array<int, 3>>& faces) {
+  std::unordered_map<std::uint64_t, int> uses;
+  for (const auto& f : faces)
+    for (int e = 0; e < 3; ++e) ++uses[edgeKey(f[std::size_t(e)], f[std::size_t((e + 1) % 3)])];
+  return uses;
+}
+
 /// Rounds of contour splitting for Delaunay conformity; each halves the offending edges.
 constexpr int kConformityRounds = 8;
 
@@ -111,10 +119,8 @@ CellBoundary cellBoundary(const CellComplex& c, const SectionVertices& sv) {
 /// again where several such points lie on the segment. Repeats until no such edge remains.
 void splitTJunctions(std::vector<std::array<int, 3>>& faces, const std::function<Vec3(int)>& at) {
   for (int pass = 0; pass < 16; ++pass) {
-    std::unordered_map<std::uint64_t, int> uses;
+    std::unordered_map<std::uint64_t, int> uses = edgeUses(faces);
     std::unordered_map<int, std::vector<int>> from;  // directed once-used edges a -> b
-    for (const auto& f : faces)
-      for (int e = 0; e < 3; ++e) ++uses[edgeKey(f[std::size_t(e)], f[std::size_t((e + 1) % 3)])];
     for (const auto& f : faces)
       for (int e = 0; e < 3; ++e) {
         const int a = f[std::size_t(e)], b = f[std::size_t((e + 1) % 3)];
@@ -240,9 +246,7 @@ int closeFlatHoles(std::vector<std::array<int, 3>>& faces, const std::vector<Vec
     std::sort(t.begin(), t.end());
     return existing.count(t) > 0;
   };
-  std::unordered_map<std::uint64_t, int> uses;
-  for (const auto& f : faces)
-    for (int e = 0; e < 3; ++e) ++uses[edgeKey(f[std::size_t(e)], f[std::size_t((e + 1) % 3)])];
+  std::unordered_map<std::uint64_t, int> uses = edgeUses(faces);
   std::map<int, std::vector<int>> next;  // directed half-edges of the odd edges, a -> b
   for (const auto& f : faces)
     for (int e = 0; e < 3; ++e) {
@@ -700,10 +704,7 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
   out.stats.flat_shells_dropped = dropFlatShells(faces, positions, 1e-3 * arr.sample_spacing_mm);
   out.stats.singular_edges = opened.edges;
   out.stats.singular_vertices = opened.vertices;
-  std::unordered_map<std::uint64_t, int> uses;  // left in other than two faces: the mesh is not closed
-  for (const auto& f : faces)
-    for (int e = 0; e < 3; ++e) ++uses[edgeKey(f[std::size_t(e)], f[std::size_t((e + 1) % 3)])];
-  for (const auto& [key, n] : uses) out.stats.open_edges += n != 2;
+  for (const auto& [key, n] : edgeUses(faces)) out.stats.open_edges += n != 2;  // the mesh is then not closed
 
   // The mesh: used points in id order.
   std::vector<int> used;
