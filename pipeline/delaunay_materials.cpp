@@ -54,7 +54,8 @@ DelaunayMaterials delaunayMaterials(const RunInputs& in, const std::vector<std::
     const SectionArrangement arrangement =
         arrangeSections(own.planes, arrangementSpacing(in.config, own.planes, own.real_planes));
     const BranchingDiagram branching = branchingDiagram(own, arrangement);
-    DelaunayReconstruction r = delaunayReconstruction(own.planes, arrangement, branching.points);
+    DelaunayReconstruction r =
+        delaunayReconstruction(own.planes, arrangement, branching.points, {}, &branching.g_double_prime);
     m.tetrahedra_components = tetrahedraComponents(r.tetrahedra);
     m.opened_copies = repeatedVertexCopies(r.mesh);
     m.mesh = std::move(r.mesh);

@@ -68,6 +68,7 @@ json delaunayStatsJson(const DelaunayStats& s) {
           {"contour_edges_not_delaunay", s.contour_edges_not_delaunay},
           {"d0", {{"vf", s.d0.vf}, {"ee", s.d0.ee}, {"evv", s.d0.evv}, {"vvvv", s.d0.vvvv}, {"flat", s.d0.flat}}},
           {"external", s.external},
+          {"unjoined", s.unjoined},
           {"d1", s.d1},
           {"d2", s.d2},
           {"d3", s.d3},

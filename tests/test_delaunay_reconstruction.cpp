@@ -513,7 +513,8 @@ Method3Run reconstruct(const std::vector<CuttingPlane>& realPlanes, const RunOpt
   r.scene = sectionScene(numbered(realPlanes), params);
   r.arrangement = arrangeSections(r.scene.planes, o.spacing);
   if (o.branching) r.diagram = branchingDiagram(r.scene, r.arrangement, o.cell_exits);
-  r.rec = delaunayReconstruction(r.scene.planes, r.arrangement, r.diagram.points);
+  r.rec = delaunayReconstruction(r.scene.planes, r.arrangement, r.diagram.points, {},
+                                 o.branching ? &r.diagram.g_double_prime : nullptr);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!r.rec.mesh.triangles.empty()) r.topo = meshTopology(r.rec.mesh);
   if (check) expectSolid(r, o.spacing, what);

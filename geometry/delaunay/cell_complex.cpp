@@ -25,9 +25,6 @@ using Cb = CGAL::Triangulation_cell_base_with_info_3<int, K, CGAL::Delaunay_tria
 using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb>;
 using DT = CGAL::Delaunay_triangulation_3<K, Tds>;
 
-/// The six edges of a tetrahedron, as pairs of its vertex slots.
-constexpr int kEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
-
 /// Whether point q (plane coordinates of `plane`) lies in the plane's sampled sections.
 bool inSampledSections(const std::vector<SectionLocator>& sampled, int plane, const Vec2& q) {
   return sampled[std::size_t(plane)].holding(q) >= 0;
@@ -107,6 +104,7 @@ CellComplex cellDelaunay(int cell, const std::vector<int>& ids, const SectionVer
   c.kept.assign(n, 0);
   c.grounded_faces.assign(n, 0);
   c.grounded_edges.assign(n, 0);
+  c.unjoined.assign(n, 0);
   for (std::size_t t = 0; t < n; ++t) {
     const auto& V = c.v[t];
     if (commonPlane(sv, V.data(), 4) >= 0) {
@@ -239,12 +237,23 @@ void forEachRun(const std::vector<int>& shell, bool closed, const std::vector<st
 
 }  // namespace
 
+void markUnjoined(CellComplex& c, const std::vector<int>& partOf) {
+  for (std::size_t t = 0; t < c.v.size(); ++t) {
+    if (c.type[t] == TetType::flat || c.external[t]) continue;
+    for (int e = 0; e < 6 && !c.unjoined[t]; ++e) {
+      const int a = partOf[std::size_t(c.v[t][std::size_t(kEdges[e][0])])];
+      const int b = partOf[std::size_t(c.v[t][std::size_t(kEdges[e][1])])];
+      if (a >= 0 && b >= 0 && a != b) c.unjoined[t] = 1;
+    }
+  }
+}
+
 void pruneCell(CellComplex& c) {
   const std::size_t n = c.v.size();
   c.kept.assign(n, 0);
   c.d1 = 0;
   for (std::size_t t = 0; t < n; ++t) {
-    if (c.type[t] == TetType::flat || c.external[t]) continue;
+    if (c.type[t] == TetType::flat || c.external[t] || c.unjoined[t]) continue;
     ++c.d1;
     c.kept[t] = 1;
   }
@@ -355,7 +364,7 @@ void pruneCell(CellComplex& c) {
   c.d2 = std::count(c.kept.begin(), c.kept.end(), std::uint8_t(1));
   // Step 3.
   const auto candidate = [&](std::size_t t) {
-    return !c.kept[t] && !c.external[t] && c.type[t] != TetType::flat;
+    return !c.kept[t] && !c.external[t] && !c.unjoined[t] && c.type[t] != TetType::flat;
   };
   std::deque<int> queue;
   std::vector<std::uint8_t> inQueue(n, 0);

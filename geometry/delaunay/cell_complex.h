@@ -8,6 +8,9 @@
 //    contour edge, lying outside the sampled sections of its plane (tested at its centroid or
 //    midpoint) is external and removed. A grounded triangle of three collinear contour samples (up
 //    to rounding) is a piece of the contour: neither external nor a ground (zero area).
+//    A tetrahedron with two vertices in sections of different components of G'' (Def. 44, over all
+//    cells) is unjoined and removed too (markUnjoined: the method's connectivity is G'', and
+//    Prop. 6's singularities of the first type include slivers the shell pruning keeps).
 //  - Step 2 (Def. 48-50, Prop. 11): around every grounded edge e the tetrahedra of its shell form
 //    runs of kept tetrahedra between removed ones (or the hull); a run reaching no tetrahedron with
 //    a grounded triangle through e is disconnected from the ground of e and removed (the thesis'
@@ -45,6 +48,8 @@ namespace xsect {
 
 enum class TetType : std::uint8_t { vf, ee, evv, vvvv, flat };
 
+/// A tetrahedron's six edges as pairs of vertex slots; bit e of CellComplex::grounded_edges.
+inline constexpr int kEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
 
 struct CellComplex {
   int cell = -1;
@@ -54,6 +59,7 @@ struct CellComplex {
   std::vector<std::array<int, 4>> v, nb;
   std::vector<TetType> type;
   std::vector<std::uint8_t> external;  ///< step 1
+  std::vector<std::uint8_t> unjoined;  ///< step 1: joins two components of G'' (markUnjoined)
   std::vector<std::uint8_t> kept;      ///< D3 (after pruneCell)
   /// Per tetrahedron, bit e: its edge e (vertex slots 01, 02, 03, 12, 13, 23) is grounded (its ends
   /// share a plane).
@@ -73,6 +79,13 @@ CellComplex cellDelaunay(int cell, const std::vector<int>& ids, const SectionVer
                          const std::vector<SectionLocator>& sampled, const std::vector<CuttingPlane>& planes,
                          const std::unordered_set<std::uint64_t>& contour,
                          const std::vector<std::uint64_t>& cellContourEdges, std::vector<std::uint64_t>* missing);
+
+/// Step 1's second half: marks `unjoined` every tetrahedron (not flat, not external) two of whose
+/// vertices lie in sections of different components of G'' (Def. 44). Such a tetrahedron is
+/// never kept (steps 1-3).
+/// @param partOf  per section-vertex, the component of G'' holding its section (-1: none, e.g. a
+///                point of no section: it joins nothing).
+void markUnjoined(CellComplex& c, const std::vector<int>& partOf);
 
 /// Steps 2 and 3 on D1: fills kept, d1, d2, d3.
 void pruneCell(CellComplex& c);

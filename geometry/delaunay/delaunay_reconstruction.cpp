@@ -587,7 +587,8 @@ OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Ve
 
 DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& planes, const SectionArrangement& arr,
                                               const std::vector<BranchingPoint>& branching,
-                                              const std::function<void(std::int64_t, std::int64_t)>& progress) {
+                                              const std::function<void(std::int64_t, std::int64_t)>& progress,
+                                              const std::vector<GraphEdge>* joinable) {
   DelaunayReconstruction out;
   SectionVertices sv = sectionVertices(planes, arr, branching);
   const std::size_t cells = std::size_t(sv.cells);
@@ -631,6 +632,22 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
     contour = contourEdges(sv);
   }
   for (const SectionVertex& v : sv.points) out.stats.conformity_points += v.kind == SectionVertex::conformity;
+  // Each section-vertex's section as a flat id (-1: none), so that a cell's pairs sort as integers
+  // (in the flat ids' order, which is GraphEdge's (plane, section) order).
+  const SectionIds ids(planes);
+  std::vector<int> sectionOf(sv.points.size(), -1);
+  for (std::size_t id = 0; id < sv.points.size(); ++id)
+    if (sv.points[id].section >= 0) sectionOf[id] = ids.of(sv.points[id].planes[0], sv.points[id].section);
+  // Step 1, second half: connections between sections G'' does not connect (Def. 44).
+  if (joinable) {
+    DisjointSets parts(std::size_t(ids.count()));
+    for (const GraphEdge& e : *joinable)
+      parts.unite(std::size_t(ids.of(e.plane_a, e.section_a)), std::size_t(ids.of(e.plane_b, e.section_b)));
+    std::vector<int> partOf(sectionOf.size(), -1);
+    for (std::size_t id = 0; id < sectionOf.size(); ++id)
+      if (sectionOf[id] >= 0) partOf[id] = int(parts.find(std::size_t(sectionOf[id])));
+    tbb::parallel_for(std::size_t(0), cells, [&](std::size_t c) { markUnjoined(cx[c], partOf); });
+  }
   // Steps 2 and 3 in every cell.
   tbb::parallel_for(std::size_t(0), cells, [&](std::size_t c) { pruneCell(cx[c]); });
   if (progress) progress(std::int64_t(cells), std::int64_t(cells));
@@ -728,12 +745,6 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
     std::vector<GraphEdge> joined;
   };
   std::vector<CellTally> tally(cells);
-  // Each section-vertex's section as a flat id (-1: none), so that a cell's pairs sort as integers
-  // (in the flat ids' order, which is GraphEdge's (plane, section) order).
-  const SectionIds ids(planes);
-  std::vector<int> sectionOf(sv.points.size(), -1);
-  for (std::size_t id = 0; id < sv.points.size(); ++id)
-    if (sv.points[id].section >= 0) sectionOf[id] = ids.of(sv.points[id].planes[0], sv.points[id].section);
   tbb::parallel_for(std::size_t(0), cells, [&](std::size_t c) {
     CellTally& T = tally[c];
     const CellComplex& C = cx[c];
@@ -747,6 +758,7 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
         case TetType::flat: ++T.stats.d0.flat; break;
       }
       T.stats.external += C.external[t] && C.type[t] != TetType::flat;
+      T.stats.unjoined += C.unjoined[t] && !C.external[t];
       if (!C.kept[t]) continue;
       ++T.kept;
       for (int i = 0; i < 4; ++i)
@@ -780,6 +792,7 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
     out.stats.d0.vvvv += S.d0.vvvv;
     out.stats.d0.flat += S.d0.flat;
     out.stats.external += S.external;
+    out.stats.unjoined += S.unjoined;
     firstTet[c + 1] = firstTet[c] + tally[c].kept;
     joined.insert(joined.end(), tally[c].joined.begin(), tally[c].joined.end());
   }

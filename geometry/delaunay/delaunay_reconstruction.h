@@ -7,7 +7,8 @@
 //  - D0 = their 3D Delaunay triangulation (CGAL), tetrahedra typed by how their vertices lie on the
 //    cutting planes (T_vf, T_ee, T_evv, T_vvvv; Fig. 3.3), grounded edges and triangles classified
 //    as contour, internal or external against the sampled sections;
-//  - D1 = D0 without external tetrahedra (Def. 47); D2 = the maximal subset of D1 solid at every
+//  - D1 = D0 without external tetrahedra (Def. 47) and, given G'', without the tetrahedra joining
+//    sections of two of its components (cell_complex.h, markUnjoined); D2 = the maximal subset of D1 solid at every
 //    grounded edge and section-vertex (shell pruning, Def. 48-50; Proposition 11: the order of
 //    elimination does not matter); D3 = D2 plus tetrahedra of D1 that meet it in 2, 3 or 4 faces
 //    and stay solid (cell_complex.h says where this departs from the thesis' T_vf/T_ee-only
@@ -79,6 +80,7 @@ struct DelaunayStats {
   std::int64_t contour_edges_not_delaunay = 0;
   TetrahedronTypes d0;                    ///< D0's tetrahedra by type
   std::int64_t external = 0;              ///< removed by step 1 (Def. 47)
+  std::int64_t unjoined = 0;              ///< not external, removed by step 1 as joining two components of G''
   std::int64_t d1 = 0, d2 = 0, d3 = 0;    ///< tetrahedra kept after steps 1, 2, 3
   std::int64_t flat_faces = 0;            ///< boundary triangles lying in a cutting plane
   std::int64_t constraint_crossings = 0;  ///< rim edges of the two sides that crossed (new vertices)
@@ -108,10 +110,13 @@ struct DelaunayReconstruction {
 ///                     along each ring) and trace points, in ring order, are the contour samples.
 /// @param branching    branching points per cell (may be empty: Boissonnat 1988 without them).
 /// @param progress     optional, called with (cells done, cells) from the calling thread.
+/// @param joinable     G'' (Def. 44; branching_diagram.h), whose components R'' may not join;
+///                     nullptr: no such restriction (Boissonnat 1988, without branching points).
 /// Deterministic: the same input gives the same mesh whatever the thread count.
 DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& planes,
                                               const SectionArrangement& arrangement,
                                               const std::vector<BranchingPoint>& branching,
-                                              const std::function<void(std::int64_t, std::int64_t)>& progress = {});
+                                              const std::function<void(std::int64_t, std::int64_t)>& progress = {},
+                                              const std::vector<GraphEdge>* joinable = nullptr);
 
 }  // namespace xsect
