@@ -9,7 +9,8 @@ The configurations (29):
   - the sphere of configs/phantoms/sphere-multiaxial.yaml cut by 6 and 9 random planes;
 the random families with seeds 1-4. Each is rendered (`xsect phantom`), reconstructed with each
 method (`xsect run --set reconstruction.method=...`) and evaluated against the analytic truth
-(`xsect eval`). A run that fails counts as wrong and prints its exit code.
+(`xsect eval`). A run that fails counts as wrong and prints its exit code; a failed evaluation
+prints its exit code in place of the distance.
 
   python3 bench/sparse_comparison.py --xsect build/xsect --work /tmp/sparse [--json out.json]
 """
@@ -20,12 +21,16 @@ METHODS = [("method 1", "nearest_plane"), ("method 2", "section_voronoi"), ("met
 
 
 def spec_with(base, seed=None, count=None):
-    """The phantom specification `base` (configs/phantoms) with its seed and random plane count."""
+    """The phantom specification `base` (configs/phantoms) with its seed and random plane count
+    (its `seed:` and `pattern:` must be one line each)."""
     text = open(os.path.join(ROOT, "configs", "phantoms", base)).read()
-    if seed is not None:
-        text = re.sub(r"(?m)^seed: .*$", f"seed: {seed}", text)
-    if count is not None:
-        text = re.sub(r"(?m)^pattern: .*$", f"pattern: {{kind: random, count: {count}}}", text)
+    for key, value, wanted in (("seed", seed, f"seed: {seed}"),
+                               ("pattern", count, f"pattern: {{kind: random, count: {count}}}")):
+        if value is None:
+            continue
+        text, n = re.subn(rf"(?m)^{key}: \S.*$", wanted, text)
+        if n != 1:
+            sys.exit(f"{base}: expected one line `{key}: ...`, found {n}")
     return text
 
 
@@ -74,7 +79,7 @@ def main():
                      os.path.join(d, "ph", "truth.yaml"), "--json", out + "-eval.json", "--quiet"])
             ev = json.load(open(out + "-eval.json")) if e.returncode == 0 else {}
             row[label] = {"betti": rep["betti"], "right": rep["betti"] == truth,
-                          "hausdorff_mm": ev.get("hausdorff_mm")}
+                          "hausdorff_mm": ev.get("hausdorff_mm"), "eval_exit": e.returncode}
         rows.append(row)
         fam = families.setdefault(family, {"configs": 0, **{label: 0 for label, _ in METHODS}})
         fam["configs"] += 1
@@ -84,7 +89,8 @@ def main():
             m = row[label]
             cells.append(f"exit {m['exit']}" if "exit" in m else
                          "{} {}{}".format(tuple(m["betti"]), "ok" if m["right"] else "--",
-                                          "" if m["hausdorff_mm"] is None else f" {m['hausdorff_mm']:.2f} mm"))
+                                          f" eval exit {m['eval_exit']}" if m["hausdorff_mm"] is None
+                                          else f" {m['hausdorff_mm']:.2f} mm"))
         print(f"{name:28s} truth {tuple(truth)}  " + "  |  ".join(cells), flush=True)
     print()
     print("| family | configs | " + " | ".join(label for label, _ in METHODS) + " |")

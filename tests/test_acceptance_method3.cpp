@@ -8,14 +8,16 @@
 // planes through the sections is refused (not general position).
 // Thesis Fig. 1.11 (two planes, a C and the C turned by 180 degrees): one solid, whose mesh has the
 // components of its tetrahedra (the pinch handling once cut it in two at the C's gap ends).
+// Two spheres between tilted planes: two solids, R'' joining no two components of G''.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
-#include <numeric>
+#include <iostream>
 #include <string>
 #include <vector>
 
+#include "geometry/core/disjoint_sets.h"
 #include "phantom_runs.h"
 
 namespace fs = std::filesystem;
@@ -114,22 +116,22 @@ TEST(AcceptanceMethod3, TwoSpheresBetweenTiltedPlanesStayTwoSolids) {
     ASSERT_TRUE(fs::exists(dir / "m3/mesh.ply"));
     EXPECT_EQ(r["reconstruction"]["delaunay"]["open_edges"], 0);
     EXPECT_EQ(r["betti"], json::array({2, 0, 0}));
-    // The components of G'' (graph.json edges of method "delaunay") hold every connection.
+    // What graph.json says agrees: the components of G'' (edges of method "delaunay") hold every
+    // connection R'' realises (the spheres' sections never touch, so no trace joins them).
     const json g = test::readJson(dir / "m3/graph.json");
-    std::vector<int> part(g["nodes"].size());
-    std::iota(part.begin(), part.end(), 0);
-    const auto find = [&](int x) {
-      while (part[std::size_t(x)] != x) x = part[std::size_t(x)] = part[std::size_t(part[std::size_t(x)])];
-      return x;
-    };
+    DisjointSets parts(g["nodes"].size());
     for (const json& e : g["edges"])
-      if (e["method"] == "delaunay") part[std::size_t(find(e["a"].get<int>()))] = find(e["b"].get<int>());
+      if (e["method"] == "delaunay") parts.unite(e["a"].get<std::size_t>(), e["b"].get<std::size_t>());
     int across = 0;
-    for (const json& e : g["delaunay_connections"]) across += find(e["a"].get<int>()) != find(e["b"].get<int>());
+    for (const json& e : g["delaunay_connections"])
+      across += parts.find(e["a"].get<std::size_t>()) != parts.find(e["b"].get<std::size_t>());
     EXPECT_EQ(across, 0) << "R'' joins sections that G'' does not connect";
     EXPECT_GT(g["delaunay_connections"].size(), 0u);
-    // 30 planes across the 12 mm spheres and more: gaps of at most about 1 mm, tilted.
-    EXPECT_LT(test::eval(dir, "m3")["hausdorff_mm"].get<double>(), 1.5);
+    // Measured 0.23-0.94 mm on these seeds (4.0 mm with the slivers). The 30 planes cross the
+    // spheres' 12 mm at random heights (seed 7: gaps up to 1.5 mm), tilted up to 5 degrees.
+    const json e = test::eval(dir, "m3");
+    std::cout << "seed " << seed << ": Hausdorff " << e["hausdorff_mm"] << " mm, mean " << e["mean_distance_mm"] << " mm\n";
+    EXPECT_LT(e["hausdorff_mm"].get<double>(), 1.5);
   }
 }
 

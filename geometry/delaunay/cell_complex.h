@@ -8,9 +8,10 @@
 //    contour edge, lying outside the sampled sections of its plane (tested at its centroid or
 //    midpoint) is external and removed. A grounded triangle of three collinear contour samples (up
 //    to rounding) is a piece of the contour: neither external nor a ground (zero area).
-//    A tetrahedron with two vertices in sections of different components of G'' (Def. 44, over all
-//    cells) is unjoined and removed too (markUnjoined: the method's connectivity is G'', and
-//    Prop. 6's singularities of the first type include slivers the shell pruning keeps).
+//    Unlike the thesis' step 1, a tetrahedron with two vertices in sections of different
+//    components of G'' (Def. 44, over all cells) is unjoined and removed too (markUnjoined: the
+//    method's connectivity is G'', and Prop. 6's singularities of the first type include slivers
+//    the shell pruning keeps).
 //  - Step 2 (Def. 48-50, Prop. 11): around every grounded edge e the tetrahedra of its shell form
 //    runs of kept tetrahedra between removed ones (or the hull); a run reaching no tetrahedron with
 //    a grounded triangle through e is disconnected from the ground of e and removed (the thesis'
@@ -80,11 +81,11 @@ CellComplex cellDelaunay(int cell, const std::vector<int>& ids, const SectionVer
                          const std::unordered_set<std::uint64_t>& contour,
                          const std::vector<std::uint64_t>& cellContourEdges, std::vector<std::uint64_t>* missing);
 
-/// Step 1's second half: marks `unjoined` every tetrahedron (not flat, not external) two of whose
+/// Step 1's addition (not the thesis'): marks `unjoined` every tetrahedron (not flat, not external) two of whose
 /// vertices lie in sections of different components of G'' (Def. 44). Such a tetrahedron is
 /// never kept (steps 1-3).
-/// @param partOf  per section-vertex, the component of G'' holding its section (-1: none, e.g. a
-///                point of no section: it joins nothing).
+/// @param partOf  per section-vertex, the component of G'' holding its section; -1 (joins
+///                anything): a point of no section, or of a section G'' joins to none.
 void markUnjoined(CellComplex& c, const std::vector<int>& partOf);
 
 /// Steps 2 and 3 on D1: fills kept, d1, d2, d3.

@@ -638,14 +638,38 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
   std::vector<int> sectionOf(sv.points.size(), -1);
   for (std::size_t id = 0; id < sv.points.size(); ++id)
     if (sv.points[id].section >= 0) sectionOf[id] = ids.of(sv.points[id].planes[0], sv.points[id].section);
-  // Step 1, second half: connections between sections G'' does not connect (Def. 44).
+  // Step 1, second half (not the thesis'): tetrahedra joining components of G'' (Def. 44).
+  // Sections that touch (a point on the contours of both: a trace point where two contours cross;
+  // a corner inside sections of three planes) are one object whatever the lattice of G'' saw, and
+  // a section G'' joins to none gives no evidence either way: it joins anything.
   if (joinable) {
-    DisjointSets parts(std::size_t(ids.count()));
-    for (const GraphEdge& e : *joinable)
-      parts.unite(std::size_t(ids.of(e.plane_a, e.section_a)), std::size_t(ids.of(e.plane_b, e.section_b)));
+    const std::size_t n = std::size_t(ids.count());
+    DisjointSets parts(n);
+    std::vector<std::uint8_t> inGraph(n, 0);
+    for (const GraphEdge& e : *joinable) {
+      const std::size_t a = std::size_t(ids.of(e.plane_a, e.section_a)), b = std::size_t(ids.of(e.plane_b, e.section_b));
+      parts.unite(a, b);
+      inGraph[a] = inGraph[b] = 1;
+    }
+    for (const SampledRing& r : sv.rings)
+      for (const int id : r.points)
+        if (sectionOf[std::size_t(id)] >= 0) parts.unite(std::size_t(ids.of(r.plane, r.section)), std::size_t(sectionOf[std::size_t(id)]));
+    std::vector<SectionLocator> sampled;
+    sampled.reserve(sv.sampled.size());
+    for (const std::vector<Section>& sections : sv.sampled) sampled.emplace_back(sections);
+    for (std::size_t id = 0; id < sv.points.size(); ++id) {
+      const SectionVertex& v = sv.points[id];
+      if (v.kind != SectionVertex::corner || sectionOf[id] < 0) continue;
+      for (int k = 1; k < 3; ++k) {
+        const int p = v.planes[std::size_t(k)];
+        if (p < 0) continue;
+        const int holding = sampled[std::size_t(p)].holding(planeCoordinates(sv, planes, int(id), p));
+        if (holding >= 0) parts.unite(std::size_t(sectionOf[id]), std::size_t(ids.of(p, holding)));
+      }
+    }
     std::vector<int> partOf(sectionOf.size(), -1);
     for (std::size_t id = 0; id < sectionOf.size(); ++id)
-      if (sectionOf[id] >= 0) partOf[id] = int(parts.find(std::size_t(sectionOf[id])));
+      if (sectionOf[id] >= 0 && inGraph[std::size_t(sectionOf[id])]) partOf[id] = int(parts.find(std::size_t(sectionOf[id])));
     tbb::parallel_for(std::size_t(0), cells, [&](std::size_t c) { markUnjoined(cx[c], partOf); });
   }
   // Steps 2 and 3 in every cell.
@@ -758,7 +782,7 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
         case TetType::flat: ++T.stats.d0.flat; break;
       }
       T.stats.external += C.external[t] && C.type[t] != TetType::flat;
-      T.stats.unjoined += C.unjoined[t] && !C.external[t];
+      T.stats.unjoined += C.unjoined[t];
       if (!C.kept[t]) continue;
       ++T.kept;
       for (int i = 0; i < 4; ++i)
