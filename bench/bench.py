@@ -65,6 +65,8 @@ SCENARIOS = {
     "multiaxial-jitter-rigid": ("torus-multiaxial-jitter.yaml", ["conformity.pose_correction=rigid"]),
     "freehand-2x200": ("vessel-tree-two-sweeps.yaml", ["conformity.pose_correction=none"]),
     "freehand-2x200-rigid": ("vessel-tree-two-sweeps.yaml", []),
+    # method 3 on the two crossing sweeps after pose correction
+    "freehand-2x200-rigid-m3": ("vessel-tree-two-sweeps.yaml", ["reconstruction.method=delaunay"]),
     # a PLUS tracked-ultrasound recording (issue 20): the freehand vessel tree as 400 frames of
     # 820x616 px (the size of PLUS's N-wire example) in one zlib-compressed .igs.mha with its device
     # set, read through input.plus_sequence (config_plus.yaml); frames/s of load + segment. Its

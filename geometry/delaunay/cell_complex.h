@@ -81,9 +81,9 @@ CellComplex cellDelaunay(int cell, const std::vector<int>& ids, const SectionVer
                          const std::unordered_set<std::uint64_t>& contour,
                          const std::vector<std::uint64_t>& cellContourEdges, std::vector<std::uint64_t>* missing);
 
-/// Step 1's addition (not the thesis'): marks `unjoined` every tetrahedron (not flat, not external) two of whose
-/// vertices lie in sections of different components of G'' (Def. 44). Such a tetrahedron is
-/// never kept (steps 1-3).
+/// Step 1's addition (not the thesis'): marks `unjoined` every tetrahedron (not flat, not
+/// external) two of whose vertices lie in sections of different components of G'' (Def. 44). Such
+/// a tetrahedron is never kept (steps 1-3).
 /// @param partOf  per section-vertex, the component of G'' holding its section; -1 (joins
 ///                anything): a point of no section, or of a section G'' joins to none.
 void markUnjoined(CellComplex& c, const std::vector<int>& partOf);

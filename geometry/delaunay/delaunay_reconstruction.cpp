@@ -583,6 +583,45 @@ OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Ve
   return out;
 }
 
+/// Per section-vertex, the component of G'' (`joinable`, Def. 44) holding its section
+/// (`sectionOf`: flat ids of `ids`), for markUnjoined. Sections that touch (a point on the
+/// contours of both: a trace point where two contours cross; a corner inside sections of three
+/// planes) are one object whatever the lattice of G'' saw; a section G'' joins to none gives no
+/// evidence either way: its points get -1 (they join anything), as do points of no section.
+std::vector<int> pointComponents(const SectionVertices& sv, const std::vector<CuttingPlane>& planes,
+                                 const SectionIds& ids, const std::vector<int>& sectionOf,
+                                 const std::vector<GraphEdge>& joinable) {
+  const std::size_t n = std::size_t(ids.count());
+  DisjointSets parts(n);
+  std::vector<std::uint8_t> inGraph(n, 0);
+  for (const GraphEdge& e : joinable) {
+    const std::size_t a = std::size_t(ids.of(e.plane_a, e.section_a)), b = std::size_t(ids.of(e.plane_b, e.section_b));
+    parts.unite(a, b);
+    inGraph[a] = inGraph[b] = 1;
+  }
+  for (const SampledRing& r : sv.rings)
+    for (const int id : r.points)
+      if (sectionOf[std::size_t(id)] >= 0)
+        parts.unite(std::size_t(ids.of(r.plane, r.section)), std::size_t(sectionOf[std::size_t(id)]));
+  std::vector<SectionLocator> sampled;
+  sampled.reserve(sv.sampled.size());
+  for (const std::vector<Section>& sections : sv.sampled) sampled.emplace_back(sections);
+  for (std::size_t id = 0; id < sv.points.size(); ++id) {
+    const SectionVertex& v = sv.points[id];
+    if (v.kind != SectionVertex::corner || sectionOf[id] < 0) continue;
+    for (int k = 1; k < 3; ++k) {
+      const int p = v.planes[std::size_t(k)];
+      if (p < 0) continue;
+      const int holding = sampled[std::size_t(p)].holding(planeCoordinates(sv, planes, int(id), p));
+      if (holding >= 0) parts.unite(std::size_t(sectionOf[id]), std::size_t(ids.of(p, holding)));
+    }
+  }
+  std::vector<int> partOf(sectionOf.size(), -1);
+  for (std::size_t id = 0; id < sectionOf.size(); ++id)
+    if (sectionOf[id] >= 0 && inGraph[std::size_t(sectionOf[id])]) partOf[id] = int(parts.find(std::size_t(sectionOf[id])));
+  return partOf;
+}
+
 }  // namespace
 
 DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& planes, const SectionArrangement& arr,
@@ -638,38 +677,9 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
   std::vector<int> sectionOf(sv.points.size(), -1);
   for (std::size_t id = 0; id < sv.points.size(); ++id)
     if (sv.points[id].section >= 0) sectionOf[id] = ids.of(sv.points[id].planes[0], sv.points[id].section);
-  // Step 1, second half (not the thesis'): tetrahedra joining components of G'' (Def. 44).
-  // Sections that touch (a point on the contours of both: a trace point where two contours cross;
-  // a corner inside sections of three planes) are one object whatever the lattice of G'' saw, and
-  // a section G'' joins to none gives no evidence either way: it joins anything.
+  // Step 1's addition (not the thesis'): tetrahedra joining components of G'' (Def. 44).
   if (joinable) {
-    const std::size_t n = std::size_t(ids.count());
-    DisjointSets parts(n);
-    std::vector<std::uint8_t> inGraph(n, 0);
-    for (const GraphEdge& e : *joinable) {
-      const std::size_t a = std::size_t(ids.of(e.plane_a, e.section_a)), b = std::size_t(ids.of(e.plane_b, e.section_b));
-      parts.unite(a, b);
-      inGraph[a] = inGraph[b] = 1;
-    }
-    for (const SampledRing& r : sv.rings)
-      for (const int id : r.points)
-        if (sectionOf[std::size_t(id)] >= 0) parts.unite(std::size_t(ids.of(r.plane, r.section)), std::size_t(sectionOf[std::size_t(id)]));
-    std::vector<SectionLocator> sampled;
-    sampled.reserve(sv.sampled.size());
-    for (const std::vector<Section>& sections : sv.sampled) sampled.emplace_back(sections);
-    for (std::size_t id = 0; id < sv.points.size(); ++id) {
-      const SectionVertex& v = sv.points[id];
-      if (v.kind != SectionVertex::corner || sectionOf[id] < 0) continue;
-      for (int k = 1; k < 3; ++k) {
-        const int p = v.planes[std::size_t(k)];
-        if (p < 0) continue;
-        const int holding = sampled[std::size_t(p)].holding(planeCoordinates(sv, planes, int(id), p));
-        if (holding >= 0) parts.unite(std::size_t(sectionOf[id]), std::size_t(ids.of(p, holding)));
-      }
-    }
-    std::vector<int> partOf(sectionOf.size(), -1);
-    for (std::size_t id = 0; id < sectionOf.size(); ++id)
-      if (sectionOf[id] >= 0 && inGraph[std::size_t(sectionOf[id])]) partOf[id] = int(parts.find(std::size_t(sectionOf[id])));
+    const std::vector<int> partOf = pointComponents(sv, planes, ids, sectionOf, *joinable);
     tbb::parallel_for(std::size_t(0), cells, [&](std::size_t c) { markUnjoined(cx[c], partOf); });
   }
   // Steps 2 and 3 in every cell.

@@ -8,9 +8,9 @@
 //    cutting planes (T_vf, T_ee, T_evv, T_vvvv; Fig. 3.3), grounded edges and triangles classified
 //    as contour, internal or external against the sampled sections;
 //  - D1 = D0 without external tetrahedra (Def. 47) and, given G'', without the tetrahedra joining
-//    sections of two of its components (cell_complex.h, markUnjoined); D2 = the maximal subset of D1 solid at every
-//    grounded edge and section-vertex (shell pruning, Def. 48-50; Proposition 11: the order of
-//    elimination does not matter); D3 = D2 plus tetrahedra of D1 that meet it in 2, 3 or 4 faces
+//    sections of two of its components (cell_complex.h, markUnjoined); D2 = the maximal subset of
+//    D1 solid at every grounded edge and section-vertex (shell pruning, Def. 48-50; Proposition
+//    11: the order of elimination does not matter); D3 = D2 plus tetrahedra of D1 that meet it in 2, 3 or 4 faces
 //    and stay solid (cell_complex.h says where this departs from the thesis' T_vf/T_ee-only
 //    step 2 and T_evv/T_vvvv-only step 3, and why).
 // Gluing the cells (§2, "Solidity and Topological Correctness"): two cells triangulate a shared
