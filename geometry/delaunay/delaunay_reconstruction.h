@@ -40,7 +40,8 @@
 // by that polygon (holes_closed). A component of the boundary whose mean thickness (3 volume /
 // area) is below a thousandth of the sample spacing bounds no volume (a sliver tetrahedron the
 // pinches parted from the solid or such a void, a flat sheet lying twice on a plane, slivers along
-// nearly collinear points of a plane) and is dropped (flat_shells_dropped). What still is not a
+// nearly collinear points of a plane) and is dropped (flat_shells_dropped; an open one only below
+// a square of the sample spacing). The repairs are in boundary_repairs.h. What still is not a
 // closed 2-manifold is counted (open_edges) and the pipeline then refuses to write the mesh.
 #pragma once
 
