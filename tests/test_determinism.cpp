@@ -1,6 +1,6 @@
 // Output is deterministic: the same inputs and configuration give byte-identical meshes, graphs
 // label volumes, conformity reports and (smoothing) level sets whatever the thread count, with
-// either method, with conformity enforced and with pose correction (report.json differs only in
+// each of the three methods, with conformity enforced and with pose correction (report.json differs only in
 // timings; manifest.json records threads; report.html only in its block of timings and memory).
 #include <gtest/gtest.h>
 
@@ -22,7 +22,8 @@ TEST(Determinism, SameBytesWhateverTheThreadCount) {
                          " output: {mesh: [ply, stl, obj]}}\n");
   auto r = xsect::test::runXsect("phantom " + (dir / "spec.yaml").string() + " --out " + (dir / "ph").string() + " --quiet");
   ASSERT_EQ(r.code, 0) << r.err;
-  for (const std::string method : {"nearest_plane", "section_voronoi", "shepard", "level_set", "conform", "pose"}) {
+  for (const std::string method :
+       {"nearest_plane", "section_voronoi", "delaunay", "shepard", "level_set", "conform", "pose"}) {
     SCOPED_TRACE(method);
     // level_set: with adaptive meshing and the automatic voxel size.
     const std::string set = method == "shepard"     ? " --set smoothing.method=shepard"

@@ -2,8 +2,8 @@
 // Topological Correctness": gluing the cells' pieces along the planes can leave singularities;
 // see delaunay_reconstruction.h for where each repair is measured to be needed). Plain data in and
 // out: faces are triangles of point ids, oriented outwards; positions are world coordinates, mm.
-// Every function works on the whole face list and is deterministic (no hashing order reaches the
-// output).
+// Every function works on the whole face list; the same input gives the same output (method 3's
+// determinism tests run through all of them).
 #pragma once
 
 #include <array>
