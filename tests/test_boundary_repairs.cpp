@@ -7,7 +7,6 @@
 #include <random>
 
 #include "geometry/delaunay/boundary_repairs.h"
-#include "geometry/delaunay/section_vertices.h"
 
 using namespace xsect;
 

@@ -106,9 +106,10 @@ CellBoundary cellBoundary(const CellComplex& c, const SectionVertices& sv) {
 /// contours of both: a trace point where two contours cross; a corner inside sections of three
 /// planes) are one object whatever the lattice of G'' saw; a section G'' joins to none gives no
 /// evidence either way: its points get -1 (they join anything), as do points of no section.
+/// `sampled`: the locators of sv.sampled, one per plane.
 std::vector<int> pointComponents(const SectionVertices& sv, const std::vector<CuttingPlane>& planes,
-                                 const SectionIds& ids, const std::vector<int>& sectionOf,
-                                 const std::vector<GraphEdge>& joinable) {
+                                 const std::vector<SectionLocator>& sampled, const SectionIds& ids,
+                                 const std::vector<int>& sectionOf, const std::vector<GraphEdge>& joinable) {
   const std::size_t n = std::size_t(ids.count());
   DisjointSets parts(n);
   std::vector<std::uint8_t> inGraph(n, 0);
@@ -121,9 +122,6 @@ std::vector<int> pointComponents(const SectionVertices& sv, const std::vector<Cu
     for (const int id : r.points)
       if (sectionOf[std::size_t(id)] >= 0)
         parts.unite(std::size_t(ids.of(r.plane, r.section)), std::size_t(sectionOf[std::size_t(id)]));
-  std::vector<SectionLocator> sampled;
-  sampled.reserve(sv.sampled.size());
-  for (const std::vector<Section>& sections : sv.sampled) sampled.emplace_back(sections);
   for (std::size_t id = 0; id < sv.points.size(); ++id) {
     const SectionVertex& v = sv.points[id];
     if (v.kind != SectionVertex::corner || sectionOf[id] < 0) continue;
@@ -155,11 +153,14 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
   std::unordered_set<std::uint64_t> contour = contourEdges(sv);
   // D0 with Delaunay conformity: contour edges that are not Delaunay edges are split at their
   // midpoints (in both cells they bound) until all are, or the rounds run out.
+  // Step 1's containment tests, per plane: of the sections as the last round left them (the loop
+  // ends before resampling them again).
+  std::vector<SectionLocator> sampled;
+  sampled.reserve(sv.sampled.size());
   for (int round = 0; round < kConformityRounds; ++round) {
     CellSetup setup = cellSetup(sv);
     addContourEdges(sv, setup);
-    std::vector<SectionLocator> sampled;  // step 1's containment tests, per plane
-    sampled.reserve(sv.sampled.size());
+    sampled.clear();
     for (const std::vector<Section>& s : sv.sampled) sampled.emplace_back(s);
     std::vector<std::vector<std::uint64_t>> missing(cells);
     tbb::parallel_for(std::size_t(0), cells, [&](std::size_t c) {
@@ -197,7 +198,7 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
     if (sv.points[id].section >= 0) sectionOf[id] = ids.of(sv.points[id].planes[0], sv.points[id].section);
   // Step 1's addition (not the thesis'): tetrahedra joining components of G'' (Def. 44).
   if (joinable) {
-    const std::vector<int> partOf = pointComponents(sv, planes, ids, sectionOf, *joinable);
+    const std::vector<int> partOf = pointComponents(sv, planes, sampled, ids, sectionOf, *joinable);
     tbb::parallel_for(std::size_t(0), cells, [&](std::size_t c) { markUnjoined(cx[c], partOf); });
   }
   // Steps 2 and 3 in every cell.
@@ -316,13 +317,12 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
       T.stats.unjoined += C.unjoined[t];
       if (!C.kept[t]) continue;
       ++T.kept;
-      for (int i = 0; i < 4; ++i)
-        for (int j = i + 1; j < 4; ++j) {
-          const std::size_t a = std::size_t(C.v[t][std::size_t(i)]), b = std::size_t(C.v[t][std::size_t(j)]);
-          if (sectionOf[a] < 0 || sectionOf[b] < 0 || sv.points[a].planes[0] == sv.points[b].planes[0]) continue;
-          const auto [lo, hi] = std::minmax(sectionOf[a], sectionOf[b]);
-          pairs.push_back(std::uint64_t(lo) << 32 | std::uint64_t(hi));
-        }
+      for (const auto& e : kEdges) {
+        const std::size_t a = std::size_t(C.v[t][std::size_t(e[0])]), b = std::size_t(C.v[t][std::size_t(e[1])]);
+        if (sectionOf[a] < 0 || sectionOf[b] < 0 || sv.points[a].planes[0] == sv.points[b].planes[0]) continue;
+        const auto [lo, hi] = std::minmax(sectionOf[a], sectionOf[b]);
+        pairs.push_back(std::uint64_t(lo) << 32 | std::uint64_t(hi));
+      }
     }
     std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
