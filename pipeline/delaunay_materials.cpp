@@ -56,7 +56,7 @@ DelaunayMaterials delaunayMaterials(const RunInputs& in, const std::vector<std::
     const BranchingDiagram branching = branchingDiagram(own, arrangement);
     DelaunayReconstruction r =
         delaunayReconstruction(own.planes, arrangement, branching.points, {}, &branching.g_double_prime);
-    m.tetrahedra_components = tetrahedraComponents(r.tetrahedra);
+    m.tetrahedra_components = tetrahedraComponents(r.tetrahedra, r.tolerances);
     m.opened_copies = repeatedVertexCopies(r.mesh);
     m.mesh = std::move(r.mesh);
     m.stats = r.stats;

@@ -38,7 +38,7 @@ void delaunayOnGrid(const RunInputs& in, const SceneStage& built, const ArrangeS
                            "cell of the arrangement (every tetrahedron was external); use nearest_plane or "
                            "section_voronoi");
   // What the mesh's b0 is checked against (mesh_stage.h; tetrahedra_components.h).
-  r.delaunay_components = tetrahedraComponents(d.tetrahedra);
+  r.delaunay_components = tetrahedraComponents(d.tetrahedra, d.tolerances);
   r.delaunay_opened_copies = repeatedVertexCopies(d.mesh);
   r.connections_not_in_graph = edgesMissing(d.connections, a.graphs.g_double_prime);
   r.graph_edges_not_realised = edgesMissing(a.graphs.g_double_prime, d.connections);

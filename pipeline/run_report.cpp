@@ -80,7 +80,8 @@ json delaunayStatsJson(const DelaunayStats& s) {
           {"welded_vertices", s.welded_vertices},
           {"holes_closed", s.holes_closed},
           {"flat_shells_dropped", s.flat_shells_dropped},
-          {"cells_unseen", s.cells_unseen}};
+          {"cells_unseen", s.cells_unseen},
+          {"rings_below_spacing_dropped", s.rings_dropped}};
 }
 
 /// report.json `reconstruction.delaunay` (method 3): the pruning's counts, the solid's components

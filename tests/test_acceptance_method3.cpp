@@ -172,6 +172,40 @@ TEST(AcceptanceMethod3, SplitTorusHalvesHaveTheTruthsTopology) {
 // assumes (ch. 3 §2.4), and the run once ended with an open mesh and "a defect of xsect" (exit 1).
 // Now it is refused as a setting: exit 2 naming reconstruction.method, nothing written; the same
 // slices reconstruct with methods 1 and 2, with the truth's Betti numbers.
+// Method 3 after enforced conformity (issue 5's edits: polygons sharing their consensus
+// endpoints on each common line, thin rhombi where two traces disagreed), on the torus cut by
+// three stacks of 10 planes with tracking error (σ = 1 mm, 1°). The edits leave section-vertices
+// 1e-15 to 1e-12 mm apart, rhombi shorter than the sampling across a plane, and needles the weld
+// collapses; before they were handled, 6 of these 8 seeds failed closed (open edges, or a mesh
+// short of the tetrahedra's components: seeds 4 and 8 closed). Measured now: 7 of 8 close; seed 2 leaves
+// five open edges on one plane (two tiny faces of its triangulation, beside a crossing of its
+// constraints 0.008 mm from a branching point, misjudged) and fails closed, exit 1, nothing
+// written. Betti numbers are not asserted: with the consensus of jittered sections R'' has b1 of
+// 12 to 21 (truth 1), as the jittered torus has without enforcement.
+TEST(AcceptanceMethod3, EnforcedConformityOfJitteredSectionsGivesAClosedMesh) {
+  int closed = 0;
+  for (int seed = 1; seed <= 8; ++seed) {
+    const fs::path dir = test::phantom("m3-enforced-" + std::to_string(seed), test::torusSpec(seed, true));
+    const auto r = test::runXsect("run " + (dir / "ph/config.yaml").string() + " --out " + (dir / "m3").string() +
+                            " --quiet --set reconstruction.method=delaunay --set conformity.enforce=true");
+    if (r.code != 0) {
+      std::cout << "seed " << seed << ": exit " << r.code << ": " << r.err.substr(0, 160) << "\n";
+      EXPECT_EQ(r.code, 1) << r.err;  // a defect reported, never bad input
+      EXPECT_FALSE(fs::exists(dir / "m3/mesh.ply"));
+      continue;
+    }
+    const json rep = test::readJson(dir / "m3/report.json");
+    const json& d = rep["reconstruction"]["delaunay"];
+    std::cout << "seed " << seed << ": betti " << rep["betti"] << ", welded " << d["welded_vertices"]
+              << ", rings dropped " << d["rings_below_spacing_dropped"] << "\n";
+    EXPECT_EQ(d["open_edges"], 0);
+    EXPECT_EQ(rep["watertight"], true);
+    EXPECT_EQ(d["mesh_betti"], rep["betti"]);
+    closed += 1;
+  }
+  EXPECT_GE(closed, 7);
+}
+
 TEST(AcceptanceMethod3, AFanOfPlanesThroughTheSectionsIsRefused) {
   const fs::path dir = test::phantom(
       "m3-fan", "seed: 8\nshape: {kind: ellipsoid, params: {a: 10, b: 7, c: 5}, rotation_deg: [0, 25, 0]}\n"

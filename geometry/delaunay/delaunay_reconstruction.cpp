@@ -148,6 +148,7 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
   SectionVertices sv = sectionVertices(planes, arr, branching);
   const std::size_t cells = std::size_t(sv.cells);
   out.stats.cells_unseen = sv.cells - arr.cells;
+  out.stats.rings_dropped = sv.rings_dropped;
   std::vector<CellComplex> cx(cells);
   std::vector<std::uint8_t> pending(cells, 1);
   std::unordered_set<std::uint64_t> contour = contourEdges(sv);
@@ -253,7 +254,8 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
     const std::array<int, 3> q = planesOfPoint(id);
     return p >= 0 && (q[0] == p || q[1] == p || q[2] == p);
   };
-  out.stats.welded_vertices = weldNearVertices(faces, positions, 1e-2 * arr.sample_spacing_mm, [&](int id) {
+  out.tolerances = {1e-2 * arr.sample_spacing_mm, 1e-3 * arr.sample_spacing_mm};
+  out.stats.welded_vertices = weldNearVertices(faces, positions, out.tolerances.weld_mm, [&](int id) {
     const std::array<int, 3> q = planesOfPoint(id);
     return int(q[0] >= 0) + int(q[1] >= 0) + int(q[2] >= 0);
   }, [&](int rep, int id) {
@@ -273,7 +275,7 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
   // one-pixel hole of a section repeated on neighbouring frames, 7e-3 mm against 0.1 mm.
   // An open one only below a square of the sample spacing (the one measured: 5e-4 mm² against
   // 0.3 mm spacing).
-  out.stats.flat_shells_dropped = dropFlatShells(faces, positions, 1e-3 * arr.sample_spacing_mm,
+  out.stats.flat_shells_dropped = dropFlatShells(faces, positions, out.tolerances.flat_thickness_mm,
                                                  arr.sample_spacing_mm * arr.sample_spacing_mm);
   out.stats.singular_edges = opened.edges;
   out.stats.singular_vertices = opened.vertices;

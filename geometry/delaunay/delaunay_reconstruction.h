@@ -52,6 +52,7 @@
 #include "geometry/arrangement/connectivity_graph.h"
 #include "geometry/arrangement/section_arrangement.h"
 #include "geometry/core/types.h"
+#include "geometry/delaunay/tetrahedra_components.h"
 #include "geometry/delaunay/tetrahedron_set.h"
 
 namespace xsect {
@@ -92,6 +93,7 @@ struct DelaunayStats {
   int holes_closed = 0;       ///< three- and four-edge holes on one cutting plane closed as flat faces
   int flat_shells_dropped = 0;  ///< boundary components thinner than a thousandth of the sample spacing
   int cells_unseen = 0;       ///< cells no arrangement point met (ids arrangement.cells and up)
+  int rings_dropped = 0;      ///< rings below the sampling that cross a plane, left out (SectionVertices)
 };
 
 struct DelaunayReconstruction {
@@ -104,6 +106,9 @@ struct DelaunayReconstruction {
   /// that R'' realises, sorted and unique.
   std::vector<GraphEdge> connections;
   DelaunayStats stats;
+  /// The weld (a hundredth of the sample spacing) and the thickness below which a shell bounds
+  /// no volume (a thousandth), as the boundary's repairs used them.
+  BoundaryTolerances tolerances;
 };
 
 /// @param planes       every cutting plane the arrangement was built on (real and virtual).

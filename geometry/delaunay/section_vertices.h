@@ -59,13 +59,17 @@ struct SectionVertices {
   /// the Delaunay structure conforms to.
   std::vector<std::vector<Section>> sampled;
   int cells = 0;
+  /// Rings shorter than about three sample spacings that cross another plane: below the
+  /// sampling, left out (see sectionVertices).
+  int rings_dropped = 0;
 };
 
 /// @param planes       the planes of the arrangement (real and virtual).
 /// @param arrangement  arrangeSections(planes, spacing).
 /// @param branching    points on the branching diagrams, one cell each.
 /// Rings the arrangement sampled with fewer than 3 points take evenly spaced vertices of the
-/// original ring (in the cell of its sampled point). Points at identical coordinates are merged.
+/// original ring (in the cells of its first sampled point) when they cross no plane, and are left
+/// out when they do. Points within a ten-millionth of the sample spacing are merged.
 SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const SectionArrangement& arrangement,
                                 const std::vector<BranchingPoint>& branching);
 

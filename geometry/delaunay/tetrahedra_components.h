@@ -17,9 +17,23 @@
 
 namespace xsect {
 
+/// What the repairs of method 3's boundary treat as one point and as no volume
+/// (delaunay_reconstruction.h; boundary_repairs.h), mm.
+struct BoundaryTolerances {
+  double weld_mm = 0;            ///< vertices nearer than this are welded into one
+  double flat_thickness_mm = 0;  ///< a shell thinner than this on average (3 volume / area) is dropped
+};
+
 /// @param tetrahedra  #T tetrahedra on their vertex table (world coordinates, mm).
+/// @param bounds      the boundary's repairs, so that the count is of the solid the mesh bounds:
+///                    a tetrahedron with an edge shorter than the weld (its vertices welded into
+///                    fewer than four) or thinner than flat_thickness_mm on average (3|V| / A, A
+///                    the area of its four faces) bounds no volume and is not counted; vertices
+///                    nearer than the weld are one. Measured: a lone needle of three points
+///                    0.001 mm apart (weld 0.002 mm), two crossing sweeps with enforced conformity.
+///                    Zeros: every tetrahedron counts, and only equal positions are one.
 /// @returns the number of classes of tetrahedra under "share a vertex position" (0 for none).
-int tetrahedraComponents(const TetrahedronSet& tetrahedra);
+int tetrahedraComponents(const TetrahedronSet& tetrahedra, const BoundaryTolerances& bounds = {});
 
 /// Vertices of `mesh` beyond the first at their position (0 when every position is held once):
 /// for method 3's mesh, the copies its opened pinches added.
