@@ -7,18 +7,11 @@
 #include <random>
 
 #include "geometry/delaunay/boundary_repairs.h"
+#include "random_motion.h"
 
 using namespace xsect;
 
 namespace {
-
-/// Rotation from three random angles (radians).
-Eigen::Matrix3d rotation(std::mt19937& rng) {
-  std::uniform_real_distribution<double> angle(-3.14159, 3.14159);
-  return (Eigen::AngleAxisd(angle(rng), Vec3::UnitZ()) * Eigen::AngleAxisd(angle(rng), Vec3::UnitY()) *
-          Eigen::AngleAxisd(angle(rng), Vec3::UnitX()))
-      .toRotationMatrix();
-}
 
 /// Appends the closed tetrahedron (a, b, c, d) (positively oriented: d above abc) as four outward faces.
 void addTetrahedron(std::vector<Vec3>& positions, std::vector<std::array<int, 3>>& faces, const Vec3& a, const Vec3& b,
@@ -58,7 +51,7 @@ TEST(BoundaryRepairs, FlatShellsAreDroppedAndLargeOpenSheetsKept) {
     // Kept: an open sheet of 1 mm² (a defect, not a rounding artefact).
     const std::size_t bigSheet = faces.size() + 2;
     addSquare(positions, faces, {15, 0, 0}, 1.0);
-    const Eigen::Matrix3d R = rotation(rng);
+    const Eigen::Matrix3d R = test::randomRotation(rng);
     const Vec3 t(std::uniform_real_distribution<double>(-50, 50)(rng), 3.0 * trial, -7.0);
     for (Vec3& p : positions) p = R * p + t;
     const std::vector<std::array<int, 3>> before = faces;

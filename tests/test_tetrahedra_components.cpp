@@ -8,17 +8,11 @@
 #include <random>
 
 #include "geometry/delaunay/tetrahedra_components.h"
+#include "random_motion.h"
 
 using namespace xsect;
 
 namespace {
-
-Eigen::Matrix3d rotation(std::mt19937& rng) {
-  std::uniform_real_distribution<double> angle(-3.14159, 3.14159);
-  return (Eigen::AngleAxisd(angle(rng), Vec3::UnitZ()) * Eigen::AngleAxisd(angle(rng), Vec3::UnitY()) *
-          Eigen::AngleAxisd(angle(rng), Vec3::UnitX()))
-      .toRotationMatrix();
-}
 
 /// Adds the tetrahedron on four new vertices (no vertex shared with the others).
 void add(TetrahedronSet& t, const std::array<Vec3, 4>& x) {
@@ -34,7 +28,7 @@ TEST(TetrahedraComponents, CountsTheSolidTheRepairedMeshBounds) {
   std::uniform_real_distribution<double> shift(-50, 50);
   const BoundaryTolerances bounds{0.002, 0.0002};  // a sample spacing of 0.2 mm
   for (int trial = 0; trial < 50; ++trial) {
-    const Eigen::Matrix3d Rm = rotation(rng);
+    const Eigen::Matrix3d Rm = test::randomRotation(rng);
     const Vec3 o(shift(rng), shift(rng), shift(rng));
     const auto at = [&](double x, double y, double z) { return Vec3(Rm * Vec3(x, y, z) + o); };
     TetrahedronSet t;
