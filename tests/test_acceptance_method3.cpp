@@ -167,11 +167,6 @@ TEST(AcceptanceMethod3, SplitTorusHalvesHaveTheTruthsTopology) {
   }
 }
 
-// A fan of planes (a rotating probe: every plane through one axis) crossing the object: each
-// contour crosses the axis on all the other planes at once, outside the general position method 3
-// assumes (ch. 3 §2.4), and the run once ended with an open mesh and "a defect of xsect" (exit 1).
-// Now it is refused as a setting: exit 2 naming reconstruction.method, nothing written; the same
-// slices reconstruct with methods 1 and 2, with the truth's Betti numbers.
 // Method 3 after enforced conformity (issue 5's edits: polygons sharing their consensus
 // endpoints on each common line, thin rhombi where two traces disagreed), on the torus cut by
 // three stacks of 10 planes with tracking error (σ = 1 mm, 1°). The edits leave section-vertices
@@ -206,6 +201,11 @@ TEST(AcceptanceMethod3, EnforcedConformityOfJitteredSectionsGivesAClosedMesh) {
   EXPECT_GE(closed, 7);
 }
 
+// A fan of planes (a rotating probe: every plane through one axis) crossing the object: each
+// contour crosses the axis on all the other planes at once, outside the general position method 3
+// assumes (ch. 3 §2.4), and the run once ended with an open mesh and "a defect of xsect" (exit 1).
+// Now it is refused as a setting: exit 2 naming reconstruction.method, nothing written; the same
+// slices reconstruct with methods 1 and 2, with the truth's Betti numbers.
 TEST(AcceptanceMethod3, AFanOfPlanesThroughTheSectionsIsRefused) {
   const fs::path dir = test::phantom(
       "m3-fan", "seed: 8\nshape: {kind: ellipsoid, params: {a: 10, b: 7, c: 5}, rotation_deg: [0, 25, 0]}\n"

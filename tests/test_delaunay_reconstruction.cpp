@@ -1251,21 +1251,27 @@ TEST(DelaunayReconstruction, DegenerateInputsGiveSolids) {
     std::cout << "tiny beside: " << describe(run) << "\n";
     EXPECT_EQ(run.topo.betti[0], 1);
   }
-  {
+  for (const bool wallFirst : {false, true}) {
     // A rhombus of 0.08 mm by 0.02 mm whose diagonal lies on another plane (x = 6), as enforced
-    // conformity adds where one plane's trace saw the object and the other's did not: sampled to
-    // fewer than three points, it is below the sampling and left out (its original vertices lie in
-    // two cells).
+    // conformity adds where one plane's trace saw the object and the other's did not: the wall
+    // x = 6 holds a hexagon whose contour crosses z = 3 exactly at the rhombus' tips (the
+    // consensus endpoints, vertices of both). Sampled to fewer than three points, the rhombus is
+    // below the sampling and left out (its original vertices lie in two cells), whichever plane
+    // comes first, and nothing of it stays on the wall's points.
     const Section rhombus{Ring{{6, -0.04}, {6.01, 0}, {6, 0.04}, {5.99, 0}}, {}, 1};
-    const std::vector<CuttingPlane> planes = {
+    const Section hexagon{Ring{{-0.04, 3}, {-0.3, 2.5}, {0.3, 2.5}, {0.04, 3}, {0.3, 3.5}, {-0.3, 3.5}}, {}, 1};
+    std::vector<CuttingPlane> planes = {
         cuttingPlane(test::axisPlane(2, 0), {disk(Vec2::Zero(), 4, 96), disk(Vec2(6.5, 0), 1, 48)}),
         cuttingPlane(test::axisPlane(2, 3), {disk(Vec2(-0.5, 0), 4, 96, 0.05), rhombus}),
-        cuttingPlane(test::axisPlane(0, 6), {}),
+        cuttingPlane(test::axisPlane(0, 6), {hexagon}),
         cuttingPlane(test::axisPlane(2, 6), {disk(Vec2(0.2, 0), 4, 96, 0.1), disk(Vec2(6.5, 0), 1, 48)})};
+    if (wallFirst) std::rotate(planes.begin(), planes.begin() + 2, planes.begin() + 3);
+    const std::string what = std::string("tiny rhombus across a plane") + (wallFirst ? ", wall first" : "");
     Method3Run run;
-    EXPECT_NO_THROW(run = reconstruct(planes, RunOptions{0.3, 0.3, true}, "tiny rhombus across a plane"));
-    std::cout << "tiny rhombus: " << describe(run) << "\n";
-    EXPECT_EQ(run.rec.stats.rings_dropped, 1);
+    EXPECT_NO_THROW(run = reconstruct(planes, RunOptions{0.3, 0.3, true}, what));
+    std::cout << what << ": " << describe(run) << "\n";
+    EXPECT_EQ(run.rec.stats.rings_dropped, 1) << what;
+    EXPECT_EQ(run.rec.stats.open_edges, 0) << what;
   }
 }
 
@@ -1321,6 +1327,14 @@ TEST(DelaunayReconstruction, VerticesSharedOnTracesAreOnePoint) {
     EXPECT_EQ(run.rec.stats.contour_edges_not_delaunay, 0) << what;
     EXPECT_EQ(run.topo.betti, (Betti{1, 0, 0})) << what;
     closedRuns += run.rec.stats.open_edges == 0 && run.topo.watertight;
+    // No two of D3's vertices (section-vertices) within a millionth of the spacing.
+    std::vector<Vec3> v = run.rec.tetrahedra.vertices;
+    std::sort(v.begin(), v.end(), [](const Vec3& a, const Vec3& b) { return a.x() < b.x(); });
+    int near = 0;
+    for (std::size_t i = 0; i < v.size(); ++i)
+      for (std::size_t j = i + 1; j < v.size() && v[j].x() - v[i].x() < 1e-6 * RunOptions{}.spacing; ++j)
+        near += (v[j] - v[i]).norm() < 1e-6 * RunOptions{}.spacing;
+    EXPECT_EQ(near, 0) << what;
   }
   EXPECT_EQ(closedRuns, 8);
 }

@@ -3,8 +3,10 @@
 // rounding, and counts the tetrahedra's components as the boundary's weld sees them). The grid's
 // cells are 16 · radius wide: a query looks up its own cell and, along each axis, the neighbour
 // whose boundary lies within `radius` (about 1.4 lookups on average; 8 lookups a query, with cells
-// 2 · radius wide, cost multiaxial-3x40's method 3 0.2 s). The caller tests the distance (with the
-// positions it holds: a point may move by less than `radius` after it was added).
+// 2 · radius wide, cost multiaxial-3x40's method 3 0.2 s). The caller tests the distance with the
+// positions it holds; a point is found from where it was added (one that moved after, by less
+// than `radius`, may be missed by a query nearer its new position: sectionVertices moves a merged
+// point by about 1e-12 mm against a radius of 1e-7 of the sample spacing).
 #pragma once
 
 #include <array>

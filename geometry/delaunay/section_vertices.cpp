@@ -146,13 +146,11 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
   // it). Of the points within it (near_points.h), the nearest (then the first) takes the new one.
   const double weld = 1e-7 * arr.sample_spacing_mm;
   NearPoints near(weld, arr.points.size());
-  std::vector<char> leftOut;  // per point: added by a ring that was left out (see below)
   const auto planeCount = [](const std::array<int, 3>& q) { return int(q[0] >= 0) + int(q[1] >= 0) + int(q[2] >= 0); };
   const auto idOf = [&](const Vec3& x, SectionVertex v) {
     int found = -1;
     double best = weld;
     near.forEachCandidate(x, [&](int id) {
-      if (std::size_t(id) < leftOut.size() && leftOut[std::size_t(id)]) return;
       const double d = (sv.points[std::size_t(id)].x - x).norm();
       if (d < best || (d == best && found >= 0 && id < found)) {
         best = d;
@@ -184,8 +182,8 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
       const std::array<int, 3> oldPlanes = old.planes;
       old.cells.clear();
       old.planes = planesOf;
-      if (v.kind == SectionVertex::corner && old.kind != SectionVertex::branching) old.kind = SectionVertex::corner;
-      if (v.kind == SectionVertex::trace && old.kind == SectionVertex::contour) old.kind = SectionVertex::trace;
+      // A contour point now on two planes is a trace point (projected onto both below).
+      if (old.kind == SectionVertex::contour && planeCount(planesOf) >= 2) old.kind = SectionVertex::trace;
       for (const PointCell& c : v.cells) {
         const auto side = remap(c, v.planes);
         addCell(old, c.cell, side[0], side[1], side[2]);
@@ -215,51 +213,31 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
     std::stable_sort(list.begin(), list.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     const CuttingPlane& cp = planes[std::size_t(p)];
     SampledRing ring{p, s, r, {}};
-    const std::size_t firstOfRing = sv.points.size();  // the points this ring adds from here
+    // Too few samples (fewer than three apart: a ring shorter than about three spacings): evenly
+    // spaced original vertices in the cells of the first sample, when the ring lies in them (no
+    // trace point: it crosses no plane). One that crosses a plane is below the sampling and is
+    // left out (counted), before any of its points is made: its original vertices would lie in
+    // several cells, and its contour edges would cross a plane (enforced conformity makes such
+    // rings: a rhombus whose diagonal is a 0.08 mm piece of a trace, measured on the jittered
+    // torus, seed 5, with 0.5 mm samples).
+    std::vector<Vec3> apart;
     for (const auto& [along, q] : list) {
-      const SectionPoint& sp = arr.points[q];
-      SectionVertex v;
-      v.planes = {p, sp.trace_plane, -1};
-      v.section = s;
-      v.kind = sp.kind == SectionPoint::trace ? SectionVertex::trace : SectionVertex::contour;
-      // Sides: cell[0] lies on the negative side of the own plane, cell[1] on the positive; for a
-      // trace point `cell` on the positive side of the trace plane, `cell_alt` on its negative.
-      for (int side = 0; side < 2; ++side) {
-        if (sp.trace_plane >= 0) {
-          addCell(v, sp.cell[std::size_t(side)], side == 0 ? -1 : 1, 1);
-          addCell(v, sp.cell_alt[std::size_t(side)], side == 0 ? -1 : 1, -1);
-        } else {
-          addCell(v, sp.cell[std::size_t(side)], side == 0 ? -1 : 1, 0);
-        }
-      }
-      const int id = idOf(cp.plane.toWorld(sp.p), v);
-      if (ring.points.empty() || (ring.points.back() != id && ring.points.front() != id)) ring.points.push_back(id);
+      const Vec3 x = cp.plane.toWorld(arr.points[q].p);
+      if (std::all_of(apart.begin(), apart.end(), [&](const Vec3& y) { return (x - y).norm() >= weld; })) apart.push_back(x);
+      if (apart.size() == 3) break;
     }
-    // Too few samples (a ring shorter than about three spacings): evenly spaced original vertices
-    // in the cells of the first sample, when the ring lies in them (no trace point: it crosses no
-    // plane). One that crosses a plane is below the sampling and is left out (counted), with the
-    // points it added (no cell: no cell's point, never merged into): the original vertices
-    // would lie in several cells, and its contour edges would cross a plane
-    // (enforced conformity makes such rings: a rhombus whose diagonal is a 0.08 mm piece of a
-    // trace, measured on the jittered torus, seed 5, with 0.5 mm samples).
-    if (ring.points.size() < 3) {
-      const Section& sec = cp.sections[std::size_t(s)];
-      const Ring& orig = r == 0 ? sec.outer : sec.holes[std::size_t(r - 1)];
+    if (apart.size() < 3) {
       const bool crosses = std::any_of(list.begin(), list.end(), [&](const auto& a) {
         return arr.points[a.second].kind == SectionPoint::trace;
       });
       if (crosses) {
         ++sv.rings_dropped;
-        leftOut.resize(sv.points.size(), 0);
-        for (std::size_t id = firstOfRing; id < sv.points.size(); ++id) {
-          sv.points[id].cells.clear();
-          leftOut[id] = 1;
-        }
         continue;
       }
+      const Section& sec = cp.sections[std::size_t(s)];
+      const Ring& orig = r == 0 ? sec.outer : sec.holes[std::size_t(r - 1)];
       if (orig.size() >= 3 && !list.empty()) {
         const SectionPoint& first = arr.points[list.front().second];
-        ring.points.clear();
         const std::size_t n = std::min<std::size_t>(orig.size(), 8);
         for (std::size_t k = 0; k < n; ++k) {
           SectionVertex v;
@@ -270,6 +248,26 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
           const int id = idOf(cp.plane.toWorld(orig[k * orig.size() / n]), v);
           if (ring.points.empty() || ring.points.back() != id) ring.points.push_back(id);
         }
+      }
+    } else {
+      for (const auto& [along, q] : list) {
+        const SectionPoint& sp = arr.points[q];
+        SectionVertex v;
+        v.planes = {p, sp.trace_plane, -1};
+        v.section = s;
+        v.kind = sp.kind == SectionPoint::trace ? SectionVertex::trace : SectionVertex::contour;
+        // Sides: cell[0] lies on the negative side of the own plane, cell[1] on the positive; for
+        // a trace point `cell` on the positive side of the trace plane, `cell_alt` on its negative.
+        for (int side = 0; side < 2; ++side) {
+          if (sp.trace_plane >= 0) {
+            addCell(v, sp.cell[std::size_t(side)], side == 0 ? -1 : 1, 1);
+            addCell(v, sp.cell_alt[std::size_t(side)], side == 0 ? -1 : 1, -1);
+          } else {
+            addCell(v, sp.cell[std::size_t(side)], side == 0 ? -1 : 1, 0);
+          }
+        }
+        const int id = idOf(cp.plane.toWorld(sp.p), v);
+        if (ring.points.empty() || (ring.points.back() != id && ring.points.front() != id)) ring.points.push_back(id);
       }
     }
     if (ring.points.size() >= 3) sv.rings.push_back(std::move(ring));

@@ -8,31 +8,21 @@
 #include <tuple>
 
 #include "geometry/core/disjoint_sets.h"
-#include "geometry/core/near_points.h"
 
 namespace xsect {
 
 int tetrahedraComponents(const TetrahedronSet& tetrahedra, const BoundaryTolerances& bounds) {
-  // Vertices joined through the tetrahedra that bound volume (see the header), then vertices at
-  // one position (sorted by position, ids breaking ties: one order whatever the sort), then those
-  // nearer than the weld.
+  // Vertices joined through the tetrahedra, then vertices at one position (sorted by position,
+  // ids breaking ties: one order whatever the sort).
   const std::size_t n = tetrahedra.vertices.size();
+  const auto& x = tetrahedra.vertices;
   DisjointSets sets(n);
   std::vector<std::uint8_t> used(n, 0);
-  const auto& x = tetrahedra.vertices;
-  for (const std::array<int, 4>& c : tetrahedra.corners) {
-    const Vec3 &p0 = x[std::size_t(c[0])], &p1 = x[std::size_t(c[1])], &p2 = x[std::size_t(c[2])], &p3 = x[std::size_t(c[3])];
-    const double shortest = std::min({(p1 - p0).norm(), (p2 - p0).norm(), (p3 - p0).norm(), (p2 - p1).norm(),
-                                      (p3 - p1).norm(), (p3 - p2).norm()});
-    const double sixV = std::abs((p1 - p0).dot((p2 - p0).cross(p3 - p0)));
-    const double twoA = (p1 - p0).cross(p2 - p0).norm() + (p1 - p0).cross(p3 - p0).norm() +
-                        (p2 - p0).cross(p3 - p0).norm() + (p2 - p1).cross(p3 - p1).norm();
-    if (shortest < bounds.weld_mm || sixV < bounds.flat_thickness_mm * twoA) continue;
+  for (const std::array<int, 4>& c : tetrahedra.corners)
     for (int i = 0; i < 4; ++i) {
       used[std::size_t(c[std::size_t(i)])] = 1;
       sets.unite(std::size_t(c[0]), std::size_t(c[std::size_t(i)]));
     }
-  }
   std::vector<std::uint32_t> order;
   for (std::size_t v = 0; v < n; ++v)
     if (used[v]) order.push_back(std::uint32_t(v));
@@ -41,18 +31,19 @@ int tetrahedraComponents(const TetrahedronSet& tetrahedra, const BoundaryToleran
   });
   for (std::size_t q = 1; q < order.size(); ++q)
     if (x[order[q - 1]] == x[order[q]]) sets.unite(order[q - 1], order[q]);
-  if (bounds.weld_mm > 0) {
-    // Positions nearer than the weld.
-    NearPoints near(bounds.weld_mm, order.size());
-    for (const std::uint32_t v : order) {
-      near.forEachCandidate(x[v], [&](int w) {
-        if ((x[std::size_t(w)] - x[v]).norm() < bounds.weld_mm) sets.unite(v, std::size_t(w));
-      });
-      near.add(int(v), x[v]);
-    }
+  // A class counts when one of its tetrahedra bounds volume.
+  std::vector<std::uint8_t> solid(n, 0);
+  for (const std::array<int, 4>& c : tetrahedra.corners) {
+    const Vec3 &p0 = x[std::size_t(c[0])], &p1 = x[std::size_t(c[1])], &p2 = x[std::size_t(c[2])], &p3 = x[std::size_t(c[3])];
+    const double shortest = std::min({(p1 - p0).norm(), (p2 - p0).norm(), (p3 - p0).norm(), (p2 - p1).norm(),
+                                      (p3 - p1).norm(), (p3 - p2).norm()});
+    const double sixV = std::abs((p1 - p0).dot((p2 - p0).cross(p3 - p0)));
+    const double twoA = (p1 - p0).cross(p2 - p0).norm() + (p1 - p0).cross(p3 - p0).norm() +
+                        (p2 - p0).cross(p3 - p0).norm() + (p2 - p1).cross(p3 - p1).norm();
+    if (shortest >= bounds.weld_mm && sixV >= bounds.flat_thickness_mm * twoA) solid[sets.find(std::size_t(c[0]))] = 1;
   }
   int components = 0;
-  for (const std::uint32_t v : order) components += sets.find(v) == v;
+  for (const std::uint32_t v : order) components += sets.find(v) == v && solid[v];
   return components;
 }
 

@@ -5,7 +5,9 @@
 // bounding R'' is checked against (issue 14: the mesh written bounds the solid reported). Where
 // the mesh opened pinches (pieces touching at a point or along an edge get a copy of the vertex
 // each, delaunay_reconstruction.h), each extra copy may split one more piece off: the mesh then
-// has between `components` and `components + copies` outer surfaces.
+// has between `components` and `components + copies` outer surfaces. A component none of whose
+// tetrahedra bounds volume, as the boundary's repairs measure it, has no surface and is not
+// counted.
 #pragma once
 
 #include <array>
@@ -25,13 +27,12 @@ struct BoundaryTolerances {
 };
 
 /// @param tetrahedra  #T tetrahedra on their vertex table (world coordinates, mm).
-/// @param bounds      the boundary's repairs, so that the count is of the solid the mesh bounds:
-///                    a tetrahedron with an edge shorter than the weld (its vertices welded into
-///                    fewer than four) or thinner than flat_thickness_mm on average (3|V| / A, A
-///                    the area of its four faces) bounds no volume and is not counted; vertices
-///                    nearer than the weld are one. Measured: a lone needle of three points
-///                    0.001 mm apart (weld 0.002 mm), two crossing sweeps with enforced conformity.
-///                    Zeros: every tetrahedron counts, and only equal positions are one.
+/// @param bounds      the boundary's repairs: a class none of whose tetrahedra bounds volume (each
+///                    has an edge shorter than the weld, its vertices welded into fewer than four,
+///                    or is thinner than flat_thickness_mm on average, 3|V| / A with A the area of
+///                    its four faces) is not counted: the mesh has no surface for it. Measured: a
+///                    lone needle of three points 0.001 mm apart (weld 0.002 mm), two crossing
+///                    sweeps with enforced conformity. Zeros: every class counts.
 /// @returns the number of classes of tetrahedra under "share a vertex position" (0 for none).
 int tetrahedraComponents(const TetrahedronSet& tetrahedra, const BoundaryTolerances& bounds = {});
 
