@@ -65,8 +65,20 @@ SCENARIOS = {
     "multiaxial-jitter-rigid": ("torus-multiaxial-jitter.yaml", ["conformity.pose_correction=rigid"]),
     "freehand-2x200": ("vessel-tree-two-sweeps.yaml", ["conformity.pose_correction=none"]),
     "freehand-2x200-rigid": ("vessel-tree-two-sweeps.yaml", []),
-    # method 3 on the two crossing sweeps after pose correction
+    # method 3 on the two crossing sweeps after pose correction, and on the tracked inputs above:
+    # as segmented, with enforced conformity (possible since near-coincident section-vertices are
+    # merged: before, the jittered torus failed closed) and with pose correction
     "freehand-2x200-rigid-m3": ("vessel-tree-two-sweeps.yaml", ["reconstruction.method=delaunay"]),
+    "freehand-2x200-m3": ("vessel-tree-two-sweeps.yaml", ["conformity.pose_correction=none",
+                                                          "reconstruction.method=delaunay"]),
+    "multiaxial-jitter-m3": ("torus-multiaxial-jitter.yaml", ["reconstruction.method=delaunay"]),
+    "multiaxial-jitter-conform-m3": ("torus-multiaxial-jitter.yaml", ["conformity.enforce=true",
+                                                                      "conformity.max_correction_mm=100",
+                                                                      "reconstruction.method=delaunay"]),
+    "multiaxial-jitter-rigid-m3": ("torus-multiaxial-jitter.yaml", ["conformity.pose_correction=rigid",
+                                                                    "reconstruction.method=delaunay"]),
+    "freehand-400-conform-m3": ("vessel-tree-freehand.yaml", ["conformity.enforce=true",
+                                                             "reconstruction.method=delaunay"]),
     # a PLUS tracked-ultrasound recording (issue 20): the freehand vessel tree as 400 frames of
     # 820x616 px (the size of PLUS's N-wire example) in one zlib-compressed .igs.mha with its device
     # set, read through input.plus_sequence (config_plus.yaml); frames/s of load + segment. Its
