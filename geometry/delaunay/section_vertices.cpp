@@ -144,12 +144,12 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
   // A ten-millionth of the sample spacing: far below every distance the method makes (the
   // branching points' jitter is a tenth of it; eight conformity rounds halve an edge to 1/256 of
   // it). Of the points within it (near_points.h), the nearest (then the first) takes the new one.
-  const double weld = 1e-7 * arr.sample_spacing_mm;
-  NearPoints near(weld, arr.points.size());
+  const double merge = 1e-7 * arr.sample_spacing_mm;
+  NearPoints near(merge, arr.points.size());
   const auto planeCount = [](const std::array<int, 3>& q) { return int(q[0] >= 0) + int(q[1] >= 0) + int(q[2] >= 0); };
   const auto idOf = [&](const Vec3& x, SectionVertex v) {
     int found = -1;
-    double best = weld;
+    double best = merge;
     near.forEachCandidate(x, [&](int id) {
       const double d = (sv.points[std::size_t(id)].x - x).norm();
       if (d < best || (d == best && found >= 0 && id < found)) {
@@ -223,7 +223,7 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
     std::vector<Vec3> apart;
     for (const auto& [along, q] : list) {
       const Vec3 x = cp.plane.toWorld(arr.points[q].p);
-      if (std::all_of(apart.begin(), apart.end(), [&](const Vec3& y) { return (x - y).norm() >= weld; })) apart.push_back(x);
+      if (std::all_of(apart.begin(), apart.end(), [&](const Vec3& y) { return (x - y).norm() >= merge; })) apart.push_back(x);
       if (apart.size() == 3) break;
     }
     if (apart.size() < 3) {
