@@ -1251,13 +1251,14 @@ TEST(DelaunayReconstruction, DegenerateInputsGiveSolids) {
     std::cout << "tiny beside: " << describe(run) << "\n";
     EXPECT_EQ(run.topo.betti[0], 1);
   }
+  std::vector<std::pair<std::size_t, double>> rhombusRuns;  // triangles, volume per plane order
   for (const bool wallFirst : {false, true}) {
     // A rhombus of 0.08 mm by 0.02 mm whose diagonal lies on another plane (x = 6), as enforced
     // conformity adds where one plane's trace saw the object and the other's did not: the wall
     // x = 6 holds a hexagon whose contour crosses z = 3 exactly at the rhombus' tips (the
     // consensus endpoints, vertices of both). Sampled to fewer than three points, the rhombus is
     // below the sampling and left out (its original vertices lie in two cells), whichever plane
-    // comes first, and nothing of it stays on the wall's points.
+    // comes first: the same solid either way.
     const Section rhombus{Ring{{6, -0.04}, {6.01, 0}, {6, 0.04}, {5.99, 0}}, {}, 1};
     const Section hexagon{Ring{{-0.04, 3}, {-0.3, 2.5}, {0.3, 2.5}, {0.04, 3}, {0.3, 3.5}, {-0.3, 3.5}}, {}, 1};
     std::vector<CuttingPlane> planes = {
@@ -1272,7 +1273,11 @@ TEST(DelaunayReconstruction, DegenerateInputsGiveSolids) {
     std::cout << what << ": " << describe(run) << "\n";
     EXPECT_EQ(run.rec.stats.rings_dropped, 1) << what;
     EXPECT_EQ(run.rec.stats.open_edges, 0) << what;
+    rhombusRuns.push_back({run.rec.mesh.triangles.size(), meshVolume(run.rec.mesh)});
   }
+  ASSERT_EQ(rhombusRuns.size(), 2u);
+  EXPECT_EQ(rhombusRuns[0].first, rhombusRuns[1].first);
+  EXPECT_NEAR(rhombusRuns[0].second, rhombusRuns[1].second, 1e-9 * rhombusRuns[0].second);
 }
 
 // Sections that share their vertices on every common line, as enforced conformity leaves them
