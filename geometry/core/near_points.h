@@ -1,6 +1,6 @@
 // Points within a distance of a query point, through a hash grid: the one home of "which points
 // may lie within `radius` of this one" (method 3 merges its section-vertices that coincide up to
-// rounding: section_vertices.h). The grid's
+// rounding, section_vertices.h, and welds its boundary's vertices, boundary_repairs.h). The grid's
 // cells are 16 · radius wide: a query looks up its own cell and, along each axis, the neighbour
 // whose boundary lies within `radius` (about 1.4 lookups on average; 8 lookups a query, with cells
 // 2 · radius wide, cost multiaxial-3x40's method 3 0.2 s). The caller tests the distance with the

@@ -7,6 +7,7 @@
 #include <unordered_set>
 
 #include "geometry/core/disjoint_sets.h"
+#include "geometry/core/near_points.h"
 #include "geometry/delaunay/section_vertices.h"
 
 namespace xsect {
@@ -64,26 +65,17 @@ int weldNearVertices(std::vector<std::array<int, 3>>& faces, const std::vector<V
   for (const auto& f : faces) used.insert(used.end(), f.begin(), f.end());
   std::sort(used.begin(), used.end());
   used.erase(std::unique(used.begin(), used.end()), used.end());
-  std::unordered_map<std::uint64_t, std::vector<int>> grid;
-  const auto cellOf = [&](const Vec3& x, int dx, int dy, int dz) {
-    const auto c = [&](double v, int d) { return std::uint64_t(std::int64_t(std::floor(v / tolerance)) + d) & 0x1fffff; };
-    return (c(x.x(), dx) << 42) | (c(x.y(), dy) << 21) | c(x.z(), dz);
-  };
-  for (const int id : used) grid[cellOf(positions[std::size_t(id)], 0, 0, 0)].push_back(id);
+  NearPoints near(tolerance, positions.size());
+  for (const int id : used) near.add(id, positions[std::size_t(id)]);
   std::unordered_map<int, int> to;
   DisjointSets sets(used.size());
   std::unordered_map<int, std::size_t> slot;
   for (std::size_t k = 0; k < used.size(); ++k) slot[used[k]] = k;
   for (const int id : used) {
     const Vec3& x = positions[std::size_t(id)];
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          const auto it = grid.find(cellOf(x, dx, dy, dz));
-          if (it == grid.end()) continue;
-          for (const int other : it->second)
-            if (other != id && (positions[std::size_t(other)] - x).norm() < tolerance) sets.unite(slot[id], slot[other]);
-        }
+    near.forEachCandidate(x, [&](int other) {
+      if (other != id && (positions[std::size_t(other)] - x).norm() < tolerance) sets.unite(slot[id], slot[other]);
+    });
   }
   std::unordered_map<std::size_t, int> best;  // cluster -> representative
   for (std::size_t k = 0; k < used.size(); ++k) {
@@ -98,7 +90,6 @@ int weldNearVertices(std::vector<std::array<int, 3>>& faces, const std::vector<V
     to[used[k]] = weld ? root : used[k];
   }
   if (welded == 0) return 0;
-  std::map<std::array<int, 3>, std::vector<std::size_t>> byVertices;
   std::vector<std::array<int, 3>> kept;
   for (auto f : faces) {
     for (int& v : f) v = to[v];

@@ -17,6 +17,14 @@
 
 namespace xsect {
 
+/// What the repairs below treat as one point (weldNearVertices) and as no volume (dropFlatShells),
+/// mm; DelaunayReconstruction::tolerances holds the ones a run used, and tetrahedraComponents counts
+/// the solid with them.
+struct BoundaryTolerances {
+  double weld_mm = 0;            ///< vertices nearer than this are welded into one
+  double flat_thickness_mm = 0;  ///< a shell thinner than this on average (3 volume / area) is dropped
+};
+
 /// The number of faces on each edge (edgeKey) of `faces`.
 std::unordered_map<std::uint64_t, int> edgeUses(const std::vector<std::array<int, 3>>& faces);
 

@@ -52,7 +52,7 @@
 #include "geometry/arrangement/connectivity_graph.h"
 #include "geometry/arrangement/section_arrangement.h"
 #include "geometry/core/types.h"
-#include "geometry/delaunay/tetrahedra_components.h"
+#include "geometry/delaunay/boundary_repairs.h"
 #include "geometry/delaunay/tetrahedron_set.h"
 
 namespace xsect {

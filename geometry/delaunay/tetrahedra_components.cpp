@@ -34,13 +34,15 @@ int tetrahedraComponents(const TetrahedronSet& tetrahedra, const BoundaryToleran
   // A class counts when one of its tetrahedra bounds volume.
   std::vector<std::uint8_t> solid(n, 0);
   for (const std::array<int, 4>& c : tetrahedra.corners) {
+    const std::size_t root = sets.find(std::size_t(c[0]));
+    if (solid[root]) continue;
     const Vec3 &p0 = x[std::size_t(c[0])], &p1 = x[std::size_t(c[1])], &p2 = x[std::size_t(c[2])], &p3 = x[std::size_t(c[3])];
     const double shortest = std::min({(p1 - p0).norm(), (p2 - p0).norm(), (p3 - p0).norm(), (p2 - p1).norm(),
                                       (p3 - p1).norm(), (p3 - p2).norm()});
     const double sixV = std::abs((p1 - p0).dot((p2 - p0).cross(p3 - p0)));
     const double twoA = (p1 - p0).cross(p2 - p0).norm() + (p1 - p0).cross(p3 - p0).norm() +
                         (p2 - p0).cross(p3 - p0).norm() + (p2 - p1).cross(p3 - p1).norm();
-    if (shortest >= bounds.weld_mm && sixV >= bounds.flat_thickness_mm * twoA) solid[sets.find(std::size_t(c[0]))] = 1;
+    if (shortest >= bounds.weld_mm && sixV >= bounds.flat_thickness_mm * twoA) solid[root] = 1;
   }
   int components = 0;
   for (const std::uint32_t v : order) components += sets.find(v) == v && solid[v];

@@ -15,16 +15,10 @@
 #include <vector>
 
 #include "geometry/core/types.h"
+#include "geometry/delaunay/boundary_repairs.h"
 #include "geometry/delaunay/tetrahedron_set.h"
 
 namespace xsect {
-
-/// What the repairs of method 3's boundary treat as one point and as no volume
-/// (delaunay_reconstruction.h; boundary_repairs.h), mm.
-struct BoundaryTolerances {
-  double weld_mm = 0;            ///< vertices nearer than this are welded into one
-  double flat_thickness_mm = 0;  ///< a shell thinner than this on average (3 volume / area) is dropped
-};
 
 /// @param tetrahedra  #T tetrahedra on their vertex table (world coordinates, mm).
 /// @param bounds      the boundary's repairs: a class none of whose tetrahedra bounds volume (each
