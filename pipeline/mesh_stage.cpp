@@ -113,7 +113,25 @@ MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const Recons
   const bool method3 = reconstruction.delaunay.has_value();
   MeshStage m;
   ConformalCutStats methodCut;
-  if (method3) {
+  // ∂R'' with open edges: its gluing failed on some plane (the jittered torus with enforced
+  // conformity, seed 2: five edges where faces of two cells nearly parallel to a plane meet it).
+  // R'' itself, the union of its tetrahedra, is whole: its voxelisation is meshed instead.
+  m.method3_from_voxels = method3 && reconstruction.delaunay->stats.open_edges > 0 && rec.voxels_inside > 0;
+  if (m.method3_from_voxels) {
+    BlockGrid<std::uint8_t> solid = rec.inside;
+    m.voxel_mesh_critical_added = makeWellComposed(solid);
+    BlockGrid<float> field = rec.field;
+    imposeSolid(field, solid, float(0.05 * c.voxel_size_mm));
+    m.voxel_mesh_betti = voxelBetti(solid);
+    m.method_mesh = meshZeroLevel(field);
+    if (c.conformal_mesh) methodCut = cutAlongSections(m.method_mesh, scene.planes, scene.fields, c.voxel_size_mm);
+    warnings->push_back("method 3's boundary could not be glued closed (" +
+                        std::to_string(reconstruction.delaunay->stats.open_edges) +
+                        " open edges on the cutting planes): the mesh is the voxelisation of R'' at " +
+                        std::to_string(c.voxel_size_mm) +
+                        " mm, not its boundary through the contours (report.json "
+                        "reconstruction.delaunay.mesh_source: voxels)");
+  } else if (method3) {
     m.method_mesh = reconstruction.delaunay->mesh;  // ∂R'': conformal by construction, no cut
     // Pieces touching at a vertex are kept apart by copies of the vertex at one position: STL
     // stores no vertex indices, so a reader merges them back into a pinched surface.
@@ -127,7 +145,7 @@ MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const Recons
     m.method_mesh = meshZeroLevel(rec.field);
     if (c.conformal_mesh) methodCut = cutAlongSections(m.method_mesh, scene.planes, scene.fields, c.voxel_size_mm);
   }
-  m.conformal_by_construction = method3 && !smooth;
+  m.conformal_by_construction = method3 && !m.method3_from_voxels && !smooth;
   if (smooth) m.mesh = smooth->surface.mesh;
   else m.mesh = std::move(m.method_mesh);  // one copy of a mesh of millions of triangles
   m.cut = !smooth ? methodCut
@@ -174,7 +192,9 @@ DiagnoseStage diagnoseStage(const ReconstructStage& reconstruction, const Smooth
   const bool method3 = reconstruction.delaunay.has_value();
   // The method's own mesh: bounds the repaired voxel solid (methods 1 and 2), or the tetrahedra (method 3).
   const auto requireMethodMesh = [&](const MeshTopology& t, const std::string& what) {
-    if (method3)
+    if (meshes.method3_from_voxels)
+      requireMeshBoundsSolid(t, meshes.voxel_mesh_betti, what);
+    else if (method3)
       requireMeshBoundsTetrahedra(t, reconstruction.delaunay_components, reconstruction.delaunay_opened_copies, what);
     else requireMeshBoundsSolid(t, methodBetti, what);
   };
@@ -187,7 +207,7 @@ DiagnoseStage diagnoseStage(const ReconstructStage& reconstruction, const Smooth
     requireMethodMesh(d.topology, "the mesh");
   d.method_topology = smooth ? meshTopology(meshes.method_mesh) : d.topology;
   if (smooth) requireMethodMesh(d.method_topology, "the unsmoothed mesh");
-  if (method3) warnVoxelBetti(d.method_topology, methodBetti, meshes.materials.empty() ? "" : "all labels", warnings);
+  if (method3 && !meshes.method3_from_voxels) warnVoxelBetti(d.method_topology, methodBetti, meshes.materials.empty() ? "" : "all labels", warnings);
   for (Material& m : meshes.materials) {
     m.topology = meshTopology(m.mesh);
     const std::string what = "the mesh of label " + std::to_string(m.label);

@@ -6,7 +6,10 @@
 // Method 3 (thesis ch. 3) gives its mesh itself, ∂R'', conformal to the contours by construction
 // (no marching, no cut), and per material the mesh of each label's own R'' (delaunay_materials.h):
 // such a mesh must be watertight with as many components as the union of its tetrahedra; its
-// voxelisation's Betti numbers are reported beside it, with a warning where they differ.
+// voxelisation's Betti numbers are reported beside it, with a warning where they differ. Where
+// ∂R'' could not be glued closed (open edges: the run used to stop there, exit 1), the mesh is the
+// voxelisation of R'' instead, meshed and checked as methods 1 and 2 do, with a warning and
+// report.json reconstruction.delaunay.mesh_source "voxels".
 #pragma once
 
 #include <cstdint>
@@ -44,6 +47,12 @@ struct MeshStage {
   TriangleMesh mesh;                ///< what mesh.<fmt> holds: the smooth surface, or the method's
   ConformalCutStats cut;            ///< of `mesh`
   bool conformal_by_construction = false;  ///< `mesh` is method 3's ∂R'' (no cut applies)
+  /// Method 3 whose glued boundary ∂R'' is not closed (open edges on the cutting planes): the
+  /// method's mesh is then its voxelisation made well-composed and meshed as methods 1 and 2 do
+  /// (conformally cut when asked), checked against `voxel_mesh_betti`, not ∂R'' itself.
+  bool method3_from_voxels = false;
+  Betti voxel_mesh_betti{0, 0, 0};      ///< of that well-composed voxel set
+  int voxel_mesh_critical_added = 0;    ///< voxels added to make it well-composed
   BlockGrid<std::uint16_t> voxel_label;  ///< labels.nrrd
   std::vector<Material> materials;
 };

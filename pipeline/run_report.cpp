@@ -92,7 +92,8 @@ json delaunayJson(const RunResults& r) {
   const ArrangeStage& a = r.arrangement;
   const Betti& mesh = r.diagnosis.method_topology.betti;
   json j = delaunayStatsJson(d.stats);
-  j.update(json{{"tetrahedra", d.tetrahedra.size()},
+  j.update(json{{"mesh_source", r.meshes.method3_from_voxels ? "voxels" : "boundary"},
+                {"tetrahedra", d.tetrahedra.size()},
                 {"tetrahedra_components", rs.delaunay_components},
                 {"opened_vertex_copies", rs.delaunay_opened_copies},
                 {"mesh_betti", mesh},

@@ -172,33 +172,41 @@ TEST(AcceptanceMethod3, SplitTorusHalvesHaveTheTruthsTopology) {
 // three stacks of 10 planes with tracking error (σ = 1 mm, 1°). The edits leave section-vertices
 // 1e-15 to 1e-12 mm apart, rhombi shorter than the sampling across a plane, and needles the weld
 // collapses; before they were handled, 6 of these 8 seeds failed closed (open edges, or a mesh
-// short of the tetrahedra's components: seeds 4 and 8 closed). Measured now: 7 of 8 close; seed 2 leaves
-// five open edges on one plane (two tiny faces of its triangulation, beside a crossing of its
-// constraints 0.008 mm from a branching point, misjudged) and fails closed, exit 1, nothing
-// written. Betti numbers are not asserted: with the consensus of jittered sections R'' has b1 of
-// 12 to 21 (truth 1), as the jittered torus has without enforcement.
+// short of the tetrahedra's components: seeds 4 and 8 closed). Measured now: 7 of 8 glue ∂R''
+// closed; seed 2 leaves five open edges on one plane (a pentagon where faces of two cells nearly
+// parallel to the plane meet it, not consistently oriented) and its mesh is then the
+// voxelisation of R'' (mesh_stage.h), with a warning: every seed runs (it used to exit 1, nothing
+// written), and every written mesh has the Betti numbers report.json states, as `xsect eval`
+// measures them on the file. Betti numbers are not compared with the truth: with the consensus of
+// jittered sections R'' has b1 of 12 to 21 (truth 1), as the jittered torus has without
+// enforcement.
 TEST(AcceptanceMethod3, EnforcedConformityOfJitteredSectionsGivesAClosedMesh) {
-  int closed = 0;
+  int glued = 0;
   for (int seed = 1; seed <= 8; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
     const fs::path dir = test::phantom("m3-enforced-" + std::to_string(seed), test::torusSpec(seed, true));
-    const auto r = test::runXsect("run " + (dir / "ph/config.yaml").string() + " --out " + (dir / "m3").string() +
-                            " --quiet --set reconstruction.method=delaunay --set conformity.enforce=true");
-    if (r.code != 0) {
-      std::cout << "seed " << seed << ": exit " << r.code << ": " << r.err.substr(0, 160) << "\n";
-      EXPECT_EQ(r.code, 1) << r.err;  // a defect reported, never bad input
-      EXPECT_FALSE(fs::exists(dir / "m3/mesh.ply"));
-      continue;
-    }
-    const json rep = test::readJson(dir / "m3/report.json");
+    const json rep = test::run(dir, "m3", "--set reconstruction.method=delaunay --set conformity.enforce=true");
     const json& d = rep["reconstruction"]["delaunay"];
-    std::cout << "seed " << seed << ": betti " << rep["betti"] << ", welded " << d["welded_vertices"]
-              << ", rings dropped " << d["rings_below_spacing_dropped"] << "\n";
-    EXPECT_EQ(d["open_edges"], 0);
+    std::cout << "seed " << seed << ": betti " << rep["betti"] << ", mesh from " << d["mesh_source"] << ", open edges "
+              << d["open_edges"] << ", welded " << d["welded_vertices"] << ", rings dropped "
+              << d["rings_below_spacing_dropped"] << "\n";
     EXPECT_EQ(rep["watertight"], true);
-    EXPECT_EQ(d["mesh_betti"], rep["betti"]);
-    closed += 1;
+    EXPECT_EQ(test::eval(dir, "m3")["betti"], rep["betti"]);  // the file carries the reported topology
+    if (d["mesh_source"] == "boundary") {
+      EXPECT_EQ(d["open_edges"], 0);
+      EXPECT_EQ(d["mesh_betti"], rep["betti"]);
+      EXPECT_EQ(rep["conformity"]["conformal_by_construction"], true);
+      glued += 1;
+    } else {
+      ASSERT_EQ(d["mesh_source"], "voxels");
+      EXPECT_GT(d["open_edges"].get<int>(), 0);
+      EXPECT_EQ(rep["conformity"]["conformal_by_construction"], false);
+      bool warned = false;
+      for (const json& w : rep["warnings"]) warned |= w.get<std::string>().find("could not be glued closed") != std::string::npos;
+      EXPECT_TRUE(warned) << rep["warnings"];
+    }
   }
-  EXPECT_GE(closed, 7);
+  EXPECT_GE(glued, 7);
 }
 
 // A fan of planes (a rotating probe: every plane through one axis) crossing the object: each

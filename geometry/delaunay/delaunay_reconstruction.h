@@ -42,7 +42,8 @@
 // pinches parted from the solid or such a void, a flat sheet lying twice on a plane, slivers along
 // nearly collinear points of a plane) and is dropped (flat_shells_dropped; an open one only below
 // a square of the sample spacing). The repairs are in boundary_repairs.h. What still is not a
-// closed 2-manifold is counted (open_edges) and the pipeline then refuses to write the mesh.
+// closed 2-manifold is counted (open_edges); the pipeline then meshes R'''s voxelisation instead
+// (pipeline/mesh_stage.h).
 #pragma once
 
 #include <cstdint>
