@@ -28,7 +28,7 @@ const std::set<std::string> kKnownKeys = {
     "conformity.flag_mm", "conformity.drop_flagged", "conformity.pose_smoothing_frames", "conformity.pose_correction",
     "conformity.pose_sigma_mm", "conformity.pose_sigma_deg", "reconstruction",
     "reconstruction.method", "reconstruction.voxel_size_mm", "reconstruction.voxel_budget", "reconstruction.end_margin_mm",
-    "reconstruction.conformal_mesh", "reconstruction.planes",
+    "reconstruction.conformal_mesh", "reconstruction.planes", "reconstruction.cell_tunnels",
     "smoothing", "smoothing.method", "smoothing.exponent", "smoothing.cap_mm",
     "smoothing.adaptivity", "smoothing.keep_connectivity", "smoothing.iterations", "sampling", "sampling.reach_mm",
     "sampling.reach_interior_mm", "sampling.reach_exterior_mm", "sampling.max_angle_deg", "sampling.advice_count",
@@ -228,6 +228,8 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
       c.voxel_budget = yamlInteger(n, path, "reconstruction.voxel_budget", 1000, 2000000000);
     if (s["conformal_mesh"])
       c.conformal_mesh = yamlBool(s["conformal_mesh"], path, "reconstruction.conformal_mesh");
+    if (s["cell_tunnels"])
+      c.cell_tunnels = yamlChoice(s["cell_tunnels"], path, "reconstruction.cell_tunnels", kCellTunnels, "cell tunnels choice");
     if (s["planes"]) {
       c.planes = yamlChoice(s["planes"], path, "reconstruction.planes", kPlaneExtents, "plane extent");
       c.planes_default = false;

@@ -11,6 +11,7 @@
 #include "geometry/core/named_choice.h"
 #include "geometry/core/plane_extent.h"
 #include "geometry/core/reconstruction_method.h"
+#include "geometry/delaunay/cell_tunnels.h"
 #include "segmentation/segment_slice.h"
 
 namespace xsect {
@@ -75,6 +76,9 @@ struct RunConfig {
   PlaneExtent planes = PlaneExtent::whole;
   bool planes_default = true;
   bool conformal_mesh = true;  ///< cut the mesh along the planes onto the section contours
+  /// `reconstruction.cell_tunnels` (method 3): cut tunnels of one cell's R'' that its sections do
+  /// not carry (geometry/delaunay/cell_cycles.h), or keep the thesis' D3 as it is.
+  CellTunnels cell_tunnels = CellTunnels::cut;
   SmoothingMethod smoothing_method = SmoothingMethod::none;
   double smoothing_exponent = 1.0;                      ///< Shepard: g(t) = t^p; +inf allowed
   std::optional<double> smoothing_cap_mm;               ///< Shepard: clamp of f_i; empty = auto

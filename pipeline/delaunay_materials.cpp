@@ -55,7 +55,8 @@ DelaunayMaterials delaunayMaterials(const RunInputs& in, const std::vector<std::
         arrangeSections(own.planes, arrangementSpacing(in.config, own.planes, own.real_planes));
     const BranchingDiagram branching = branchingDiagram(own, arrangement);
     DelaunayReconstruction r =
-        delaunayReconstruction(own.planes, arrangement, branching.points, {}, &branching.g_double_prime);
+        delaunayReconstruction(own.planes, arrangement, branching.points, {}, &branching.g_double_prime,
+                               in.config.cell_tunnels);
     m.tetrahedra_components = tetrahedraComponents(r.tetrahedra, r.tolerances);
     m.opened_copies = repeatedVertexCopies(r.mesh);
     m.mesh = std::move(r.mesh);

@@ -126,11 +126,11 @@ MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const Recons
     m.method_mesh = meshZeroLevel(field);
     if (c.conformal_mesh) methodCut = cutAlongSections(m.method_mesh, scene.planes, scene.fields, c.voxel_size_mm);
     warnings->push_back("method 3's boundary could not be glued closed (" +
-                        std::to_string(reconstruction.delaunay->stats.open_edges) +
-                        " open edges on the cutting planes): the mesh is the voxelisation of R'' at " +
+                        std::to_string(reconstruction.delaunay->stats.open_edges) + " open edges): " +
+                        (smooth ? "the unsmoothed mesh" : "the mesh") + " is the voxelisation of R'' at " +
                         std::to_string(c.voxel_size_mm) +
-                        " mm, not its boundary through the contours (report.json "
-                        "reconstruction.delaunay.mesh_source: voxels)");
+                        " mm made well-composed, not its boundary through the contours (report.json "
+                        "reconstruction.delaunay.mesh_source: voxels, mesh_voxel_betti)");
   } else if (method3) {
     m.method_mesh = reconstruction.delaunay->mesh;  // ∂R'': conformal by construction, no cut
     // Pieces touching at a vertex are kept apart by copies of the vertex at one position: STL

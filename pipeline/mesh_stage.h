@@ -9,7 +9,8 @@
 // voxelisation's Betti numbers are reported beside it, with a warning where they differ. Where
 // ∂R'' could not be glued closed (open edges: the run used to stop there, exit 1), the mesh is the
 // voxelisation of R'' instead, meshed and checked as methods 1 and 2 do, with a warning and
-// report.json reconstruction.delaunay.mesh_source "voxels".
+// report.json reconstruction.delaunay.mesh_source "voxels". (Not for the meshes of single labels,
+// each its label's own ∂R'': one that is not closed still stops the run.)
 #pragma once
 
 #include <cstdint>

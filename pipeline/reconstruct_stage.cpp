@@ -26,7 +26,7 @@ void delaunayOnGrid(const RunInputs& in, const SceneStage& built, const ArrangeS
   const SectionScene& scene = built.scene;
   auto t0 = std::chrono::steady_clock::now();
   r.delaunay = delaunayReconstruction(scene.planes, a.arrangement, a.branching, progress.counter(),
-                                      &a.graphs.g_double_prime);
+                                      &a.graphs.g_double_prime, c.cell_tunnels);
   r.delaunay_s = secondsSince(t0);
   const DelaunayReconstruction& d = *r.delaunay;
   if (d.tetrahedra.empty())

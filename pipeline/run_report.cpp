@@ -81,7 +81,10 @@ json delaunayStatsJson(const DelaunayStats& s) {
           {"holes_closed", s.holes_closed},
           {"flat_shells_dropped", s.flat_shells_dropped},
           {"cells_unseen", s.cells_unseen},
-          {"rings_below_spacing_dropped", s.rings_dropped}};
+          {"rings_below_spacing_dropped", s.rings_dropped},
+          {"cell_pairs_cut", s.cell_pairs_cut},
+          {"cell_tunnels_cut", s.cell_tunnels_cut},
+          {"cell_tetrahedra_cut", s.cell_tetrahedra_cut}};
 }
 
 /// report.json `reconstruction.delaunay` (method 3): the pruning's counts, the solid's components
@@ -100,6 +103,9 @@ json delaunayJson(const RunResults& r) {
                 {"mesh_triangles", r.smooth ? r.meshes.method_mesh.triangles.size() : r.meshes.mesh.triangles.size()},
                 {"voxel_betti", rs.solid.voxel_betti},
                 {"voxel_betti_matches_mesh", rs.solid.voxel_betti == mesh},
+                // mesh_source voxels: the mesh bounds the voxelisation made well-composed
+                {"mesh_voxel_betti", r.meshes.method3_from_voxels ? json(r.meshes.voxel_mesh_betti) : json(nullptr)},
+                {"mesh_voxels_added", r.meshes.voxel_mesh_critical_added},
                 {"connections", d.connections.size()},
                 {"connections_not_in_g_double_prime", rs.connections_not_in_graph},
                 {"g_double_prime_edges_not_realised", rs.graph_edges_not_realised},
@@ -120,6 +126,7 @@ json reconstructionJson(const RunResults& r) {
   json j = {{"method", nameOf(kReconstructionMethods, c.reconstruction_method)},
           {"planes", nameOf(kPlaneExtents, c.planes)},
           {"planes_auto", c.planes_default},
+          {"cell_tunnels", nameOf(kCellTunnels, c.cell_tunnels)},
           {"voxel_size_mm", c.voxel_size_mm},
           {"voxel_size", voxelSizeJson(r.scene_stage.voxel_size)},
           {"grid_origin_mm", vecJson(rec.field.grid().origin)},

@@ -280,6 +280,7 @@ struct RunOptions {
   double voxel = 0.5;     ///< the scene's voxel (rasters of f_P for the branching diagram), mm
   bool branching = true;  ///< add the branching points of branchingDiagram
   bool cell_exits = false;  ///< branchingDiagram's withCellExits
+  CellTunnels tunnels = CellTunnels::cut;  ///< cell_cycles.h
 };
 
 struct Method3Run {
@@ -514,7 +515,7 @@ Method3Run reconstruct(const std::vector<CuttingPlane>& realPlanes, const RunOpt
   r.arrangement = arrangeSections(r.scene.planes, o.spacing);
   if (o.branching) r.diagram = branchingDiagram(r.scene, r.arrangement, o.cell_exits);
   r.rec = delaunayReconstruction(r.scene.planes, r.arrangement, r.diagram.points, {},
-                                 o.branching ? &r.diagram.g_double_prime : nullptr);
+                                 o.branching ? &r.diagram.g_double_prime : nullptr, o.tunnels);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!r.rec.mesh.triangles.empty()) r.topo = meshTopology(r.rec.mesh);
   if (check) expectSolid(r, o.spacing, what);
@@ -973,6 +974,59 @@ TEST(DelaunayReconstruction, RandomPlanesThroughABallGiveSolids) {
   std::cout << "total " << total << " s\n";
 }
 
+// Tunnels of one cell's R'' cut (cell_cycles.h). A cut is kept only when the topology of the
+// cell's footprint on its faces is as it was, so that it trades no tunnel for one through the
+// gluing; if the gluing then joins the cells as before, Mayer-Vietoris makes the solid lose
+// exactly the tunnels taken from its cells. The footprint check compares topology, not the
+// triangles, so this is asserted rather than implied: b1(keep) - b1(cut) = cell_tunnels_cut, b0
+// and b2 unchanged, on a torus (as below) cut by 5 to 9 random planes within 5 mm (sparse: its
+// cells hold many sections). A cut that made a cavity instead (seed 14: b1 as before, b2 one
+// more) is undone. Measured: cuts on 8 of 24 seeds, and the torus' Betti numbers on 17 of 24
+// with cuts against 12 of 24 without.
+TEST(DelaunayReconstruction, CutCellTunnelsLowerB1ByWhatTheyCut) {
+  Torus T;
+  T.centre = Vec3(0.2, 0.1, -0.15);
+  int seedsCut = 0, rightCut = 0, rightKept = 0;
+  for (int seed = 0; seed < 24; ++seed) {
+    std::mt19937_64 rng(std::uint64_t(500 + seed));
+    std::normal_distribution<double> g;
+    std::uniform_real_distribution<double> off(-5, 5);
+    const int count = 5 + seed % 5;
+    std::vector<CuttingPlane> planes;
+    int draws = 0;
+    while (int(planes.size()) < count && draws++ < 1000) {
+      const Vec3 n = Vec3(g(rng), g(rng), g(rng)).normalized();
+      const Plane P = planeWithNormal(T.centre + off(rng) * n, n);
+      auto s = torusSections(T, P, 0.3);
+      if (!s || s->empty()) continue;
+      planes.push_back(cuttingPlane(P, *s));
+    }
+    ASSERT_EQ(int(planes.size()), count);
+    const std::string what = "torus, seed " + std::to_string(seed) + ", " + std::to_string(count) + " planes";
+    RunOptions o;
+    o.spacing = 0.35;
+    const Method3Run cut = reconstruct(planes, o, what + ", cut", false);
+    o.tunnels = CellTunnels::keep;
+    const Method3Run kept = reconstruct(planes, o, what + ", kept", false);
+    std::cout << what << ": cut " << cut.rec.stats.cell_pairs_cut << " pairs, " << cut.rec.stats.cell_tunnels_cut
+              << " tunnels: betti " << describe(cut).substr(0, 14) << " against " << describe(kept).substr(0, 14) << "\n";
+    EXPECT_EQ(kept.rec.stats.cell_tunnels_cut, 0) << what;
+    if (cut.rec.stats.open_edges != 0 || kept.rec.stats.open_edges != 0) continue;  // RandomPlanesThroughATorus...
+    expectSolid(cut, o.spacing, what + ", cut");
+    EXPECT_EQ(cut.topo.betti[0], kept.topo.betti[0]) << what;
+    EXPECT_EQ(cut.topo.betti[2], kept.topo.betti[2]) << what;
+    EXPECT_EQ(kept.topo.betti[1] - cut.topo.betti[1], cut.rec.stats.cell_tunnels_cut) << what;
+    EXPECT_EQ(cut.rec.stats.cell_tetrahedra_cut > 0, cut.rec.stats.cell_pairs_cut > 0) << what;
+    seedsCut += cut.rec.stats.cell_pairs_cut > 0;
+    rightCut += cut.topo.betti == Betti{1, 1, 0};
+    rightKept += kept.topo.betti == Betti{1, 1, 0};
+  }
+  std::cout << "cuts on " << seedsCut << " of 24 seeds; the torus' Betti numbers on " << rightCut
+            << " with cuts, " << rightKept << " without\n";
+  EXPECT_GE(seedsCut, 3);            // the cutting is exercised
+  EXPECT_GT(rightCut, rightKept);    // and recovers the truth more often
+}
+
 // The same with a torus (R = 6, r = 2.5, tilted and off-centre so that random planes meet every
 // kind of section: two ovals, annuli, crescents), 8 to 20 random planes within 3 mm of its centre;
 // planes nearly tangent to the torus along their section are redrawn (torusSections).
@@ -1004,8 +1058,8 @@ TEST(DelaunayReconstruction, RandomPlanesThroughATorusGiveSolids) {
     std::cout << what << ": " << describe(run) << "\n";
     total += run.seconds;
     // A gluing the implementation cannot close (constraints of the two sides crossing near a
-    // corner of three planes) must say so (open_edges, which makes `xsect run` refuse to write
-    // the mesh): then the mesh is indeed not closed. Every other result is solid.
+    // corner of three planes) must say so (open_edges, on which `xsect run` meshes the
+    // voxelisation of R'' instead): then the mesh is indeed not closed. Every other result is solid.
     if (run.rec.stats.open_edges == 0) {
       expectSolid(run, o.spacing, what);
     } else {

@@ -103,6 +103,14 @@ TEST(Inputs, SetOverridesAreValidatedToo) {
   ASSERT_EQ(c.warnings.size(), 1u);  // unknown keys are warned about, not fatal
   EXPECT_NE(c.warnings[0].find("extra"), std::string::npos);
   EXPECT_EQ(c.input_path, (d / "slices.yaml").lexically_normal().string());
+  // Method 3's choice of what to do with tunnels within a cell (cell_tunnels.h): read, no warning.
+  EXPECT_EQ(readRunConfig((d / "config.yaml").string(), {}).cell_tunnels, CellTunnels::cut);
+  for (const auto& [name, value] : {std::pair{"keep", CellTunnels::keep}, std::pair{"cut", CellTunnels::cut}}) {
+    const RunConfig t = readRunConfig((d / "config.yaml").string(), {std::string("reconstruction.cell_tunnels=") + name});
+    EXPECT_EQ(t.cell_tunnels, value) << name;
+    EXPECT_TRUE(t.warnings.empty()) << t.warnings.front();
+  }
+  expectRejected(d, "reconstruction.cell_tunnels", "--set reconstruction.cell_tunnels=fill");
   fs::remove_all(d);
 }
 

@@ -253,7 +253,7 @@ void pruneCell(CellComplex& c) {
   c.kept.assign(n, 0);
   c.d1 = 0;
   for (std::size_t t = 0; t < n; ++t) {
-    if (c.type[t] == TetType::flat || c.external[t] || c.unjoined[t]) continue;
+    if (c.type[t] == TetType::flat || c.external[t] || c.unjoined[t] || (!c.cycle_cut.empty() && c.cycle_cut[t])) continue;
     ++c.d1;
     c.kept[t] = 1;
   }
@@ -364,7 +364,8 @@ void pruneCell(CellComplex& c) {
   c.d2 = std::count(c.kept.begin(), c.kept.end(), std::uint8_t(1));
   // Step 3.
   const auto candidate = [&](std::size_t t) {
-    return !c.kept[t] && !c.external[t] && !c.unjoined[t] && c.type[t] != TetType::flat;
+    return !c.kept[t] && !c.external[t] && !c.unjoined[t] && c.type[t] != TetType::flat &&
+           (c.cycle_cut.empty() || !c.cycle_cut[t]);
   };
   std::deque<int> queue;
   std::vector<std::uint8_t> inQueue(n, 0);

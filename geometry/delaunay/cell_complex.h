@@ -61,6 +61,8 @@ struct CellComplex {
   std::vector<TetType> type;
   std::vector<std::uint8_t> external;  ///< step 1
   std::vector<std::uint8_t> unjoined;  ///< step 1: joins two components of G'' (markUnjoined)
+  /// Left out of D1 to cut a tunnel of the cell (cell_cycles.h); empty: none.
+  std::vector<std::uint8_t> cycle_cut;
   std::vector<std::uint8_t> kept;      ///< D3 (after pruneCell)
   /// Per tetrahedron, bit e: its edge e (vertex slots 01, 02, 03, 12, 13, 23) is grounded (its ends
   /// share a plane).

@@ -13,6 +13,7 @@
 #include "geometry/core/section_ids.h"
 #include "geometry/delaunay/boundary_repairs.h"
 #include "geometry/delaunay/cell_complex.h"
+#include "geometry/delaunay/cell_cycles.h"
 #include "geometry/delaunay/plane_gluing.h"
 #include "geometry/delaunay/section_vertices.h"
 
@@ -143,7 +144,7 @@ std::vector<int> pointComponents(const SectionVertices& sv, const std::vector<Cu
 DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& planes, const SectionArrangement& arr,
                                               const std::vector<BranchingPoint>& branching,
                                               const std::function<void(std::int64_t, std::int64_t)>& progress,
-                                              const std::vector<GraphEdge>* joinable) {
+                                              const std::vector<GraphEdge>* joinable, CellTunnels tunnels) {
   DelaunayReconstruction out;
   SectionVertices sv = sectionVertices(planes, arr, branching);
   const std::size_t cells = std::size_t(sv.cells);
@@ -203,7 +204,16 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
     tbb::parallel_for(std::size_t(0), cells, [&](std::size_t c) { markUnjoined(cx[c], partOf); });
   }
   // Steps 2 and 3 in every cell.
-  tbb::parallel_for(std::size_t(0), cells, [&](std::size_t c) { pruneCell(cx[c]); });
+  std::vector<CellCycleCuts> cycleCuts(cells);
+  tbb::parallel_for(std::size_t(0), cells, [&](std::size_t c) {
+    pruneCell(cx[c]);
+    if (tunnels == CellTunnels::cut) cycleCuts[c] = cutCellCycles(cx[c], sectionOf, sv.points);
+  });
+  for (const CellCycleCuts& n : cycleCuts) {
+    out.stats.cell_pairs_cut += n.pairs;
+    out.stats.cell_tunnels_cut += n.tunnels;
+    out.stats.cell_tetrahedra_cut += n.tetrahedra;
+  }
   if (progress) progress(std::int64_t(cells), std::int64_t(cells));
 
   // Points on each plane (the vertices of its triangulation when gluing).

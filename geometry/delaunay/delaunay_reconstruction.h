@@ -54,6 +54,7 @@
 #include "geometry/arrangement/section_arrangement.h"
 #include "geometry/core/types.h"
 #include "geometry/delaunay/boundary_repairs.h"
+#include "geometry/delaunay/cell_tunnels.h"
 #include "geometry/delaunay/tetrahedron_set.h"
 
 namespace xsect {
@@ -84,7 +85,7 @@ struct DelaunayStats {
   TetrahedronTypes d0;                    ///< D0's tetrahedra by type
   std::int64_t external = 0;              ///< removed by step 1 (Def. 47)
   std::int64_t unjoined = 0;              ///< not external, removed by step 1 as joining two components of G''
-  std::int64_t d1 = 0, d2 = 0, d3 = 0;    ///< tetrahedra kept after steps 1, 2, 3
+  std::int64_t d1 = 0, d2 = 0, d3 = 0;    ///< tetrahedra kept after steps 1 (and the cell cuts), 2, 3
   std::int64_t flat_faces = 0;            ///< boundary triangles lying in a cutting plane
   std::int64_t constraint_crossings = 0;  ///< rim edges of the two sides that crossed (new vertices)
   int singular_edges = 0;     ///< edges of the glued boundary in 4, 6, ... triangles (joined)
@@ -95,6 +96,9 @@ struct DelaunayStats {
   int flat_shells_dropped = 0;  ///< boundary components thinner than a thousandth of the sample spacing
   int cells_unseen = 0;       ///< cells no arrangement point met (ids arrangement.cells and up)
   int rings_dropped = 0;      ///< rings below the sampling that cross a plane, left out (SectionVertices)
+  int cell_pairs_cut = 0;     ///< section pairs left unjoined in a cell to cut its tunnels (cell_cycles.h)
+  int cell_tunnels_cut = 0;   ///< the tunnels (b1) those cuts took from their cells
+  std::int64_t cell_tetrahedra_cut = 0;  ///< tetrahedra of D1 those cuts left out
 };
 
 struct DelaunayReconstruction {
@@ -119,11 +123,14 @@ struct DelaunayReconstruction {
 /// @param progress     optional, called with (cells done, cells) from the calling thread.
 /// @param joinable     G'' (Def. 44; branching_diagram.h), whose components R'' may not join;
 ///                     nullptr: no such restriction (Boissonnat 1988, without branching points).
+/// @param tunnels      whether tunnels of a cell that its sections do not carry are cut
+///                     (cell_cycles.h) or kept (the thesis' D3).
 /// Deterministic: the same input gives the same mesh whatever the thread count.
 DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& planes,
                                               const SectionArrangement& arrangement,
                                               const std::vector<BranchingPoint>& branching,
                                               const std::function<void(std::int64_t, std::int64_t)>& progress = {},
-                                              const std::vector<GraphEdge>* joinable = nullptr);
+                                              const std::vector<GraphEdge>* joinable = nullptr,
+                                              CellTunnels tunnels = CellTunnels::cut);
 
 }  // namespace xsect
