@@ -974,6 +974,25 @@ TEST(DelaunayReconstruction, RandomPlanesThroughABallGiveSolids) {
   std::cout << "total " << total << " s\n";
 }
 
+/// `count` random planes through T (normals uniform, offsets uniform within `within` mm of its
+/// centre) that cut it, from the stream `seed`; planes nearly tangent along their section are
+/// redrawn (torusSections), at most 1000 draws.
+std::vector<CuttingPlane> randomTorusPlanes(const Torus& T, std::uint64_t seed, int count, double within) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g;
+  std::uniform_real_distribution<double> off(-within, within);
+  std::vector<CuttingPlane> planes;
+  int draws = 0;
+  while (int(planes.size()) < count && draws++ < 1000) {
+    const Vec3 n = Vec3(g(rng), g(rng), g(rng)).normalized();
+    const Plane P = planeWithNormal(T.centre + off(rng) * n, n);
+    auto s = torusSections(T, P, 0.3);
+    if (!s || s->empty()) continue;
+    planes.push_back(cuttingPlane(P, *s));
+  }
+  return planes;
+}
+
 // Tunnels of one cell's R'' cut (cell_cycles.h). A cut is kept only when the topology of the
 // cell's footprint on its faces is as it was, so that it trades no tunnel for one through the
 // gluing; if the gluing then joins the cells as before, Mayer-Vietoris makes the solid lose
@@ -988,19 +1007,8 @@ TEST(DelaunayReconstruction, CutCellTunnelsLowerB1ByWhatTheyCut) {
   T.centre = Vec3(0.2, 0.1, -0.15);
   int seedsCut = 0, rightCut = 0, rightKept = 0;
   for (int seed = 0; seed < 24; ++seed) {
-    std::mt19937_64 rng(std::uint64_t(500 + seed));
-    std::normal_distribution<double> g;
-    std::uniform_real_distribution<double> off(-5, 5);
     const int count = 5 + seed % 5;
-    std::vector<CuttingPlane> planes;
-    int draws = 0;
-    while (int(planes.size()) < count && draws++ < 1000) {
-      const Vec3 n = Vec3(g(rng), g(rng), g(rng)).normalized();
-      const Plane P = planeWithNormal(T.centre + off(rng) * n, n);
-      auto s = torusSections(T, P, 0.3);
-      if (!s || s->empty()) continue;
-      planes.push_back(cuttingPlane(P, *s));
-    }
+    const std::vector<CuttingPlane> planes = randomTorusPlanes(T, std::uint64_t(500 + seed), count, 5);
     ASSERT_EQ(int(planes.size()), count);
     const std::string what = "torus, seed " + std::to_string(seed) + ", " + std::to_string(count) + " planes";
     RunOptions o;
@@ -1036,19 +1044,8 @@ TEST(DelaunayReconstruction, RandomPlanesThroughATorusGiveSolids) {
   double total = 0;
   int reported = 0;
   for (int seed = 0; seed < 10; ++seed) {
-    std::mt19937_64 rng(std::uint64_t(200 + seed));
-    std::normal_distribution<double> g;
-    std::uniform_real_distribution<double> off(-3, 3);
     const int count = 8 + (seed * 7) % 13;
-    std::vector<CuttingPlane> planes;
-    int draws = 0;
-    while (int(planes.size()) < count && draws++ < 1000) {
-      const Vec3 n = Vec3(g(rng), g(rng), g(rng)).normalized();
-      const Plane P = planeWithNormal(T.centre + off(rng) * n, n);
-      auto s = torusSections(T, P, 0.3);
-      if (!s || s->empty()) continue;
-      planes.push_back(cuttingPlane(P, *s));
-    }
+    const std::vector<CuttingPlane> planes = randomTorusPlanes(T, std::uint64_t(200 + seed), count, 3);
     ASSERT_EQ(int(planes.size()), count);
     const std::string what = "torus, seed " + std::to_string(seed) + ", " + std::to_string(count) + " planes";
     RunOptions o;

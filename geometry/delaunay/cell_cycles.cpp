@@ -43,21 +43,27 @@ Topology keptTopology(const CellComplex& c) {
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   const long chi = long(vertices.size()) - long(edges.size()) + (4 * T + boundaryFaces) / 2 - T;
-  // Components through faces: one means one through vertices too.
+  // Marks the tetrahedra on `kept`'s side face-joined to those on the stack; how many it took.
   std::vector<std::uint8_t> seen(c.v.size(), 0);
-  std::vector<int> stack{kept[0]};
+  std::vector<int> stack;
+  const auto flood = [&](std::uint8_t side) {
+    long reached = 0;
+    while (!stack.empty()) {
+      const int t = stack.back();
+      stack.pop_back();
+      ++reached;
+      for (const int o : c.nb[std::size_t(t)])
+        if (o >= 0 && c.kept[std::size_t(o)] == side && !seen[std::size_t(o)]) {
+          seen[std::size_t(o)] = 1;
+          stack.push_back(o);
+        }
+    }
+    return reached;
+  };
+  // Components through faces: one means one through vertices too.
+  stack.push_back(kept[0]);
   seen[std::size_t(kept[0])] = 1;
-  long reached = 0;
-  while (!stack.empty()) {
-    const int t = stack.back();
-    stack.pop_back();
-    ++reached;
-    for (const int o : c.nb[std::size_t(t)])
-      if (o >= 0 && c.kept[std::size_t(o)] && !seen[std::size_t(o)]) {
-        seen[std::size_t(o)] = 1;
-        stack.push_back(o);
-      }
-  }
+  const long reached = flood(1);
   long b0 = 1;
   if (reached < T) {
     DisjointSets sets(vertices.size());
@@ -75,30 +81,14 @@ Topology keptTopology(const CellComplex& c) {
       seen[t] = 1;
       stack.push_back(int(t));
     }
-  while (!stack.empty()) {
-    const int t = stack.back();
-    stack.pop_back();
-    for (const int o : c.nb[std::size_t(t)])
-      if (o >= 0 && !c.kept[std::size_t(o)] && !seen[std::size_t(o)]) {
-        seen[std::size_t(o)] = 1;
-        stack.push_back(o);
-      }
-  }
+  flood(0);
   long b2 = 0;
   for (std::size_t t = 0; t < c.v.size(); ++t) {
     if (c.kept[t] || seen[t]) continue;
     ++b2;  // a cavity: mark its whole group
     seen[t] = 1;
     stack.push_back(int(t));
-    while (!stack.empty()) {
-      const int u = stack.back();
-      stack.pop_back();
-      for (const int o : c.nb[std::size_t(u)])
-        if (o >= 0 && !c.kept[std::size_t(o)] && !seen[std::size_t(o)]) {
-          seen[std::size_t(o)] = 1;
-          stack.push_back(o);
-        }
-    }
+    flood(0);
   }
   return {b0, b0 - chi + b2, b2};
 }
