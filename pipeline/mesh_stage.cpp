@@ -207,7 +207,8 @@ DiagnoseStage diagnoseStage(const ReconstructStage& reconstruction, const Smooth
     requireMethodMesh(d.topology, "the mesh");
   d.method_topology = smooth ? meshTopology(meshes.method_mesh) : d.topology;
   if (smooth) requireMethodMesh(d.method_topology, "the unsmoothed mesh");
-  if (method3 && !meshes.method3_from_voxels) warnVoxelBetti(d.method_topology, methodBetti, meshes.materials.empty() ? "" : "all labels", warnings);
+  if (method3 && !meshes.method3_from_voxels)
+    warnVoxelBetti(d.method_topology, methodBetti, meshes.materials.empty() ? "" : "all labels", warnings);
   for (Material& m : meshes.materials) {
     m.topology = meshTopology(m.mesh);
     const std::string what = "the mesh of label " + std::to_string(m.label);

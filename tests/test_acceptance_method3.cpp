@@ -203,7 +203,8 @@ TEST(AcceptanceMethod3, EnforcedConformityOfJitteredSectionsGivesAClosedMesh) {
       EXPECT_GT(d["open_edges"].get<int>(), 0);
       EXPECT_EQ(rep["conformity"]["conformal_by_construction"], false);
       bool warned = false;
-      for (const json& w : rep["warnings"]) warned |= w.get<std::string>().find("could not be glued closed") != std::string::npos;
+      for (const json& w : rep["warnings"])
+        warned |= w.get<std::string>().find("could not be glued closed") != std::string::npos;
       EXPECT_TRUE(warned) << rep["warnings"];
     }
   }

@@ -38,6 +38,7 @@ struct CellCycleCuts {
 /// @param sectionOf  per section-vertex, the flat id of its section (-1: none).
 /// @param points     the section-vertices (positions, mm; planes[0], their section's plane).
 /// @returns what was cut.
-CellCycleCuts cutCellCycles(CellComplex& c, const std::vector<int>& sectionOf, const std::vector<SectionVertex>& points);
+CellCycleCuts cutCellCycles(CellComplex& c, const std::vector<int>& sectionOf,
+                            const std::vector<SectionVertex>& points);
 
 }  // namespace xsect
