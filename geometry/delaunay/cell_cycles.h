@@ -19,7 +19,9 @@
 // H_C a forest (a section with a hole, a tube between annuli; the two contacts of Fig. 1.11), or
 // that the footprint carries, are left: the sections' own holes carry them, or no pair decides.
 // Measured on 29 sparse configurations (bench/sparse_comparison.py): every run whose b1
-// exceeded the truth's had exactly that excess in such in-cell tunnels.
+// exceeded the truth's had exactly that excess in such in-cell tunnels. Where the assumption
+// fails, a true tunnel is cut: a torus whose hole no plane crosses (6 or 9 random planes, seed 5)
+// has it inside one cell, and loses it.
 #pragma once
 
 #include <vector>
