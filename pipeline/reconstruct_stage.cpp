@@ -1,6 +1,8 @@
 // Stage 5: the solid on the scene's grid and its check against the graph (see reconstruct_stage.h).
 #include "pipeline/reconstruct_stage.h"
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
@@ -37,17 +39,23 @@ void delaunayOnGrid(const RunInputs& in, const SceneStage& built, const ArrangeS
                          : "method 3 (delaunay) kept no tetrahedron: no two planes' sections face each other in a "
                            "cell of the arrangement (every tetrahedron was external); use nearest_plane or "
                            "section_voronoi");
-  // What the mesh's b0 is checked against (mesh_stage.h; tetrahedra_components.h).
-  r.delaunay_components = tetrahedraComponents(d.tetrahedra, d.tolerances);
-  r.delaunay_opened_copies = repeatedVertexCopies(d.mesh);
-  r.connections_not_in_graph = edgesMissing(d.connections, a.graphs.g_double_prime);
-  r.graph_edges_not_realised = edgesMissing(a.graphs.g_double_prime, d.connections);
   float band = 0;
   for (const auto& f : scene.fields) band = std::max(band, f.band);
   if (!(band > 0)) band = float(scene.params.band_voxels * scene.params.voxel_mm);
-  t0 = std::chrono::steady_clock::now();
-  r.solid = tetrahedraOnGrid(d.tetrahedra, scene.planes, scene.real_planes, scene.grid(), band);
-  r.voxelise_s = secondsSince(t0);
+  // The checks' numbers beside the voxelisation (both read the tetrahedra only).
+  tbb::parallel_invoke(
+      [&] {
+        // What the mesh's b0 is checked against (mesh_stage.h; tetrahedra_components.h).
+        r.delaunay_components = tetrahedraComponents(d.tetrahedra, d.tolerances);
+        r.delaunay_opened_copies = repeatedVertexCopies(d.mesh);
+        r.connections_not_in_graph = edgesMissing(d.connections, a.graphs.g_double_prime);
+        r.graph_edges_not_realised = edgesMissing(a.graphs.g_double_prime, d.connections);
+      },
+      [&] {
+        const auto tv = std::chrono::steady_clock::now();
+        r.solid = tetrahedraOnGrid(d.tetrahedra, scene.planes, scene.real_planes, scene.grid(), band);
+        r.voxelise_s = secondsSince(tv);
+      });
   r.solid.evaluate_seconds = r.delaunay_s + r.voxelise_s;
   if (r.solid.voxels_inside == 0)
     warnings->push_back("method 3's solid holds no voxel centre at " + std::to_string(c.voxel_size_mm) +

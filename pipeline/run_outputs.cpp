@@ -6,6 +6,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <charconv>
 
 #include "geometry/core/polygon.h"
 #include "geometry/core/section_ids.h"
@@ -108,9 +109,21 @@ std::string graphDot(const RunResults& r) {
   for (const CuttingPlane& p : r.inputs.planes)
     for (std::size_t s = 0; s < p.sections.size(); ++s)
       dot += "  n" + std::to_string(id++) + " [label=\"" + std::to_string(p.slice) + ":" + std::to_string(s) + "\"];\n";
+  // Appended in place (method 3 on multiaxial-3x40 lists 490 000 edges).
+  const auto number = [&](int v) {
+    char buf[16];
+    dot.append(buf, std::size_t(std::to_chars(buf, buf + sizeof buf, v).ptr - buf));
+  };
   forEachEdge(r, [&](int a, int b, int cell, const char*, const char* style) {
-    dot += "  n" + std::to_string(a) + " -- n" + std::to_string(b) + " [" + style + ", tooltip=\"cell " +
-           std::to_string(cell) + "\"];\n";
+    dot += "  n";
+    number(a);
+    dot += " -- n";
+    number(b);
+    dot += " [";
+    dot += style;
+    dot += ", tooltip=\"cell ";
+    number(cell);
+    dot += "\"];\n";
   });
   return dot + "}\n";
 }
@@ -118,7 +131,7 @@ std::string graphDot(const RunResults& r) {
 void writeRunOutputs(const RunResults& r, const RunOptions& o, const StageClock& clock, const fs::path& outDir) {
   const RunConfig& c = r.inputs.config;
   StagedOutput out(outDir);
-  // Three independent groups of files written at once (each file's bytes depend on the results
+  // Independent groups of files written at once (each file's bytes depend on the results
   // only); the manifest, which lists the folder, last.
   const auto meshes = [&] {
     for (const auto& fmt : c.mesh_formats) writeMesh(out.file("mesh." + fmt).string(), r.meshes.mesh);
@@ -141,10 +154,12 @@ void writeRunOutputs(const RunResults& r, const RunOptions& o, const StageClock&
         [&](int j, int k, float* row) { samplingRatioRow(r.sampling, g, j, k, row); },
         "xsect sampling: per voxel, h_C / critical reach of its cell (thesis Def. 23; < 1 passes), -1 unknown");
   };
+  const SectionGraph graph = sectionGraph(r);
+  // The graph's two files on their own: with method 3 they list G, G', G'' and the connections of
+  // R'' (multiaxial-3x40: 42 MB and 18 MB, 0.35 s of the 0.6 s of writing).
+  const auto graphJson = [&] { writeTextFile(out.file("graph.json").string(), graphJsonText(r, graph.nodes)); };
+  const auto graphDotFile = [&] { writeTextFile(out.file("graph.dot").string(), graphDot(r)); };
   const auto documents = [&] {
-    const SectionGraph graph = sectionGraph(r);
-    writeTextFile(out.file("graph.json").string(), graphJsonText(r, graph.nodes));
-    writeTextFile(out.file("graph.dot").string(), graphDot(r));
     const json conformity = conformityDetailsJson(c.conformity, r.inputs.conformity);
     writeTextFile(out.file("conformity.json").string(), conformity.dump(2) + "\n");
     writeTextFile(out.file("sampling.json").string(), samplingDetailsJson(r.sampling).dump(1) + "\n");
@@ -176,7 +191,7 @@ void writeRunOutputs(const RunResults& r, const RunOptions& o, const StageClock&
     writeTextFile(out.file("report.json").string(), report.dump(2) + "\n");
     writeTextFile(out.file("report.html").string(), reportPageHtml(runReportPage(r, report, conformity, graph)));
   };
-  tbb::parallel_invoke(meshes, volumes, documents);
+  tbb::parallel_invoke(meshes, volumes, graphJson, graphDotFile, documents);
   writeTextFile(out.file("manifest.json").string(), manifestJson(r.inputs, o, out.dir()).dump(2) + "\n");
   out.commit();
 }

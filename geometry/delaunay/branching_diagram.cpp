@@ -4,6 +4,7 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <cmath>
@@ -450,7 +451,7 @@ BranchingDiagram branchingDiagram(const SectionScene& scene, const SectionArrang
     const SectionPoint& sp = arr.points[t.q];
     addDirected(sp.cell[std::size_t(t.side)], sp.plane, sp.section, t.label);
   }
-  std::sort(directed.begin(), directed.end());
+  tbb::parallel_sort(directed.begin(), directed.end());
   directed.erase(std::unique(directed.begin(), directed.end()), directed.end());
   // Where A -> B has no B -> A among the samples, B is labelled again at the feet of the lifts
   // that reached B's Voronoi cell from A inside B: a region of B thinner than the lattice (a
@@ -474,7 +475,7 @@ BranchingDiagram branchingDiagram(const SectionScene& scene, const SectionArrang
     if (unresolved(sp.cell[std::size_t(t.side)], sp.plane, sp.section, t.label))
       again.push_back({t.q, t.side});
   }
-  std::sort(again.begin(), again.end());
+  tbb::parallel_sort(again.begin(), again.end());
   again.erase(std::unique(again.begin(), again.end()), again.end());
   tbb::enumerable_thread_specific<std::vector<Witness>> witnessesLocal;
   tbb::parallel_for(std::size_t(0), again.size(), [&](std::size_t k) {
@@ -491,8 +492,8 @@ BranchingDiagram branchingDiagram(const SectionScene& scene, const SectionArrang
   });
   std::vector<Witness> witnesses;
   for (const auto& l : witnessesLocal) witnesses.insert(witnesses.end(), l.begin(), l.end());
-  std::sort(witnesses.begin(), witnesses.end(),
-            [](const Witness& l, const Witness& r) { return l.key() < r.key(); });
+  tbb::parallel_sort(witnesses.begin(), witnesses.end(),
+                     [](const Witness& l, const Witness& r) { return l.key() < r.key(); });
   witnesses.erase(std::unique(witnesses.begin(), witnesses.end(),
                               [](const Witness& l, const Witness& r) { return l.key() == r.key(); }),
                   witnesses.end());
@@ -515,7 +516,7 @@ BranchingDiagram branchingDiagram(const SectionScene& scene, const SectionArrang
   }
 
   // G'': directed labels kept where the reverse exists too.
-  std::sort(directed.begin(), directed.end());
+  tbb::parallel_sort(directed.begin(), directed.end());
   directed.erase(std::unique(directed.begin(), directed.end()), directed.end());
   for (const auto& [cell, pa, sa, pb, sb] : directed)
     if (std::tie(pa, sa) < std::tie(pb, sb) &&
@@ -532,34 +533,55 @@ BranchingDiagram branchingDiagram(const SectionScene& scene, const SectionArrang
     Vec2 p;
     auto key() const { return std::make_tuple(plane, section, cell, j, i); }
   };
-  std::vector<Sample> samples;
+  std::vector<std::size_t> firstSample(arr.points.size() + 1, 0);
   for (std::size_t q = 0; q < arr.points.size(); ++q) {
     const SectionPoint& sp = arr.points[q];
-    if (sp.kind != SectionPoint::sample) continue;
+    firstSample[q + 1] = firstSample[q] + (sp.kind == SectionPoint::sample
+                                               ? std::size_t(sp.cell[0] >= 0) + std::size_t(sp.cell[1] >= 0)
+                                               : 0);
+  }
+  std::vector<Sample> samples(firstSample.back());
+  tbb::parallel_for(std::size_t(0), arr.points.size(), [&](std::size_t q) {
+    const SectionPoint& sp = arr.points[q];
+    if (sp.kind != SectionPoint::sample) return;
     const std::int64_t i = std::llround(sp.p.x() / spacing - 0.5);
     const std::int64_t j = std::llround(sp.p.y() / spacing - 0.5);
+    std::size_t k = firstSample[q];
     for (std::size_t side = 0; side < 2; ++side)
-      if (sp.cell[side] >= 0) samples.push_back({sp.plane, sp.section, sp.cell[side], j, i, out.label[q][side], sp.p});
-  }
+      if (sp.cell[side] >= 0) samples[k++] = {sp.plane, sp.section, sp.cell[side], j, i, out.label[q][side], sp.p};
+  });
+  // Sorted in parallel (the whole sample is the key: no two are equivalent but equal ones), the
+  // 4-neighbours looked up in parallel and gathered in order (multiaxial-3x40: 540 000 samples,
+  // 0.16 s on one thread).
   const auto byKey = [](const Sample& l, const Sample& r) { return l.key() < r.key(); };
-  std::sort(samples.begin(), samples.end(), byKey);
+  tbb::parallel_sort(samples.begin(), samples.end(), [](const Sample& l, const Sample& r) {
+    return std::make_tuple(l.key(), l.label, l.p.x(), l.p.y()) < std::make_tuple(r.key(), r.label, r.p.x(), r.p.y());
+  });
   const auto branches = [&](int l1, int l2) { return l1 != l2 && ((l1 >= 0 && l2 >= 0) || withCellExits); };
-  for (std::size_t k = 0; k < samples.size(); ++k) {
+  std::vector<std::array<std::int64_t, 2>> neighbour(samples.size(), {-1, -1});  // right, up
+  tbb::parallel_for(std::size_t(0), samples.size(), [&](std::size_t k) {
     const Sample& s = samples[k];
     Sample right = s, up = s;
     ++right.i;
     ++up.j;
-    for (const Sample* probe : {&right, &up}) {
-      const auto it = std::lower_bound(samples.begin(), samples.end(), *probe, byKey);
-      if (it == samples.end() || it->key() != probe->key() || !branches(s.label, it->label)) continue;
-      out.points.push_back(BranchingPoint{s.cell, s.plane, s.section, 0.5 * (s.p + it->p)});
+    for (int n = 0; n < 2; ++n) {
+      const Sample& probe = n == 0 ? right : up;
+      const auto it = std::lower_bound(samples.begin(), samples.end(), probe, byKey);
+      if (it == samples.end() || it->key() != probe.key() || !branches(s.label, it->label)) continue;
+      neighbour[k][std::size_t(n)] = it - samples.begin();
     }
-  }
+  });
+  for (std::size_t k = 0; k < samples.size(); ++k)
+    for (const std::int64_t o : neighbour[k]) {
+      if (o < 0) continue;
+      const Sample& s = samples[k];
+      out.points.push_back(BranchingPoint{s.cell, s.plane, s.section, 0.5 * (s.p + samples[std::size_t(o)].p)});
+    }
   const auto pointKey = [](const BranchingPoint& b) {
     return std::make_tuple(b.cell, b.plane, b.section, b.p.x(), b.p.y());
   };
-  std::sort(out.points.begin(), out.points.end(),
-            [&](const BranchingPoint& l, const BranchingPoint& r) { return pointKey(l) < pointKey(r); });
+  tbb::parallel_sort(out.points.begin(), out.points.end(),
+                     [&](const BranchingPoint& l, const BranchingPoint& r) { return pointKey(l) < pointKey(r); });
   const auto same = [&](const BranchingPoint& l, const BranchingPoint& r) { return pointKey(l) == pointKey(r); };
   out.points.erase(std::unique(out.points.begin(), out.points.end(), same), out.points.end());
   return out;

@@ -247,7 +247,12 @@ std::vector<std::pair<double, std::pair<int, int>>> cyclePairs(const std::map<st
 CellCycleCuts cutCellCycles(CellComplex& c, const std::vector<int>& sectionOf,
                             const std::vector<SectionVertex>& points) {
   CellCycleCuts cuts;
-  if (c.v.empty() || !pairsHaveCycle(c, sectionOf, points)) return cuts;
+  // Every tetrahedron kept but the flat ones (zero volume, on a face of the cell, covered by the
+  // faces of their neighbours): the union is the convex hull of the cell's points, a ball. So it
+  // is in most cells (multiaxial-3x40: 11 000 of 11 514); measuring them took 0.35 s of CPU.
+  bool hull = true;
+  for (std::size_t t = 0; t < c.v.size() && hull; ++t) hull = c.kept[t] || c.type[t] == TetType::flat;
+  if (c.v.empty() || hull || !pairsHaveCycle(c, sectionOf, points)) return cuts;
   Topology now = keptTopology(c);  // before weighing the pairs: a tunnel is rare
   if (now.b1 <= 0) return cuts;
   std::vector<std::pair<double, std::pair<int, int>>> candidates = cyclePairs(joinedPairs(c, sectionOf, points));

@@ -8,6 +8,7 @@
 #include <map>
 #include <unordered_map>
 #include <functional>
+#include <limits>
 #include <tuple>
 
 #include "geometry/core/near_points.h"
@@ -335,9 +336,13 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
   // both (a moved point stays more than half a jitter off every other plane, so only a point left
   // in place can lie on a trace).
   const double jitter = 0.1 * arr.sample_spacing_mm;
-  for (const BranchingPoint& given : branching) {
-    BranchingPoint b = given;
-    if (b.plane < 0 || std::size_t(b.plane) >= planes.size() || b.cell < 0) continue;
+  // Where each point goes (NaN: dropped), in parallel (every plane is tested: multiaxial-3x40's
+  // 270 000 points against 120 planes took 0.2 s on one thread); then added in order.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<Vec3> placed(branching.size(), Vec3::Constant(nan));
+  tbb::parallel_for(std::size_t(0), branching.size(), [&](std::size_t k) {
+    BranchingPoint b = branching[k];
+    if (b.plane < 0 || std::size_t(b.plane) >= planes.size() || b.cell < 0) return;
     const Vec3 x = planes[std::size_t(b.plane)].plane.toWorld(b.p);
     bool nearTrace = false, onTrace = false;
     for (std::size_t j = 0; j < planes.size() && !onTrace; ++j) {
@@ -346,7 +351,7 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
       onTrace = d <= 1e-9 * (1 + x.norm());
       nearTrace = nearTrace || d < 2 * jitter;
     }
-    if (onTrace) continue;
+    if (onTrace) return;
     Vec3 at = x;
     if (!nearTrace) {
       std::uint64_t h = std::hash<double>()(b.p.x()) * 0x9e3779b97f4a7c15ULL ^ std::hash<double>()(b.p.y());
@@ -357,6 +362,12 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
       b.p += 2 * jitter * Vec2(u, v);
       at = planes[std::size_t(b.plane)].plane.toWorld(b.p);
     }
+    placed[k] = at;
+  });
+  for (std::size_t k = 0; k < branching.size(); ++k) {
+    const BranchingPoint& b = branching[k];
+    const Vec3& at = placed[k];
+    if (std::isnan(at.x())) continue;
     SectionVertex v;
     v.planes = {b.plane, -1, -1};
     v.section = b.section;
@@ -368,12 +379,13 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
     idOf(at, v);
   }
   // Sides of branching points.
-  std::map<std::pair<int, int>, int> sideOf;  // (plane, cell) -> side
+  const auto planeCell = [](int plane, int cell) { return std::uint64_t(std::uint32_t(plane)) << 32 | std::uint32_t(cell); };
+  std::unordered_map<std::uint64_t, int> sideOf;  // (plane, cell) -> side
   for (const SectionVertex& v : sv.points)
     if (v.kind != SectionVertex::branching)
       for (const PointCell& c : v.cells)
         for (int k = 0; k < 3; ++k)
-          if (v.planes[std::size_t(k)] >= 0) sideOf[{v.planes[std::size_t(k)], c.cell}] = c.side[std::size_t(k)];
+          if (v.planes[std::size_t(k)] >= 0) sideOf[planeCell(v.planes[std::size_t(k)], c.cell)] = c.side[std::size_t(k)];
   for (SectionVertex& v : sv.points) {
     if (v.kind != SectionVertex::branching) continue;
     std::vector<PointCell> kept;
@@ -382,7 +394,7 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
         kept.push_back(c);
         continue;
       }
-      const auto it = sideOf.find({v.planes[0], c.cell});
+      const auto it = sideOf.find(planeCell(v.planes[0], c.cell));
       if (it == sideOf.end()) continue;
       c.side[0] = std::int8_t(it->second);
       kept.push_back(c);
