@@ -1,9 +1,20 @@
 // graph.json's edge lists as text (see json_edge_lists.h).
 #include "io/json_edge_lists.h"
 
+#include <algorithm>
+#include <charconv>
 #include <stdexcept>
 
 namespace xsect {
+
+namespace {
+
+void appendInt(std::string& out, int v) {
+  char buf[16];
+  out.append(buf, std::size_t(std::to_chars(buf, buf + sizeof buf, v).ptr - buf));
+}
+
+}  // namespace
 
 std::string jsonWithEdgeLists(const nlohmann::ordered_json& doc,
                               const std::vector<std::pair<std::string, std::vector<EdgeObject>>>& lists) {
@@ -11,21 +22,52 @@ std::string jsonWithEdgeLists(const nlohmann::ordered_json& doc,
     if (!doc.contains(key) || !doc.at(key).is_array() || !doc.at(key).empty())
       throw std::invalid_argument("json edge lists: \"" + key + "\" is not an empty top-level array");
   // dump(2) writes a top-level key at 2 spaces, "[]" for an empty array; a non-empty array's
-  // objects at 4 spaces, their fields at 6.
-  std::string text = doc.dump(2) + "\n";
+  // objects at 4 spaces, their fields at 6. The text is assembled once, in place (method 3 on
+  // multiaxial-3x40 lists 490 000 edges: 42 MB).
+  const std::string base = doc.dump(2) + "\n";
+  struct Cut {
+    std::size_t at, length;
+    const std::string* key;
+    const std::vector<EdgeObject>* edges;
+  };
+  std::vector<Cut> cuts;
+  std::size_t size = base.size();
   for (const auto& [key, edges] : lists) {
     if (edges.empty()) continue;
-    std::string items;
-    for (const EdgeObject& e : edges) {
-      if (!items.empty()) items += ",\n";
-      items += "    {\n      \"a\": " + std::to_string(e.a) + ",\n      \"b\": " + std::to_string(e.b) +
-               ",\n      \"cell\": " + std::to_string(e.cell);
-      if (e.method) items += ",\n      \"method\": \"" + std::string(e.method) + "\"";
-      items += "\n    }";
-    }
     const std::string empty = "\n  \"" + key + "\": []";
-    text.replace(text.find(empty), empty.size(), "\n  \"" + key + "\": [\n" + items + "\n  ]");
+    const std::size_t at = base.find(empty);
+    if (at == std::string::npos)
+      throw std::invalid_argument("json edge lists: \"" + key + "\" is not written as a top-level key");
+    cuts.push_back({at, empty.size(), &key, &edges});
+    size += edges.size() * 80;
   }
+  std::sort(cuts.begin(), cuts.end(), [](const Cut& l, const Cut& r) { return l.at < r.at; });
+  std::string text;
+  text.reserve(size);
+  std::size_t from = 0;
+  for (const Cut& c : cuts) {
+    text.append(base, from, c.at - from);
+    text += "\n  \"" + *c.key + "\": [\n";
+    for (std::size_t k = 0; k < c.edges->size(); ++k) {
+      const EdgeObject& e = (*c.edges)[k];
+      if (k > 0) text += ",\n";
+      text += "    {\n      \"a\": ";
+      appendInt(text, e.a);
+      text += ",\n      \"b\": ";
+      appendInt(text, e.b);
+      text += ",\n      \"cell\": ";
+      appendInt(text, e.cell);
+      if (e.method) {
+        text += ",\n      \"method\": \"";
+        text += e.method;
+        text += '"';
+      }
+      text += "\n    }";
+    }
+    text += "\n  ]";
+    from = c.at + c.length;
+  }
+  text.append(base, from, std::string::npos);
   return text;
 }
 

@@ -109,7 +109,10 @@ std::string graphDot(const RunResults& r) {
   for (const CuttingPlane& p : r.inputs.planes)
     for (std::size_t s = 0; s < p.sections.size(); ++s)
       dot += "  n" + std::to_string(id++) + " [label=\"" + std::to_string(p.slice) + ":" + std::to_string(s) + "\"];\n";
-  // Appended in place (method 3 on multiaxial-3x40 lists 490 000 edges).
+  // Appended in place, room reserved (method 3 on multiaxial-3x40 lists 490 000 edges: 18 MB).
+  std::size_t edges = 0;
+  forEachEdge(r, [&](int, int, int, const char*, const char*) { ++edges; });
+  dot.reserve(dot.size() + 64 * edges + 4);
   const auto number = [&](int v) {
     char buf[16];
     dot.append(buf, std::size_t(std::to_chars(buf, buf + sizeof buf, v).ptr - buf));
@@ -125,7 +128,8 @@ std::string graphDot(const RunResults& r) {
     number(cell);
     dot += "\"];\n";
   });
-  return dot + "}\n";
+  dot += "}\n";
+  return dot;
 }
 
 void writeRunOutputs(const RunResults& r, const RunOptions& o, const StageClock& clock, const fs::path& outDir) {

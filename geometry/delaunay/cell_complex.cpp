@@ -105,6 +105,32 @@ CellComplex cellDelaunay(int cell, const std::vector<int>& ids, const SectionVer
   c.grounded_faces.assign(n, 0);
   c.grounded_edges.assign(n, 0);
   c.unjoined.assign(n, 0);
+  // Step 1's test of a grounded edge (not a contour edge: its midpoint in the sampled sections),
+  // once per edge and plane: an edge lies in several tetrahedra of the cell (multiaxial-3x40:
+  // 1.17 million edges for 3.09 million tests). Open addressing on (edge, plane).
+  struct EdgeTest {
+    std::uint64_t key = 0;
+    int plane = -1;
+    bool outside = false;
+  };
+  std::size_t slots = 16;
+  while (slots < 12 * n) slots *= 2;
+  std::vector<EdgeTest> tested(slots);
+  const auto edgeOutside = [&](int a, int b, int p) {
+    const std::uint64_t key = edgeKey(a, b);
+    std::size_t h = std::size_t((key * 0x9e3779b97f4a7c15ULL + std::uint64_t(p)) >> 20) & (slots - 1);
+    for (;; h = (h + 1) & (slots - 1)) {
+      EdgeTest& e = tested[h];
+      if (e.plane < 0) {
+        e.key = key;
+        e.plane = p;
+        const Vec2 q = 0.5 * (planeCoordinates(sv, planes, a, p) + planeCoordinates(sv, planes, b, p));
+        e.outside = !contour.count(key) && !inSampledSections(sampled, p, q);
+        return e.outside;
+      }
+      if (e.key == key && e.plane == p) return e.outside;
+    }
+  };
   for (std::size_t t = 0; t < n; ++t) {
     const auto& V = c.v[t];
     if (commonPlane(sv, V.data(), 4) >= 0) {
@@ -137,9 +163,7 @@ CellComplex cellDelaunay(int cell, const std::vector<int>& ids, const SectionVer
       for (const int p : sv.points[std::size_t(ab[0])].planes) {
         if (p < 0 || !sv.points[std::size_t(ab[1])].on(p)) continue;
         grounded[e] = true;
-        if (contour.count(edgeKey(ab[0], ab[1]))) continue;
-        const Vec2 q = 0.5 * (planeCoordinates(sv, planes, ab[0], p) + planeCoordinates(sv, planes, ab[1], p));
-        if (!inSampledSections(sampled, p, q)) external = true;
+        if (edgeOutside(ab[0], ab[1], p)) external = true;
       }
     }
     c.external[t] = external;
