@@ -247,9 +247,10 @@ std::vector<std::pair<double, std::pair<int, int>>> cyclePairs(const std::map<st
 CellCycleCuts cutCellCycles(CellComplex& c, const std::vector<int>& sectionOf,
                             const std::vector<SectionVertex>& points) {
   CellCycleCuts cuts;
-  // Every tetrahedron kept but the flat ones (zero volume, on a face of the cell, covered by the
-  // faces of their neighbours): the union is the convex hull of the cell's points, a ball. So it
-  // is in most cells (multiaxial-3x40: 11 000 of 11 514); measuring them took 0.35 s of CPU.
+  // Every tetrahedron kept but the flat ones (zero volume, on a face of the cell): the union of the
+  // kept ones is closed and holds all of the convex hull of the cell's points but a null set, so
+  // it is the hull, a ball. So it is in most cells (multiaxial-3x40: 9 998 of 11 514, whose
+  // measuring took 0.38 s of CPU; 200 random planes through the genus-2 solid: 11 266 of 15 400).
   bool hull = true;
   for (std::size_t t = 0; t < c.v.size() && hull; ++t) hull = c.kept[t] || c.type[t] == TetType::flat;
   if (c.v.empty() || hull || !pairsHaveCycle(c, sectionOf, points)) return cuts;
