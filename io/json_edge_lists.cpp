@@ -42,6 +42,9 @@ std::string jsonWithEdgeLists(const nlohmann::ordered_json& doc,
     size += edges.size() * 80;
   }
   std::sort(cuts.begin(), cuts.end(), [](const Cut& l, const Cut& r) { return l.at < r.at; });
+  for (std::size_t k = 1; k < cuts.size(); ++k)
+    if (cuts[k].at == cuts[k - 1].at)
+      throw std::invalid_argument("json edge lists: \"" + *cuts[k].key + "\" is listed twice");
   std::string text;
   text.reserve(size);
   std::size_t from = 0;

@@ -1,7 +1,7 @@
 // graph.json's edge lists written as text (io/json_edge_lists.h) are the bytes nlohmann's dump(2)
 // gives for the same document built as json values: random documents with empty and non-empty
 // lists, with and without "method", negative cells, lists named in another order than the
-// document's; a key that is not an empty top-level array is refused.
+// document's; a key that is not an empty top-level array, or is named twice, is refused.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -42,4 +42,7 @@ TEST(JsonEdgeLists, AreTheBytesOfDumpTwo) {
   const json doc = {{"edges", json::array({1})}, {"nodes", json::array()}};
   EXPECT_THROW(jsonWithEdgeLists(doc, {{"edges", {}}}), std::invalid_argument);
   EXPECT_THROW(jsonWithEdgeLists(doc, {{"missing", {}}}), std::invalid_argument);
+  const json twice = {{"edges", json::array()}};
+  EXPECT_THROW(jsonWithEdgeLists(twice, {{"edges", {EdgeObject{1, 2, 3}}}, {"edges", {EdgeObject{4, 5, 6}}}}),
+               std::invalid_argument);
 }

@@ -114,7 +114,7 @@ CellComplex cellDelaunay(int cell, const std::vector<int>& ids, const SectionVer
     bool outside = false;
   };
   std::size_t slots = 16;
-  while (slots < 12 * n) slots *= 2;
+  while (slots <= 18 * n) slots *= 2;  // more than 6 edges x 3 planes per tetrahedron: never full
   std::vector<EdgeTest> tested(slots);
   const auto edgeOutside = [&](int a, int b, int p) {
     const std::uint64_t key = edgeKey(a, b);

@@ -142,7 +142,9 @@ std::vector<int> pointComponents(const SectionVertices& sv, const std::vector<Cu
 
 /// The glued boundary of R'' (ch. 3 §2.4): every cell's non-grounded boundary faces and each
 /// plane's flat faces, repaired (boundary_repairs.h). Writes out.mesh, out.tolerances and the
-/// boundary's counts in out.stats (flat_faces ... open_edges); nothing else of `out`.
+/// boundary's counts in out.stats (flat_faces, constraint_crossings, welded_vertices,
+/// holes_closed, flat_shells_dropped, singular_edges, singular_vertices, open_edges); nothing else
+/// of `out`.
 void glueBoundary(const std::vector<CuttingPlane>& planes, const SectionArrangement& arr, const SectionVertices& sv,
                   const std::vector<CellComplex>& cx, DelaunayReconstruction& out) {
   const std::size_t cells = cx.size();
@@ -405,8 +407,6 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
   }
   if (progress) progress(std::int64_t(cells), std::int64_t(cells));
 
-  // The glued boundary and the tallies of the tetrahedra read the cells only: side by side
-  // (each has serial stretches; multiaxial-3x40: 0.75 s and 0.17 s one after the other).
   // The glued boundary and the tallies of the tetrahedra read the cells only and write different
   // members of `out`: side by side (each has serial stretches; multiaxial-3x40: 0.75 s and 0.17 s
   // one after the other).
