@@ -2,19 +2,11 @@
 #include "io/json_edge_lists.h"
 
 #include <algorithm>
-#include <charconv>
 #include <stdexcept>
 
+#include "io/append_int.h"
+
 namespace xsect {
-
-namespace {
-
-void appendInt(std::string& out, int v) {
-  char buf[16];
-  out.append(buf, std::size_t(std::to_chars(buf, buf + sizeof buf, v).ptr - buf));
-}
-
-}  // namespace
 
 std::string jsonWithEdgeLists(const nlohmann::ordered_json& doc,
                               const std::vector<std::pair<std::string, std::vector<EdgeObject>>>& lists) {

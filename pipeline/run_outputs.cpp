@@ -6,10 +6,10 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
-#include <charconv>
 
 #include "geometry/core/polygon.h"
 #include "geometry/core/section_ids.h"
+#include "io/append_int.h"
 #include "io/file_hash.h"
 #include "io/json_edge_lists.h"
 #include "io/label_volume_file.h"
@@ -113,19 +113,15 @@ std::string graphDot(const RunResults& r) {
   std::size_t edges = 0;
   forEachEdge(r, [&](int, int, int, const char*, const char*) { ++edges; });
   dot.reserve(dot.size() + 64 * edges + 4);
-  const auto number = [&](int v) {
-    char buf[16];
-    dot.append(buf, std::size_t(std::to_chars(buf, buf + sizeof buf, v).ptr - buf));
-  };
   forEachEdge(r, [&](int a, int b, int cell, const char*, const char* style) {
     dot += "  n";
-    number(a);
+    appendInt(dot, a);
     dot += " -- n";
-    number(b);
+    appendInt(dot, b);
     dot += " [";
     dot += style;
     dot += ", tooltip=\"cell ";
-    number(cell);
+    appendInt(dot, cell);
     dot += "\"];\n";
   });
   dot += "}\n";
