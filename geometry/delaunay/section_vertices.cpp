@@ -335,9 +335,9 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
   // both (a moved point stays more than half a jitter off every other plane, so only a point left
   // in place can lie on a trace).
   const double jitter = 0.1 * arr.sample_spacing_mm;
-  // Where each point goes (or that it is dropped), in parallel (every plane is tested: multiaxial-3x40's
-  // 268 655 points against 120 planes; with their adding 0.21 s on one thread, 0.14 s so); then
-  // added in order.
+  // Where each point goes (or that it is dropped), in parallel (every plane is tested:
+  // multiaxial-3x40's 268 655 points against 120 planes; with their adding 0.21 s on one thread,
+  // 0.14 s so); then added in order.
   std::vector<Vec3> placed(branching.size(), Vec3::Zero());
   std::vector<std::uint8_t> dropped(branching.size(), 1);
   tbb::parallel_for(std::size_t(0), branching.size(), [&](std::size_t k) {
@@ -380,13 +380,15 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
     idOf(at, v);
   }
   // Sides of branching points.
-  const auto planeCell = [](int plane, int cell) { return std::uint64_t(std::uint32_t(plane)) << 32 | std::uint32_t(cell); };
+  const auto planeCell = [](int plane, int cell) {
+    return std::uint64_t(std::uint32_t(plane)) << 32 | std::uint32_t(cell);
+  };
   std::unordered_map<std::uint64_t, int> sideOf;  // (plane, cell) -> side
   for (const SectionVertex& v : sv.points)
     if (v.kind != SectionVertex::branching)
       for (const PointCell& c : v.cells)
         for (int k = 0; k < 3; ++k)
-          if (v.planes[std::size_t(k)] >= 0) sideOf[planeCell(v.planes[std::size_t(k)], c.cell)] = c.side[std::size_t(k)];
+          if (const int p = v.planes[std::size_t(k)]; p >= 0) sideOf[planeCell(p, c.cell)] = c.side[std::size_t(k)];
   for (SectionVertex& v : sv.points) {
     if (v.kind != SectionVertex::branching) continue;
     std::vector<PointCell> kept;
