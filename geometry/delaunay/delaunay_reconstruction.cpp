@@ -413,7 +413,9 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
   tbb::parallel_invoke([&] { glueBoundary(planes, arr, sv, cx, out); },
                        [&] { tallyTetrahedra(sv, cx, sectionOf, ids, out); });
   for (const SectionVertex& v : sv.points) out.stats.branching_points += v.kind == SectionVertex::branching && !v.cells.empty();
-  for (const auto& pts : cellSetup(sv).points) out.stats.section_vertices += std::int64_t(pts.size());
+  // A point counts once per cell it lies in (what cellSetup lists), without listing them again.
+  for (const SectionVertex& v : sv.points)
+    for (const PointCell& c : v.cells) out.stats.section_vertices += c.cell >= 0 && c.cell < sv.cells;
   return out;
 }
 
