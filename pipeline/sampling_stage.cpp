@@ -64,7 +64,7 @@ json cellJson(const SamplingStage& s, int id) {
       c.density.verdict == c.verdict || c.transversality.verdict == SamplingVerdict::satisfied;
   const ConditionCheck& k = densityDecides ? c.density : c.transversality;
   json j = {{"cell", id},
-            {"holds_sections", c.arrangement_cell >= 0},
+            {"holds_sections", holdsSections(c)},
             {"end_cell", c.end_cell},
             {"height_mm", c.height_hi_mm},
             {"height_lower_mm", c.height_lo_mm},
@@ -76,7 +76,11 @@ json cellJson(const SamplingStage& s, int id) {
             {"ratio", finite(c.ratio)},
             {"shown_by_data_alone", k.from_data},
             {"alpha_max_deg", finite(c.alpha_max_deg)}};
-  if (s.diagnosis.method == ReconstructionMethod::section_voronoi && c.arrangement_cell >= 0) {
+  if (c.observed_cell >= 0) {
+    j["observed_cell"] = c.observed_cell;
+    j["observed_cell_joins"] = c.observed_members;
+  }
+  if (s.diagnosis.method == ReconstructionMethod::section_voronoi && holdsSections(c)) {
     j["section_height_mm"] = finite(c.section_height_hi_mm);
     j["section_height_farthest_mm"] = std::isfinite(c.section_height_hi_mm) ? vecJson(c.section_farthest) : json(nullptr);
   }
@@ -110,7 +114,7 @@ SamplingStage samplingStage(const RunConfig& c, const SectionScene& scene, const
       c.reconstruction_method == ReconstructionMethod::delaunay ? ReconstructionMethod::section_voronoi
                                                                 : c.reconstruction_method;
   s.diagnosis = diagnoseSampling(scene.planes, scene.fields, arrangement.arrangement, conditions,
-                                 samplingPrior(c), s.lo, s.hi, scene.params.voxel_mm, tolerance);
+                                 samplingPrior(c), s.lo, s.hi, scene.params.voxel_mm, tolerance, {}, &scene.pieces);
   s.diagnosis_s = since(start);
   if (!advise || s.diagnosis.verdict == SamplingVerdict::satisfied) return s;
   const auto adviceStart = std::chrono::steady_clock::now();
@@ -140,7 +144,7 @@ json samplingSummaryJson(const SamplingStage& s) {
   int withSections = 0, counts[3] = {0, 0, 0}, fromData = 0;
   double maxHeight = 0;
   for (const CellSampling& c : d.cells) {
-    withSections += c.arrangement_cell >= 0;
+    withSections += holdsSections(c);
     ++counts[int(c.verdict)];
     fromData += c.verdict == SamplingVerdict::violated && (c.density.from_data || c.transversality.from_data);
     maxHeight = std::max(maxHeight, c.height_hi_mm);
@@ -201,6 +205,17 @@ json samplingSummaryJson(const SamplingStage& s) {
                     "bounded from above; null where a cell with sections was not bounded. Under C'1 and the Weak "
                     "Transversality Condition (C'2, not checked) the Hausdorff distance to the object is at most "
                     "its max (Thm 20)"}};
+  if (d.observed_cells > 0)
+    r["observed_pieces"] = {
+        {"cells", d.observed_cells},
+        {"cells_joined", d.cells_joined},
+        {"cells_joined_with_sections", d.cells_joined_with_sections},
+        {"lattice_edges_through_unobserved_parts", d.unobserved_crossings},
+        {"meaning", "the conditions are checked on the cells of the observed pieces (Omega-cells: the whole planes' "
+                    "cells joined across the parts of their faces no slice observed); a cell's height is the largest "
+                    "distance of its points to the pieces. Joined cells are not convex: their Chebyshev balls, "
+                    "h'_C bounds and Intersection Condition are not computed, and where they hold sections only "
+                    "method 1's C1 can be shown (Lemma 3, Thm 3); the rest stays undetermined"}};
   r["lattice_spacing_mm"] = d.scan.lattice.voxel;
   r["end_box_mm"] = {vecJson(s.lo), vecJson(s.hi)};
   r["assumes"] = "the object lies inside the end planes' box; its boundary is smooth; the contours are its sections";
@@ -211,8 +226,11 @@ json samplingSummaryJson(const SamplingStage& s) {
         {"cell", d.largest_empty_cell},
         {"height_mm", c.height_hi_mm},
         {"centre_mm", vecJson(c.centre)},
-        {"meaning", "no plane touches a ball of this radius there: an object component of that size could be "
-                    "missed entirely (Prop. 2)"}};
+        {"meaning", d.observed_cells > 0
+                        ? "no observed piece touches a ball of this radius there: an object component of that size "
+                          "could be missed entirely"
+                        : "no plane touches a ball of this radius there: an object component of that size could be "
+                          "missed entirely (Prop. 2)"}};
   }
   r["advice"] = {{"slices", s.advice.size()}, {"file", s.advice.empty() ? json(nullptr) : json("advice.yaml")}};
   r["timings_s"] = {{"diagnosis", s.diagnosis_s}, {"advice", s.advice_s}};
@@ -228,7 +246,7 @@ json samplingDetailsJson(const SamplingStage& s) {
        ri = json::array(), re = json::array(), dc = json::array(), dv = json::array(), tc = json::array(),
        tv = json::array(), verdict = json::array(), ratio = json::array(), data = json::array(),
        alphaEst = json::array(), sectionHeight = json::array(),
-       inter = json::array();
+       inter = json::array(), observed = json::array();
   // At most kListed cells: the worst (largest ratio, then height), listed by id.
   constexpr std::size_t kListed = 20000;
   std::vector<std::size_t> listed(d.cells.size());
@@ -246,7 +264,7 @@ json samplingDetailsJson(const SamplingStage& s) {
   for (const std::size_t i : listed) {
     const CellSampling& c = d.cells[i];
     id.push_back(i);
-    sections.push_back(c.arrangement_cell >= 0);
+    sections.push_back(holdsSections(c));
     endCell.push_back(c.end_cell);
     lo.push_back(c.height_lo_mm);
     hi.push_back(c.height_hi_mm);
@@ -265,7 +283,8 @@ json samplingDetailsJson(const SamplingStage& s) {
     verdict.push_back(name(c.verdict));
     ratio.push_back(finite(c.ratio));
     data.push_back(c.density.from_data || c.transversality.from_data);
-    sectionHeight.push_back(c.arrangement_cell >= 0 ? finite(c.section_height_hi_mm) : json(nullptr));
+    sectionHeight.push_back(holdsSections(c) ? finite(c.section_height_hi_mm) : json(nullptr));
+    observed.push_back(c.observed_cell >= 0 ? json(c.observed_cell) : json(nullptr));
   }
   if (d.method == ReconstructionMethod::section_voronoi) cols["section_height_mm"] = sectionHeight;
   cols["id"] = id;
@@ -288,6 +307,7 @@ json samplingDetailsJson(const SamplingStage& s) {
   cols["verdict"] = verdict;
   cols["ratio"] = ratio;
   cols["violated_by_data_alone"] = data;
+  if (d.observed_cells > 0) cols["observed_cell"] = observed;
   json crossings = json::array();
   for (const ContourCrossing& x : d.crossings)
     crossings.push_back({{"point_mm", vecJson(x.point)},

@@ -53,9 +53,14 @@ Truth truthOf(const fs::path& dir) {
   return out;
 }
 
+/// The prior, and whole planes: the phantoms' images cover the object's bounding sphere, so each
+/// plane beyond its image is empty of the object, which is what the thesis' conditions assume of a
+/// plane. (On the observed pieces, the default for images, the end planes' box reaches beyond the
+/// images of a fan, and its cells are joined there: README "Observed pieces".)
 std::string priorSets(const Truth& t, bool angleZero) {
   std::ostringstream s;
-  s << "--set sampling.reach_interior_mm=" << t.reach_i << " --set sampling.reach_exterior_mm=" << t.reach_e;
+  s << "--set reconstruction.planes=whole";
+  s << " --set sampling.reach_interior_mm=" << t.reach_i << " --set sampling.reach_exterior_mm=" << t.reach_e;
   if (angleZero) s << " --set sampling.max_angle_deg=0";
   return s.str();
 }

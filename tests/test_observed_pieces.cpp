@@ -79,6 +79,31 @@ TEST_P(BallLargerThanEveryImage, IsOneBallWithObservedPiecesAndCarvedWithWholePl
   EXPECT_TRUE(w["betti"] != e["betti"] || w["hausdorff_mm"].get<double>() > 3.0)
       << "whole planes: betti " << w["betti"] << ", Hausdorff " << w["hausdorff_mm"];
   EXPECT_GT(w["hausdorff_mm"].get<double>(), 3 * e["hausdorff_mm"].get<double>());
+  // The sampling diagnosis on the cells of the pieces (observed_cells.h): cells joined through the
+  // planes beyond the images, whose heights (the largest distance to a piece) exceed those of the
+  // whole planes' cells; the verdict never rests on Prop. 2 or the topological theorems there.
+  const nlohmann::json& so = observed["sampling"];
+  const nlohmann::json ws = test::readJson(dir / "whole" / "report.json")["sampling"];
+  EXPECT_GT(so["observed_pieces"]["cells_joined"].get<int>(), 0) << so["observed_pieces"];
+  EXPECT_GT(so["max_height_mm"].get<double>(), ws["max_height_mm"].get<double>());
+  if (so.contains("largest_cell_without_sections"))  // none when every cell joins one with sections
+    EXPECT_GE(so.at("largest_cell_without_sections").at("height_mm").get<double>(),
+              ws.at("largest_cell_without_sections").at("height_mm").get<double>());
+  // With a prior (the first configuration only: two runs more), on the pieces the guarantee is
+  // not claimed, nor Prop. 2, which the same prior on whole planes claims (the planes beyond the
+  // images taken as empty).
+  if (c.tilt_deg == 15 && !c.fan) {
+    const nlohmann::json prior = test::run(dir, "observed_prior", "--set sampling.reach_mm=9 --set sampling.max_angle_deg=60");
+    EXPECT_NE(prior["sampling"]["verdict"], "satisfied");
+    for (const auto& g : prior["sampling"]["guarantees"]) {
+      EXPECT_EQ(g.get<std::string>().find("cut by"), std::string::npos) << g;  // Prop. 2
+      EXPECT_EQ(g.get<std::string>().find("homotopy"), std::string::npos) << g;
+    }
+    const nlohmann::json wholePrior = test::run(dir, "whole_prior", "--set reconstruction.planes=whole "
+                                                                    "--set sampling.reach_mm=9 --set sampling.max_angle_deg=60");
+    EXPECT_NE(wholePrior["sampling"]["guarantees"].dump().find("cut by a plane (Prop. 2)"), std::string::npos)
+        << wholePrior["sampling"]["guarantees"];
+  }
   // Shepard's interpolant on the pieces (shepard_interpolant.h): where the pieces decide the
   // solid, its surface is one ball within two voxels as well; on whole planes it is carved.
   // The run with `sets` on the pieces: one ball within two voxels; on whole planes more than three
@@ -138,6 +163,16 @@ TEST(ObservedPieces, ImagesThatCoverTheObjectGiveTheWholePlanesResult) {
     EXPECT_EQ(eo["betti"], eo["truth_betti"]);
     EXPECT_NEAR(eo["hausdorff_mm"].get<double>(), ew["hausdorff_mm"].get<double>(), h);
     EXPECT_NEAR(eo["mean_distance_mm"].get<double>(), ew["mean_distance_mm"].get<double>(), h);
+    // The sampling diagnosis: where the images cover the end planes' box, the cells of the pieces
+    // are the whole planes' cells, with the same verdict and heights, bounded by the lattice (the
+    // whole cells' Chebyshev balls only raise the lower bounds on the pieces): within its half
+    // diagonal above the whole planes' largest.
+    EXPECT_EQ(ro["sampling"]["observed_pieces"]["cells_joined"], 0) << ro["sampling"]["observed_pieces"];
+    EXPECT_EQ(ro["sampling"]["verdict"], rw["sampling"]["verdict"]);
+    EXPECT_EQ(ro["sampling"]["cells"]["total"], rw["sampling"]["cells"]["total"]);
+    const double rho = ro["sampling"]["lattice_spacing_mm"].get<double>() * std::sqrt(3.0) / 2;
+    EXPECT_GE(ro["sampling"]["max_height_mm"].get<double>(), rw["sampling"]["max_height_mm"].get<double>() - 1e-5);
+    EXPECT_LE(ro["sampling"]["max_height_mm"].get<double>(), rw["sampling"]["max_height_mm"].get<double>() + rho + 1e-5);
     // Method 2 likewise: where the images cover the object, the lifts' balls are observed.
     const nlohmann::json r2 =
         test::run(dir, "m2observed", "--set reconstruction.method=section_voronoi --set reconstruction.planes=observed");

@@ -7,9 +7,11 @@
 #include <array>
 #include <cmath>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "geometry/sampling/cell_height.h"
 #include "geometry/sampling/cell_interior.h"
+#include "geometry/sampling/observed_cells.h"
 
 namespace xsect {
 
@@ -78,7 +80,7 @@ SamplingVerdict combine(SamplingVerdict a, SamplingVerdict b) {
 /// The critical values of a cell's two conditions (see the header for the definitions).
 void criticalsOf(const CellSampling& c, ReconstructionMethod method, const SamplingPrior& prior, Critical* density,
                  Critical* transversality) {
-  const bool sections = c.arrangement_cell >= 0;
+  const bool sections = holdsSections(c);
   const Critical ri = sideOf(prior.reach_interior_mm, c.interior_bound_mm);
   const Critical re = sideOf(prior.reach_exterior_mm, c.exterior_bound_mm);
   const Critical reach = lesser(ri, re);
@@ -139,10 +141,23 @@ void evaluate(CellSampling& c, ReconstructionMethod method, const SamplingPrior&
   Critical d, t;
   criticalsOf(c, method, prior, &d, &t);
   // Method 2 on a cell with sections: the height is h'_C ≥ h_C, bounded above where computed.
-  const bool sectionHeight = method == ReconstructionMethod::section_voronoi && c.arrangement_cell >= 0;
+  const bool sectionHeight = method == ReconstructionMethod::section_voronoi && holdsSections(c);
   const double hi = sectionHeight ? c.section_height_hi_mm : c.height_hi_mm;
   c.density = check(c.height_lo_mm, hi, d);
   c.transversality = check(c.height_lo_mm, hi, t);
+  if (c.observed_members > 1 && holdsSections(c)) {
+    // An Ω-cell of several cells is not convex. Of the thesis' results, Lemma 3 and Thm 3 (the
+    // sections joined as in O) rest on balls only and hold on it; Prop. 2 (a piece may lie inside
+    // O, its section without contour: method 2's C'1 through Thm 21) and the topological theorems
+    // (Thm 14-16, Lemma 6; Thm 23-24) use convex cells with whole faces and fail on it (README
+    // "Observed pieces"). So only method 1's C1 may be shown there; violations stand (a condition
+    // not met shows nothing either way). An Ω-cell without sections keeps its one condition: a
+    // component of O inside it would hold a ball of radius reach_i touching no piece, whatever
+    // the cell's shape, and where there is none, R misses the cell as O does.
+    if (method != ReconstructionMethod::nearest_plane && c.density.verdict == SamplingVerdict::satisfied)
+      c.density.verdict = SamplingVerdict::undetermined;
+    if (c.transversality.verdict == SamplingVerdict::satisfied) c.transversality.verdict = SamplingVerdict::undetermined;
+  }
   c.verdict = cellVerdict(c.density.verdict, c.transversality.verdict, c.intersection, method);
   const double crit = std::isfinite(c.transversality.critical_mm) ? c.transversality.critical_mm
                                                                    : c.density.critical_mm;
@@ -169,7 +184,8 @@ void boundSectionHeights(SamplingDiagnosis& out, const std::vector<Plane>& ps, c
   std::vector<double> target(out.cells.size(), 0.0);
   for (std::size_t i = 0; i < out.cells.size(); ++i) {
     const CellSampling& c = out.cells[i];
-    if (c.arrangement_cell < 0) continue;
+    // An Ω-cell of several cells is no convex polytope: its h'_C is not bounded (stays +inf).
+    if (c.arrangement_cell < 0 || c.observed_members > 1) continue;
     Critical d, t;
     criticalsOf(c, out.method, out.prior, &d, &t);
     const double sat = std::isnan(d.sat) || std::isnan(t.sat) ? kNaN : std::min(d.sat, t.sat);
@@ -216,7 +232,7 @@ void boundSectionHeights(SamplingDiagnosis& out, const std::vector<Plane>& ps, c
   });
   out.section_height_max_mm = 0;
   for (const CellSampling& c : out.cells) {
-    if (c.arrangement_cell < 0) continue;
+    if (!holdsSections(c)) continue;
     out.section_height_cells += std::isfinite(c.section_height_hi_mm);
     out.section_height_max_mm = std::max(out.section_height_max_mm, c.section_height_hi_mm);
   }
@@ -234,8 +250,10 @@ void checkIntersection(SamplingDiagnosis& out, const std::vector<Plane>& ps,
   std::vector<int> todo;
   for (std::size_t i = 0; i < out.cells.size(); ++i) {
     CellSampling& c = out.cells[i];
-    c.intersection = c.arrangement_cell < 0 ? SamplingVerdict::satisfied : SamplingVerdict::undetermined;
-    if (c.arrangement_cell >= 0 && c.density.verdict == SamplingVerdict::satisfied) todo.push_back(int(i));
+    c.intersection = holdsSections(c) ? SamplingVerdict::undetermined : SamplingVerdict::satisfied;
+    // An Ω-cell of several cells is not sampled (R_C is sampled over a convex cell): undetermined.
+    if (c.arrangement_cell >= 0 && c.observed_members == 1 && c.density.verdict == SamplingVerdict::satisfied)
+      todo.push_back(int(i));
   }
   std::sort(todo.begin(), todo.end(), [&](int a, int b) {
     const double ha = out.cells[std::size_t(a)].height_hi_mm, hb = out.cells[std::size_t(b)].height_hi_mm;
@@ -274,6 +292,72 @@ void checkIntersection(SamplingDiagnosis& out, const std::vector<Plane>& ps,
   }
 }
 
+/// Observed pieces: every cell takes its Ω-cell's height (max of D_Ω over the Ω-cell's lattice
+/// points, observed_cells.h) and the data's bounds and angles of all the Ω-cell's cells (its
+/// boundary is theirs, less the unobserved faces between them). A cell only the arrangement meets,
+/// in an Ω-cell of its own, keeps h ≤ ρ: a point of it farther than ρ from the pieces lies within
+/// ρ of a lattice point that it reaches through no piece, so it belongs to that point's Ω-cell and
+/// is counted there (where the lattice sees the passage: observed_cells.h).
+void joinObservedCells(SamplingDiagnosis& out, const ObservedCells& oc) {
+  const CellScan& scan = out.scan;
+  const std::size_t scanned = scan.cells.size();
+  const auto omegaOf = [&](std::size_t i) {
+    return i < scanned ? oc.cell_of_scanned[i] : oc.cell_of_extra[i - scanned];
+  };
+  struct Joined {
+    double height = -1, lower = 0;  ///< max of D_Ω over its lattice points (-1: none), and its lower bound
+    Vec3 centre = Vec3::Zero();
+    bool end = false, sections = false;
+    double interior = kInf, exterior = kInf, transversal = kInf;
+    double alphaMax = kNaN, alphaLower = 0, alphaEstimated = kNaN;
+    int alphaSamples = 0;
+  };
+  std::vector<Joined> joined(std::size_t(oc.count));
+  const auto larger = [](double a, double b) { return std::isnan(a) ? b : std::isnan(b) ? a : std::max(a, b); };
+  for (std::size_t i = 0; i < out.cells.size(); ++i) {  // scanned cells first, in scan order
+    const CellSampling& c = out.cells[i];
+    Joined& g = joined[std::size_t(omegaOf(i))];
+    if (i < scanned) {
+      if (oc.max_distance_mm[i] > g.height) g.height = oc.max_distance_mm[i], g.centre = oc.farthest[i];
+      g.lower = std::max(g.lower, oc.max_distance_lo_mm[i]);
+    }
+    g.end = g.end || c.end_cell;
+    g.sections = g.sections || c.arrangement_cell >= 0;
+    g.interior = std::min(g.interior, c.interior_bound_mm);
+    g.exterior = std::min(g.exterior, c.exterior_bound_mm);
+    g.transversal = std::min(g.transversal, c.transversal_bound_mm);
+    if (c.alpha_samples > 0) g.alphaMax = larger(g.alphaMax, c.alpha_max_deg);
+    g.alphaLower = std::max(g.alphaLower, c.alpha_lower_deg);
+    g.alphaSamples += c.alpha_samples;
+    g.alphaEstimated = larger(g.alphaEstimated, c.alpha_estimated_deg);
+  }
+  for (std::size_t i = 0; i < out.cells.size(); ++i) {
+    CellSampling& c = out.cells[i];
+    const int id = omegaOf(i);
+    const Joined& g = joined[std::size_t(id)];
+    c.observed_cell = id;
+    c.observed_members = oc.members[std::size_t(id)];
+    c.observed_cell_sections = g.sections;
+    if (g.height >= 0) {  // else an Ω-cell the lattice does not meet: h ≤ ρ (above)
+      c.height_lo_mm = g.lower;
+      c.height_hi_mm = std::max(scan.half_diagonal_mm, g.height + scan.half_diagonal_mm);
+      c.centre = g.centre;
+    }
+    c.end_cell = g.end;
+    c.interior_bound_mm = g.interior;
+    c.exterior_bound_mm = g.exterior;
+    c.transversal_bound_mm = g.transversal;
+    c.alpha_max_deg = g.alphaMax;
+    c.alpha_lower_deg = g.alphaLower;
+    c.alpha_samples = g.alphaSamples;
+    c.alpha_estimated_deg = g.alphaEstimated;
+    out.cells_joined += c.observed_members > 1;
+    out.cells_joined_with_sections += c.observed_members > 1 && g.sections;
+  }
+  out.observed_cells = oc.count;
+  out.unobserved_crossings = oc.unobserved_crossings;
+}
+
 /// Worst first: larger ratio, then larger height, then scan order.
 bool worse(const CellSampling& a, const CellSampling& b, int ia, int ib) {
   const double ra = std::isnan(a.ratio) ? -1 : a.ratio, rb = std::isnan(b.ratio) ? -1 : b.ratio;
@@ -288,7 +372,7 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
                                    const std::vector<SectionDistanceField>& fields, const SectionArrangement& arrangement,
                                    ReconstructionMethod method, const SamplingPrior& prior, const Vec3& lo,
                                    const Vec3& hi, double voxel_mm, double tolerance_mm,
-                                   const SamplingParams& params) {
+                                   const SamplingParams& params, const std::vector<ObservedPiece>* pieces) {
   SamplingDiagnosis out;
   out.method = method;
   out.prior = prior;
@@ -439,6 +523,12 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
       (prior.reach_exterior_mm && *prior.reach_exterior_mm > out.reach_exterior_bound_mm))
     out.prior_contradicted = true;
 
+  if (pieces && pieces->size() == ps.size() &&
+      std::any_of(pieces->begin(), pieces->end(), [](const ObservedPiece& p) { return !p.whole; })) {
+    std::vector<std::uint64_t> unscanned;  // the cells only the arrangement meets
+    for (std::size_t i = scan.cells.size(); i < out.cells.size(); ++i) unscanned.push_back(out.cells[i].key);
+    joinObservedCells(out, observedCells(scan, ps, keys, *pieces, unscanned));
+  }
   for (CellSampling& c : out.cells) evaluate(c, method, prior);
 
   // Exact heights (Chebyshev balls) where the lattice's bounds straddle a critical value, then for
@@ -453,11 +543,14 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
   std::vector<int> exact;
   std::vector<char> chosen(out.cells.size(), 0);
   const auto choose = [&](int i) {
-    if (i >= 0 && !chosen[std::size_t(i)] && int(exact.size()) < params.exact_cells) chosen[std::size_t(i)] = 1, exact.push_back(i);
+    // An Ω-cell of several cells is not the convex cell whose Chebyshev ball is solved.
+    if (i >= 0 && !chosen[std::size_t(i)] && out.cells[std::size_t(i)].observed_members == 1 &&
+        int(exact.size()) < params.exact_cells)
+      chosen[std::size_t(i)] = 1, exact.push_back(i);
   };
   int largestEmpty = -1;
   for (std::size_t i = 0; i < out.cells.size(); ++i)
-    if (out.cells[i].arrangement_cell < 0 &&
+    if (!holdsSections(out.cells[i]) &&
         (largestEmpty < 0 || out.cells[i].height_lo_mm > out.cells[std::size_t(largestEmpty)].height_lo_mm))
       largestEmpty = int(i);
   choose(largestEmpty);
@@ -479,6 +572,12 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
     const double eps = 1e-6 * (hi - lo).norm();
     if (h.open || h.height < c.height_lo_mm - eps || h.height > c.height_hi_mm + eps || keys.of(h.centre) != c.key)
       return;
+    if (out.observed_cells > 0) {
+      // On the pieces the whole cell's ball is a lower bound of its Ω-cell's height (D_Ω ≥ D); it
+      // is the height only if every face lies in a piece, which the lattice does not prove.
+      c.height_lo_mm = std::max(c.height_lo_mm, h.height);
+      return;
+    }
     c.height_lo_mm = c.height_hi_mm = h.height;
     c.height_exact = true;
     c.centre = h.centre;
@@ -529,19 +628,29 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
   std::vector<int> deciding;
   for (std::size_t i = 0; i < out.cells.size(); ++i)
     if (out.verdict == SamplingVerdict::satisfied || out.cells[i].verdict == out.verdict) deciding.push_back(int(i));
-  const std::size_t shown = std::min<std::size_t>(20, deciding.size());
-  std::partial_sort(deciding.begin(), deciding.begin() + std::ptrdiff_t(shown), deciding.end(), worseIndex);
-  out.deciding.assign(deciding.begin(), deciding.begin() + std::ptrdiff_t(shown));
+  // The worst 20, one cell per Ω-cell (its cells share its height and ratio).
+  std::sort(deciding.begin(), deciding.end(), worseIndex);
+  std::unordered_set<int> listed;
+  for (const int i : deciding) {
+    if (out.deciding.size() == 20) break;
+    const int omega = out.cells[std::size_t(i)].observed_cell;
+    if (omega < 0 || listed.insert(omega).second) out.deciding.push_back(i);
+  }
   return out;
 }
 
 std::vector<std::string> samplingConsequences(const SamplingDiagnosis& d) {
   std::vector<std::string> out;
   const bool m1 = d.method == ReconstructionMethod::nearest_plane;
-  if (d.density == SamplingVerdict::satisfied)
-    out.push_back(m1 ? "Separation Condition (Lemma 3): the sections are joined as in the object (Thm 3) and "
-                       "every component of its boundary is cut by a plane (Prop. 2)"
-                     : "Weak Density Condition: every component of the object's boundary is cut by a plane");
+  if (d.density == SamplingVerdict::satisfied && d.cells_joined_with_sections > 0)  // method 1 only (evaluate)
+    out.push_back("Separation Condition (Lemma 3) on the cells of the observed pieces: the sections are joined as "
+                  "in the object (Thm 3); whether every component of its boundary is cut (Prop. 2) is not shown, "
+                  "cells joined through unobserved parts of planes not being convex");
+  else if (d.density == SamplingVerdict::satisfied)  // on pieces: Ω-cells with sections are cells of whole planes
+    out.push_back(std::string(m1 ? "Separation Condition (Lemma 3): the sections are joined as in the object (Thm 3) "
+                                   "and every component of its boundary is cut by "
+                                 : "Weak Density Condition: every component of the object's boundary is cut by ") +
+                  (d.observed_cells > 0 ? "an observed piece" : "a plane") + (m1 ? " (Prop. 2)" : ""));
   if (m1 && d.intersection == SamplingVerdict::satisfied)
     out.push_back("Intersection Condition shown on the data (§4.4: in every cell, the components of R_C, "
                   "homotopy equivalent to lift(S_C), are contractible, at the resolution of a lattice per cell)");

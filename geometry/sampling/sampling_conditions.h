@@ -32,6 +32,9 @@
 //    every condition holds there trivially: the nearest point on ∂C of any x in C is outside O), or
 //    a component of O lies inside C (Prop. 2), holding a medial ball of radius ≥ reach_i. Their one
 //    condition is h_C < reach_i (nothing missed), reported as both density and transversality.
+//  - Observed pieces (README "Observed pieces"): the cells are the Ω-cells (observed_cells.h), each
+//    cell taking its Ω-cell's height and data. On an Ω-cell joining several cells (not convex) and
+//    holding sections only Lemma 3 and Thm 3 hold, so only method 1's C1 may be shown there.
 #pragma once
 
 #include <cstdint>
@@ -49,6 +52,7 @@
 #include "geometry/sampling/neighbour_angles.h"
 #include "geometry/sampling/reach_bound.h"
 #include "geometry/sampling/section_cell_height.h"
+#include "geometry/scene/observed_piece.h"
 #include "geometry/scene/section_distance_field.h"
 
 namespace xsect {
@@ -123,7 +127,16 @@ struct CellSampling {
   SamplingVerdict verdict = SamplingVerdict::undetermined;
   /// height / critical value of the strongest condition known for the cell (NaN: none known).
   double ratio = std::numeric_limits<double>::quiet_NaN();
+  /// Observed pieces (observed_cells.h): the Ω-cell holding this cell (−1: every plane whole, or a
+  /// cell the lattice does not meet), how many scanned cells that Ω-cell joins, and whether one of
+  /// them holds a section. The height, bounds and α above are then the Ω-cell's.
+  int observed_cell = -1;
+  int observed_members = 1;
+  bool observed_cell_sections = false;
 };
+
+/// Whether the cell's conditions are those of a cell with sections (its Ω-cell's, with pieces).
+inline bool holdsSections(const CellSampling& c) { return c.arrangement_cell >= 0 || c.observed_cell_sections; }
 
 struct SamplingDiagnosis {
   ReconstructionMethod method = ReconstructionMethod::nearest_plane;
@@ -157,6 +170,13 @@ struct SamplingDiagnosis {
   /// satisfied.
   int unmatched_cells = 0;
   bool prior_contradicted = false;  ///< a prior reach exceeds a data bound
+  /// Observed pieces not all whole (observed_cells.h): the Ω-cells met by the lattice, the scanned
+  /// cells joined into an Ω-cell with others, and the lattice edges joining two cells through no
+  /// piece. All 0 on whole planes, where the cells are the thesis' own.
+  int observed_cells = 0;
+  int cells_joined = 0;
+  int cells_joined_with_sections = 0;  ///< of cells_joined, those whose Ω-cell holds a section
+  std::int64_t unobserved_crossings = 0;
 };
 
 /// @param planes  all cutting planes, the end planes last (SectionScene::planes), and their f_P
@@ -164,11 +184,14 @@ struct SamplingDiagnosis {
 /// @param lo, hi  the end planes' box, mm.
 /// @param voxel_mm the reconstruction's voxel (the lattice's finest spacing).
 /// @param tolerance_mm how far contours may miss each other at a crossing (contour_crossings.h).
+/// @param pieces  the planes' observed pieces (null, or all whole: the cells of whole planes); the
+///                conditions are then checked on the Ω-cells (observed_cells.h).
 SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
                                    const std::vector<SectionDistanceField>& fields, const SectionArrangement& arrangement,
                                    ReconstructionMethod method, const SamplingPrior& prior, const Vec3& lo,
                                    const Vec3& hi, double voxel_mm, double tolerance_mm,
-                                   const SamplingParams& params = {});
+                                   const SamplingParams& params = {},
+                                   const std::vector<ObservedPiece>* pieces = nullptr);
 
 /// The thesis' consequences that the verdicts shown give, in words (e.g. "sections joined as in
 /// the object (Thm 3)").

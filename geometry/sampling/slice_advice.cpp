@@ -55,7 +55,7 @@ std::vector<AdvisedSlice> adviseSlices(const std::vector<CuttingPlane>& planes, 
   std::vector<int> order;
   for (int pass = 0; pass < 2 && order.empty(); ++pass)
     for (std::size_t i = 0; i < d.cells.size(); ++i)
-      if (d.cells[i].verdict != SamplingVerdict::satisfied && (pass == 1 || d.cells[i].arrangement_cell >= 0) &&
+      if (d.cells[i].verdict != SamplingVerdict::satisfied && (pass == 1 || holdsSections(d.cells[i])) &&
           (d.cells[i].scanned >= 0 || d.cells[i].height_exact))  // else its centre lies on a plane
         order.push_back(int(i));
   const auto score0 = [&](const CellSampling& c) {
