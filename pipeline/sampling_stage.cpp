@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "geometry/core/median.h"
+#include "geometry/sampling/observed_slice_advice.h"
 #include "pipeline/json_values.h"
 
 namespace xsect {
@@ -130,7 +131,9 @@ SamplingStage samplingStage(const RunConfig& c, const SectionScene& scene, const
     a.count = std::min(inputSlices, densityViolated ? 30 : 10);
     a.until_resolved = densityViolated;
   }
-  s.advice = adviseSlices(scene.planes, s.diagnosis, s.lo, s.hi, a);
+  // On the pieces, once cells are joined, on the Ω-cells (whose heights the diagnosis gave).
+  s.advice = s.diagnosis.cells_joined > 0 ? adviseObservedSlices(s.diagnosis, a)
+                                          : adviseSlices(scene.planes, s.diagnosis, s.lo, s.hi, a);
   s.advice_pixel_mm = pixel > 0 ? pixel : (L.sections_max - L.sections_min).maxCoeff() / 256;
   for (const AdvisedSlice& slice : s.advice)
     s.advice_poses.push_back(poseOf(slice.plane, L.sections_min, L.sections_max, s.advice_pixel_mm));

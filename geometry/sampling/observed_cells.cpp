@@ -178,7 +178,7 @@ ObservedCells observedCells(const CellScan& scan, const std::vector<Plane>& plan
   std::array<std::vector<double>, 3> steps;
   for (int axis = 0; axis < 3; ++axis)
     for (const Plane& plane : planes) steps[std::size_t(axis)].push_back(plane.normal[axis] * L.voxel);
-  std::vector<double> distance(n, -1.0);
+  std::vector<double> distance(n, -1.0);  // moved into the result at the end
   // Per row: the pairs of scanned cells that a lattice edge from the row joins (sorted, unique),
   // and how many edges did.
   std::vector<std::vector<std::pair<int, int>>> joins(std::size_t(ny) * std::size_t(nz));
@@ -310,6 +310,7 @@ ObservedCells observedCells(const CellScan& scan, const std::vector<Plane>& plan
         out.max_distance_mm[std::size_t(cell)] = distance[q];
         out.farthest[std::size_t(cell)] = L.centre(i, j, k);
       }
+  out.distance_mm = std::move(distance);
   return out;
 }
 

@@ -41,6 +41,7 @@ struct ObservedCells {
   /// bound of the height (equal to max_distance_mm for rectangles).
   std::vector<double> max_distance_lo_mm;
   std::vector<Vec3> farthest;            ///< per scanned cell: the first lattice point reaching it
+  std::vector<double> distance_mm;       ///< per lattice point: D_Ω, mm (−1 outside the box)
   std::int64_t unobserved_crossings = 0; ///< lattice edges that join two cells through no piece
 };
 

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <unordered_map>
 #include <unordered_set>
+#include <utility>
 
 #include "geometry/sampling/cell_height.h"
 #include "geometry/sampling/cell_interior.h"
@@ -298,7 +299,7 @@ void checkIntersection(SamplingDiagnosis& out, const std::vector<Plane>& ps,
 /// in an Ω-cell of its own, keeps h ≤ ρ: a point of it farther than ρ from the pieces lies within
 /// ρ of a lattice point that it reaches through no piece, so it belongs to that point's Ω-cell and
 /// is counted there (where the lattice sees the passage: observed_cells.h).
-void joinObservedCells(SamplingDiagnosis& out, const ObservedCells& oc) {
+void joinObservedCells(SamplingDiagnosis& out, ObservedCells oc) {
   const CellScan& scan = out.scan;
   const std::size_t scanned = scan.cells.size();
   const auto omegaOf = [&](std::size_t i) {
@@ -356,6 +357,7 @@ void joinObservedCells(SamplingDiagnosis& out, const ObservedCells& oc) {
   }
   out.observed_cells = oc.count;
   out.unobserved_crossings = oc.unobserved_crossings;
+  out.observed_distance_mm = std::move(oc.distance_mm);
 }
 
 /// Worst first: larger ratio, then larger height, then scan order.

@@ -176,6 +176,9 @@ struct SamplingDiagnosis {
   int observed_cells = 0;
   int cells_joined = 0;
   int cells_joined_with_sections = 0;  ///< of cells_joined, those whose Ω-cell holds a section
+  /// Per lattice point of `scan`: D_Ω, its distance to the pieces, mm (−1 outside the box; empty
+  /// on whole planes), for the slices advised on Ω-cells (observed_slice_advice.h).
+  std::vector<double> observed_distance_mm;
   std::int64_t unobserved_crossings = 0;
 };
 

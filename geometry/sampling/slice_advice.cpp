@@ -20,7 +20,9 @@ struct Followed {
   int cell = -1;
 };
 
-std::vector<Vec3> directions() {
+}  // namespace
+
+std::vector<Vec3> adviceDirections() {
   std::vector<Vec3> d;
   for (int x = -1; x <= 1; ++x)
     for (int y = -1; y <= 1; ++y)
@@ -32,8 +34,6 @@ std::vector<Vec3> directions() {
       }
   return d;  // 13
 }
-
-}  // namespace
 
 std::vector<AdvisedSlice> adviseSlices(const std::vector<CuttingPlane>& planes, const SamplingDiagnosis& d,
                                        const Vec3& lo, const Vec3& hi, const AdviceParams& params) {
@@ -102,7 +102,7 @@ std::vector<AdvisedSlice> adviseSlices(const std::vector<CuttingPlane>& planes, 
     return w;
   };
 
-  const std::vector<Vec3> dirs = directions();
+  const std::vector<Vec3> dirs = adviceDirections();
   for (int it = 0; it < params.count && !cells.empty(); ++it) {
     const int w = worst();
     const Followed target = cells[std::size_t(w)];  // a copy: `cells` grows below

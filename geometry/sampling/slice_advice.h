@@ -28,6 +28,10 @@ struct AdviceParams {
   int followed_cells = 48;        ///< the worst cells followed
 };
 
+/// The 13 directions a cut is chosen among: the axes, the face and the body diagonals of the frame
+/// (one of each ± pair), unit vectors.
+std::vector<Vec3> adviceDirections();
+
 /// @param planes  the planes the diagnosis was made with (end planes included).
 /// @param lo, hi  the end planes' box, mm.
 /// Deterministic.
