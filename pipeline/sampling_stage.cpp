@@ -135,8 +135,13 @@ SamplingStage samplingStage(const RunConfig& c, const SectionScene& scene, const
   s.advice = s.diagnosis.cells_joined > 0 ? adviseObservedSlices(s.diagnosis, a)
                                           : adviseSlices(scene.planes, s.diagnosis, s.lo, s.hi, a);
   s.advice_pixel_mm = pixel > 0 ? pixel : (L.sections_max - L.sections_min).maxCoeff() / 256;
+  // An image over the sections' box; on Ω-cells over the end planes' box and two pixels (its piece
+  // is eroded by one), as the advice on them takes each slice to observe (observed_slice_advice.h).
+  const bool overEndBox = s.diagnosis.cells_joined > 0;
+  const Vec3 pad = Vec3::Constant(2 * s.advice_pixel_mm);
   for (const AdvisedSlice& slice : s.advice)
-    s.advice_poses.push_back(poseOf(slice.plane, L.sections_min, L.sections_max, s.advice_pixel_mm));
+    s.advice_poses.push_back(overEndBox ? poseOf(slice.plane, s.lo - pad, s.hi + pad, s.advice_pixel_mm)
+                                        : poseOf(slice.plane, L.sections_min, L.sections_max, s.advice_pixel_mm));
   s.advice_s = since(adviceStart);
   return s;
 }

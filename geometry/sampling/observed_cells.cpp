@@ -62,31 +62,44 @@ struct RowDistances {
   double at(std::size_t j, int i) const { return a[j] + b[j] * double(i); }
 };
 
-/// D_Ω(x) for the row's point i, given an upper bound of it (+inf: none). Where the nearest plane's
-/// piece holds x's projection, D_Ω is that plane's distance (D_Ω ≥ the distance to every plane);
-/// otherwise planes farther than the best so far cannot hold the nearest point and are skipped.
-/// `room`: space for the point's distances (floats, as the scan's: the nearest plane is the one
-/// the scan's rounding finds).
+/// D_Ω(x) for the row's point i, given an upper bound of it (+inf: none), and in *lower a lower
+/// bound (a field of view's distances are upper bounds: observed_piece.h, ObservedPiece::bounds).
+/// Where the nearest plane's piece holds x's projection, D_Ω is that plane's distance (D_Ω ≥ the
+/// distance to every plane); otherwise planes farther than the best so far cannot hold the nearest
+/// point and are skipped (the plane that does is within the true D_Ω ≤ both bounds, so neither
+/// misses it). `room`: space for the point's distances (floats, as the scan's: the nearest plane is
+/// the one the scan's rounding finds).
 double distanceToPieces(const Vec3& x, const RowDistances& row, int i, double bound, const std::vector<Plane>& planes,
-                        const std::vector<ObservedPiece>& pieces, Eigen::ArrayXf& room) {
+                        const std::vector<ObservedPiece>& pieces, Eigen::ArrayXf& room, double* lower) {
   const std::size_t P = planes.size();
   room = (row.af + row.bf * float(i)).abs();  // vectorised, as the scan's loop
   const float nearest = room.minCoeff();
   std::size_t at = 0;
   while (room[Eigen::Index(at)] != nearest) ++at;
+  double low = std::numeric_limits<double>::infinity();
   const auto pieceDistance = [&](std::size_t j) {
     const double s = row.at(j, i);
-    if (pieces[j].whole) return std::abs(s);
+    if (pieces[j].whole) {
+      low = std::min(low, std::abs(s));
+      return std::abs(s);
+    }
     const Vec2 p = planes[j].toPlane(x);
+    double lo, hi;
+    pieces[j].bounds(p.x(), p.y(), 0.0, &lo, &hi);
+    low = std::min(low, planeNorm(s, lo));
     double na, nb;
     return planeNorm(s, pieces[j].distance(p.x(), p.y(), &na, &nb));
   };
   double best = pieceDistance(at);
-  if (best == std::abs(row.at(at, i))) return best;  // the piece holds x's projection
+  if (best == std::abs(row.at(at, i))) {  // the piece holds x's projection: exact
+    *lower = best;
+    return best;
+  }
   for (std::size_t j = 0; j < P; ++j) {
     if (j == at || std::abs(row.at(j, i)) > std::min(best, bound)) continue;
     best = std::min(best, pieceDistance(j));
   }
+  *lower = std::min(low, best);
   return best;
 }
 
@@ -179,6 +192,7 @@ ObservedCells observedCells(const CellScan& scan, const std::vector<Plane>& plan
   for (int axis = 0; axis < 3; ++axis)
     for (const Plane& plane : planes) steps[std::size_t(axis)].push_back(plane.normal[axis] * L.voxel);
   std::vector<double> distance(n, -1.0);  // moved into the result at the end
+  std::vector<double> lowerDistance(n, 0.0);
   // Per row: the pairs of scanned cells that a lattice edge from the row joins (sorted, unique),
   // and how many edges did.
   std::vector<std::vector<std::pair<int, int>>> joins(std::size_t(ny) * std::size_t(nz));
@@ -197,7 +211,8 @@ ObservedCells observedCells(const CellScan& scan, const std::vector<Plane>& plan
         continue;
       }
       const Vec3 x = L.centre(i, j, k);
-      distance[q] = distanceToPieces(x, distances, i, previous >= 0 ? previous + spacing : kInf, planes, pieces, room);
+      distance[q] = distanceToPieces(x, distances, i, previous >= 0 ? previous + spacing : kInf, planes, pieces, room,
+                                     &lowerDistance[q]);
       previous = distance[q];
       const std::array<std::array<int, 3>, 3> ahead{{{i + 1, j, k}, {i, j + 1, k}, {i, j, k + 1}}};
       for (int axis = 0; axis < 3; ++axis) {
@@ -293,19 +308,13 @@ ObservedCells observedCells(const CellScan& scan, const std::vector<Plane>& plan
   out.max_distance_mm.assign(cells, -1.0);
   out.max_distance_lo_mm.assign(cells, 0.0);
   out.farthest.assign(cells, Vec3::Zero());
-  // A field of view's distances may exceed the true ones by its slack (observed_piece.h): the
-  // lower bound takes the largest slack off.
-  double fovStep = 0;
-  for (const ObservedPiece& piece : pieces)
-    if (!piece.whole && !piece.empty && piece.fov) fovStep = std::max(fovStep, piece.fov->step);
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
         const std::size_t q = std::size_t(L.index(i, j, k));
         const int cell = scan.cell_of_point[q];
         if (cell < 0) continue;
-        const double lower = fovStep > 0 ? distance[q] - (2 * fovStep + 0.05 * distance[q]) : distance[q];
-        out.max_distance_lo_mm[std::size_t(cell)] = std::max(out.max_distance_lo_mm[std::size_t(cell)], lower);
+        out.max_distance_lo_mm[std::size_t(cell)] = std::max(out.max_distance_lo_mm[std::size_t(cell)], lowerDistance[q]);
         if (!(distance[q] > out.max_distance_mm[std::size_t(cell)])) continue;
         out.max_distance_mm[std::size_t(cell)] = distance[q];
         out.farthest[std::size_t(cell)] = L.centre(i, j, k);

@@ -37,8 +37,9 @@ struct ObservedCells {
   /// piece's edge): 1 for a cell of the whole planes on its own.
   std::vector<int> members;
   std::vector<double> max_distance_mm;   ///< per scanned cell: max of D_Ω over its lattice points
-  /// The same less what a field of view's raster may add (observed_piece.h, fovSlack): a lower
-  /// bound of the height (equal to max_distance_mm for rectangles).
+  /// Per scanned cell: max over its lattice points of a lower bound of D_Ω (a field of view's
+  /// distances are upper bounds, observed_piece.h: ObservedPiece::bounds); a lower bound of the
+  /// height, equal to max_distance_mm for rectangles.
   std::vector<double> max_distance_lo_mm;
   std::vector<Vec3> farthest;            ///< per scanned cell: the first lattice point reaching it
   std::vector<double> distance_mm;       ///< per lattice point: D_Ω, mm (−1 outside the box)

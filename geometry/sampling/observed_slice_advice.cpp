@@ -21,32 +21,23 @@ std::vector<AdvisedSlice> adviseObservedSlices(const SamplingDiagnosis& d, const
   const double rho = scan.half_diagonal_mm;
 
   // The Ω-cells followed: those with a cell not shown satisfied, holding sections first (where
-  // the object is known to be); each one's critical value and a cell of it to name.
+  // the object is known to be), and each one's critical value.
   const bool densityFirst = d.density == SamplingVerdict::violated ||
                             (d.transversality != SamplingVerdict::violated && d.density != SamplingVerdict::satisfied);
   const std::size_t omegas = std::size_t(d.observed_cells);
   std::vector<double> critical(omegas, std::numeric_limits<double>::quiet_NaN());
-  std::vector<int> named(omegas, -1);
   std::vector<char> open(omegas, 0), sections(omegas, 0);
   for (std::size_t i = 0; i < d.cells.size(); ++i) {
     const CellSampling& c = d.cells[i];
     if (c.observed_cell < 0) continue;
     const std::size_t o = std::size_t(c.observed_cell);
-    if (named[o] < 0) named[o] = int(i);
     sections[o] = sections[o] || holdsSections(c);
     if (c.verdict != SamplingVerdict::satisfied) open[o] = 1;
     const double crit = densityFirst || !std::isfinite(c.transversality.critical_mm) ? c.density.critical_mm
                                                                                      : c.transversality.critical_mm;
     if (std::isfinite(crit) && crit > 0) critical[o] = std::isnan(critical[o]) ? crit : std::min(critical[o], crit);
   }
-  const bool anySections = [&] {
-    for (std::size_t o = 0; o < omegas; ++o)
-      if (open[o] && sections[o]) return true;
-    return false;
-  }();
-  std::vector<char> followed(omegas, 0);
-  for (std::size_t o = 0; o < omegas; ++o) followed[o] = open[o] && (sections[o] || !anySections);
-  // The lattice points of each followed Ω-cell, in scan order, and where they are.
+  // The lattice points of each open Ω-cell, in scan order, and where they are.
   const GridSpec& L = scan.lattice;
   std::vector<std::vector<std::size_t>> points(omegas);
   std::vector<std::vector<Vec3>> where(omegas);
@@ -57,10 +48,19 @@ std::vector<AdvisedSlice> adviseObservedSlices(const SamplingDiagnosis& d, const
         const int cell = scan.cell_of_point[q];
         if (cell < 0) continue;
         const int o = d.cells[std::size_t(cell)].observed_cell;
-        if (o < 0 || !followed[std::size_t(o)]) continue;
+        if (o < 0 || !open[std::size_t(o)]) continue;
         points[std::size_t(o)].push_back(q);
         where[std::size_t(o)].push_back(L.centre(i, j, k));
       }
+  // Followed: the open Ω-cells the lattice meets, those holding sections if any does.
+  const bool anySections = [&] {
+    for (std::size_t o = 0; o < omegas; ++o)
+      if (open[o] && sections[o] && !points[o].empty()) return true;
+    return false;
+  }();
+  std::vector<char> followed(omegas, 0);
+  for (std::size_t o = 0; o < omegas; ++o)
+    followed[o] = open[o] && !points[o].empty() && (sections[o] || !anySections);
   bool anyCritical = false;
   double minCritical = std::numeric_limits<double>::infinity();
   for (std::size_t o = 0; o < omegas; ++o)
@@ -120,7 +120,7 @@ std::vector<AdvisedSlice> adviseObservedSlices(const SamplingDiagnosis& d, const
     });
     AdvisedSlice a;
     a.plane = added;
-    a.cell = named[std::size_t(w)];
+    a.cell = scan.cell_of_point[ps[e0]];  // the cell of the diagnosis the slice goes through
     a.worst_before = before;
     std::size_t e1 = 0;
     const int after = worst(&e1);

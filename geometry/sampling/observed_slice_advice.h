@@ -1,7 +1,8 @@
 // Where to add slices when the cells are the observed pieces' (README "Observed pieces";
 // observed_cells.h): the greedy of slice_advice.h on the Ω-cells, read on the diagnosis' lattice.
-// An advised slice is a whole image over the sections' box (the stage writes it so), so within the
-// end planes' box it lowers every lattice point's distance to the pieces to min(D_Ω(x), d(x, Q)).
+// An advised slice is an image over the end planes' box (the stage writes it so, two pixels wider:
+// its piece is eroded by one), so it lowers every lattice point's distance to the pieces to
+// min(D_Ω(x), d(x, Q)).
 // Greedy: take the Ω-cell with the worst ratio (height / critical value of the Density Condition
 // while it is not shown everywhere, else of the Transversality Condition; the height alone where
 // no critical value is known) among those not shown satisfied, those holding sections first; cut

@@ -127,9 +127,9 @@ struct CellSampling {
   SamplingVerdict verdict = SamplingVerdict::undetermined;
   /// height / critical value of the strongest condition known for the cell (NaN: none known).
   double ratio = std::numeric_limits<double>::quiet_NaN();
-  /// Observed pieces (observed_cells.h): the Ω-cell holding this cell (−1: every plane whole, or a
-  /// cell the lattice does not meet), how many scanned cells that Ω-cell joins, and whether one of
-  /// them holds a section. The height, bounds and α above are then the Ω-cell's.
+  /// Observed pieces (observed_cells.h): the Ω-cell holding this cell (−1: every plane whole), how
+  /// many cells of the whole planes that Ω-cell joins (met by the lattice or not), and whether one
+  /// of them holds a section. The height, bounds and α above are then the Ω-cell's.
   int observed_cell = -1;
   int observed_members = 1;
   bool observed_cell_sections = false;
@@ -170,7 +170,7 @@ struct SamplingDiagnosis {
   /// satisfied.
   int unmatched_cells = 0;
   bool prior_contradicted = false;  ///< a prior reach exceeds a data bound
-  /// Observed pieces not all whole (observed_cells.h): the Ω-cells met by the lattice, the scanned
+  /// Observed pieces not all whole (observed_cells.h): the Ω-cells of the diagnosis' cells, those
   /// cells joined into an Ω-cell with others, and the lattice edges joining two cells through no
   /// piece. All 0 on whole planes, where the cells are the thesis' own.
   int observed_cells = 0;
