@@ -8,9 +8,30 @@
 #include <random>
 #include <vector>
 
+#include "geometry/core/plane_of_pose.h"
 #include "geometry/core/types.h"
 
 namespace xsect::test {
+
+/// `count` planes through uniform points of [-spread, spread]³ with normally drawn normals, from
+/// `rng` (the draws in the order the compiler evaluates the arguments, as the tests measured).
+inline std::vector<Plane> randomPlanes(std::mt19937& rng, int count, double spread) {
+  std::normal_distribution<double> g;
+  std::uniform_real_distribution<double> u(-spread, spread);
+  std::vector<Plane> planes;
+  for (int k = 0; k < count; ++k) planes.push_back(planeThrough(Vec3(u(rng), u(rng), u(rng)), Vec3(g(rng), g(rng), g(rng))));
+  return planes;
+}
+
+/// The six faces of the box [lo, hi], normals outward.
+inline std::vector<Plane> boxFaces(const Vec3& lo, const Vec3& hi) {
+  std::vector<Plane> faces;
+  for (int a = 0; a < 3; ++a) {
+    faces.push_back(planeThrough(lo, -Vec3::Unit(a)));
+    faces.push_back(planeThrough(hi, Vec3::Unit(a)));
+  }
+  return faces;
+}
 
 inline Ring circle(const Vec2& c, double r, int n, bool ccw = true) {
   Ring ring;

@@ -28,13 +28,10 @@ using namespace xsect;
 
 namespace {
 
-/// The box's six faces, normals outward (the end planes: whole).
+/// The box's six faces, normals outward, with whole pieces (the end planes).
 void addBox(std::vector<Plane>& planes, std::vector<ObservedPiece>& pieces, const Vec3& lo, const Vec3& hi) {
-  for (int a = 0; a < 3; ++a) {
-    planes.push_back(planeThrough(lo, -Vec3::Unit(a)));
-    planes.push_back(planeThrough(hi, Vec3::Unit(a)));
-    pieces.resize(planes.size());
-  }
+  for (const Plane& face : test::boxFaces(lo, hi)) planes.push_back(face);
+  pieces.resize(planes.size());
 }
 
 ObservedPiece rectangle(const Vec2& lo, const Vec2& hi) {
@@ -105,10 +102,7 @@ TEST(ObservedCells, WholePiecesGiveTheCellsOfWholePlanes) {
   const Vec3 lo(-10, -10, -10), hi(10, 10, 10);
   for (int seed = 0; seed < 4; ++seed) {
     std::mt19937 rng(seed);
-    std::normal_distribution<double> g;
-    std::uniform_real_distribution<double> u(-8, 8);
-    std::vector<Plane> planes;
-    for (int k = 0; k < 10; ++k) planes.push_back(planeThrough(Vec3(u(rng), u(rng), u(rng)), Vec3(g(rng), g(rng), g(rng))));
+    std::vector<Plane> planes = test::randomPlanes(rng, 10, 8);
     std::vector<ObservedPiece> pieces(planes.size());
     addBox(planes, pieces, lo, hi);
     const CellKeys keys(planes);

@@ -83,14 +83,8 @@ TEST(SamplingGeometry, LatticeScanBoundsTheExactHeights) {
   int nontrivial = 0;
   for (int seed = 0; seed < 5; ++seed) {
     std::mt19937 rng(seed);
-    std::normal_distribution<double> g;
-    std::uniform_real_distribution<double> u(-8, 8);
-    std::vector<Plane> planes;
-    for (int k = 0; k < 12; ++k) planes.push_back(planeThrough(Vec3(u(rng), u(rng), u(rng)), Vec3(g(rng), g(rng), g(rng))));
-    for (int a = 0; a < 3; ++a) {  // the box's faces, normals outward
-      planes.push_back(planeThrough(lo, -Vec3::Unit(a)));
-      planes.push_back(planeThrough(hi, Vec3::Unit(a)));
-    }
+    std::vector<Plane> planes = test::randomPlanes(rng, 12, 8);
+    for (const Plane& face : test::boxFaces(lo, hi)) planes.push_back(face);
     const CellKeys keys(planes);
     const CellScan scan = scanCells(planes, keys, lo, hi, 0.8);
     ASSERT_GT(scan.cells.size(), 20u);
