@@ -43,6 +43,7 @@ SCENARIOS = {
                                                  "reconstruction.method=delaunay"]),
     "freehand-2000-m3": ("vessel-tree-freehand-2000.yaml", ["reconstruction.method=delaunay"]),
     "plus-400-m3": ("vessel-tree-plus-400.yaml", ["reconstruction.method=delaunay"]),
+    "freehand-400-exact-m3": ("vessel-tree-freehand-exact.yaml", ["reconstruction.method=delaunay"]),
     # method 1 smoothed by the Shepard interpolant (thesis ch. 1 §1.1) on the same inputs
     "freehand-400-shepard": ("vessel-tree-freehand.yaml", ["smoothing.method=shepard",
                                                            "smoothing.exponent=1"]),

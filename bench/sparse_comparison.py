@@ -7,12 +7,12 @@ The configurations (29):
   - the genus-2 solid of configs/phantoms/genus2-random.yaml cut by 20, 30 and 40 random planes;
   - the torus of configs/phantoms/torus-multiaxial.yaml cut by 6 and 9 random planes;
   - the sphere of configs/phantoms/sphere-multiaxial.yaml cut by 6 and 9 random planes;
-the random families with seeds 1-4. Each is rendered (`xsect phantom`), reconstructed with each
+the random families with seeds 1-4 (--seeds for others). Each is rendered (`xsect phantom`), reconstructed with each
 method (`xsect run --set reconstruction.method=...`) and evaluated against the analytic truth
 (`xsect eval`). A run that fails counts as wrong and prints its exit code; a failed evaluation
 prints its exit code in place of the distance.
 
-  python3 bench/sparse_comparison.py --xsect build/xsect --work /tmp/sparse [--json out.json]
+  python3 bench/sparse_comparison.py --xsect build/xsect --work /tmp/sparse [--json out.json] [--seeds 5-8]
 """
 import argparse, json, os, re, subprocess, sys
 
@@ -34,13 +34,13 @@ def spec_with(base, seed=None, count=None):
     return text
 
 
-def configurations():
+def configurations(seeds=(1, 2, 3, 4)):
     yield "vessel tree, planes 4 radii apart", "vessel-tree-sparse", spec_with("vessel-tree-sparse.yaml")
     for family, base, counts in (("genus-2, 20/30/40 random planes", "genus2-random.yaml", (20, 30, 40)),
                                  ("torus, 6/9 random planes", "torus-multiaxial.yaml", (6, 9)),
                                  ("sphere, 6/9 random planes", "sphere-multiaxial.yaml", (6, 9))):
         for count in counts:
-            for seed in (1, 2, 3, 4):
+            for seed in seeds:
                 yield family, f"{base.split('.')[0]}-{count}-s{seed}", spec_with(base, seed, count)
 
 
@@ -53,10 +53,13 @@ def main():
     ap.add_argument("--xsect", default=os.path.join(ROOT, "build", "xsect"))
     ap.add_argument("--work", required=True, help="folder for the phantoms and runs")
     ap.add_argument("--json", help="write the rows here")
+    ap.add_argument("--seeds", default="1-4", help="seeds of the random families, as FIRST-LAST (default 1-4)")
     a = ap.parse_args()
     os.makedirs(a.work, exist_ok=True)
     rows, families = [], {}
-    for family, name, spec in configurations():
+    first, _, last = a.seeds.partition("-")
+    seeds = range(int(first), int(last or first) + 1)
+    for family, name, spec in configurations(seeds):
         d = os.path.join(a.work, name)
         os.makedirs(d, exist_ok=True)
         with open(os.path.join(d, "spec.yaml"), "w") as f:
