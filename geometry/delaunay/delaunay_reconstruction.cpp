@@ -30,23 +30,27 @@ struct CellSetup {
   std::vector<std::vector<std::uint64_t>> contour;      ///< per cell: its contour edges
 };
 
-CellSetup cellSetup(const SectionVertices& sv) {
+/// The points and contour edges of the cells flagged in `pending` (the others' lists stay empty:
+/// after the first conformity round only the cells of split edges are triangulated again, 2 to 24
+/// of multiaxial-3x40's 11 518, and listing every cell each round took random-800 about a second).
+CellSetup cellSetup(const SectionVertices& sv, const std::vector<std::uint8_t>& pending) {
   CellSetup s;
   s.points.resize(std::size_t(sv.cells));
   s.contour.resize(std::size_t(sv.cells));
+  const auto wanted = [&](int c) { return c >= 0 && c < sv.cells && pending[std::size_t(c)]; };
   for (std::size_t id = 0; id < sv.points.size(); ++id)
     for (const PointCell& c : sv.points[id].cells)
-      if (c.cell >= 0 && c.cell < sv.cells) s.points[std::size_t(c.cell)].push_back(int(id));
-  return s;
-}
-
-void addContourEdges(const SectionVertices& sv, CellSetup& s) {
-  for (auto& e : s.contour) e.clear();
+      if (wanted(c.cell)) s.points[std::size_t(c.cell)].push_back(int(id));
   for (const SampledRing& r : sv.rings)
     for (std::size_t k = 0; k < r.points.size(); ++k) {
       const int a = r.points[k], b = r.points[(k + 1) % r.points.size()];
-      for (const int c : edgeCells(sv, a, b, r.plane)) s.contour[std::size_t(c)].push_back(edgeKey(a, b));
+      // A contour edge lies in cells of both its ends: none pending at one end, none for the edge.
+      const auto& ca = sv.points[std::size_t(a)].cells;
+      if (std::none_of(ca.begin(), ca.end(), [&](const PointCell& c) { return wanted(c.cell); })) continue;
+      for (const int c : edgeCells(sv, a, b, r.plane))
+        if (wanted(c)) s.contour[std::size_t(c)].push_back(edgeKey(a, b));
     }
+  return s;
 }
 
 /// Whether the points all lie on one plane (no tetrahedron of D0 could be kept).
@@ -351,8 +355,7 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
   std::vector<SectionLocator> sampled;
   sampled.reserve(sv.sampled.size());
   for (int round = 0; round < kConformityRounds; ++round) {
-    CellSetup setup = cellSetup(sv);
-    addContourEdges(sv, setup);
+    const CellSetup setup = cellSetup(sv, pending);
     sampled.clear();
     for (const std::vector<Section>& s : sv.sampled) sampled.emplace_back(s);
     std::vector<std::vector<std::uint64_t>> missing(cells);
@@ -413,7 +416,8 @@ DelaunayReconstruction delaunayReconstruction(const std::vector<CuttingPlane>& p
   tbb::parallel_invoke([&] { glueBoundary(planes, arr, sv, cx, out); },
                        [&] { tallyTetrahedra(sv, cx, sectionOf, ids, out); });
   for (const SectionVertex& v : sv.points) out.stats.branching_points += v.kind == SectionVertex::branching && !v.cells.empty();
-  // A point counts once per cell it lies in (what cellSetup lists), without listing them again.
+  // A point counts once per cell it lies in (what cellSetup lists in the first round), without
+  // listing them again.
   for (const SectionVertex& v : sv.points)
     for (const PointCell& c : v.cells) out.stats.section_vertices += c.cell >= 0 && c.cell < sv.cells;
   return out;
