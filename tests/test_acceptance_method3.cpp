@@ -221,7 +221,7 @@ TEST(AcceptanceMethod3, EnforcedConformityOfJitteredSectionsGivesAClosedMesh) {
 // `reconstruction.cell_tunnels: keep`, the thesis' D3 as it is, on 5); seeds 5-8, 7 of 16 each
 // (method 3 refuses the torus at 6 planes, seed 6: one plane holds sections; keep: 4; the cutting
 // took the torus' true hole, lying inside one cell, at 6 and 9 planes, seed 5, and an extra tunnel
-// at five others); together 18 of 32, 13 and 11. It takes 85-136 s (clean CI runs).
+// at five others); together 18 of 32, 13 and 11. It takes 85-195 s (clean CI runs).
 TEST(AcceptanceMethod3, SparsePlanesGiveTheTruthsTopologyMoreOftenThanMethods1And2) {
   const auto withLine = [](std::string text, const std::string& key, const std::string& line) {
     const std::size_t at = text.find("\n" + key + ": ");
