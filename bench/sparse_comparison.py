@@ -2,14 +2,14 @@
 """Methods 1, 2 and 3 side by side on sparse configurations (issue 22's acceptance: which method
 recovers the truth's topology on sparse, non-parallel planes, and how near the surface it lies).
 
-The configurations (29):
+The configurations (29 with the default seeds; 57 with --seeds 5-12):
   - the vessel tree with planes 4 trunk radii apart (configs/phantoms/vessel-tree-sparse.yaml);
   - the genus-2 solid of configs/phantoms/genus2-random.yaml cut by 20, 30 and 40 random planes;
   - the torus of configs/phantoms/torus-multiaxial.yaml cut by 6 and 9 random planes;
   - the sphere of configs/phantoms/sphere-multiaxial.yaml cut by 6 and 9 random planes;
-the random families with seeds 1-4 (--seeds for others). Each is rendered (`xsect phantom`), reconstructed with each
-method (`xsect run --set reconstruction.method=...`) and evaluated against the analytic truth
-(`xsect eval`). A run that fails counts as wrong and prints its exit code; a failed evaluation
+the random families with seeds 1-4 (--seeds for others). Each is rendered (`xsect phantom`),
+reconstructed with each method (`xsect run --set reconstruction.method=...`) and evaluated
+against the analytic truth (`xsect eval`). A run that fails counts as wrong and prints its exit code; a failed evaluation
 prints its exit code in place of the distance.
 
   python3 bench/sparse_comparison.py --xsect build/xsect --work /tmp/sparse [--json out.json] [--seeds 5-8]
