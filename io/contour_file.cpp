@@ -40,8 +40,8 @@ RawPlane readPlane(Tokens& tk, long p, Vec3& lo, Vec3& hi, std::set<int>& materi
   const std::string key = "plane " + std::to_string(p + 1);
   RawPlane r;
   r.line = tk.line();
-  for (int k = 0; k < 3; ++k) r.n[k] = tk.number(key + " normal");
-  r.d = tk.number(key + " offset d");
+  for (int k = 0; k < 3; ++k) r.n[k] = tk.coordinate(key + " normal");
+  r.d = tk.coordinate(key + " offset d");
   const double len = r.n.norm();
   if (len < 1e-12) throw InputError(tk.file, key + " normal", "plane normal (a, b, c) is zero", r.line);
   r.n /= len;
@@ -56,7 +56,7 @@ RawPlane readPlane(Tokens& tk, long p, Vec3& lo, Vec3& hi, std::set<int>& materi
                      r.line);
   r.pts.resize(nv);
   for (long v = 0; v < nv; ++v) {
-    for (int k = 0; k < 3; ++k) r.pts[v][k] = tk.number(key + " vertex " + std::to_string(v));
+    for (int k = 0; k < 3; ++k) r.pts[v][k] = tk.coordinate(key + " vertex " + std::to_string(v));
     lo = lo.cwiseMin(r.pts[v]);
     hi = hi.cwiseMax(r.pts[v]);
   }

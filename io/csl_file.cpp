@@ -37,15 +37,15 @@ std::vector<CuttingPlane> readCslFile(const std::string& path, std::vector<std::
     tk.integer(key + " index", 0);
     const long nv = tk.count(key + " vertex count", 0, 3);
     const long nc = tk.count(key + " component count", 0, 5);  // count, label, 3 indices
-    for (int k = 0; k < 3; ++k) r.n[k] = tk.number(key + " normal");
-    r.d = tk.number(key + " offset D");
+    for (int k = 0; k < 3; ++k) r.n[k] = tk.coordinate(key + " normal");
+    r.d = tk.coordinate(key + " offset D");
     const double len = r.n.norm();
     if (len < 1e-12) throw InputError(path, key + " normal", "plane normal (A, B, C) is zero", r.line);
     r.n /= len;
     r.d /= len;
     r.pts.resize(nv);
     for (long v = 0; v < nv; ++v) {
-      for (int k = 0; k < 3; ++k) r.pts[v][k] = tk.number(key + " vertex " + std::to_string(v));
+      for (int k = 0; k < 3; ++k) r.pts[v][k] = tk.coordinate(key + " vertex " + std::to_string(v));
       lo = lo.cwiseMin(r.pts[v]);
       hi = hi.cwiseMax(r.pts[v]);
     }

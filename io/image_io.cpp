@@ -10,8 +10,7 @@
 
 namespace xsect {
 
-std::uint64_t greyImageBytes(const std::string& path, const std::string& listing_file,
-                             const std::string& key) {
+ImageHeader greyImageHeader(const std::string& path, const std::string& listing_file, const std::string& key) {
   ImageHeader h;
   try {
     h = readImageHeader(path);
@@ -28,6 +27,12 @@ std::uint64_t greyImageBytes(const std::string& path, const std::string& listing
                      "image " + path + " has " + std::to_string(h.channels) +
                          " channels; a single-channel grey image is required");
   if (h.bits_per_sample > 16) throw InputError(listing_file, key, "image " + path + " is not 8- or 16-bit");
+  return h;
+}
+
+std::uint64_t greyImageBytes(const std::string& path, const std::string& listing_file,
+                             const std::string& key) {
+  const ImageHeader h = greyImageHeader(path, listing_file, key);
   return h.pixels() * std::uint64_t(h.bits_per_sample > 8 ? 2 : 1);
 }
 

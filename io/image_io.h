@@ -5,6 +5,8 @@
 #include <opencv2/core.hpp>
 #include <string>
 
+#include "io/image_header.h"
+
 namespace xsect {
 
 /// The most pixels one slice image may have (16384 x 16384). Checked from the file's header before
@@ -17,6 +19,11 @@ constexpr std::uint64_t kMaxImagePixels = std::uint64_t(1) << 28;
 /// depth are checked from the header, before the image is decoded.
 cv::Mat readGreyImage(const std::string& path, const std::string& listing_file,
                       const std::string& key);
+
+/// The header of the grey image at `path` (image_header.h), checked as readGreyImage checks it:
+/// InputError(listing_file, key, ...) for a file that is not a PNG or TIFF, has a corrupt header,
+/// is larger than kMaxImagePixels, has several channels or more than 16 bits.
+ImageHeader greyImageHeader(const std::string& path, const std::string& listing_file, const std::string& key);
 
 /// The bytes readGreyImage will take for the image at `path`, from its header (see
 /// image_header.h). Throws InputError(listing_file, key, ...) as readGreyImage does for a file that

@@ -20,6 +20,7 @@
 
 #include "io/file_checks.h"
 #include "io/header_text.h"
+#include "io/coordinate_limit.h"
 #include "io/input_error.h"
 
 namespace xsect {
@@ -433,6 +434,7 @@ Mat4 parseMatrix4RowMajor(const std::string& text, const std::string& file, cons
   for (int i = 0; i < 16; ++i) {
     const auto v = toNumber(t[i]);
     if (!v) throw InputError(file, field, "'" + t[i] + "' is not a finite number", line);
+    if (std::abs(*v) > kMaxCoordinate) throw InputError(file, field, coordinateRangeMessage(*v), line);
     m(i / 4, i % 4) = *v;
   }
   return m;

@@ -19,6 +19,7 @@
 #include <Eigen/LU>
 
 #include "io/file_checks.h"
+#include "io/coordinate_limit.h"
 #include "io/input_error.h"
 #include "io/meta_image.h"
 
@@ -56,6 +57,7 @@ std::vector<double> numbers(const Source& src, const std::string& field, const s
     const double x = std::strtod(s.c_str(), &end);
     if (end == s.c_str() || *end != '\0' || !std::isfinite(x))
       throw InputError(src.path, field, "'" + s + "' is not a finite number", line);
+    if (std::abs(x) > kMaxCoordinate) throw InputError(src.path, field, coordinateRangeMessage(x), line);
     v.push_back(x);
   }
   return v;

@@ -96,6 +96,10 @@ struct RunConfig {
     std::optional<double> max_angle_deg;      ///< bound of α at contour points, [0, 90)
     std::optional<int> advice_count;          ///< empty: as many as the violated cells need
   } sampling;
+  /// `run.max_seconds`: a run estimated to take longer is refused before its long stages, by
+  /// `check` as by `run` (pipeline/time_budget.h). A day by default: a guard against settings that
+  /// make the work explode, not a schedule.
+  double max_seconds = 86400;
   std::string output_dir;           ///< resolved against the configuration file
   std::vector<std::string> mesh_formats{"ply"};
   std::vector<std::string> warnings;  ///< unknown keys and similar

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "io/file_checks.h"
+#include "io/coordinate_limit.h"
 #include "io/input_error.h"
 #include "io/text_file.h"
 #include "io/yaml_fields.h"
@@ -27,8 +28,11 @@ Mat4 readPose(const YAML::Node& n, const std::string& file, const std::string& k
     const std::string rk = key + "[" + std::to_string(r) + "]";
     if (!row.IsSequence() || row.size() != 4)
       throw InputError(file, rk, "must be a row of 4 numbers", yamlLine(row));
-    for (int c = 0; c < 4; ++c)
-      m(r, c) = yamlNumber(row[c], file, rk + "[" + std::to_string(c) + "]");
+    for (int c = 0; c < 4; ++c) {
+      const std::string ck = rk + "[" + std::to_string(c) + "]";
+      m(r, c) = yamlNumber(row[c], file, ck);
+      if (std::abs(m(r, c)) > kMaxCoordinate) throw InputError(file, ck, coordinateRangeMessage(m(r, c)), yamlLine(row[c]));
+    }
   }
   const int line = yamlLine(n);
   if ((m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-9)

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "io/coordinate_limit.h"
 #include "io/input_error.h"
 
 namespace xsect {
@@ -36,6 +37,13 @@ struct Tokens {
     const double v = std::strtod(t.c_str(), &end);
     if (end == t.c_str() || *end != '\0' || !std::isfinite(v))
       throw InputError(file, what, "expected a number, got '" + t + "'", line);
+    return v;
+  }
+  /// The next token as a coordinate: a number of magnitude at most kMaxCoordinate.
+  double coordinate(const std::string& what) {
+    const double v = number(what);
+    if (std::abs(v) > kMaxCoordinate)
+      throw InputError(file, what, coordinateRangeMessage(v), items[at - 1].second);
     return v;
   }
   /// The next token as an integer >= `lo` (dimensionless); `what` names the field.

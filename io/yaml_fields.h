@@ -1,14 +1,18 @@
 // Typed, validated access to YAML fields: every failure is an InputError naming the file, the key
-// path (e.g. "slices[3].image_to_world[1][2]") and the line.
+// path (e.g. "slices[3].image_to_world[1][2]") and the line. A key given twice in a mapping is
+// an error too (io/yaml_duplicate_keys.h).
 #pragma once
 
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "geometry/core/named_choice.h"
 #include "io/input_error.h"
+#include "io/yaml_duplicate_keys.h"
 
 namespace xsect {
 
@@ -18,14 +22,26 @@ inline int yamlLine(const YAML::Node& n) {
   return n.Mark().line >= 0 ? n.Mark().line + 1 : -1;
 }
 
-inline YAML::Node loadYamlFile(const std::string& path) {
+/// A YAML document given as text (a file's contents, a --set value, a block of a phantom spec),
+/// parsed; `file` names it in errors. Syntax errors and duplicated keys are InputErrors.
+inline YAML::Node loadYamlText(const std::string& text, const std::string& file) {
+  YAML::Node root;
   try {
-    return YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw InputError(path, "", "cannot open file");
+    root = YAML::Load(text);
   } catch (const YAML::ParserException& e) {
-    throw InputError(path, "", "not valid YAML: " + e.msg, e.mark.line + 1);
+    throw InputError(file, "", "not valid YAML: " + e.msg, e.mark.line + 1);
   }
+  checkNoDuplicateKeys(text, file);
+  return root;
+}
+
+inline YAML::Node loadYamlFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "", "cannot open file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw InputError(path, "", "cannot read file");
+  return loadYamlText(text.str(), path);
 }
 
 inline double yamlNumber(const YAML::Node& n, const std::string& file, const std::string& key) {

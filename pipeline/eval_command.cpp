@@ -33,6 +33,7 @@
 #include "geometry/evaluation/plane_cut.h"
 #include "geometry/core/polygon.h"
 #include "io/input_error.h"
+#include "io/output_destination.h"
 #include "io/text_file.h"
 #include "io/mesh_io.h"
 #include "io/slices_file.h"
@@ -67,7 +68,7 @@ std::vector<CuttingPlane> loadSections(const std::string& slicesPath, double thr
   params.method = SegmentationMethod::threshold;
   params.threshold = threshold;
   progress->stage("eval: segmenting " + std::to_string(slices.size()) + " slices");
-  return sectionsFromSlices(slices, slicesPath, params, nullptr);
+  return sectionsFromSlices(slices, slicesPath, params, "command line", {}, nullptr);
 }
 
 /// Conformity of the mesh with the sections of each input slice: IoU of mesh ∩ plane with the
@@ -193,6 +194,7 @@ int evalCommand(const EvalOptions& options) {
     throw InputError("", "--voxel", "must be a finite voxel size >= 0 mm (0 = automatic)");
   if (options.truth.empty() == options.reference.empty())
     throw InputError("", "--truth/--reference", "exactly one of them is required");
+  checkOutputFile(options.json, {{options.mesh, options.truth, options.reference, options.slices}, "command line", "--json"});
   Progress progress(options.quiet);
 
   // Read every input before any long computation.

@@ -6,8 +6,21 @@
 #include "io/input_error.h"
 #include "io/slices_file.h"
 #include "pipeline/load_sections.h"
+#include "pipeline/time_budget.h"
 
 namespace xsect {
+
+namespace {
+
+/// The pixels stage 2 will read (from the images' headers, or the recording's).
+double pixelsToSegment(const std::vector<ImageHeader>& headers, const std::optional<PlusSequence>& plus) {
+  double pixels = 0;
+  for (const ImageHeader& h : headers) pixels += double(h.pixels());
+  if (plus) pixels += double(plus->frames.size()) * double(plus->header.width) * double(plus->header.height);
+  return pixels;
+}
+
+}  // namespace
 
 RunInputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress) {
   RunInputs in;
@@ -33,19 +46,31 @@ RunInputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress)
   } else {
     in.input_files.push_back(c.plus_config_path);
     in.plus = readPlusSequence(c.input_path, c.plus_config_path, c.reference_frame);
+    if (!in.plus->header.data_file.empty()) in.input_files.push_back(in.plus->header.data_file);  // .mhd + .raw
     if (const int skipped = in.plus->skipped_image + in.plus->skipped_transform; skipped > 0)
       in.warnings.push_back(std::to_string(skipped) + " of " + std::to_string(in.plus->header.frames) +
                             " frames skipped (" + std::to_string(in.plus->skipped_image) + " with an image status, " +
                             std::to_string(in.plus->skipped_transform) +
                             " with a transform status other than OK): the others are reconstructed");
   }
+  // Before any long work: the output folder may not hold the inputs or a user's files.
+  in.output_dir = o.out.empty() ? std::filesystem::path(c.output_dir) : std::filesystem::absolute(o.out).lexically_normal();
+  in.output_guard = {in.input_files, o.out.empty() ? c.path : std::string("command line"),
+                     o.out.empty() ? "output.dir" : "--out"};
+  checkOutputDestination(in.output_dir, in.output_guard);
+  // ... and the segmentation may not take longer than the run may (its cost follows the pixels
+  // and the kernels' sizes): refused here, before it starts.
+  const std::vector<ImageHeader> headers = sliceImageHeaders(slices, c.input_path);
+  TimeEstimate segment;
+  segment.segment_s = segmentSeconds(pixelsToSegment(headers, in.plus), c.segmentation);
+  checkTimeBudget(segment, 0.0, c);
   clock.end("load");
   progress.stage("segment", "frames");
   if (c.input_kind == InputKind::slices)
-    in.planes = sectionsFromSlices(slices, c.input_path, c.segmentation, &in.warnings, &in.threshold,
+    in.planes = sectionsFromSlices(slices, c.input_path, c.segmentation, c.path, headers, &in.warnings, &in.threshold,
                                    &in.labelled, progress.counter());
   else if (c.input_kind == InputKind::plus_sequence)
-    in.planes = sectionsFromPlusSequence(*in.plus, c.segmentation, &in.warnings, &in.threshold, &in.labelled,
+    in.planes = sectionsFromPlusSequence(*in.plus, c.segmentation, c.path, &in.warnings, &in.threshold, &in.labelled,
                                          progress.counter());
   in.slices = int(in.planes.size());
   clock.end("segment");

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "geometry/core/types.h"
+#include "io/output_destination.h"
 #include "io/plus_sequence.h"
 #include "io/run_config.h"
 #include "io/slices_file.h"
@@ -23,6 +24,10 @@ struct RunInputs {
   RunConfig config;
   std::vector<CuttingPlane> planes;             ///< conformed; coincident observations merged
   std::vector<std::string> input_files;         ///< hashed into the manifest
+  /// The output folder (--out, else output.dir), checked before segmentation: xsect may write it
+  /// (io/output_destination.h); `output_guard` says what it must not touch and where it was named.
+  std::filesystem::path output_dir;
+  OutputGuard output_guard;
   std::vector<std::string> warnings;
   int slices = 0;                               ///< planes read (before stage 3 merged or dropped any)
   double threshold = 0;                         ///< grey threshold applied (slices input)
@@ -35,6 +40,7 @@ struct RunInputs {
 };
 
 /// Reads options.config (with its overrides) and its input (slices.yaml and images, or a .csl),
+/// checks the output folder against the inputs (run and check refuse the same destinations),
 /// segments and conforms. Invalid input throws InputError.
 RunInputs loadInputs(const RunOptions& options, StageClock& clock, Progress& progress);
 

@@ -3,6 +3,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <atomic>
 #include <exception>
 #include <functional>
@@ -15,6 +16,7 @@
 #include "io/input_error.h"
 #include "segmentation/field_of_view.h"
 #include "segmentation/series_threshold.h"
+#include "segmentation/setting_limits.h"
 
 namespace xsect {
 
@@ -102,11 +104,48 @@ SharedFieldsOfView sharedFieldsOfView(const std::vector<SliceRecord>& slices, co
   return out;
 }
 
-Frame readFrame(const SliceRecord& slice, int i, const std::string& listing_file, const SharedFieldsOfView& all) {
+/// The grey values of a series whose frames have different bit depths (issue 48), brought to one
+/// depth so that one threshold (fixed or Otsu's) means the same grey in every frame: the depth
+/// most frames have (the first frame's on a tie) is the series'; a frame of the other depth is
+/// scaled full range to full range (8 -> 16 bits: x 257, 16 -> 8 bits: / 257, kept in floating
+/// point). Labels are identities, not greys: never scaled.
+struct SeriesDepth {
+  int bits = 8;                    ///< the series' depth: 8 or 16
+  std::vector<double> grey_scale;  ///< per slice: 1, 257 or 1/257
+  std::string warning;             ///< names the frames scaled, when any is
+};
+
+SeriesDepth seriesDepth(const std::vector<int>& bits, const SegmentationParams& params) {
+  SeriesDepth d;
+  const auto deep = [](int b) { return b > 8; };
+  const std::size_t n16 = std::size_t(std::count_if(bits.begin(), bits.end(), deep));
+  if (bits.empty()) return d;
+  d.bits = 2 * n16 > bits.size() || (2 * n16 == bits.size() && deep(bits.front())) ? 16 : 8;
+  d.grey_scale.assign(bits.size(), 1.0);
+  if (n16 == 0 || n16 == bits.size() || params.method == SegmentationMethod::labels) return d;
+  std::string names;
+  int scaled = 0;
+  for (std::size_t i = 0; i < bits.size(); ++i) {
+    if ((deep(bits[i]) ? 16 : 8) == d.bits) continue;
+    d.grey_scale[i] = d.bits == 16 ? 257.0 : 1.0 / 257.0;
+    if (scaled++ < 5) names += (names.empty() ? "" : ", ") + std::to_string(i);
+  }
+  d.warning = "the series mixes 8- and 16-bit images: " + std::to_string(scaled) + " of " +
+              std::to_string(bits.size()) + " (slice " + names + (scaled > 5 ? ", ..." : "") + ") are " +
+              (d.bits == 16 ? "8-bit" : "16-bit") + " among " + (d.bits == 16 ? "16-bit" : "8-bit") +
+              " ones; their grey values were scaled full range to full range (" +
+              (d.bits == 16 ? "x 257" : "/ 257") + ") so that segmentation.threshold (" + std::to_string(d.bits) +
+              "-bit units) and Otsu's threshold mean the same grey in every frame";
+  return d;
+}
+
+Frame readFrame(const SliceRecord& slice, int i, const std::string& listing_file, const SharedFieldsOfView& all,
+                double grey_scale) {
   const std::map<std::string, SharedFieldOfView>& shared = all.byFile;
   const std::string key = "slices[" + std::to_string(i) + "]";
   Frame f;
   f.image = readGreyImage(slice.image_resolved, listing_file, key + ".image");
+  if (grey_scale != 1.0) f.image.convertTo(f.image, CV_32F, grey_scale);
   if (slice.fov_resolved) {
     const auto it = shared.find(*slice.fov_resolved);
     if (it != shared.end() && it->second.error) std::rethrow_exception(it->second.error);
@@ -142,12 +181,12 @@ int readingsOf(const SegmentationParams& params) { return params.method == Segme
 /// failing frame (the lowest index), as a sequential reading would. `count` ticks per frame.
 template <typename Work>
 void forEachFrame(const std::vector<SliceRecord>& slices, const std::string& listing_file,
-                  const SharedFieldsOfView& shared, FrameCount& count, const Work& work) {
+                  const SharedFieldsOfView& shared, const SeriesDepth& depth, FrameCount& count, const Work& work) {
   const int n = int(slices.size());
   std::vector<std::exception_ptr> failed(static_cast<std::size_t>(n));
   tbb::parallel_for(0, n, [&](int i) {
     try {
-      work(i, readFrame(slices[std::size_t(i)], i, listing_file, shared));
+      work(i, readFrame(slices[std::size_t(i)], i, listing_file, shared, depth.grey_scale[std::size_t(i)]));
     } catch (...) {
       failed[std::size_t(i)] = std::current_exception();
     }
@@ -172,32 +211,48 @@ void shearRing(const Eigen::Matrix2d& m, Ring& ring) {
   for (Vec2& q : ring) q = m * q;
 }
 
+/// Refuses a segmentation setting the image cannot take (segmentation/setting_limits.h), naming the
+/// key in the settings' file and the frame.
+void checkSettings(const SegmentationParams& params, cv::Size size, const Vec2& spacing, double observed_pixels,
+                   const std::string& settings_file, const std::string& frame) {
+  if (const std::optional<SettingProblem> p = segmentationSettingProblem(params, size, spacing, observed_pixels))
+    throw InputError(settings_file, "segmentation." + p->key, p->what + " (" + frame + ")");
+}
+
 /// One frame segmented into its cutting plane (stage 2): the plane of its pose, the image
 /// rectangle and field of view, the sections in the plane's (u, v) mm frame. Method labels also
 /// give `labelled`, the sections of each label value; `touches` says whether a section reaches
 /// the edge of the image or field of view.
 CuttingPlane planeOfFrame(int slice, const std::string& name, const Mat4& pose, const Frame& frame,
                           const std::vector<Ring>* sharedRings, const SegmentationParams& perSlice,
-                          std::vector<Section>* labelled, char* touches) {
+                          const std::string& settings_file, std::vector<Section>* labelled, char* touches) {
   Vec2 spacing;
   CuttingPlane cp;
   cp.slice = slice;
   cp.name = name;
   cp.plane = planeOfPose(pose, &spacing);
+  const int observed = frame.fov.empty() ? int(frame.image.total()) : cv::countNonZero(frame.fov);
+  checkSettings(perSlice, frame.image.size(), spacing, double(observed), settings_file, name);
   cp.pixel_mm = std::min(spacing.x(), spacing.y());
   cp.extent.min = Vec2::Zero();
   cp.extent.max = Vec2((frame.image.cols - 1) * spacing.x(), (frame.image.rows - 1) * spacing.y());
   cp.field_of_view = sharedRings ? *sharedRings : fieldOfViewRings(frame.fov, spacing);
-  if (!frame.fov.empty() && cv::countNonZero(frame.fov) == 0) cp.extent = PlaneRect{};  // observed nowhere
+  if (observed == 0) cp.extent = PlaneRect{};  // observed nowhere
   const bool perLabel = perSlice.method == SegmentationMethod::labels && labelled;
-  if (perLabel && !perSlice.merge_labels) *labelled = segmentSlice(frame.image, frame.fov, spacing, perSlice).sections;
-  cv::Mat input = frame.image;
-  if (perSlice.method == SegmentationMethod::labels) {  // the union of the labels: the geometry reconstructed
-    input = cv::Mat(frame.image.size(), CV_8U);
-    input.setTo(0);
-    input.setTo(1, frame.image != 0);
+  SegmentedSlice seg;
+  try {
+    if (perLabel && !perSlice.merge_labels) *labelled = segmentSlice(frame.image, frame.fov, spacing, perSlice).sections;
+    cv::Mat input = frame.image;
+    if (perSlice.method == SegmentationMethod::labels) {  // the union of the labels: the geometry reconstructed
+      input = cv::Mat(frame.image.size(), CV_8U);
+      input.setTo(0);
+      input.setTo(1, frame.image != 0);
+    }
+    seg = segmentSlice(input, frame.fov, spacing, perSlice);
+  } catch (const cv::Exception& e) {  // a setting OpenCV cannot apply to this image
+    throw InputError(settings_file, "segmentation",
+                     "OpenCV cannot segment " + name + " with these settings: " + e.err);
   }
-  SegmentedSlice seg = segmentSlice(input, frame.fov, spacing, perSlice);
   cp.sections = std::move(seg.sections);
   *touches = seg.touches_fov_edge;
   const Vec3 c0 = pose.block<3, 1>(0, 0), c1 = pose.block<3, 1>(0, 1);
@@ -270,9 +325,22 @@ void touchingWarning(const std::vector<char>& touches, std::vector<std::string>*
 
 }  // namespace
 
+std::vector<ImageHeader> sliceImageHeaders(const std::vector<SliceRecord>& slices, const std::string& listing_file) {
+  std::vector<ImageHeader> headers;
+  headers.reserve(slices.size());
+  for (std::size_t i = 0; i < slices.size(); ++i) {
+    const std::string key = "slices[" + std::to_string(i) + "]";
+    headers.push_back(greyImageHeader(slices[i].image_resolved, listing_file, key + ".image"));
+    if (slices[i].fov_resolved) greyImageHeader(*slices[i].fov_resolved, listing_file, key + ".fov");
+  }
+  return headers;
+}
+
 std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& slices,
                                              const std::string& listing_file,
                                              const SegmentationParams& params,
+                                             const std::string& settings_file,
+                                             std::vector<ImageHeader> headers,
                                              std::vector<std::string>* warnings,
                                              double* thresholdUsed,
                                              std::vector<std::vector<Section>>* labelled,
@@ -280,26 +348,32 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
   const int n = int(slices.size());
   std::vector<CuttingPlane> planes(n);
   std::vector<char> touches(n, 0);
-  // Every header is read before any image is decoded (issue 15, item 3): header errors are
-  // reported before decoding errors, each for the first slice that has one. The frames are then
-  // read and segmented as a stream (issue 17): each is decoded, segmented and released by one
-  // task, so that loading holds the sections, not the series' images.
+  // Every header is read before any image is decoded (sliceImageHeaders), and the settings are
+  // checked against each image's size then (issue 48), before any work. The frames are then read
+  // and segmented as a stream (issue 17): each is decoded, segmented and released by one task, so
+  // that loading holds the sections, not the series' images.
+  if (headers.size() != slices.size()) headers = sliceImageHeaders(slices, listing_file);
+  std::vector<int> bits(static_cast<std::size_t>(n), 8);
   for (int i = 0; i < n; ++i) {
-    const std::string key = "slices[" + std::to_string(i) + "]";
-    greyImageBytes(slices[i].image_resolved, listing_file, key + ".image");
-    if (slices[i].fov_resolved) greyImageBytes(*slices[i].fov_resolved, listing_file, key + ".fov");
+    const ImageHeader& h = headers[std::size_t(i)];
+    bits[std::size_t(i)] = h.bits_per_sample;
+    const cv::Size size(int(h.width), int(h.height));
+    checkSettings(params, size, pixelSpacing(slices[i]), double(size.area()), settings_file,
+                  "slice " + std::to_string(i) + ", " + slices[i].image);
   }
+  const SeriesDepth depth = seriesDepth(bits, params);
+  if (warnings && !depth.warning.empty()) warnings->push_back(depth.warning);
   const SharedFieldsOfView shared = sharedFieldsOfView(slices, listing_file);
   FrameCount count(progress, n, readingsOf(params));
-  SegmentationParams perSlice = seriesParams(params, n > 0 ? readImageHeader(slices[0].image_resolved).bits_per_sample : 8,
+  SegmentationParams perSlice = seriesParams(params, depth.bits,
                                              [&](const std::function<void(int, const Frame&)>& each) {
-                                               forEachFrame(slices, listing_file, shared, count, each);
+                                               forEachFrame(slices, listing_file, shared, depth, count, each);
                                              },
                                              n, thresholdUsed);
   if (labelled) labelled->assign(std::size_t(n), {});
-  forEachFrame(slices, listing_file, shared, count, [&](int i, const Frame& frame) {
+  forEachFrame(slices, listing_file, shared, depth, count, [&](int i, const Frame& frame) {
     planes[std::size_t(i)] = planeOfFrame(i, slices[std::size_t(i)].image, slices[std::size_t(i)].image_to_world, frame,
-                                          shared.ringsOfSlice[std::size_t(i)], perSlice,
+                                          shared.ringsOfSlice[std::size_t(i)], perSlice, settings_file,
                                           labelled ? &(*labelled)[std::size_t(i)] : nullptr, &touches[std::size_t(i)]);
   });
   if (warnings) touchingWarning(touches, warnings);
@@ -340,12 +414,21 @@ void forEachSequenceFrame(const PlusSequence& seq, FrameCount& count,
 }  // namespace
 
 std::vector<CuttingPlane> sectionsFromPlusSequence(const PlusSequence& seq, const SegmentationParams& params,
+                                                   const std::string& settings_file,
                                                    std::vector<std::string>* warnings, double* thresholdUsed,
                                                    std::vector<std::vector<Section>>* labelled,
                                                    const std::function<void(std::int64_t, std::int64_t)>& progress) {
   const int n = int(seq.frames.size());
   std::vector<CuttingPlane> planes(static_cast<std::size_t>(n));
   std::vector<char> touches(static_cast<std::size_t>(n), 0);
+  if (n > 0) {
+    Vec2 spacing;
+    planeOfPose(seq.image_to_reference.front(), &spacing);
+    const cv::Size size(seq.header.width, seq.header.height);
+    checkSettings(params, size, spacing,
+                  seq.field_of_view.empty() ? double(size.area()) : double(cv::countNonZero(seq.field_of_view)),
+                  settings_file, "frame " + std::to_string(seq.frames.front()));
+  }
   FrameCount count(progress, n, readingsOf(params));
   const SegmentationParams perSlice = seriesParams(
       params, seq.header.pixel == MetaPixelType::uint8 ? 8 : 16,
@@ -367,7 +450,7 @@ std::vector<CuttingPlane> sectionsFromPlusSequence(const PlusSequence& seq, cons
   forEachSequenceFrame(seq, count, [&](int k, const Frame& frame) {
     planes[std::size_t(k)] =
         planeOfFrame(k, "frame " + std::to_string(seq.frames[std::size_t(k)]), seq.image_to_reference[std::size_t(k)],
-                     frame, ringsOf[std::size_t(k)], perSlice, labelled ? &(*labelled)[std::size_t(k)] : nullptr,
+                     frame, ringsOf[std::size_t(k)], perSlice, settings_file, labelled ? &(*labelled)[std::size_t(k)] : nullptr,
                      &touches[std::size_t(k)]);
   });
   if (warnings) touchingWarning(touches, warnings);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "geometry/core/types.h"
+#include "io/image_header.h"
 #include "io/plus_sequence.h"
 #include "io/slices_file.h"
 #include "segmentation/segment_slice.h"
@@ -22,7 +23,20 @@ namespace xsect {
 /// (Coincident planes with different images are not repeats: both observed the plane.)
 std::vector<SliceRecord> mergeRepeatedSlices(std::vector<SliceRecord> slices, std::vector<std::string>* warnings);
 
+/// The headers of every slice's image, in order, each checked (io/image_io.h greyImageHeader; its
+/// field of view's too): header errors are reported before any image is decoded, each for the
+/// first slice that has one (issue 15, item 3).
+std::vector<ImageHeader> sliceImageHeaders(const std::vector<SliceRecord>& slices, const std::string& listing_file);
+
 /// @param listing_file  the slices.yaml the records came from (for error messages).
+/// @param headers       sliceImageHeaders(slices, listing_file) when the caller has them; empty: read here.
+/// @param settings_file where `params` came from (the run configuration, or "command line"): a
+///                      setting an image cannot take (segmentation/setting_limits.h, or one OpenCV
+///                      refuses) is an InputError naming it there, before any frame is segmented
+///                      where the image headers tell.
+///                      A series mixing 8- and 16-bit images is brought to the depth most frames
+///                      have (the first frame's on a tie), full range to full range, with a warning:
+///                      the threshold is in that depth's grey units.
 /// @param warnings      receives "slice N touches the edge of its field of view" and the like.
 /// @param thresholdUsed receives the grey threshold applied (method otsu: one threshold for the
 ///                      whole series, Otsu's on the pooled histogram, series_threshold.h).
@@ -36,6 +50,8 @@ std::vector<SliceRecord> mergeRepeatedSlices(std::vector<SliceRecord> slices, st
 std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& slices,
                                              const std::string& listing_file,
                                              const SegmentationParams& params,
+                                             const std::string& settings_file,
+                                             std::vector<ImageHeader> headers,
                                              std::vector<std::string>* warnings,
                                              double* thresholdUsed = nullptr,
                                              std::vector<std::vector<Section>>* labelled = nullptr,
@@ -46,7 +62,8 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
 /// device set's. The frames are streamed from the sequence file (one batch held at a time);
 /// `progress` counts the kept frames as sectionsFromSlices' does.
 std::vector<CuttingPlane> sectionsFromPlusSequence(
-    const PlusSequence& seq, const SegmentationParams& params, std::vector<std::string>* warnings,
+    const PlusSequence& seq, const SegmentationParams& params, const std::string& settings_file,
+    std::vector<std::string>* warnings,
     double* thresholdUsed = nullptr, std::vector<std::vector<Section>>* labelled = nullptr,
     const std::function<void(std::int64_t, std::int64_t)>& progress = {});
 

@@ -35,6 +35,7 @@
 #include "io/truth_file.h"
 #include "io/yaml_number.h"
 #include "pipeline/commands.h"
+#include "pipeline/output_manifest.h"
 #include "pipeline/phantom_render.h"
 
 namespace xsect {
@@ -295,7 +296,7 @@ int phantomCommand(const PhantomOptions& options) {
               << " slices of " << plan.width << "x" << plan.height << " px at "
               << plan.pixel_mm << " mm\n";
 
-  StagedOutput out(options.out);
+  StagedOutput out(options.out, {{spec.path}, "command line", "--out"});
   const RenderedSeries series = renderSeries(spec, shape, plan, out, options.quiet);
   std::vector<SliceRecord> recorded, truth;
   sliceRecords(spec, plan, series, &recorded, &truth);
@@ -306,6 +307,7 @@ int phantomCommand(const PhantomOptions& options) {
   writeTruthFile(out.file("truth.yaml").string(), shape);
   writeTextFile(out.file("config.yaml").string(), configYaml(spec));
   if (spec.plus) writePlusRecording(spec, plan, series, recorded, out);
+  writeTextFile(out.file(kManifestName).string(), outputManifestText(manifestHead("phantom", {spec.path}), out.dir()));
   out.commit();
 
   const int nClipped = int(std::count(series.clipped.begin(), series.clipped.end(), 1));

@@ -83,12 +83,12 @@ ReconstructStage reconstructStage(const RunInputs& in, const SceneStage& built, 
     r.solid = reconstructOnGrid(scene, progress.counter(), c.smoothing_method != SmoothingMethod::none);
   const SampledReconstruction& rec = r.solid;
   if (rec.voxels_inside == 0 && !delaunay) {
-    // An automatic size the budget forced so coarse that nothing is left: the configuration must
-    // change (exit 2); otherwise exit 1 with the size to use (issue 14).
+    // A voxel so coarse that nothing is left: the configuration must change (exit 2, issue 48: an
+    // explicit size as an automatic one), and the message says to what.
     const VoxelSizeReport& v = built.voxel_size;
-    if (v.automatic && v.choice.limited_by == VoxelSizeLimit::voxel_budget)
-      throw InputError(c.path, "reconstruction.voxel_budget", emptySolidMessage(v, built.counts.sections));
-    throw std::runtime_error(emptySolidMessage(v, built.counts.sections));
+    const bool budget = v.automatic && v.choice.limited_by == VoxelSizeLimit::voxel_budget;
+    throw InputError(c.path, budget ? "reconstruction.voxel_budget" : "reconstruction.voxel_size_mm",
+                     emptySolidMessage(v, built.counts.sections));
   }
   r.graph_check = compareWithVoxels(a.methodEdges(), scene, a.arrangement, rec.inside);
   r.cell_check = compareCellsWithVoxels(a.methodEdges(), scene, a.arrangement, rec.inside);

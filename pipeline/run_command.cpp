@@ -35,10 +35,10 @@ int runCommand(const RunOptions& o) {
   StageClock clock;
   RunInputs in = loadInputs(o, clock, progress);
   const RunConfig& c = in.config;
-  const fs::path outDir = o.out.empty() ? fs::path(c.output_dir) : fs::absolute(o.out);
+  const fs::path& outDir = in.output_dir;
 
   progress.stage("scene");
-  const SceneStage built = sceneStage(in, o.quiet);
+  const SceneStage built = sceneStage(in, o.quiet, clock.total());
   const SectionScene& scene = built.scene;
   clock.end("scene");
 
@@ -73,7 +73,7 @@ int runCommand(const RunOptions& o) {
   clock.end("sampling");
 
   progress.stage("write");
-  writeRunOutputs({in, built, arrangement, reconstruction, smoothed, meshes, diagnosis, sampling}, o, clock, outDir);
+  writeRunOutputs({in, built, arrangement, reconstruction, smoothed, meshes, diagnosis, sampling}, o, clock);
   progress.finish();
   for (const auto& w : in.warnings) progress.note("warning: " + w);
   // The last lines (issue 21): the sampling verdict, the Betti numbers, the page to look at.
@@ -88,7 +88,6 @@ int checkCommand(const RunOptions& o) {
   Progress progress(o.quiet);
   StageClock clock;
   RunInputs in = loadInputs(o, clock, progress);
-  progress.finish();
   int sections = 0;
   for (const auto& p : in.planes) sections += int(p.sections.size());
   json r;
@@ -98,15 +97,18 @@ int checkCommand(const RunOptions& o) {
   if (in.plus) r["plus_sequence"] = plusSequenceJson(*in.plus);
   r["conformity"] = conformitySummaryJson(in.config.conformity, in.conformity);
   if (sections > 0) {
-    r["voxel_size"] = voxelSizeJson(resolveVoxelSize(in, true));
-    const ReconstructionLayout L = layoutOf(in.planes, in.config);
+    // The scene stage of `run` (its refusals: memory, time, representable sizes), then the
+    // arrangement and the sampling diagnosis, which need no solid (issue 18).
+    const SceneStage built = sceneStage(in, true, clock.total());
+    const ReconstructionLayout& L = built.scene.layout;
+    const RunConfig& c = in.config;
+    r["voxel_size"] = voxelSizeJson(built.voxel_size);
     r["sections_bounds_mm"] = {vecJson(L.sections_min), vecJson(L.sections_max)};
     r["end_margin_mm"] = L.end_margin_mm;
     r["grid_dims"] = L.grid.dims;
     r["estimated_voxels"] = L.grid.count();
     // What the run will keep (issue 17): the solid by blocks, measured on a coarse trial.
-    const SolidMemoryEstimate e = estimateSolidMemory(in.planes, reconstructionParams(in.config),
-                                                      denseBytesPerVoxel(in.config));
+    const SolidMemoryEstimate e = estimateSolidMemory(in.planes, reconstructionParams(c), denseBytesPerVoxel(c));
     r["estimated_memory_mb"] = e.total() / 1e6;
     r["estimated_memory"] = {{"blocks", e.blocks},
                              {"boundary_blocks", e.boundary_blocks},
@@ -116,18 +118,19 @@ int checkCommand(const RunOptions& o) {
                              {"solid_mb", (e.table_bytes + e.leaf_bytes) / 1e6},
                              {"mesh_mb", e.mesh_bytes / 1e6},
                              {"whole_volume_mb", e.dense_bytes / 1e6}};
-    // The sampling diagnosis needs the scene and the arrangement, not the solid (issue 18).
-    SectionScene scene;
-    try {
-      scene = sectionScene(in.planes, reconstructionParams(in.config));
-    } catch (const std::invalid_argument& e) {
-      throw InputError(in.config.path, "reconstruction", e.what());
-    }
-    const ArrangeStage arrangement = arrangeStage(in.config, scene);
-    r["sampling"] = samplingSummaryJson(samplingStage(in.config, scene, arrangement, false));
+    const TimeEstimate& t = built.time_estimate;
+    r["estimated_seconds"] = clock.total() + t.total();
+    r["estimated_time_s"] = {{"spent", clock.total()},
+                             {"scene", t.scene_s},
+                             {"arrange_and_diagnose", t.arrange_s},
+                             {"reconstruct", t.reconstruct_s},
+                             {"max_seconds", c.max_seconds}};
+    const ArrangeStage arrangement = arrangeStage(c, built.scene);
+    r["sampling"] = samplingSummaryJson(samplingStage(c, built.scene, arrangement, false));
   } else {
     in.warnings.push_back("no section found in any slice");
   }
+  progress.finish();
   r["warnings"] = in.warnings;
   std::cout << r.dump(2) << "\n";
   return 0;

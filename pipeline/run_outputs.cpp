@@ -20,6 +20,7 @@
 #include "io/staged_output.h"
 #include "io/text_file.h"
 #include "pipeline/library_versions.h"
+#include "pipeline/output_manifest.h"
 #include "pipeline/report_page/run_report_page.h"
 
 namespace xsect {
@@ -44,23 +45,16 @@ void forEachEdge(const RunResults& r, const Visit& visit) {
   if (a.with_g_double_prime) visitAll(a.graphs.g_double_prime, "delaunay", "style=bold");
 }
 
-json manifestJson(const RunInputs& in, const RunOptions& o, const fs::path& dir) {
+std::string manifestText(const RunInputs& in, const RunOptions& o, const fs::path& dir) {
   const RunConfig& c = in.config;
-  json manifest;
+  json manifest = manifestHead("run", in.input_files);
   manifest["config_path"] = c.path;
   manifest["config_resolved"] = c.resolved_yaml;
   manifest["config_sha256"] = sha256Hex(c.resolved_yaml);
   manifest["overrides"] = o.overrides;
-  json files = json::array();
-  for (const auto& f : in.input_files) files.push_back({{"path", f}, {"sha256", sha256File(f)}});
-  manifest["inputs"] = files;
   manifest["libraries"] = libraryVersions();
   manifest["threads"] = tbb::this_task_arena::max_concurrency();
-  json outputs = json::array();
-  for (const auto& e : fs::directory_iterator(dir)) outputs.push_back(e.path().filename().string());
-  std::sort(outputs.begin(), outputs.end());
-  manifest["outputs"] = outputs;
-  return manifest;
+  return outputManifestText(std::move(manifest), dir);
 }
 
 }  // namespace
@@ -128,9 +122,10 @@ std::string graphDot(const RunResults& r) {
   return dot;
 }
 
-void writeRunOutputs(const RunResults& r, const RunOptions& o, const StageClock& clock, const fs::path& outDir) {
+void writeRunOutputs(const RunResults& r, const RunOptions& o, const StageClock& clock) {
   const RunConfig& c = r.inputs.config;
-  StagedOutput out(outDir);
+  const fs::path& outDir = r.inputs.output_dir;
+  StagedOutput out(outDir, r.inputs.output_guard);
   // Independent groups of files written at once (each file's bytes depend on the results
   // only); the manifest, which lists the folder, last.
   const auto meshes = [&] {
@@ -192,7 +187,7 @@ void writeRunOutputs(const RunResults& r, const RunOptions& o, const StageClock&
     writeTextFile(out.file("report.html").string(), reportPageHtml(runReportPage(r, report, conformity, graph)));
   };
   tbb::parallel_invoke(meshes, volumes, graphJson, graphDotFile, documents);
-  writeTextFile(out.file("manifest.json").string(), manifestJson(r.inputs, o, out.dir()).dump(2) + "\n");
+  writeTextFile(out.file(kManifestName).string(), manifestText(r.inputs, o, out.dir()));
   out.commit();
 }
 

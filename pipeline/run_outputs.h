@@ -47,8 +47,8 @@ std::string graphDot(const RunResults& r);
 /// report.json (pipeline/run_report.cpp).
 nlohmann::ordered_json reportJson(const RunResults& r, const StageClock& clock);
 
-/// Writes every output into `outDir` (replacing an older folder there).
-void writeRunOutputs(const RunResults& r, const RunOptions& options, const StageClock& clock,
-                     const std::filesystem::path& outDir);
+/// Writes every output into r.inputs.output_dir (replacing an older output folder of xsect there,
+/// never anything else: io/staged_output.h).
+void writeRunOutputs(const RunResults& r, const RunOptions& options, const StageClock& clock);
 
 }  // namespace xsect

@@ -97,14 +97,24 @@ nlohmann::ordered_json voxelSizeJson(const VoxelSizeReport& r) {
           {"sections_narrower_than_two_voxels", r.sections_narrower_than_two_voxels}};
 }
 
-SceneStage sceneStage(RunInputs& in, bool quiet) {
+SceneStage sceneStage(RunInputs& in, bool quiet, double elapsed_s) {
   SceneStage s;
   const RunConfig& c = in.config;
   s.counts = countSections(in.planes);
   if (s.counts.sections == 0)
     throw InputError(c.input_path, "", "no section found in any slice (check segmentation settings)");
   s.voxel_size = resolveVoxelSize(in, quiet);
-  checkMemory(c, in.planes, layoutOf(in.planes, c));
+  const ReconstructionLayout layout = layoutOf(in.planes, c);
+  checkMemory(c, in.planes, layout);
+  // The voxels the reconstruction evaluates: the grid's, or on a large grid the blocks the trial
+  // of the memory estimate finds filled (the others are decided per block).
+  double voxels = double(layout.grid.count());
+  if (voxels > 1e8) {
+    const SolidMemoryEstimate m = estimateSolidMemory(in.planes, reconstructionParams(c), denseBytesPerVoxel(c));
+    voxels = double(m.blocks) + 512.0 * double(m.boundary_blocks + m.solid_blocks + m.plane_blocks);
+  }
+  s.time_estimate = sceneOnwardSeconds(in.planes, c.voxel_size_mm, voxels, c);
+  checkTimeBudget(s.time_estimate, elapsed_s, c);
   try {
     s.scene = sectionScene(in.planes, reconstructionParams(c));
   } catch (const std::invalid_argument& e) {

@@ -11,6 +11,7 @@
 #include "geometry/scene/section_scene.h"
 #include "geometry/reconstruction/solid_memory.h"
 #include "pipeline/input_stage.h"
+#include "pipeline/time_budget.h"
 #include "pipeline/voxel_size_choice.h"
 
 namespace xsect {
@@ -23,13 +24,16 @@ struct SectionCounts {
 struct SceneStage {
   SectionCounts counts;
   VoxelSizeReport voxel_size;
+  TimeEstimate time_estimate;  ///< the stages from the scene on (pipeline/time_budget.h)
   SectionScene scene;
 };
 
 /// Reads the stage-3 planes; resolves in.config.voxel_size_mm and appends the scene's warnings
 /// (the end planes; a single plane holding sections) to in.warnings. Throws InputError when no
-/// plane holds a section or the grid would not fit in memory.
-SceneStage sceneStage(RunInputs& in, bool quiet);
+/// plane holds a section, the grid would not fit in memory, or the run would take longer than
+/// run.max_seconds with the `elapsed_s` already spent. `xsect check` and `xsect run` both build
+/// their scene here, so that they refuse the same configurations.
+SceneStage sceneStage(RunInputs& in, bool quiet, double elapsed_s);
 
 /// The voxel size for the run (auto resolved; a too coarse explicit size is a warning printed even
 /// with --quiet), as `xsect check` also reports it.

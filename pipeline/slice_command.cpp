@@ -19,6 +19,7 @@
 #include "io/staged_output.h"
 #include "io/text_file.h"
 #include "pipeline/commands.h"
+#include "pipeline/output_manifest.h"
 #include "pipeline/progress.h"
 
 namespace xsect {
@@ -48,6 +49,10 @@ std::vector<NamedPlane> planesOf(const std::string& path) {
 
 int sliceCommand(const SliceOptions& o) {
   Progress progress(o.quiet);
+  std::vector<std::string> inputs{o.mesh};
+  inputs.insert(inputs.end(), o.planes.begin(), o.planes.end());
+  const OutputGuard guard{inputs, "command line", "--out"};
+  checkOutputDestination(o.out, guard);  // before the work: the folder may not hold the inputs
   progress.stage("read");
   const TriangleMesh mesh = readMesh(o.mesh);
   if (mesh.triangles.empty()) throw InputError(o.mesh, "mesh", "holds no triangle");
@@ -79,11 +84,12 @@ int sliceCommand(const SliceOptions& o) {
   }
 
   progress.stage("write");
-  StagedOutput out(o.out);
+  StagedOutput out(o.out, guard);
   writeCslFile(out.file("input.csl").string(), planes);
   writeTextFile(out.file("config.yaml").string(),
                 "# Made by `xsect slice` from " + o.mesh + " (" + std::to_string(planes.size()) +
                     " planes).\ninput:\n  csl: input.csl\n");
+  writeTextFile(out.file(kManifestName).string(), outputManifestText(manifestHead("slice", inputs), out.dir()));
   out.commit();
   progress.finish();
   return 0;

@@ -48,6 +48,15 @@ void checkRepresentable(const RunConfig& c, const std::vector<CuttingPlane>& pla
                          mm(twoSignificantDigits(16 * far * std::ldexp(1.0, -23), true)) + " mm");
 }
 
+/// A voxel many times wider than the sections is rarely a choice: a configuration written for
+/// millimetres run on poses in metres (issue 48). Empty when the ratio is unremarkable.
+std::string unitsHint(double voxel_mm, double median_width_mm) {
+  if (!(median_width_mm > 0) || voxel_mm < 20 * median_width_mm) return "";
+  return " (a voxel " + mm(twoSignificantDigits(voxel_mm / median_width_mm)) +
+         " times the sections' median width: are the poses in other units than the configuration, e.g. metres "
+         "against millimetres? auto sizes the voxel from the data in any units)";
+}
+
 }  // namespace
 
 ReconstructionParams reconstructionParams(const RunConfig& c) {
@@ -110,6 +119,7 @@ VoxelSizeReport chooseVoxelSize(RunConfig& c, const std::vector<CuttingPlane>& p
                          voxels);
   }
   r.warning = "reconstruction.voxel_size_mm = " + mm(r.voxel_mm) + " mm is too coarse for these sections: " + what +
+              unitsHint(r.voxel_mm, r.median_section_width_mm) +
               "; the result may lose thin parts or be empty. Use reconstruction.voxel_size_mm: " +
               mm(r.suggested_voxel_mm) + " (a quarter of the median width) or auto";
   return r;
@@ -118,7 +128,7 @@ VoxelSizeReport chooseVoxelSize(RunConfig& c, const std::vector<CuttingPlane>& p
 std::string emptySolidMessage(const VoxelSizeReport& r, int sections) {
   return "the reconstructed solid is empty although the input has " + std::to_string(sections) +
          " sections: no voxel centre of the " + mm(r.voxel_mm) + " mm grid lies in it (median section width " +
-         mm(r.median_section_width_mm) + " mm); " +
+         mm(r.median_section_width_mm) + " mm)" + unitsHint(r.voxel_mm, r.median_section_width_mm) + "; " +
          (r.automatic && r.choice.limited_by == VoxelSizeLimit::voxel_budget ? "the voxel budget forced the automatic size up: set reconstruction.voxel_size_mm: " +
                             mm(r.suggested_voxel_mm) + " and raise reconstruction.voxel_budget"
                       : "use a smaller reconstruction.voxel_size_mm, e.g. " + mm(r.suggested_voxel_mm) + ", or auto");

@@ -5,7 +5,9 @@
 #     starting from the seed corpora in tests/fuzz/corpus/, two readers at a time; prints the
 #     executions per reader;
 #  2. the geometric fuzzer (tests/geometric_fuzz.h): random degenerate plane sets and sections
-#     through `xsect run`, chunks of 50 configurations, two at a time.
+#     through `xsect run`, and the configuration fuzzer (tests/test_configuration_fuzz.cpp: random
+#     settings, poses, bit depths and destinations), chunks of 50 configurations, one of each at
+#     a time.
 # A crash, hang (10 s per input), leak or sanitizer report fails the script; its input is left in
 # build-fuzz/artifacts/: add it to tests/fuzz/corpus/<reader>/ as crash-<what>, where ctest replays it.
 # Usage:
@@ -80,9 +82,12 @@ if [ "$mode" = explore ]; then
   while [ "$(date +%s)" -lt "$end" ]; do
     pids=()
     for lane in 0 1; do
-      # Each run has its own two-minute limit (tests/cli.h); a chunk of 50 gets 50 of them at most.
-      XSECT_FUZZ_SEED=$(( seed + (chunks + lane) * 50 )) XSECT_FUZZ_CONFIGS=50 \
-        timeout 6000 "$build/xsect_tests" --gtest_filter='Shards/GeometricFuzz.*/0' \
+      # Lane 0 the geometric fuzzer, lane 1 the configuration fuzzer (issue 48). Each run has its
+      # own limit (two minutes, one); a chunk of 50 gets 50 of them at most.
+      XSECT_FUZZ_SEED=$(( seed + chunks * 50 )) XSECT_FUZZ_CONFIGS=50 \
+      XSECT_CONFIG_FUZZ_SEED=$(( seed + chunks * 50 )) XSECT_CONFIG_FUZZ_CONFIGS=50 \
+        timeout 6000 "$build/xsect_tests" \
+        --gtest_filter="$([ $lane = 0 ] && echo 'Shards/GeometricFuzz.*/0' || echo 'Shards/ConfigurationFuzz.*/0')" \
         > "$fuzzbuild/logs/geometric-lane$lane.log" 2>&1 &
       pids+=($!)
     done
@@ -94,7 +99,7 @@ if [ "$mode" = explore ]; then
     done
     chunks=$((chunks + 2))
   done
-  echo "geometric fuzz: $((chunks * 50)) configurations from seed $seed, $failed_chunks failing chunks"
+  echo "geometric and configuration fuzz: $((chunks * 50)) configurations from seed $seed, $failed_chunks failing chunks"
   failed=$((failed + failed_chunks))
 fi
 [ "$failed" -eq 0 ]

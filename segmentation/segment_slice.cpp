@@ -16,6 +16,7 @@
 #include "geometry/core/disjoint_sets.h"
 #include "geometry/core/polygon.h"
 #include "segmentation/iso_contours.h"
+#include "segmentation/series_threshold.h"
 
 namespace xsect {
 
@@ -239,7 +240,7 @@ SegmentedSlice segmentSlice(const cv::Mat& image, const cv::Mat& fov, const Vec2
                                        cv::BORDER_REPLICATE);
   double t = p.threshold;
   if (p.method == SegmentationMethod::otsu) {
-    const double scale = image.depth() == CV_16U ? 1.0 / 256.0 : 1.0;
+    const double scale = seriesGreyScale(image.depth() == CV_16U ? 16 : 8);
     cv::Mat f8;
     f.convertTo(f8, CV_8U, scale);
     t = cv::threshold(f8, f8, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU) / scale;

@@ -7,7 +7,9 @@
 
 namespace xsect {
 
-double seriesGreyScale(int bits_per_sample) { return bits_per_sample > 8 ? 1.0 / 256.0 : 1.0; }
+// 16 bits onto 8 full range to full range (65535 / 257 = 255): the same picture stored at either
+// depth (v16 = 257 v8) has the same histogram, hence the same threshold (issue 48).
+double seriesGreyScale(int bits_per_sample) { return bits_per_sample > 8 ? 1.0 / 257.0 : 1.0; }
 
 GreyHistogram observedHistogram(const cv::Mat& image, const cv::Mat& fov, double sigma_px, double scale) {
   GreyHistogram h{};

@@ -20,10 +20,10 @@ using GreyHistogram = std::array<std::int64_t, 256>;
 /// @param image     8- or 16-bit single-channel image.
 /// @param fov       empty, or a CV_8U mask of the same size (non-zero = observed).
 /// @param sigma_px  Gaussian smoothing applied before the histogram, pixels (0 = none).
-/// @param scale     grey value -> 8 bits: 1 for an 8-bit series, 1/256 for a 16-bit one.
+/// @param scale     grey value -> 8 bits: 1 for an 8-bit series, 1/257 for a 16-bit one.
 GreyHistogram observedHistogram(const cv::Mat& image, const cv::Mat& fov, double sigma_px, double scale);
 
-/// The scale of a series whose first image has `bits_per_sample` (up to 8 bits: 1; 16: 1/256).
+/// The scale of a series of `bits_per_sample` (up to 8 bits: 1; 16: 1/257, full range to full range).
 double seriesGreyScale(int bits_per_sample);
 
 /// Otsu's threshold of a histogram in its 8-bit units: the bin t maximising the between-class

@@ -49,7 +49,7 @@ inline nlohmann::json run(const std::filesystem::path& dir, const std::string& o
 inline std::vector<CuttingPlane> sectionsOf(const std::filesystem::path& config) {
   const RunConfig c = readRunConfig(config.string());
   std::vector<std::string> warnings;
-  return sectionsFromSlices(readSlicesFile(c.input_path, &warnings), c.input_path, c.segmentation, &warnings);
+  return sectionsFromSlices(readSlicesFile(c.input_path, &warnings), c.input_path, c.segmentation, c.path, {}, &warnings);
 }
 
 /// `xsect run` of the phantom in dir with `--set <bad>` must exit 2, name the key, and write nothing.

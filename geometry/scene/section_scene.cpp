@@ -49,6 +49,15 @@ ReconstructionLayout reconstructionLayout(const std::vector<CuttingPlane>& plane
   return L;
 }
 
+double rasterStep(double pixel_mm, double voxel_mm) {
+  // The pixel's scale where it is within a few voxels, never finer than an eighth of a voxel:
+  // each contour edge fills the nodes within the band, (2 band / step)^2 of them, so a node
+  // spacing set by the pixel alone made the cost grow with (voxel / pixel)^2 (issue 48: poses in
+  // metres with a voxel of 0.4 took hours here). At h/8 the bilinear reading is exact to well
+  // under a voxel, which is what the grid can hold.
+  return pixel_mm > 0 ? std::min(0.5 * voxel_mm, std::max(pixel_mm, voxel_mm / 8)) : 0.5 * voxel_mm;
+}
+
 SectionScene sectionScene(const std::vector<CuttingPlane>& realPlanes, const ReconstructionParams& params) {
   SectionScene s;
   s.params = params;
@@ -64,7 +73,7 @@ SectionScene sectionScene(const std::vector<CuttingPlane>& realPlanes, const Rec
   s.fields.resize(s.planes.size());
   tbb::parallel_for(std::size_t(0), s.planes.size(), [&](std::size_t i) {
     const CuttingPlane& P = s.planes[i];
-    const double step = P.pixel_mm > 0 ? std::min(P.pixel_mm, 0.5 * h) : 0.5 * h;
+    const double step = rasterStep(P.pixel_mm, h);
     s.fields[i] = sectionDistanceField(P.sections, step, std::max(band, 3 * step));
   });
   markSectionsClearOfEdges(s.pieces, s.fields);

@@ -72,8 +72,13 @@ struct SectionScene {
   double slab_mm() const { return params.slab_voxels * params.voxel_mm; }
 };
 
+/// The node spacing of a plane's f_P raster, mm: its pixel (`pixel_mm`, 0 when unknown) clamped to
+/// [voxel/8, voxel/2], so that the raster's cost per contour edge is bounded whatever the ratio.
+double rasterStep(double pixel_mm, double voxel_mm);
+
 /// Builds the scene of the real planes (copied in): the layout, the end planes, every plane's
-/// f_P raster (node spacing the finer of the plane's pixel and half a voxel; exact within the
+/// f_P raster (node spacing the plane's pixel clamped to [an eighth of a voxel, half a voxel], so
+/// that its cost per contour edge is bounded whatever the ratio of voxel to pixel; exact within the
 /// larger of band_voxels voxels and 3 nodes of a contour). Parallel over planes; deterministic.
 /// Throws std::invalid_argument as reconstructionLayout.
 SectionScene sectionScene(const std::vector<CuttingPlane>& realPlanes, const ReconstructionParams& params);

@@ -1,0 +1,48 @@
+// Segmentation settings an image can take (see setting_limits.h).
+#include "segmentation/setting_limits.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace xsect {
+
+namespace {
+
+std::string number(double v) {
+  std::ostringstream s;
+  s.precision(3);
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+std::optional<SettingProblem> segmentationSettingProblem(const SegmentationParams& p, cv::Size size,
+                                                         const Vec2& spacing, double observed_pixels) {
+  const int larger = std::max(size.width, size.height), smaller = std::min(size.width, size.height);
+  const std::string image = std::to_string(size.width) + " x " + std::to_string(size.height) + " pixels";
+  if (4 * p.sigma_px > larger)
+    return SettingProblem{"sigma_px", "a Gaussian of " + number(p.sigma_px) + " pixels reaches " +
+                                          number(4 * p.sigma_px) + " pixels on each side, beyond the image (" + image +
+                                          "): it would blur every section away; use at most " +
+                                          number(std::floor(larger / 4.0)) + " (a few pixels is typical)"};
+  const int largestRadius = (smaller - 1) / 2;
+  for (const auto& [key, r] : {std::pair{"open_radius_px", p.open_radius_px}, std::pair{"close_radius_px", p.close_radius_px}})
+    if (r > largestRadius)
+      return SettingProblem{key, "a disk of radius " + std::to_string(r) + " pixels does not fit in the image (" +
+                                     image + "): " +
+                                     (std::string(key) == "open_radius_px" ? "the opening would remove every section"
+                                                                           : "the closing would fill the image") +
+                                     "; use at most " + std::to_string(largestRadius) + " (a few pixels is typical)"};
+  const double observed_mm2 = observed_pixels * spacing.x() * spacing.y();
+  if (p.min_area_mm2 > 0 && observed_pixels > 0 && p.min_area_mm2 >= observed_mm2)  // (a frame observed nowhere holds nothing to remove)
+    return SettingProblem{"min_area_mm2", "a minimum area of " + number(p.min_area_mm2) +
+                                              " mm² is at or above the image's observed area (" + number(observed_mm2) +
+                                              " mm²): every section would be removed and the background filled as a "
+                                              "hole; use a value below the smallest part to keep, e.g. " +
+                                              number(observed_mm2 / 1000)};
+  return std::nullopt;
+}
+
+}  // namespace xsect
