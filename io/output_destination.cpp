@@ -66,17 +66,23 @@ bool manifestOutputs(const fs::path& manifest, std::set<std::string>* outputs) {
 }
 
 /// isXsectOutputFolder, with a depth bound on nested output folders (a run's `out` inside the
-/// phantom folder it read).
+/// phantom folder it read). Every entry at any depth (relative path, '/'-separated) must be
+/// listed, or lie in a nested output folder of xsect.
 bool xsectFolder(const fs::path& folder, int depth, std::vector<std::string>* foreign) {
   std::set<std::string> listed;
   std::error_code ec;
   if (!fs::is_directory(folder, ec) || !manifestOutputs(folder / kManifestName, &listed)) return false;
-  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string name = it->path().filename().string();
+  fs::recursive_directory_iterator it(folder, ec), end;
+  for (; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().lexically_relative(folder).generic_string();
     if (name == kManifestName || listed.count(name)) continue;
-    if (depth > 0 && !it->is_symlink(ec) && xsectFolder(it->path(), depth - 1, nullptr)) continue;
+    if (depth > 0 && it->is_directory(ec) && !it->is_symlink(ec) && xsectFolder(it->path(), depth - 1, nullptr)) {
+      it.disable_recursion_pending();
+      continue;
+    }
     if (!foreign) return false;
     foreign->push_back(name);
+    if (it->is_directory(ec)) it.disable_recursion_pending();
   }
   if (ec) return false;
   return !foreign || foreign->empty();
@@ -171,7 +177,7 @@ void checkOutputFile(const fs::path& file, const OutputGuard& guard) {
   const fs::path given = plain(file), dest = resolved(file);
   std::error_code ec;
   if (fs::is_directory(dest, ec))
-    refuse(guard, given, "is a folder", "name the file to write, e.g. " + (given / "eval.json").string());
+    refuse(guard, given, "is a folder", "name the file to write, e.g. " + given.string() + ".json");
   for (const std::string& input : guard.inputs)
     if (!input.empty() && resolved(input) == dest)
       refuse(guard, given, "is one of the inputs", "name another file, e.g. " + given.string() + ".eval.json");
@@ -197,7 +203,16 @@ void removeStaleStaging(const fs::path& destination) {
       if (!processAlive(std::atol(pid.c_str()))) stale.push_back(it->path());
     }
   }
-  for (const fs::path& p : stale) fs::remove_all(p, ec);
+  // A run killed between its two renames (the old folder moved aside, the new one not yet in
+  // place) leaves the destination absent: the previous output is put back, not removed.
+  for (const fs::path& p : stale) {
+    if (!fs::exists(dest, ec) && p.filename().string().compare(0, name.size() + 6, "." + name + ".old-") == 0 &&
+        isXsectOutputFolder(p)) {
+      fs::rename(p, dest, ec);
+      if (!ec) continue;
+    }
+    fs::remove_all(p, ec);
+  }
 }
 
 }  // namespace xsect

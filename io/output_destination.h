@@ -1,8 +1,8 @@
 // Where an output folder of xsect may go (issue 48: never destroy a user's files). A destination
 // is replaced only when it is absent, an empty folder, or a folder xsect wrote: one whose
 // manifest.json says so (`"written_by": "xsect"`, or the manifests of earlier versions, which list
-// their `outputs` beside the `libraries` they were built with) and which holds nothing the manifest
-// does not list. Whatever the folder holds, it is refused when it is the current folder or one of
+// their `outputs` beside the `libraries` they were built with) and which holds nothing, at any
+// depth, that the manifest does not list (or that is not itself an output folder of xsect). Whatever the folder holds, it is refused when it is the current folder or one of
 // its ancestors, when it holds one of the command's inputs (the input's own folder, an ancestor of
 // it), and when it is a file. A refusal is an InputError naming the key the destination came
 // from (`--out`, `output.dir`) and what to do.
@@ -37,9 +37,11 @@ void checkOutputFile(const std::filesystem::path& file, const OutputGuard& guard
 bool isXsectOutputFolder(const std::filesystem::path& folder);
 
 /// Removes the staging folders (`.NAME.partial-HOST-PID`, `.NAME.old-HOST-PID`, and the
-/// `.NAME.partial-PID` of earlier versions) that runs of this host left beside `destination` when
-/// they were killed: those whose process no longer exists. Folders of live processes and of other
-/// hosts (a shared file system) are left alone. Never throws.
+/// `.NAME.partial-PID` of earlier versions, taken as this host's) that runs of this host left
+/// beside `destination` when they were killed: those whose process no longer exists. Folders of
+/// live processes and of other hosts (a shared file system) are left alone. When the destination
+/// is absent, an `.old-` folder (the previous output, moved aside by a run killed before it put its
+/// own in place) is renamed back instead. Never throws.
 void removeStaleStaging(const std::filesystem::path& destination);
 
 /// The suffix `HOST-PID` of this process' staging folders.

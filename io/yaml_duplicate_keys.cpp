@@ -25,7 +25,8 @@ class KeyRecorder : public YAML::EventHandler {
   void OnDocumentStart(const YAML::Mark&) override { stack_.clear(); }
   void OnDocumentEnd() override {}
   void OnNull(const YAML::Mark& m, YAML::anchor_t) override { scalar(m, "~"); }
-  void OnAlias(const YAML::Mark& m, YAML::anchor_t) override { scalar(m, "*alias"); }
+  // An alias as a key names another node's value, unknown here: not compared (a complex key).
+  void OnAlias(const YAML::Mark& m, YAML::anchor_t) override { node(m); }
   void OnScalar(const YAML::Mark& m, const std::string&, YAML::anchor_t, const std::string& value) override {
     scalar(m, value);
   }
@@ -75,6 +76,15 @@ class KeyRecorder : public YAML::EventHandler {
       }
       l.key = value;
       l.complex_key = false;
+    }
+    done();
+  }
+
+  /// A node whose text is not a key to compare (an alias).
+  void node(const YAML::Mark&) {
+    if (!stack_.empty() && stack_.back().map && stack_.back().expect_key) {
+      stack_.back().key = "?";
+      stack_.back().complex_key = false;
     }
     done();
   }

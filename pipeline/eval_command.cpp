@@ -194,7 +194,15 @@ int evalCommand(const EvalOptions& options) {
     throw InputError("", "--voxel", "must be a finite voxel size >= 0 mm (0 = automatic)");
   if (options.truth.empty() == options.reference.empty())
     throw InputError("", "--truth/--reference", "exactly one of them is required");
-  checkOutputFile(options.json, {{options.mesh, options.truth, options.reference, options.slices}, "command line", "--json"});
+  // What eval reads may not be what it writes: the mesh, the truth or reference, and with --slices
+  // the listing, its images and their fields of view.
+  std::vector<std::string> inputs{options.mesh, options.truth, options.reference, options.slices};
+  if (!options.slices.empty())
+    for (const SliceRecord& s : readSlicesFile(options.slices)) {
+      inputs.push_back(s.image_resolved);
+      if (s.fov_resolved) inputs.push_back(*s.fov_resolved);
+    }
+  checkOutputFile(options.json, {inputs, "command line", "--json"});
   Progress progress(options.quiet);
 
   // Read every input before any long computation.

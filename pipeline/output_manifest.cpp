@@ -23,7 +23,8 @@ nlohmann::ordered_json manifestHead(const std::string& command, const std::vecto
 
 std::string outputManifestText(nlohmann::ordered_json manifest, const fs::path& folder) {
   std::vector<std::string> names{kManifestName};
-  for (const auto& e : fs::directory_iterator(folder)) names.push_back(e.path().filename().string());
+  for (const auto& e : fs::recursive_directory_iterator(folder))
+    names.push_back(e.path().lexically_relative(folder).generic_string());
   std::sort(names.begin(), names.end());
   names.erase(std::unique(names.begin(), names.end()), names.end());
   manifest["outputs"] = names;

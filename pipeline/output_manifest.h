@@ -14,8 +14,9 @@ namespace xsect {
 /// every manifest; the command adds its own keys, then outputManifestText() lists the folder.
 nlohmann::ordered_json manifestHead(const std::string& command, const std::vector<std::string>& inputs);
 
-/// The manifest as written: `manifest` with "outputs", the sorted entries of `folder` (the staging
-/// folder, written before the manifest), and manifest.json itself.
+/// The manifest as written: `manifest` with "outputs", the sorted entries of `folder` at every depth
+/// (relative paths, '/'-separated: "images/000.png"; the staging folder, written before the
+/// manifest), and manifest.json itself.
 std::string outputManifestText(nlohmann::ordered_json manifest, const std::filesystem::path& folder);
 
 }  // namespace xsect

@@ -5,6 +5,7 @@
 #include "pipeline/time_budget.h"
 
 #include <algorithm>
+#include <random>
 #include <cmath>
 #include <sstream>
 
@@ -39,40 +40,52 @@ std::string seconds(double s) {
   return o.str();
 }
 
-/// Pairs of planes whose common line crosses the box [lo, hi] (a sample of at most 4 million pairs,
-/// every k-th, scaled up, beyond 2 million pairs).
+/// Whether the common line of planes p and q crosses the box of centre `centre` and half-sides
+/// `half` (parallel planes: no).
+bool lineMeetsBox(const Plane& p, const Plane& q, const Vec3& centre, const Vec3& half) {
+  const Vec3 d = p.normal.cross(q.normal);
+  const double d2 = d.squaredNorm();
+  if (d2 < 1e-12) return false;
+  // The point of the line nearest the box's centre, then the line clipped by the box's slabs.
+  const double hp = p.normal.dot(p.origin - centre), hq = q.normal.dot(q.origin - centre);
+  const Vec3 x = (hp * q.normal.cross(d) + hq * d.cross(p.normal)) / d2;
+  double t0 = -1e300, t1 = 1e300;
+  for (int i = 0; i < 3; ++i) {
+    if (std::abs(d[i]) < 1e-15) {
+      if (std::abs(x[i]) > half[i]) return false;
+      continue;
+    }
+    double s0 = (-half[i] - x[i]) / d[i], s1 = (half[i] - x[i]) / d[i];
+    if (s0 > s1) std::swap(s0, s1);
+    t0 = std::max(t0, s0), t1 = std::min(t1, s1);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+/// Pairs of planes whose common line crosses the box [lo, hi]: all pairs up to 4 million, beyond
+/// that a sample of 4 million drawn with a fixed seed (deterministic), scaled up.
 double pairsMeetingInBox(const std::vector<CuttingPlane>& planes, const Vec3& lo, const Vec3& hi) {
   const std::size_t n = planes.size();
   const double all = double(n) * double(n - (n > 0)) / 2;
-  const std::size_t stride = all > 4e6 ? std::size_t(std::ceil(all / 4e6)) : 1;
   const Vec3 centre = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
-  std::size_t tested = 0, meeting = 0, k = 0;
-  for (std::size_t a = 0; a < n; ++a)
-    for (std::size_t b = a + 1; b < n; ++b, ++k) {
-      if (k % stride) continue;
-      ++tested;
-      const Plane &p = planes[a].plane, &q = planes[b].plane;
-      const Vec3 d = p.normal.cross(q.normal);
-      const double d2 = d.squaredNorm();
-      if (d2 < 1e-12) continue;  // parallel
-      // The point of the line nearest the box's centre, then the line clipped by the box's slabs.
-      const double hp = p.normal.dot(p.origin - centre), hq = q.normal.dot(q.origin - centre);
-      const Vec3 x = (hp * q.normal.cross(d) + hq * d.cross(p.normal)) / d2;
-      double t0 = -1e300, t1 = 1e300;
-      bool inside = true;
-      for (int i = 0; i < 3 && inside; ++i) {
-        if (std::abs(d[i]) < 1e-15) {
-          inside = std::abs(x[i]) <= half[i];
-          continue;
-        }
-        double s0 = (-half[i] - x[i]) / d[i], s1 = (half[i] - x[i]) / d[i];
-        if (s0 > s1) std::swap(s0, s1);
-        t0 = std::max(t0, s0), t1 = std::min(t1, s1);
-        inside = t0 <= t1;
-      }
-      meeting += inside;
-    }
-  return tested ? all * double(meeting) / double(tested) : 0.0;
+  const auto meets = [&](std::size_t a, std::size_t b) {
+    return lineMeetsBox(planes[a].plane, planes[b].plane, centre, half);
+  };
+  double meeting = 0;
+  if (all <= 4e6) {
+    for (std::size_t a = 0; a < n; ++a)
+      for (std::size_t b = a + 1; b < n; ++b) meeting += meets(a, b);
+    return meeting;
+  }
+  std::mt19937_64 rng(48);
+  for (int k = 0; k < 4000000;) {
+    const std::size_t a = std::size_t(rng() % n), b = std::size_t(rng() % n);
+    if (a == b) continue;
+    meeting += meets(a, b);
+    ++k;
+  }
+  return all * meeting / 4e6;
 }
 
 }  // namespace
@@ -110,8 +123,10 @@ TimeEstimate sceneOnwardSeconds(const std::vector<CuttingPlane>& planes, double 
   const double advised = c.sampling.advice_count ? double(*c.sampling.advice_count) : std::min(n, 30.0);
   e.arrange_s = kPlaneS * n + kPairS * pairs + kAdvisedSliceS * advised;
   e.reconstruct_s = kWriteS;
-  if (c.reconstruction_method == ReconstructionMethod::delaunay)
-    e.reconstruct_s += kDelaunayPairS * pairs + kDelaunayPlaneS * n + kVoxelS * voxels;
+  if (c.reconstruction_method == ReconstructionMethod::delaunay) {
+    e.delaunay_s = kDelaunayPairS * pairs + kDelaunayPlaneS * n;
+    e.reconstruct_s += e.delaunay_s + kVoxelS * voxels;
+  }
   else
     e.reconstruct_s += kPairQueryS * pairs + kVoxelS * voxels;
   // The level-set smoothing's curvature flow runs smoothing.iterations steps (8 by default).
@@ -131,8 +146,7 @@ void checkTimeBudget(const TimeEstimate& e, double elapsed_s, const RunConfig& c
   if (worst == 0) {
     key = "segmentation";
     fix = "smaller segmentation.sigma_px, open_radius_px and close_radius_px (their cost grows with the kernel's size)";
-  } else if (worst == 2 || (worst == 3 && c.reconstruction_method == ReconstructionMethod::delaunay &&
-                            e.reconstruct_s > 2 * kVoxelS * 1e6)) {
+  } else if (worst == 2 || (worst == 3 && e.delaunay_s > e.reconstruct_s - e.delaunay_s)) {
     key = "input";
     fix = "fewer slices (the arrangement's cost grows with the pairs of planes that meet)";
   } else {

@@ -27,6 +27,7 @@ namespace xsect {
 
 struct TimeEstimate {
   double segment_s = 0, scene_s = 0, arrange_s = 0, reconstruct_s = 0;
+  double delaunay_s = 0;  ///< method 3's tetrahedra per cell, part of reconstruct_s
   double total() const { return segment_s + scene_s + arrange_s + reconstruct_s; }
 };
 

@@ -87,6 +87,7 @@ struct Sandbox {
   fs::path root, in, out, cwd;
   std::string args;  ///< the command's arguments
   std::string what;  ///< for failure messages
+  bool clean = true;  ///< inputs and settings unchanged: only the destination can be refused
   Destination dest = Destination::fresh;
 };
 
@@ -110,6 +111,7 @@ Sandbox draw(std::uint64_t seed, const fs::path& phantom) {
   YAML::Node config = YAML::LoadFile((s.in / "config.yaml").string());
   config["run"]["max_seconds"] = 20;
   const std::size_t settings = pick(5);
+  s.clean = settings == 0;
   for (std::size_t k = 0; k < settings; ++k) {
     const auto& [key, values] = kSettings[pick(kSettings.size())];
     const std::string& v = values[pick(values.size())];
@@ -120,17 +122,21 @@ Sandbox draw(std::uint64_t seed, const fs::path& phantom) {
   if (pick(12) == 0) {
     text += "reconstruction:\n  method: delaunay\n";
     what << " (reconstruction twice)";
+    s.clean = false;
   }
   if (pick(12) == 0) {
     text += "segmentaton:\n  threshold: 3\n";
     what << " (unknown key)";
+    s.clean = false;
   }
   test::writeFile(s.in / "config.yaml", text);
 
   // Poses.
   YAML::Node slices = YAML::LoadFile((s.in / "slices.yaml").string());
   const std::size_t n = slices["slices"].size();
-  switch (pick(8)) {
+  const std::size_t poses = pick(8);
+  s.clean = s.clean && poses > 3;
+  switch (poses) {
     case 0: case 1: {
       const double factor = std::vector<double>{1e-3, 1e3, 1e-6}[pick(3)];
       for (YAML::Node sl : slices["slices"])
@@ -171,6 +177,7 @@ Sandbox draw(std::uint64_t seed, const fs::path& phantom) {
       cv::imwrite(image.string(), m);
     }
     what << " " << frames << " frames at 16 bits";
+    s.clean = false;
   }
 
   // Destination.
@@ -221,6 +228,10 @@ TEST_P(ConfigurationFuzz, RandomSettingsPosesDepthsAndDestinationsNeverHangCrash
     ASSERT_TRUE(r.code == 0 || r.code == 1 || r.code == 2) << s.what << ": exit " << r.code << "\n" << r.err;
     ++exits[r.code];
     if (refused(s.dest)) EXPECT_EQ(r.code, 2) << s.what << "\n" << r.err;
+    // With nothing else wrong, the refusal names the destination's key.
+    if (refused(s.dest) && s.clean)
+      EXPECT_TRUE(r.err.find("--out") != std::string::npos || r.err.find("output.dir") != std::string::npos)
+          << s.what << "\n" << r.err;
     if (r.code == 2) EXPECT_NE(r.err.find("xsect: error: "), std::string::npos) << s.what << "\n" << r.err;
     // The inputs as they were (a new output folder inside the inputs' folder may be added).
     const auto inputsAfter = tree(s.in);

@@ -107,6 +107,15 @@ TEST(OutputDestination, EveryDestinationHoldingInputsOrUserFilesIsRefusedAndTheI
                              "--json", "is one of the inputs");
   EXPECT_EQ(test::slurp(dir / "notes/keep.txt"), "a user's file\n");
   EXPECT_EQ(test::slurp(dir / "afile.txt"), "not a folder\n");
+  // Inputs reached through a link: the configuration read as link/config.yaml lies in ph.
+  expectRefusedLeavingInputs(dir, dir, "run " + (dir / "link/config.yaml").string() + " --out " + ph.string() + " --quiet",
+                             "--out", "holds the input");
+  // eval's file may not be an image its --slices lists.
+  expectRefusedLeavingInputs(dir, dir,
+                             "eval --mesh " + (dir / "out/mesh.ply").string() + " --truth " + (ph / "truth.yaml").string() +
+                                 " --slices " + (ph / "slices.yaml").string() + " --json " +
+                                 (ph / "images/000.png").string() + " --quiet",
+                             "--json", "is one of the inputs");
   fs::remove_all(dir);
 }
 
@@ -133,6 +142,13 @@ TEST(OutputDestination, AbsentEmptyAndEarlierOutputFoldersAreReplaced) {
   const test::CliResult again =
       test::runXsect("phantom " + (dir / "spec.yaml").string() + " --out " + (dir / "ph").string() + " --quiet");
   EXPECT_EQ(again.code, 0) << again.err;
+  // A file added inside a folder of an output makes it the user's too.
+  test::writeFile(dir / "ph/images/mine.txt", "mine\n");
+  const test::CliResult nested =
+      test::runXsect("phantom " + (dir / "spec.yaml").string() + " --out " + (dir / "ph").string() + " --quiet");
+  EXPECT_EQ(nested.code, 2) << nested.err;
+  EXPECT_NE(nested.err.find("'images/mine.txt'"), std::string::npos) << nested.err;
+  EXPECT_EQ(test::slurp(dir / "ph/images/mine.txt"), "mine\n");
   // A file added to an output folder makes it the user's.
   test::writeFile(dir / "fresh/my-notes.txt", "mine\n");
   const test::CliResult r = test::runXsect("run " + cfg + " --out " + (dir / "fresh").string() + " --quiet");
@@ -164,6 +180,24 @@ TEST(OutputDestination, StagingFoldersOfKilledRunsAreRemovedByTheNextRun) {
   ASSERT_EQ(r.code, 0) << r.err;
   for (const auto& s : stale) EXPECT_FALSE(fs::exists(dir / s)) << s;
   for (const auto& s : kept) EXPECT_TRUE(fs::exists(dir / s)) << s;
+  fs::remove_all(dir);
+}
+
+TEST(OutputDestination, APreviousOutputMovedAsideByAKilledRunIsPutBack) {
+  // Killed between commit's two renames: the destination absent, the previous output aside as
+  // .out.old-HOST-PID of a dead process. It is put back, not removed.
+  const fs::path dir = test::freshDir("dest-restore");
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ::waitpid(child, nullptr, 0);
+  const std::string tag = stagingTag();
+  const std::string host = tag.substr(0, tag.rfind('-'));
+  const fs::path aside = dir / (".out.old-" + host + "-" + std::to_string(child));
+  test::writeFile(aside / "report.json", "{}\n");
+  test::writeFile(aside / kManifestName, "{\"written_by\": \"xsect\", \"outputs\": [\"report.json\"]}\n");
+  removeStaleStaging(dir / "out");
+  EXPECT_EQ(test::slurp(dir / "out/report.json"), "{}\n");
+  EXPECT_FALSE(fs::exists(aside));
   fs::remove_all(dir);
 }
 

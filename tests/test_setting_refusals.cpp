@@ -13,6 +13,8 @@
 #include "cli.h"
 #include "io/file_hash.h"
 #include "io/mesh_io.h"
+#include "io/input_error.h"
+#include "io/yaml_duplicate_keys.h"
 #include "phantom_runs.h"
 
 namespace fs = std::filesystem;
@@ -115,9 +117,40 @@ TEST(SettingRefusals, DuplicatedKeysAreInputErrorsNamingBothLines) {
   test::writeFile(ph / "slices.yaml", slices);
   expectInputError(test::runXsect("run " + (ph / "config.yaml").string() + " --quiet"),
                    {"slices.yaml:", "slices[0].image", "given twice"});
-  // The same key under two different mappings is not a duplicate.
   EXPECT_FALSE(fs::exists(ph / "out"));
   fs::remove_all(dir);
+}
+
+TEST(SettingRefusals, DuplicateKeyDetectionOnValidAndInvalidYaml) {
+  // Valid: one key under two mappings, lists of mappings with the same keys, anchors and aliases
+  // (alias keys are not compared), merge keys, flow mappings, two documents, complex keys.
+  const std::vector<std::string> valid = {
+      "a: {method: x}\nb: {method: y}\n",
+      "slices:\n  - {image: a, fov: b}\n  - image: c\n    fov: d\n",
+      "base: &b {x: 1}\nother:\n  <<: *b\n  <<: *b\n  y: 2\n",
+      "k: &k name\n*k : 1\nname2: 2\n",
+      "? [1, 2]\n: a\n? [1, 2]\n: b\n",
+      "a: 1\n---\na: 2\n",
+  };
+  for (const std::string& t : valid) EXPECT_NO_THROW(checkNoDuplicateKeys(t, "t.yaml")) << t;
+  struct Bad {
+    std::string text, key;
+    int line;
+  };
+  const std::vector<Bad> bad = {
+      {"a: {x: 1, x: 2}\n", "a.x", 1},
+      {"l:\n  - {p: 1}\n  - p: 1\n    q: 2\n    p: 3\n", "l[1].p", 5},
+      {"a:\n  b:\n    c: 1\n  b: 2\n", "a.b", 4},
+  };
+  for (const Bad& b : bad) {
+    try {
+      checkNoDuplicateKeys(b.text, "t.yaml");
+      ADD_FAILURE() << b.text;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), b.key) << b.text;
+      EXPECT_EQ(e.line(), b.line) << b.text;
+    }
+  }
 }
 
 TEST(SettingRefusals, SegmentationSettingsNoImageCanTakeNameTheirKey) {
