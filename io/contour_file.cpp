@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "geometry/core/polygon.h"
+#include "geometry/core/ring_repair.h"
 #include "geometry/core/ring_validity.h"
 #include "io/contour_plane.h"
 #include "io/input_error.h"
@@ -183,7 +184,7 @@ std::vector<std::vector<long>> closedLoops(const std::vector<Arc>& arcs, const s
 /// name the place in messages.
 std::vector<Section> sectionsOfLoops(const std::vector<std::vector<long>>& loops, const std::vector<Vec2>& at,
                                      double tinyArea, const std::string& file, const std::string& field,
-                                     int line, std::vector<std::string>* warnings) {
+                                     int line, bool repair, std::vector<std::string>* warnings) {
   std::vector<Ring> outers, holes;
   for (std::size_t k = 0; k < loops.size(); ++k) {
     Ring ring;
@@ -191,14 +192,27 @@ std::vector<Section> sectionsOfLoops(const std::vector<std::vector<long>>& loops
     ring = withoutRepeatedVertices(ring);
     const std::string where = field + " contour " + std::to_string(k) + " (from vertex " +
                               std::to_string(loops[k].front()) + ")";
+    const bool simple = ring.size() >= 3 && ringIsSimple(ring);
+    if (!repair && ring.size() >= 3 && !simple)
+      throw InputError(file, where,
+                       "the contour crosses itself (a self-intersecting ring); input.repair_contours: true makes it "
+                       "simple",
+                       line);
     const double area = ring.size() < 3 ? 0.0 : signedArea(ring);
-    if (std::abs(area) <= tinyArea) {
+    // A ring crossing itself: the area of its lobes (a symmetric figure eight nets zero); its
+    // role, outer or hole, is its net orientation's (outer when it nets zero).
+    const double lobes = simple || !repair || ring.size() < 3 ? std::abs(area) : repairRings({ring}, {}).area_after;
+    if (lobes <= tinyArea) {
       if (warnings) warnings->push_back(file + ": " + where + " has no area (a point or a segment): dropped");
       continue;
     }
-    if (!ringIsSimple(ring))
-      throw InputError(file, where, "the contour crosses itself (a self-intersecting ring)", line);
-    (area > 0 ? outers : holes).push_back(std::move(ring));
+    (area >= 0 ? outers : holes).push_back(std::move(ring));
+  }
+  if (repair) {
+    RingRepair fixed = repairRings(outers, holes);
+    if (fixed.changed && warnings) warnings->push_back(repairWarning(file + ": " + field, fixed));
+    outers = std::move(fixed.outers);
+    holes = std::move(fixed.holes);
   }
   const std::size_t nHoles = holes.size();
   std::vector<Section> sections = sectionsFromRings(std::move(outers), std::move(holes));
@@ -224,7 +238,7 @@ PlaneRect sectionBounds(const std::vector<Section>& sections) {
 
 }  // namespace
 
-ContourFile readContourFile(const std::string& path, std::vector<std::string>* warnings) {
+ContourFile readContourFile(const std::string& path, std::vector<std::string>* warnings, bool repair) {
   Tokens tk = readTokens(path);
   const long nPlanes = tk.count("plane count", 1, 6);  // a b c d nV nE
   std::vector<RawPlane> raw;
@@ -251,7 +265,7 @@ ContourFile readContourFile(const std::string& path, std::vector<std::string>* w
     const auto sectionsOf = [&](const std::function<bool(int)>& inside, const std::string& field,
                                 const std::string& what) {
       const auto loops = closedLoops(boundaryArcs(r.edges, inside), at, path, field, what);
-      return sectionsOfLoops(loops, at, tinyArea, path, field, r.line, warnings);
+      return sectionsOfLoops(loops, at, tinyArea, path, field, r.line, repair, warnings);
     };
     if (several) {
       for (int m : cf.materials) {

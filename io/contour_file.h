@@ -52,9 +52,13 @@ struct ContourFile {
 /// non-finite number; a count that disagrees with the content; a vertex index out of range; an
 /// edge from a vertex to itself or listed twice; a negative material, or the same material on both
 /// sides; a zero normal; vertices off their plane; edges that do not close into contours (some
-/// vertex with more edges of a material coming in than going out); a self-intersecting contour; a
+/// vertex with more edges of a material coming in than going out); without `repair`, a
+/// self-intersecting contour (with `repair`, input.repair_contours, the default: the contours of a
+/// material on a plane that cross themselves or each other are made simple rings of the same
+/// region, geometry/core/ring_repair.h, with a warning); a
 /// clockwise contour inside no counter-clockwise one (the material would be unbounded: left and
 /// right swapped); content after the last plane.
-ContourFile readContourFile(const std::string& path, std::vector<std::string>* warnings = nullptr);
+ContourFile readContourFile(const std::string& path, std::vector<std::string>* warnings = nullptr,
+                            bool repair = true);
 
 }  // namespace xsect

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "geometry/core/polygon.h"
+#include "geometry/core/ring_repair.h"
 #include "geometry/core/ring_validity.h"
 #include "io/contour_plane.h"
 #include "io/input_error.h"
@@ -14,7 +15,7 @@
 
 namespace xsect {
 
-std::vector<CuttingPlane> readCslFile(const std::string& path, std::vector<std::string>* warnings) {
+std::vector<CuttingPlane> readCslFile(const std::string& path, std::vector<std::string>* warnings, bool repair) {
   Tokens tk = readTokens(path);
   if (tk.next("header").first != "CSLC") throw InputError(path, "header", "expected 'CSLC'", 1);
   const long nPlanes = tk.count("plane count", 1, 7);  // index, counts, A B C D
@@ -95,19 +96,33 @@ std::vector<CuttingPlane> readCslFile(const std::string& path, std::vector<std::
         toPlane(rings[k]);
         Ring ring = withoutRepeatedVertices(rings[k]);
         const std::string where = cp.name + " component " + std::to_string(components[k]);
-        if (ring.size() < 3 || std::abs(signedArea(ring)) <= tinyArea) {
+        // A ring crossing itself: refused without repair (even when its lobes net no area), else
+        // measured by the area of its lobes (a symmetric figure eight nets zero).
+        const bool simple = ring.size() >= 3 && ringIsSimple(ring);
+        if (!repair && ring.size() >= 3 && !simple)
+          throw InputError(path, where,
+                           "the contour crosses itself (a self-intersecting ring); input.repair_contours: true "
+                           "makes it simple",
+                           r.line);
+        const double area = simple || !repair || ring.size() < 3 ? std::abs(signedArea(ring))
+                                                                  : repairRings({ring}, {}).area_after;
+        if (ring.size() < 3 || area <= tinyArea) {
           if (warnings)
             warnings->push_back(path + ": " + where + " has no area (a point or a segment): dropped");
           continue;
         }
-        if (!ringIsSimple(ring))
-          throw InputError(path, where, "the contour crosses itself (a self-intersecting ring)", r.line);
         kept.push_back(std::move(ring));
       }
       rings = std::move(kept);
     };
     clean(r.outers, r.outerComponent);
     clean(r.holes, r.holeComponent);
+    if (repair) {
+      RingRepair fixed = repairRings(r.outers, r.holes);
+      if (fixed.changed && warnings) warnings->push_back(repairWarning(path + ": " + cp.name, fixed));
+      r.outers = std::move(fixed.outers);
+      r.holes = std::move(fixed.holes);
+    }
     cp.sections = sectionsFromRings(std::move(r.outers), std::move(r.holes));
     cp.observed_everywhere = true;  // a contour file gives all of O ∩ P on each plane
     if (!cp.sections.empty()) {

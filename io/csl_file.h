@@ -15,10 +15,15 @@ namespace xsect {
 /// puts the plane nearer the other planes' vertices. Contour orientation is normalised
 /// (outer counter-clockwise, holes clockwise). Labels are ignored (one material).
 /// Contours are cleaned of repeated vertices; a ring without area (a point or a segment: the
-/// section of a tangent plane) is dropped with a warning naming its plane and component; a
-/// self-intersecting ring is an error naming them (geometry/core/ring_validity.h).
+/// section of a tangent plane) is dropped with a warning naming its plane and component. With
+/// `repair` (input.repair_contours, the default), rings of a plane that cross themselves or each
+/// other, or touch, are made simple rings of the same region (geometry/core/ring_repair.h: the
+/// positive winding of the oriented lobes; 'h' rings are holes), with a warning naming the plane,
+/// its rings and the area before and after; without, a self-intersecting ring is an error naming
+/// them (geometry/core/ring_validity.h).
 /// Throws InputError naming the file, line and field on malformed content.
-std::vector<CuttingPlane> readCslFile(const std::string& path, std::vector<std::string>* warnings = nullptr);
+std::vector<CuttingPlane> readCslFile(const std::string& path, std::vector<std::string>* warnings = nullptr,
+                                      bool repair = true);
 
 /// Writes planes and their sections as .csl (the layout readCslFile reads and OReX writes): per
 /// plane its normalised equation A x + B y + C z + D = 0, the contour vertices in world mm, one

@@ -20,7 +20,7 @@ namespace {
 
 const std::set<std::string> kKnownKeys = {
     "input", "input.slices", "input.csl", "input.contour", "input.plus_sequence", "input.plus_config",
-    "input.reference_frame",
+    "input.reference_frame", "input.repair_contours",
     "segmentation", "segmentation.method", "segmentation.threshold", "segmentation.sigma_px",
     "segmentation.open_radius_px", "segmentation.close_radius_px", "segmentation.min_area_mm2",
     "segmentation.simplify_mm", "segmentation.merge_labels", "conformity", "conformity.enforce",
@@ -121,6 +121,10 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
   if (!isRegularFile(c.input_path))
     throw InputError(path, std::string("input.") + nameOf(kInputKinds, c.input_kind), "file not found: " + c.input_path,
                      yamlLine(input[nameOf(kInputKinds, c.input_kind)]));
+  if (input["repair_contours"]) {
+    c.repair_contours = yamlBool(input["repair_contours"], path, "input.repair_contours");
+    c.segmentation.repair_contours = c.repair_contours;
+  }
   if (c.input_kind == InputKind::plus_sequence) {
     // A PLUS recording: the device set's calibration and field of view are needed to place and
     // mask its frames.

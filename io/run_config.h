@@ -42,6 +42,9 @@ struct RunConfig {
   /// input.reference_frame: the frame poses map into; empty: the device set's
   /// ReferenceCoordinateFrame, or `Reference`.
   std::string reference_frame;
+  /// input.repair_contours: contours that cross themselves or each other are made simple
+  /// (geometry/core/ring_repair.h) with a warning; false refuses them.
+  bool repair_contours = true;
   SegmentationParams segmentation;
   /// Stage 3, conformity along plane intersections (geometry/conformity/conformity_enforcement.h).
   struct Conformity {

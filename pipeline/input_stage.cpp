@@ -38,9 +38,9 @@ RunInputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress)
       if (s.fov_resolved) in.input_files.push_back(*s.fov_resolved);
     }
   } else if (c.input_kind == InputKind::csl) {
-    in.planes = readCslFile(c.input_path, &in.warnings);
+    in.planes = readCslFile(c.input_path, &in.warnings, c.repair_contours);
   } else if (c.input_kind == InputKind::contour) {
-    ContourFile contours = readContourFile(c.input_path, &in.warnings);
+    ContourFile contours = readContourFile(c.input_path, &in.warnings, c.repair_contours);
     in.planes = std::move(contours.planes);
     in.labelled = std::move(contours.labelled);  // one solid per material when there are several
   } else {

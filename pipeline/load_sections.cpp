@@ -219,10 +219,14 @@ void checkSettings(const SegmentationParams& params, cv::Size size, const Vec2& 
     throw InputError(settings_file, "segmentation." + p->key, p->what + " (" + frame + ")");
 }
 
+/// What planeOfFrame says of a frame, bits of one char per frame.
+constexpr char kTouches = 1;   ///< a section reaches the edge of the image or field of view
+constexpr char kRepaired = 2;  ///< simplified contours crossed and were made simple
+
 /// One frame segmented into its cutting plane (stage 2): the plane of its pose, the image
 /// rectangle and field of view, the sections in the plane's (u, v) mm frame. Method labels also
-/// give `labelled`, the sections of each label value; `touches` says whether a section reaches
-/// the edge of the image or field of view.
+/// give `labelled`, the sections of each label value; `touches` receives the frame's flags
+/// (kTouches, kRepaired).
 CuttingPlane planeOfFrame(int slice, const std::string& name, const Mat4& pose, const Frame& frame,
                           const std::vector<Ring>* sharedRings, const SegmentationParams& perSlice,
                           const std::string& settings_file, std::vector<Section>* labelled, char* touches) {
@@ -241,7 +245,12 @@ CuttingPlane planeOfFrame(int slice, const std::string& name, const Mat4& pose, 
   const bool perLabel = perSlice.method == SegmentationMethod::labels && labelled;
   SegmentedSlice seg;
   try {
-    if (perLabel && !perSlice.merge_labels) *labelled = segmentSlice(frame.image, frame.fov, spacing, perSlice).sections;
+    bool labelsRepaired = false;
+    if (perLabel && !perSlice.merge_labels) {
+      SegmentedSlice labels = segmentSlice(frame.image, frame.fov, spacing, perSlice);
+      *labelled = std::move(labels.sections);
+      labelsRepaired = labels.contours_repaired;
+    }
     cv::Mat input = frame.image;
     if (perSlice.method == SegmentationMethod::labels) {  // the union of the labels: the geometry reconstructed
       input = cv::Mat(frame.image.size(), CV_8U);
@@ -249,12 +258,13 @@ CuttingPlane planeOfFrame(int slice, const std::string& name, const Mat4& pose, 
       input.setTo(1, frame.image != 0);
     }
     seg = segmentSlice(input, frame.fov, spacing, perSlice);
+    seg.contours_repaired |= labelsRepaired;
   } catch (const cv::Exception& e) {  // a setting OpenCV cannot apply to this image
     throw InputError(settings_file, "segmentation",
                      "OpenCV cannot segment " + name + " with these settings: " + e.err);
   }
   cp.sections = std::move(seg.sections);
-  *touches = seg.touches_fov_edge;
+  *touches = char((seg.touches_fov_edge ? kTouches : 0) | (seg.contours_repaired ? kRepaired : 0));
   const Vec3 c0 = pose.block<3, 1>(0, 0), c1 = pose.block<3, 1>(0, 1);
   if (std::abs(c0.dot(c1)) > 1e-9 * c0.norm() * c1.norm()) {
     // Skewed pixel axes: every ring through the exact map; the image rectangle becomes a
@@ -309,18 +319,24 @@ SegmentationParams seriesParams(const SegmentationParams& params, int bits,
   return perSlice;
 }
 
-/// "N slice(s) have a section touching the edge..." when any does.
-void touchingWarning(const std::vector<char>& touches, std::vector<std::string>* warnings) {
-  int count = 0;
-  std::string first;
-  for (std::size_t i = 0; i < touches.size(); ++i)
-    if (touches[i]) {
-      if (count++ < 5) first += (first.empty() ? "" : ", ") + std::to_string(i);
-    }
-  if (count)
-    warnings->push_back(std::to_string(count) +
-                        " slice(s) have a section touching the edge of the image or field of view "
-                        "(the object is not fully in view), e.g. slice " + first);
+/// "N slice(s) have a section touching the edge..." and "N slice(s) had contours that
+/// segmentation.simplify_mm made cross...", each when any frame's flags (kTouches, kRepaired) say so.
+void touchingWarning(const std::vector<char>& flags, std::vector<std::string>* warnings) {
+  for (const char flag : {kTouches, kRepaired}) {
+    int count = 0;
+    std::string first;
+    for (std::size_t i = 0; i < flags.size(); ++i)
+      if (flags[i] & flag) {
+        if (count++ < 5) first += (first.empty() ? "" : ", ") + std::to_string(i);
+      }
+    if (!count) continue;
+    warnings->push_back(std::to_string(count) + (flag == kTouches
+                                                     ? " slice(s) have a section touching the edge of the image or field "
+                                                       "of view (the object is not fully in view), e.g. slice "
+                                                     : " slice(s) had contours that segmentation.simplify_mm made "
+                                                       "cross: made simple (input.repair_contours), e.g. slice ") +
+                        first);
+  }
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 
 #include "geometry/core/disjoint_sets.h"
 #include "geometry/core/polygon.h"
+#include "geometry/core/ring_repair.h"
 #include "segmentation/iso_contours.h"
 #include "segmentation/series_threshold.h"
 
@@ -134,8 +135,9 @@ bool cleanField(cv::Mat& f, const cv::Mat& fov, const Vec2& spacing, const Segme
 }
 
 /// Step 5: rings in pixel coordinates -> simplified rings in mm -> sections (holes attached).
+/// Simplified rings that cross are made simple (with p.repair_contours); `repaired` says so.
 std::vector<Section> sectionsOfRings(std::vector<Ring> rings, const Vec2& spacing,
-                                     const SegmentationParams& p) {
+                                     const SegmentationParams& p, bool* repaired) {
   std::vector<Ring> outers, holes;
   for (auto& r : rings) {
     if (p.simplify_mm > 0) {
@@ -150,6 +152,14 @@ std::vector<Section> sectionsOfRings(std::vector<Ring> rings, const Vec2& spacin
     const double a = signedArea(r);
     if (std::abs(a) < 1e-12) continue;
     (a > 0 ? outers : holes).push_back(std::move(r));
+  }
+  if (p.simplify_mm > 0 && p.repair_contours) {
+    RingRepair fixed = repairRings(outers, holes);
+    if (fixed.changed) {
+      *repaired = true;
+      outers = std::move(fixed.outers);
+      holes = std::move(fixed.holes);
+    }
   }
   return sectionsFromRings(std::move(outers), std::move(holes));
 }
@@ -215,7 +225,7 @@ SegmentedSlice segmentLabels(const cv::Mat& image, const cv::Mat& fov, const Vec
     std::vector<Ring> group;
     for (; g1 < rings.size() && rings[g1].label == rings[g0].label; ++g1)
       group.push_back(std::move(rings[g1].ring));
-    for (auto& s : sectionsOfRings(std::move(group), spacing, p)) {
+    for (auto& s : sectionsOfRings(std::move(group), spacing, p, &out.contours_repaired)) {
       s.label = rings[g0].label;
       out.sections.push_back(std::move(s));
     }
@@ -254,7 +264,7 @@ SegmentedSlice segmentSlice(const cv::Mat& image, const cv::Mat& fov, const Vec2
 
   // 5. Sub-pixel contours -> rings in mm; simplification; holes attached to their outer ring.
   //    Every section keeps Section::label = 1 (one material).
-  out.sections = sectionsOfRings(isoContours(f), spacing, p);
+  out.sections = sectionsOfRings(isoContours(f), spacing, p, &out.contours_repaired);
   return out;
 }
 

@@ -38,6 +38,9 @@ struct SegmentationParams {
   double simplify_mm = 0.0;          ///< Douglas-Peucker tolerance on contours, mm (0 = none)
   /// labels: reconstruct the union of all labels as one material (no per-label solids).
   bool merge_labels = false;
+  /// input.repair_contours: rings that simplify_mm made cross themselves or each other are made
+  /// simple (geometry/core/ring_repair.h). The iso-contours themselves never cross.
+  bool repair_contours = true;
 };
 
 struct SegmentedSlice {
@@ -47,6 +50,7 @@ struct SegmentedSlice {
   std::vector<Section> sections;
   double threshold_used = 0.0;     ///< the threshold applied (Otsu's when method = otsu)
   bool touches_fov_edge = false;   ///< a section reaches the edge of the image / field of view
+  bool contours_repaired = false;  ///< simplify_mm made rings cross, and they were made simple
 };
 
 /// @param image    8- or 16-bit single-channel image (row j, column i); for `labels`, the label

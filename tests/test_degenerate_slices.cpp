@@ -160,9 +160,10 @@ TEST(DegenerateSlices, CslRingsWithoutAreaAreDroppedAndSelfIntersectingOnesRefus
       << rep["warnings"];
   EXPECT_EQ(rep["counts"]["sections"], 2);
   EXPECT_EQ(rep["betti"], json::array({1, 0, 0}));
-  // A bow tie with unequal lobes (the symmetric one has no area): refused, naming plane and component.
+  // A bow tie with unequal lobes: made simple by default (issue 49, tests/test_ring_repair.cpp);
+  // with input.repair_contours: false refused, naming plane and component.
   test::writeFile(dir / "bad.csl", "CSLC\n1 1\n1 4 1 0 0 1 0\n0 0 0\n3 2 0\n3 0 0\n0 1 0\n4 1 0 1 2 3\n");
-  test::writeFile(dir / "bad.yaml", "input:\n  csl: bad.csl\n");
+  test::writeFile(dir / "bad.yaml", "input:\n  csl: bad.csl\n  repair_contours: false\n");
   r = test::runXsect("run " + (dir / "bad.yaml").string() + " --out " + (dir / "bad").string() + " --quiet");
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("bad.csl:3: plane 1 component 0: the contour crosses itself"), std::string::npos) << r.err;

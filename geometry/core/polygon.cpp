@@ -118,9 +118,14 @@ std::vector<Section> sectionsFromRings(std::vector<Ring> outers, std::vector<Rin
   for (auto& h : holes) {
     if (h.empty()) continue;
     if (signedArea(h) > 0) std::reverse(h.begin(), h.end());
+    // Tested at a vertex of the hole off the outer ring (a hole may touch its outer ring at a
+    // vertex: repaired contours, geometry/core/ring_repair.h).
     int best = -1;
-    for (std::size_t k = 0; k < out.size(); ++k)
-      if (ringContains(out[k].outer, h.front()) && (best < 0 || area[k] < area[best])) best = int(k);
+    for (std::size_t k = 0; k < out.size(); ++k) {
+      const Ring& o = out[k].outer;
+      const auto off = std::find_if(h.begin(), h.end(), [&](const Vec2& p) { return ringDistance(o, p) > 0; });
+      if (off != h.end() && ringContains(o, *off) && (best < 0 || area[k] < area[best])) best = int(k);
+    }
     if (best >= 0) out[best].holes.push_back(std::move(h));
   }
   return out;

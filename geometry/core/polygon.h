@@ -31,7 +31,8 @@ double ringDistance(const Ring& ring, const Vec2& p);
 double signedDistanceToSections(const std::vector<Section>& sections, const Vec2& p);
 /// Sections from loose rings: outer rings oriented counter-clockwise, holes clockwise, each hole
 /// attached to the smallest outer ring that contains it (islands inside holes are outer rings of
-/// their own). Holes contained in no outer ring are dropped.
+/// their own; a hole may touch its outer ring at vertices). Holes contained in no outer ring are
+/// dropped.
 std::vector<Section> sectionsFromRings(std::vector<Ring> outers, std::vector<Ring> holes);
 /// Centroid of a section (area-weighted, holes subtracted).
 Vec2 sectionCentroid(const Section& s);
