@@ -1,6 +1,8 @@
 // Stage 7: meshes, materials, and their check (see mesh_stage.h).
 #include "pipeline/mesh_stage.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -71,37 +73,65 @@ std::string bettiText(const Betti& b) {
   return "(" + std::to_string(b[0]) + ", " + std::to_string(b[1]) + ", " + std::to_string(b[2]) + ")";
 }
 
-/// Method 3: where a mesh's voxelisation has other Betti numbers than the mesh, the warning.
-void warnVoxelBetti(const MeshTopology& mesh, const Betti& voxels, const std::string& what,
-                    std::vector<std::string>* warnings) {
-  if (mesh.betti == voxels) return;
-  warnings->push_back("the voxelisation of method 3's solid" + (what.empty() ? std::string() : " (" + what + ")") +
-                      " has Betti numbers " + bettiText(voxels) +
-                      " while the mesh has " + bettiText(mesh.betti) +
-                      ": parts of R'' thinner than the voxel size; labels.nrrd, the graph checks and the smoothing "
-                      "read the voxels (report.json reconstruction.delaunay.voxel_betti), the mesh is R'' itself");
-}
 
-/// Method 3 with several materials: each label's own R'' (delaunay_materials.h).
-void delaunayMaterialsOf(const DelaunayMaterials& dm, MeshStage& m, std::vector<std::string>* warnings) {
-  m.voxel_label = dm.labels;
-  for (const DelaunayMaterial& d : dm.materials) {
-    if (d.mesh.triangles.empty()) {  // e.g. a label seen on one plane only
-      warnings->push_back("label " + std::to_string(d.label) +
-                          " has sections but method 3 joins none of them (its R'' is empty): no mesh for it");
-      continue;
-    }
-    Material mat;
-    mat.label = d.label;
-    mat.mesh = d.mesh;
-    mat.voxels = d.voxels;
-    mat.voxel_betti = d.voxel_betti;
-    mat.delaunay = d.stats;
-    mat.tetrahedra_components = d.tetrahedra_components;
-    mat.opened_copies = d.opened_copies;
-    mat.delaunay_connections = d.connections;
-    m.materials.push_back(std::move(mat));
+/// The labels of the smooth solid {field < 0}: the method's label where it has one, elsewhere the
+/// label reached first from the labelled voxels through the smooth solid's face neighbours
+/// (breadth first, from the voxels in index order: deterministic), `fallback` in a component
+/// holding no labelled voxel; 0 outside. By blocks (voxels beyond the grid repeat the block's
+/// first, so that uniform blocks are tiles).
+BlockGrid<std::uint16_t> labelsOfSmoothSolid(const ScalarField& field, const BlockGrid<std::uint16_t>& method,
+                                            std::uint16_t fallback) {
+  // On the method's grid (labels.nrrd's, sampling.nrrd's): the smoothing's grid is on the same
+  // lattice with wider margins (smooth_stage.cpp), and its solid lies within the end planes.
+  const GridSpec& g = method.grid();
+  std::array<int, 3> shift{};
+  for (int a = 0; a < 3; ++a) shift[std::size_t(a)] = int(std::lround((g.origin[a] - field.grid.origin[a]) / g.voxel));
+  std::vector<std::uint8_t> solid(std::size_t(g.count()), 0);
+  for (int k = 0; k < g.dims[2]; ++k)
+    for (int j = 0; j < g.dims[1]; ++j)
+      for (int i = 0; i < g.dims[0]; ++i) {
+        const int si = i + shift[0], sj = j + shift[1], sk = k + shift[2];
+        if (si < 0 || sj < 0 || sk < 0 || si >= field.grid.dims[0] || sj >= field.grid.dims[1] || sk >= field.grid.dims[2])
+          continue;
+        solid[std::size_t(g.index(i, j, k))] = field.values[std::size_t(field.grid.index(si, sj, sk))] < 0;
+      }
+  std::vector<std::uint16_t> dense = denseValues(method);
+  std::vector<std::int64_t> queue;
+  for (std::int64_t v = 0; v < g.count(); ++v) {
+    if (!solid[std::size_t(v)]) dense[std::size_t(v)] = 0;
+    else if (dense[std::size_t(v)] != 0) queue.push_back(v);
   }
+  const std::int64_t sx = 1, sy = g.dims[0], sz = std::int64_t(g.dims[0]) * g.dims[1];
+  const auto spread = [&](std::vector<std::int64_t>& q) {
+    for (std::size_t at = 0; at < q.size(); ++at) {
+      const std::int64_t v = q[at];
+      const int i = int(v % sy), j = int((v / sy) % g.dims[1]), k = int(v / sz);
+      const std::int64_t nb[6] = {i > 0 ? v - sx : -1, i + 1 < g.dims[0] ? v + sx : -1, j > 0 ? v - sy : -1,
+                                  j + 1 < g.dims[1] ? v + sy : -1, k > 0 ? v - sz : -1, k + 1 < g.dims[2] ? v + sz : -1};
+      for (const std::int64_t n : nb)
+        if (n >= 0 && solid[std::size_t(n)] && dense[std::size_t(n)] == 0) {
+          dense[std::size_t(n)] = dense[std::size_t(v)];
+          q.push_back(n);
+        }
+    }
+  };
+  spread(queue);
+  for (std::int64_t v = 0; v < g.count(); ++v)
+    if (solid[std::size_t(v)] && dense[std::size_t(v)] == 0) {
+      dense[std::size_t(v)] = fallback;
+      std::vector<std::int64_t> one{v};
+      spread(one);
+    }
+  BlockGrid<std::uint16_t> labels(g, 0);
+  tbb::parallel_for(std::int64_t(0), labels.blockCount(), [&](std::int64_t b) {
+    const auto o = labels.blockOrigin(b);
+    std::array<std::uint16_t, BlockGrid<std::uint16_t>::kVoxels> values{};
+    forEachVoxelOfBlock(g, o, [&](int i, int j, int k, int q) { values[std::size_t(q)] = dense[std::size_t(g.index(i, j, k))]; });
+    forEachBeyondGrid(g, o, [&](int q) { values[std::size_t(q)] = values[0]; });
+    labels.setBlock(b, values.data());
+  });
+  labels.compact();
+  return labels;
 }
 
 }  // namespace
@@ -111,26 +141,31 @@ MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const Recons
   const RunConfig& c = in.config;
   const SampledReconstruction& rec = reconstruction.solid;
   const bool method3 = reconstruction.delaunay.has_value();
+  const double voxel = rec.inside.grid().voxel;  // method 3 may refine the scene's (reconstruct_stage.h)
   MeshStage m;
   ConformalCutStats methodCut;
   // ∂R'' with open edges: its gluing failed on some plane (the jittered torus with enforced
   // conformity, seed 2: five edges where faces of two cells nearly parallel to a plane meet it).
   // R'' itself, the union of its tetrahedra, is whole: its voxelisation is meshed instead.
-  m.method3_from_voxels = method3 && reconstruction.delaunay->stats.open_edges > 0 && rec.voxels_inside > 0;
+  // Or the grid holds no voxel set with its topology (reconstruct_stage.cpp): the solid is then the
+  // voxels, made well-composed there, and the mesh is theirs (one solid, issue 49).
+  m.method3_from_voxels = method3 && reconstruction.mesh_from_voxels;
   if (m.method3_from_voxels) {
-    BlockGrid<std::uint8_t> solid = rec.inside;
-    m.voxel_mesh_critical_added = makeWellComposed(solid);
-    BlockGrid<float> field = rec.field;
-    imposeSolid(field, solid, float(0.05 * c.voxel_size_mm));
-    m.voxel_mesh_betti = voxelBetti(solid);
-    m.method_mesh = meshZeroLevel(field);
-    if (c.conformal_mesh) methodCut = cutAlongSections(m.method_mesh, scene.planes, scene.fields, c.voxel_size_mm);
-    warnings->push_back("method 3's boundary could not be glued closed (" +
-                        std::to_string(reconstruction.delaunay->stats.open_edges) + " open edges): " +
-                        (smooth ? "the unsmoothed mesh" : "the mesh") + " is the voxelisation of R'' at " +
-                        std::to_string(c.voxel_size_mm) +
-                        " mm made well-composed, not its boundary through the contours (report.json "
-                        "reconstruction.delaunay.mesh_source: voxels, mesh_voxel_betti)");
+    m.voxel_mesh_critical_added = reconstruction.voxels_added_well_composed;
+    m.voxel_mesh_betti = rec.voxel_betti;
+    m.method_mesh = meshZeroLevel(rec.field);
+    if (c.conformal_mesh) methodCut = cutAlongSections(m.method_mesh, scene.planes, scene.fields, voxel);
+    const std::string what = (smooth ? "the unsmoothed mesh" : "the mesh") + std::string(" is the voxelisation of R'' at ") +
+                             std::to_string(voxel) + " mm made well-composed, not its boundary through the "
+                             "contours (report.json reconstruction.delaunay.mesh_source: voxels, mesh_voxel_betti)";
+    if (reconstruction.delaunay->stats.open_edges > 0)
+      warnings->push_back("method 3's boundary could not be glued closed (" +
+                          std::to_string(reconstruction.delaunay->stats.open_edges) + " open edges): " + what);
+    else
+      warnings->push_back("R'' is thinner than the voxel in places: its boundary has Betti numbers " +
+                          bettiText(reconstruction.boundary_betti) + " but no voxel set on this grid (by centres or by "
+                          "cubes) has them; so that the mesh, labels.nrrd and report.json describe one solid, " + what +
+                          "; a smaller reconstruction.voxel_size_mm may hold the boundary's topology");
   } else if (method3) {
     m.method_mesh = reconstruction.delaunay->mesh;  // ∂R'': conformal by construction, no cut
     // Pieces touching at a vertex are kept apart by copies of the vertex at one position: STL
@@ -158,23 +193,33 @@ MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const Recons
   const bool labelled = anyLabelled(in);  // segmentation labels gave per-label sections
   const std::vector<std::uint16_t> labels = materialLabels(in);
   const bool several = labels.size() >= 2;
-  if (method3 && several && reconstruction.delaunay_materials) {
-    delaunayMaterialsOf(*reconstruction.delaunay_materials, m, warnings);
-  } else {
+  {
     const std::vector<std::vector<Section>> ownSections;  // empty: the planes' own sections
     m.voxel_label = voxelLabels(rec.inside, rec.section_plane, scene.planes, labelled ? in.labelled : ownSections,
                                  &scene.pieces);
   }
-  // Several materials (methods 1 and 2): their solids and meshes from dense copies (not yet by blocks).
-  const bool voxelMaterials = several && !method3;
+  // One solid (issue 49): with smoothing, mesh.* is the smooth surface, so labels.nrrd is the
+  // smooth solid it bounds (its voxels, repaired and well-composed: smooth_stage.h), each voxel
+  // with the method's label there, or its nearest labelled neighbour's within the smooth solid.
+  BlockGrid<std::uint16_t> methodLabels;
+  if (smooth) {
+    methodLabels = std::move(m.voxel_label);
+    m.voxel_label = labelsOfSmoothSolid(smooth->field, methodLabels, labels.empty() ? std::uint16_t(1) : labels.front());
+  }
+  const BlockGrid<std::uint16_t>& materialLabelGrid = smooth ? methodLabels : m.voxel_label;
+  // Several materials: the union's solid partitioned by the labels of the sections the voxels lift
+  // from, each label's solid and mesh from dense copies (not yet by blocks). Method 3 too (issue 49:
+  // each label's own R'' overlapped the others' and was not the union's), so that the materials
+  // tile the union and each mesh bounds its label's voxels.
+  const bool voxelMaterials = several;
   const ScalarField field = voxelMaterials ? denseField(rec.field) : ScalarField{};
-  const std::vector<std::uint16_t> voxelLabel = voxelMaterials ? denseValues(m.voxel_label) : std::vector<std::uint16_t>{};
+  const std::vector<std::uint16_t> voxelLabel = voxelMaterials ? denseValues(materialLabelGrid) : std::vector<std::uint16_t>{};
   if (voxelMaterials)
     for (const std::uint16_t L : labels) {
-      Material mat = materialOf(L, voxelLabel, field, c.voxel_size_mm);
+      Material mat = materialOf(L, voxelLabel, field, voxel);
       if (mat.voxels == 0) {  // a label too small for the grid (a few pixels in one slice)
         warnings->push_back("label " + std::to_string(L) + " has sections but no voxel at " +
-                            std::to_string(c.voxel_size_mm) + " mm: no mesh for it");
+                            std::to_string(voxel) + " mm: no mesh for it");
         continue;
       }
       m.materials.push_back(std::move(mat));
@@ -207,17 +252,15 @@ DiagnoseStage diagnoseStage(const ReconstructStage& reconstruction, const Smooth
     requireMethodMesh(d.topology, "the mesh");
   d.method_topology = smooth ? meshTopology(meshes.method_mesh) : d.topology;
   if (smooth) requireMethodMesh(d.method_topology, "the unsmoothed mesh");
-  if (method3 && !meshes.method3_from_voxels)
-    warnVoxelBetti(d.method_topology, methodBetti, meshes.materials.empty() ? "" : "all labels", warnings);
+  // Method 3's boundary and its voxels: one solid by construction (reconstruct_stage.cpp), checked.
+  if (method3 && !meshes.method3_from_voxels && d.method_topology.betti != methodBetti)
+    throw std::runtime_error("method 3's mesh has Betti numbers " + bettiText(d.method_topology.betti) +
+                             " while its voxels have " + bettiText(methodBetti) +
+                             "; nothing written (a defect of xsect: please report it with the configuration)");
   for (Material& m : meshes.materials) {
     m.topology = meshTopology(m.mesh);
     const std::string what = "the mesh of label " + std::to_string(m.label);
-    if (m.delaunay) {
-      requireMeshBoundsTetrahedra(m.topology, m.tetrahedra_components, m.opened_copies, what);
-      warnVoxelBetti(m.topology, m.voxel_betti, "label " + std::to_string(m.label), warnings);
-    } else {
-      requireMeshBoundsSolid(m.topology, m.voxel_betti, what);
-    }
+    requireMeshBoundsSolid(m.topology, m.voxel_betti, what);
   }
   return d;
 }

@@ -4,13 +4,13 @@
 // and one mesh per label; then every mesh's topology (Betti numbers, watertight) required to be the
 // one of the voxel solid it bounds (issue 14: a difference is a defect, exit 1, nothing written).
 // Method 3 (thesis ch. 3) gives its mesh itself, ∂R'', conformal to the contours by construction
-// (no marching, no cut), and per material the mesh of each label's own R'' (delaunay_materials.h):
-// such a mesh must be watertight with as many components as the union of its tetrahedra; its
-// voxelisation's Betti numbers are reported beside it, with a warning where they differ. Where
-// ∂R'' could not be glued closed (open edges: the run used to stop there, exit 1), the mesh is the
-// voxelisation of R'' instead, meshed and checked as methods 1 and 2 do, with a warning and
-// report.json reconstruction.delaunay.mesh_source "voxels". (Not for the meshes of single labels,
-// each its label's own ∂R'': one that is not closed still stops the run.)
+// (no marching, no cut), sampled on the grid by a rule whose voxels have its Betti numbers
+// (reconstruct_stage.cpp, tetrahedra_voxels.h). Where no rule's voxels do, or ∂R'' could not be
+// glued closed, the mesh is the voxels of R'' made well-composed, meshed and checked as methods 1 and 2
+// do, with a warning and report.json reconstruction.delaunay.mesh_source "voxels": mesh.*,
+// labels.nrrd and the Betti numbers always describe one solid (issue 49). With several materials,
+// every method's materials are the label partition of the union's voxels. With smoothing,
+// labels.nrrd is the smooth solid (one material).
 #pragma once
 
 #include <cstdint>
@@ -34,12 +34,6 @@ struct Material {
   int critical_voxels_added = 0;   ///< voxels taken from neighbours to make it well-composed
   Betti voxel_betti{0, 0, 0};
   MeshTopology topology;           ///< of `mesh`, computed by diagnoseStage
-  /// Method 3: the label's own R'' (delaunay_materials.h), whose mesh is checked against the
-  /// components of its tetrahedra's union rather than against its voxels.
-  std::optional<DelaunayStats> delaunay;
-  int tetrahedra_components = 0;          ///< method 3
-  std::int64_t opened_copies = 0;         ///< method 3: vertex copies its mesh's opened pinches added
-  std::int64_t delaunay_connections = 0;  ///< method 3: section pairs its tetrahedra join
 };
 
 struct MeshStage {

@@ -7,10 +7,11 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "geometry/core/digital_topology.h"
 #include "geometry/delaunay/tetrahedra_components.h"
 #include "geometry/delaunay/tetrahedra_voxels.h"
+#include "geometry/meshing/mesh_topology.h"
 #include "io/input_error.h"
-#include "pipeline/material_sections.h"
 
 namespace xsect {
 
@@ -52,22 +53,37 @@ void delaunayOnGrid(const RunInputs& in, const SceneStage& built, const ArrangeS
         r.graph_edges_not_realised = edgesMissing(a.graphs.g_double_prime, d.connections);
       },
       [&] {
+        // One solid (issue 49): the voxels as the boundary is, by centres or by cubes; the glued
+        // boundary with open edges is replaced by the voxels' mesh anyway.
         const auto tv = std::chrono::steady_clock::now();
-        r.solid = tetrahedraOnGrid(d.tetrahedra, scene.planes, scene.real_planes, scene.grid(), band);
+        if (d.stats.open_edges > 0) {
+          r.solid = tetrahedraOnGrid(d.tetrahedra, scene.planes, scene.real_planes, scene.grid(), band);
+        } else {
+          // Refined grids (the voxel halved up to twice) only without smoothing: the smoothing
+          // works on the scene's lattice.
+          r.boundary_betti = meshTopology(d.mesh).betti;
+          const int refinements = c.smoothing_method == SmoothingMethod::none ? 2 : 0;
+          r.solid = tetrahedraOnGridLike(d.tetrahedra, scene.planes, scene.real_planes, scene.grid(), band,
+                                         r.boundary_betti, refinements, &r.voxels);
+        }
         r.voxelise_s = secondsSince(tv);
       });
   r.solid.evaluate_seconds = r.delaunay_s + r.voxelise_s;
+  // Where the grid cannot hold the topology of R'' by either rule (or its boundary has open edges),
+  // the voxels, made well-composed, are the solid and the mesh is theirs: mesh, labels.nrrd and the
+  // Betti numbers describe one object (mesh_stage.cpp).
+  if (r.solid.voxels_inside > 0 && (d.stats.open_edges > 0 || r.solid.voxel_betti != r.boundary_betti)) {
+    r.mesh_from_voxels = true;
+    r.voxels_added_well_composed = makeWellComposed(r.solid.inside);
+    imposeSolid(r.solid.field, r.solid.inside, float(0.05 * r.solid.inside.grid().voxel));
+    r.solid.raw_inside = r.solid.inside;
+    r.solid.voxels_inside = r.solid.inside.count(1);
+    r.solid.voxel_betti = voxelBetti(r.solid.inside);
+  }
   if (r.solid.voxels_inside == 0)
     warnings->push_back("method 3's solid holds no voxel centre at " + std::to_string(c.voxel_size_mm) +
                         " mm (it is thinner than a voxel): labels.nrrd and the voxel checks are empty; the mesh is "
                         "R'' itself");
-  // Several materials: each label's sections reconstructed on their own (thesis ch. 3, closing remark).
-  const std::vector<std::uint16_t> labels = materialLabels(in);
-  if (labels.size() >= 2) {
-    t0 = std::chrono::steady_clock::now();
-    r.delaunay_materials = delaunayMaterials(in, labels, scene);
-    r.delaunay_s += secondsSince(t0);
-  }
 }
 
 }  // namespace

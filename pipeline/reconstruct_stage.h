@@ -13,9 +13,9 @@
 
 #include "geometry/arrangement/cell_connectivity_check.h"
 #include "geometry/delaunay/delaunay_reconstruction.h"
+#include "geometry/delaunay/tetrahedra_voxels.h"
 #include "geometry/reconstruction/sampled_reconstruction.h"
 #include "pipeline/arrange_stage.h"
-#include "pipeline/delaunay_materials.h"
 #include "pipeline/input_stage.h"
 #include "pipeline/progress.h"
 #include "pipeline/scene_stage.h"
@@ -35,8 +35,14 @@ struct ReconstructStage {
   int graph_edges_not_realised = 0;      ///< method 3: edges of G'' that no tetrahedron realises
   double delaunay_s = 0;                 ///< method 3: delaunayReconstruction, s (per material too)
   double voxelise_s = 0;                 ///< method 3: sampling the tetrahedra on the grid, s
-  /// Method 3 with several materials: each label reconstructed on its own (delaunay_materials.h).
-  std::optional<DelaunayMaterials> delaunay_materials;
+  /// Method 3: the Betti numbers of the glued boundary of R'' (zeros when it has open edges), the
+  /// voxel rule and refinement that matched them (tetrahedra_voxels.h: `solid` is then on the
+  /// refined grid), and whether none did, so that the solid is the voxels made well-composed
+  /// (`voxels_added_well_composed` added), the mesh theirs.
+  Betti boundary_betti{0, 0, 0};
+  VoxelLikeness voxels;
+  bool mesh_from_voxels = false;
+  int voxels_added_well_composed = 0;
 };
 
 /// Reads the scene (stage 4's input) and the method's graph (stage 4); appends a warning when the

@@ -103,6 +103,11 @@ json delaunayJson(const RunResults& r) {
                 {"mesh_triangles", r.smooth ? r.meshes.method_mesh.triangles.size() : r.meshes.mesh.triangles.size()},
                 {"voxel_betti", rs.solid.voxel_betti},
                 {"voxel_betti_matches_mesh", rs.solid.voxel_betti == mesh},
+                // One solid (issue 49): the rule whose voxels have the boundary's Betti numbers
+                {"voxel_rule", rs.voxels.rule == VoxelRule::cube ? "cube" : "centre"},
+                {"voxel_mm", rs.solid.inside.grid().voxel},  // the scene's, halved `refinement` times
+                {"voxel_refinement", rs.voxels.refinement},
+                {"boundary_betti", rs.delaunay->stats.open_edges > 0 ? json(nullptr) : json(rs.boundary_betti)},
                 // mesh_source voxels: the mesh bounds the voxelisation made well-composed
                 {"mesh_voxel_betti", r.meshes.method3_from_voxels ? json(r.meshes.voxel_mesh_betti) : json(nullptr)},
                 {"mesh_voxels_added", r.meshes.voxel_mesh_critical_added},
@@ -114,8 +119,7 @@ json delaunayJson(const RunResults& r) {
                 {"g_prime_not_in_g_double_prime", a.g_prime_not_in_g_double_prime},
                 {"branching_diagram", {{"points", a.branching.size()},
                                        {"rays", a.branching_rays},
-                                       {"rays_labelled", a.branching_labelled}}},
-                {"materials_reconstructed_separately", rs.delaunay_materials.has_value()}});
+                                       {"rays_labelled", a.branching_labelled}}}});
   return j;
 }
 
@@ -158,13 +162,6 @@ json materialsJson(const RunResults& r) {
                     {"watertight", t.watertight}, {"voxels", m.voxels},
                     {"critical_voxels_added", m.critical_voxels_added}, {"volume_mm3", t.volume_mm3},
                     {"mesh_triangles", m.mesh.triangles.size()}});
-    if (m.delaunay) {  // method 3: the label's own R''
-      json d = delaunayStatsJson(*m.delaunay);
-      d.update(json{{"tetrahedra_components", m.tetrahedra_components},
-                    {"opened_vertex_copies", m.opened_copies},
-                    {"connections", m.delaunay_connections}});
-      mats.back()["delaunay"] = d;
-    }
   }
   return mats;
 }
@@ -276,7 +273,8 @@ json reportJson(const RunResults& r, const StageClock& clock) {
   json report;
   report["xsect_version"] = XSECT_VERSION;
   report["betti"] = r.diagnosis.topology.betti;
-  report["voxel_betti"] = rec.voxel_betti;
+  // The solid labels.nrrd holds: the smooth one with smoothing (one solid with mesh.*, issue 49).
+  report["voxel_betti"] = r.smooth ? r.smooth->voxel_betti : rec.voxel_betti;
   report["watertight"] = r.diagnosis.topology.watertight;
   report["counts"] = countsJson(r);
   if (c.input_kind == InputKind::slices || c.input_kind == InputKind::plus_sequence)

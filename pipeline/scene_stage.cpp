@@ -71,10 +71,9 @@ VoxelSizeReport resolveVoxelSize(RunInputs& in, bool quiet) {
 double denseBytesPerVoxel(const RunConfig& c) {
   double dense = 0;
   if (c.smoothing_method != SmoothingMethod::none) dense += kSmoothingBytesPerVoxel;
-  // Several materials: their solids are made from dense copies (field, labels, one label's set);
-  // method 3 reconstructs each material by blocks (delaunay_materials.h).
-  if (c.segmentation.method == SegmentationMethod::labels && c.reconstruction_method != ReconstructionMethod::delaunay)
-    dense += 4 + 2 + 1;
+  // Several materials: their solids are made from dense copies (field, labels, one label's set),
+  // for every method (mesh_stage.cpp).
+  if (c.segmentation.method == SegmentationMethod::labels) dense += 4 + 2 + 1;
   return dense;
 }
 

@@ -59,12 +59,16 @@ int planeOf(const Vec3& x, const std::vector<CuttingPlane>& planes, const std::v
   return -1;
 }
 
-TetrahedronBox boxOf(const std::array<Vec3, 4>& t, const GridSpec& grid) {
+/// The voxel centres to visit for a tetrahedron: those in its bounding box, grown by `margin` mm
+/// (half a voxel for the cube rule: a cube meets the tetrahedron only if its centre lies within
+/// half a voxel of the box).
+TetrahedronBox boxOf(const std::array<Vec3, 4>& t, const GridSpec& grid, double margin) {
   TetrahedronBox b;
   if (flat(t)) return b;
   for (int a = 0; a < 3; ++a) {
     double lo = t[0][a], hi = t[0][a];
     for (int v = 1; v < 4; ++v) lo = std::min(lo, t[std::size_t(v)][a]), hi = std::max(hi, t[std::size_t(v)][a]);
+    lo -= margin, hi += margin;
     const double l = std::ceil((lo - grid.origin[a]) / grid.voxel - 1e-6);
     const double h = std::floor((hi - grid.origin[a]) / grid.voxel + 1e-6);
     b.lo[std::size_t(a)] = int(std::clamp(l, 0.0, double(grid.dims[a])));
@@ -73,12 +77,52 @@ TetrahedronBox boxOf(const std::array<Vec3, 4>& t, const GridSpec& grid) {
   return b;
 }
 
+/// A tetrahedron as slabs lo <= n·x <= hi that a voxel centre x must lie in: its four face planes
+/// (centre rule, lo = -inf), or every separating axis of the tetrahedron and a voxel's cube,
+/// widened by the cube's half-extent along the axis (cube rule: the three box normals, the four
+/// face normals, the cross products of the box's edges with the tetrahedron's six edges).
+struct Slabs {
+  std::vector<Vec3> n;
+  std::vector<double> lo, hi;
+};
+
+Slabs slabsOf(const std::array<Vec3, 4>& t, VoxelRule rule, double voxel, double tol) {
+  Slabs s;
+  const Faces f = facesOf(t);
+  if (rule == VoxelRule::centre) {
+    for (int q = 0; q < 4; ++q) {
+      s.n.push_back(f.n[std::size_t(q)]);
+      s.lo.push_back(-1e300);
+      s.hi.push_back(tol - f.d[std::size_t(q)]);
+    }
+    return s;
+  }
+  std::vector<Vec3> axes{Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()};
+  for (int q = 0; q < 4; ++q) axes.push_back(f.n[std::size_t(q)]);
+  for (int a = 0; a < 4; ++a)
+    for (int b = a + 1; b < 4; ++b)
+      for (int e = 0; e < 3; ++e) {
+        Vec3 n = Vec3::Unit(e).cross(t[std::size_t(b)] - t[std::size_t(a)]);
+        const double len = n.norm();
+        if (len > 1e-12 * (t[std::size_t(b)] - t[std::size_t(a)]).norm()) axes.push_back(n / len);
+      }
+  for (const Vec3& n : axes) {
+    double lo = n.dot(t[0]), hi = lo;
+    for (int v = 1; v < 4; ++v) lo = std::min(lo, n.dot(t[std::size_t(v)])), hi = std::max(hi, n.dot(t[std::size_t(v)]));
+    const double r = 0.5 * voxel * n.cwiseAbs().sum() + tol;
+    s.n.push_back(n);
+    s.lo.push_back(lo - r);
+    s.hi.push_back(hi + r);
+  }
+  return s;
+}
+
 /// Fills the rows of blocks of one layer, row by row (see tetrahedra_voxels.h).
 class LayerScan {
  public:
   LayerScan(const TetrahedronSet& tetrahedra, const std::vector<TetrahedronBox>& boxes,
-            const std::vector<CuttingPlane>& planes, SampledReconstruction& out)
-      : tetrahedra_(tetrahedra), boxes_(boxes), planes_(planes), out_(out), grid_(out.inside.grid()),
+            const std::vector<CuttingPlane>& planes, VoxelRule rule, SampledReconstruction& out)
+      : tetrahedra_(tetrahedra), boxes_(boxes), planes_(planes), rule_(rule), out_(out), grid_(out.inside.grid()),
         width_(out.inside.blockDims()[0] * kSide), tol_(1e-6 * grid_.voxel) {}
 
   /// Row of blocks (bj, bk) from the tetrahedra `list` (ascending); returns its largest lift, mm.
@@ -91,24 +135,27 @@ class LayerScan {
     for (std::size_t q = 0; q < count; ++q) {
       const int t = list[q];
       const TetrahedronBox& box = boxes_[std::size_t(t)];
-      const Faces f = facesOf(tetrahedra_.at(std::size_t(t)));
+      const Slabs f = slabsOf(tetrahedra_.at(std::size_t(t)), rule_, h, tol_);
       const int k0 = std::max(box.lo[2], bk * kSide), k1 = std::min(box.hi[2], bk * kSide + kSide - 1);
       const int j0 = std::max(box.lo[1], bj * kSide), j1 = std::min(box.hi[1], bj * kSide + kSide - 1);
       for (int k = k0; k <= k1; ++k)
         for (int j = j0; j <= j1; ++j) {
-          // The centres (i, j, k) with n·x + d <= tol for the four faces: n_x h i <= tol - c.
+          // The centres (i, j, k) with lo <= n·x <= hi for every slab: lo - c <= n_x h i <= hi - c.
           const double y = grid_.origin.y() + h * j, z = grid_.origin.z() + h * k;
           double lo = box.lo[0], hi = box.hi[0];
-          for (int s = 0; s < 4 && lo <= hi; ++s) {
-            const Vec3& nf = f.n[std::size_t(s)];
-            const double c = nf.y() * y + nf.z() * z + f.d[std::size_t(s)] + nf.x() * grid_.origin.x();
+          const double last = double(grid_.dims[0]) + 1;
+          for (std::size_t s = 0; s < f.n.size() && lo <= hi; ++s) {
+            const Vec3& nf = f.n[s];
+            const double c = nf.y() * y + nf.z() * z + nf.x() * grid_.origin.x();
             const double a = nf.x() * h;
             if (a == 0) {
-              if (c > tol_) hi = lo - 1;
+              if (c > f.hi[s] || c < f.lo[s]) hi = lo - 1;
             } else if (a > 0) {
-              hi = std::min(hi, std::floor(std::clamp((tol_ - c) / a, -2.0, double(grid_.dims[0]) + 1)));
+              hi = std::min(hi, std::floor(std::clamp((f.hi[s] - c) / a, -2.0, last)));
+              lo = std::max(lo, std::ceil(std::clamp((f.lo[s] - c) / a, -2.0, last)));
             } else {
-              lo = std::max(lo, std::ceil(std::clamp((tol_ - c) / a, -2.0, double(grid_.dims[0]) + 1)));
+              lo = std::max(lo, std::ceil(std::clamp((f.hi[s] - c) / a, -2.0, last)));
+              hi = std::min(hi, std::floor(std::clamp((f.lo[s] - c) / a, -2.0, last)));
             }
           }
           const std::size_t rowStart = (std::size_t(k - bk * kSide) * kSide + std::size_t(j - bj * kSide)) * std::size_t(width_);
@@ -158,6 +205,7 @@ class LayerScan {
   const TetrahedronSet& tetrahedra_;
   const std::vector<TetrahedronBox>& boxes_;
   const std::vector<CuttingPlane>& planes_;
+  const VoxelRule rule_;
   SampledReconstruction& out_;
   const GridSpec& grid_;
   const int width_;    ///< voxels along x of a row of blocks (whole blocks)
@@ -214,7 +262,7 @@ void fillField(SampledReconstruction& out, float band) {
 
 SampledReconstruction tetrahedraOnGrid(const TetrahedronSet& tetrahedra,
                                        const std::vector<CuttingPlane>& planes, std::size_t realPlanes,
-                                       const GridSpec& grid, float band_mm,
+                                       const GridSpec& grid, float band_mm, VoxelRule rule,
                                        const std::function<void(std::int64_t, std::int64_t)>& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   SampledReconstruction out;
@@ -234,7 +282,7 @@ SampledReconstruction tetrahedraOnGrid(const TetrahedronSet& tetrahedra,
   });
   std::vector<TetrahedronBox> boxes(tetrahedra.size());
   tbb::parallel_for(std::size_t(0), tetrahedra.size(), [&](std::size_t t) {
-    boxes[t] = boxOf(tetrahedra.at(t), grid);
+    boxes[t] = boxOf(tetrahedra.at(t), grid, rule == VoxelRule::cube ? 0.5 * grid.voxel : 0.0);
     if (boxes[t].empty()) return;
     for (int v = 0; v < 4; ++v)
       boxes[t].plane[std::size_t(v)] = vertexPlane[std::size_t(tetrahedra.corners[t][std::size_t(v)])];
@@ -251,7 +299,7 @@ SampledReconstruction tetrahedraOnGrid(const TetrahedronSet& tetrahedra,
   const std::int64_t rows = std::int64_t(B[1]) * B[2];
   std::vector<double> layerLift(static_cast<std::size_t>(B[1]));
   double maxLift = 0;
-  LayerScan scan(tetrahedra, boxes, planes, out);
+  LayerScan scan(tetrahedra, boxes, planes, rule, out);
   for (int bk = 0; bk < B[2]; ++bk) {
     active.erase(std::remove_if(active.begin(), active.end(),
                                 [&](int t) { return boxes[std::size_t(t)].hi[2] / kSide < bk; }),
@@ -296,6 +344,41 @@ SampledReconstruction tetrahedraOnGrid(const TetrahedronSet& tetrahedra,
   out.storage.inside_leaves = out.inside.leafCount();
   out.evaluate_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
+}
+
+SampledReconstruction tetrahedraOnGridLike(const TetrahedronSet& tetrahedra, const std::vector<CuttingPlane>& planes,
+                                           std::size_t realPlanes, const GridSpec& grid, float band_mm,
+                                           const Betti& target, int refinements, VoxelLikeness* how) {
+  const auto distance = [&](const Betti& b) {
+    return std::abs(b[0] - target[0]) + std::abs(b[1] - target[1]) + std::abs(b[2] - target[2]);
+  };
+  SampledReconstruction best;
+  int bestDistance = -1;
+  double seconds = 0;
+  for (int level = 0; level <= refinements; ++level) {
+    // The same box at 2^level voxels per voxel: centres of the coarse grid stay centres.
+    GridSpec g = grid;
+    const int f = 1 << level;
+    g.voxel = grid.voxel / f;
+    for (int a = 0; a < 3; ++a) g.dims[a] = (grid.dims[a] - 1) * f + 1;
+    if (level > 0 && double(g.count()) > kMaxRefinedVoxels) break;
+    for (const VoxelRule rule : {VoxelRule::centre, VoxelRule::cube}) {
+      SampledReconstruction r = tetrahedraOnGrid(tetrahedra, planes, realPlanes, g, band_mm, rule);
+      seconds += r.evaluate_seconds;
+      const int d = distance(r.voxel_betti);
+      if (bestDistance < 0 || d < bestDistance) {  // ties: the coarser grid, the centre rule
+        best = std::move(r);
+        bestDistance = d;
+        *how = {rule, level, d == 0};
+      }
+      if (d == 0) {
+        best.evaluate_seconds = seconds;
+        return best;
+      }
+    }
+  }
+  best.evaluate_seconds = seconds;
+  return best;
 }
 
 }  // namespace xsect

@@ -1,11 +1,14 @@
 // Method 3's solid R'' (delaunay_reconstruction.h: a union of tetrahedra) sampled on a voxel grid,
 // for what reads voxels: labels.nrrd, the graph checks against the solid's components, the
-// smoothing (stage 6) and the voxel Betti numbers. A voxel is in the solid when its centre lies in
-// a closed tetrahedron: the centre's signed distance to each of the tetrahedron's four face planes
-// (outward unit normals) is at most a tolerance of 1e-6 voxel, so that a centre on a face shared
-// by two tetrahedra, or on a cutting plane where the solid lies flat, is not lost to rounding.
-// No topology repair: where R'' is thinner than a voxel its sampling may split or vanish, which the
-// voxel Betti numbers show against the mesh's (the mesh, not the voxels, is the reconstruction).
+// smoothing (stage 6) and the voxel Betti numbers. By the centre rule a voxel is in the solid when
+// its centre lies in a closed tetrahedron: the centre's signed distance to each of the
+// tetrahedron's four face planes (outward unit normals) is at most a tolerance of 1e-6 voxel, so
+// that a centre on a face shared by two tetrahedra, or on a cutting plane where the solid lies
+// flat, is not lost to rounding. Where R'' is thinner than a voxel that sampling may split it,
+// open tunnels through its thin walls or enclose cavities (issue 49: a mug from 5 planes sampled
+// as (4, 17, 3) while its boundary is (1, 0, 0)); by the cube rule a voxel is in the solid when its
+// cube meets a tetrahedron, which keeps thin walls and necks (tetrahedraOnGridLike tries it when the
+// centres do not have the boundary's Betti numbers).
 //
 // By rows of blocks of 8³ voxels (block_grid.h), layer of blocks by layer along z: each tetrahedron
 // is listed in the rows its bounding box meets, and each row fills its blocks from its list, in
@@ -27,12 +30,21 @@
 
 namespace xsect {
 
+/// Which voxels hold the union of tetrahedra.
+enum class VoxelRule {
+  centre,  ///< the voxel's centre lies in a closed tetrahedron (within 1e-6 voxel of its faces)
+  /// the voxel's closed cube meets a tetrahedron (separating axes, exact up to 1e-6 voxel): a
+  /// part of R'' thinner than a voxel keeps its voxels, so a connected R'' stays connected
+  cube,
+};
+
 /// @param tetrahedra  #T tetrahedra on their vertex table (world coordinates, mm); flat ones (volume below 1e-12 of
 ///                    their longest edge cubed) are skipped.
 /// @param planes      the cutting planes; the first `realPlanes` are the real ones that hold the
 ///                    tetrahedra's vertices (section-vertices lie on them).
 /// @param grid        the voxel grid (the scene's).
 /// @param band_mm     the field's clamp, mm (> 0): as the other methods' fields, |value| <= band.
+/// @param rule        centre (the default sampling) or cube (the conservative one).
 /// @param progress    optional, called with (rows of blocks done, rows of blocks) from any thread.
 /// @returns the sampled solid in the fields the other methods fill (sampled_reconstruction.h):
 ///  - `inside` (= `raw_inside`): 1 where a voxel centre lies in a tetrahedron;
@@ -47,7 +59,28 @@ namespace xsect {
 ///  - `voxels_inside`, `voxel_betti`, `storage`, `evaluate_seconds`; no repair (zero counts).
 SampledReconstruction tetrahedraOnGrid(const TetrahedronSet& tetrahedra,
                                        const std::vector<CuttingPlane>& planes, std::size_t realPlanes,
-                                       const GridSpec& grid, float band_mm,
+                                       const GridSpec& grid, float band_mm, VoxelRule rule = VoxelRule::centre,
                                        const std::function<void(std::int64_t, std::int64_t)>& progress = {});
+
+/// How tetrahedraOnGridLike sampled R''.
+struct VoxelLikeness {
+  VoxelRule rule = VoxelRule::centre;
+  int refinement = 0;    ///< the grid's voxel halved this many times
+  bool matched = false;  ///< the voxels have the target's Betti numbers
+};
+
+/// The most voxels a refined grid may have (a sparse grid keeps only the blocks the boundary and
+/// the solid fill; this bounds the blocks' table).
+inline constexpr double kMaxRefinedVoxels = 4e8;
+
+/// R'' on the grid as its boundary mesh is, where a grid can hold it: the centre rule, then the cube
+/// rule, on `grid`, then on the same box with the voxel halved, up to `refinements` times (at most
+/// kMaxRefinedVoxels voxels): the first whose voxels have the Betti numbers `target` (the
+/// boundary's). When none has, the one whose Betti numbers are nearest the target's (the sum of
+/// the differences; ties: the coarser grid, the centre rule), matched = false.
+/// A refined grid's centres include the coarse grid's (origin kept, dims (n - 1) 2^k + 1).
+SampledReconstruction tetrahedraOnGridLike(const TetrahedronSet& tetrahedra, const std::vector<CuttingPlane>& planes,
+                                           std::size_t realPlanes, const GridSpec& grid, float band_mm,
+                                           const Betti& target, int refinements, VoxelLikeness* how);
 
 }  // namespace xsect
