@@ -10,7 +10,7 @@
 #include <utility>
 
 #include "geometry/core/polygon.h"
-#include "geometry/core/ring_repair.h"
+#include "io/contour_repair.h"
 #include "geometry/core/ring_validity.h"
 #include "io/contour_plane.h"
 #include "io/input_error.h"
@@ -201,7 +201,7 @@ std::vector<Section> sectionsOfLoops(const std::vector<std::vector<long>>& loops
     const double area = ring.size() < 3 ? 0.0 : signedArea(ring);
     // A ring crossing itself: the area of its lobes (a symmetric figure eight nets zero); its
     // role, outer or hole, is its net orientation's (outer when it nets zero).
-    const double lobes = simple || !repair || ring.size() < 3 ? std::abs(area) : repairRings({ring}, {}).area_after;
+    const double lobes = simple || !repair || ring.size() < 3 ? std::abs(area) : repairedOrRefused({ring}, {}, file, where, line).area_after;
     if (lobes <= tinyArea) {
       if (warnings) warnings->push_back(file + ": " + where + " has no area (a point or a segment): dropped");
       continue;
@@ -209,7 +209,7 @@ std::vector<Section> sectionsOfLoops(const std::vector<std::vector<long>>& loops
     (area >= 0 ? outers : holes).push_back(std::move(ring));
   }
   if (repair) {
-    RingRepair fixed = repairRings(outers, holes);
+    RingRepair fixed = repairedOrRefused(outers, holes, file, field, line);
     if (fixed.changed && warnings) warnings->push_back(repairWarning(file + ": " + field, fixed));
     outers = std::move(fixed.outers);
     holes = std::move(fixed.holes);

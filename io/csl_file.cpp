@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "geometry/core/polygon.h"
-#include "geometry/core/ring_repair.h"
+#include "io/contour_repair.h"
 #include "geometry/core/ring_validity.h"
 #include "io/contour_plane.h"
 #include "io/input_error.h"
@@ -14,6 +14,7 @@
 #include "io/text_tokens.h"
 
 namespace xsect {
+
 
 std::vector<CuttingPlane> readCslFile(const std::string& path, std::vector<std::string>* warnings, bool repair) {
   Tokens tk = readTokens(path);
@@ -105,7 +106,7 @@ std::vector<CuttingPlane> readCslFile(const std::string& path, std::vector<std::
                            "makes it simple",
                            r.line);
         const double area = simple || !repair || ring.size() < 3 ? std::abs(signedArea(ring))
-                                                                  : repairRings({ring}, {}).area_after;
+                                                                  : repairedOrRefused({ring}, {}, path, where, r.line).area_after;
         if (ring.size() < 3 || area <= tinyArea) {
           if (warnings)
             warnings->push_back(path + ": " + where + " has no area (a point or a segment): dropped");
@@ -118,7 +119,7 @@ std::vector<CuttingPlane> readCslFile(const std::string& path, std::vector<std::
     clean(r.outers, r.outerComponent);
     clean(r.holes, r.holeComponent);
     if (repair) {
-      RingRepair fixed = repairRings(r.outers, r.holes);
+      RingRepair fixed = repairedOrRefused(r.outers, r.holes, path, cp.name, r.line);
       if (fixed.changed && warnings) warnings->push_back(repairWarning(path + ": " + cp.name, fixed));
       r.outers = std::move(fixed.outers);
       r.holes = std::move(fixed.holes);

@@ -262,6 +262,8 @@ CuttingPlane planeOfFrame(int slice, const std::string& name, const Mat4& pose, 
   } catch (const cv::Exception& e) {  // a setting OpenCV cannot apply to this image
     throw InputError(settings_file, "segmentation",
                      "OpenCV cannot segment " + name + " with these settings: " + e.err);
+  } catch (const std::invalid_argument& e) {  // simplified contours no repair can hold in doubles
+    throw InputError(settings_file, "segmentation.simplify_mm", std::string(e.what()) + " (" + name + ")");
   }
   cp.sections = std::move(seg.sections);
   *touches = char((seg.touches_fov_edge ? kTouches : 0) | (seg.contours_repaired ? kRepaired : 0));

@@ -74,33 +74,33 @@ std::string bettiText(const Betti& b) {
 }
 
 
-/// The labels of the smooth solid {field < 0}: the method's label where it has one, elsewhere the
-/// label reached first from the labelled voxels through the smooth solid's face neighbours
-/// (breadth first, from the voxels in index order: deterministic), `fallback` in a component
-/// holding no labelled voxel; 0 outside. By blocks (voxels beyond the grid repeat the block's
-/// first, so that uniform blocks are tiles).
+/// The labels of the smooth solid {field < 0}, on the smoothing's grid (the method's lattice with
+/// wider margins, smooth_stage.cpp): the method's label where it has one, elsewhere the label
+/// reached first from the labelled voxels through the smooth solid's face neighbours (breadth
+/// first, from the voxels in index order: deterministic), `fallback` in a component holding no
+/// labelled voxel; 0 outside. By blocks (voxels beyond the grid repeat the block's first, so that
+/// uniform blocks are tiles).
 BlockGrid<std::uint16_t> labelsOfSmoothSolid(const ScalarField& field, const BlockGrid<std::uint16_t>& method,
                                             std::uint16_t fallback) {
-  // On the method's grid (labels.nrrd's, sampling.nrrd's): the smoothing's grid is on the same
-  // lattice with wider margins (smooth_stage.cpp), and its solid lies within the end planes.
-  const GridSpec& g = method.grid();
-  std::array<int, 3> shift{};
-  for (int a = 0; a < 3; ++a) shift[std::size_t(a)] = int(std::lround((g.origin[a] - field.grid.origin[a]) / g.voxel));
-  std::vector<std::uint8_t> solid(std::size_t(g.count()), 0);
+  const GridSpec& g = field.grid;
+  const GridSpec& m = method.grid();
+  std::array<int, 3> shift{};  // method voxel = smooth voxel - shift
+  for (int a = 0; a < 3; ++a) shift[std::size_t(a)] = int(std::lround((m.origin[a] - g.origin[a]) / g.voxel));
+  std::vector<std::uint16_t> dense(std::size_t(g.count()), 0);
+  std::vector<std::int64_t> queue;
   for (int k = 0; k < g.dims[2]; ++k)
     for (int j = 0; j < g.dims[1]; ++j)
       for (int i = 0; i < g.dims[0]; ++i) {
-        const int si = i + shift[0], sj = j + shift[1], sk = k + shift[2];
-        if (si < 0 || sj < 0 || sk < 0 || si >= field.grid.dims[0] || sj >= field.grid.dims[1] || sk >= field.grid.dims[2])
-          continue;
-        solid[std::size_t(g.index(i, j, k))] = field.values[std::size_t(field.grid.index(si, sj, sk))] < 0;
+        const std::int64_t v = g.index(i, j, k);
+        if (!(field.values[std::size_t(v)] < 0)) continue;
+        const int mi = i - shift[0], mj = j - shift[1], mk = k - shift[2];
+        const bool onMethod = mi >= 0 && mj >= 0 && mk >= 0 && mi < m.dims[0] && mj < m.dims[1] && mk < m.dims[2];
+        const std::uint16_t l = onMethod ? method.at(mi, mj, mk) : std::uint16_t(0);
+        if (l != 0) {
+          dense[std::size_t(v)] = l;
+          queue.push_back(v);
+        }
       }
-  std::vector<std::uint16_t> dense = denseValues(method);
-  std::vector<std::int64_t> queue;
-  for (std::int64_t v = 0; v < g.count(); ++v) {
-    if (!solid[std::size_t(v)]) dense[std::size_t(v)] = 0;
-    else if (dense[std::size_t(v)] != 0) queue.push_back(v);
-  }
   const std::int64_t sx = 1, sy = g.dims[0], sz = std::int64_t(g.dims[0]) * g.dims[1];
   const auto spread = [&](std::vector<std::int64_t>& q) {
     for (std::size_t at = 0; at < q.size(); ++at) {
@@ -109,7 +109,7 @@ BlockGrid<std::uint16_t> labelsOfSmoothSolid(const ScalarField& field, const Blo
       const std::int64_t nb[6] = {i > 0 ? v - sx : -1, i + 1 < g.dims[0] ? v + sx : -1, j > 0 ? v - sy : -1,
                                   j + 1 < g.dims[1] ? v + sy : -1, k > 0 ? v - sz : -1, k + 1 < g.dims[2] ? v + sz : -1};
       for (const std::int64_t n : nb)
-        if (n >= 0 && solid[std::size_t(n)] && dense[std::size_t(n)] == 0) {
+        if (n >= 0 && field.values[std::size_t(n)] < 0 && dense[std::size_t(n)] == 0) {
           dense[std::size_t(n)] = dense[std::size_t(v)];
           q.push_back(n);
         }
@@ -117,7 +117,7 @@ BlockGrid<std::uint16_t> labelsOfSmoothSolid(const ScalarField& field, const Blo
   };
   spread(queue);
   for (std::int64_t v = 0; v < g.count(); ++v)
-    if (solid[std::size_t(v)] && dense[std::size_t(v)] == 0) {
+    if (field.values[std::size_t(v)] < 0 && dense[std::size_t(v)] == 0) {
       dense[std::size_t(v)] = fallback;
       std::vector<std::int64_t> one{v};
       spread(one);
@@ -199,21 +199,18 @@ MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const Recons
                                  &scene.pieces);
   }
   // One solid (issue 49): with smoothing, mesh.* is the smooth surface, so labels.nrrd is the
-  // smooth solid it bounds (its voxels, repaired and well-composed: smooth_stage.h), each voxel
-  // with the method's label there, or its nearest labelled neighbour's within the smooth solid.
-  BlockGrid<std::uint16_t> methodLabels;
-  if (smooth) {
-    methodLabels = std::move(m.voxel_label);
-    m.voxel_label = labelsOfSmoothSolid(smooth->field, methodLabels, labels.empty() ? std::uint16_t(1) : labels.front());
-  }
-  const BlockGrid<std::uint16_t>& materialLabelGrid = smooth ? methodLabels : m.voxel_label;
+  // smooth solid it bounds (its voxels, repaired and well-composed: smooth_stage.h), on its grid,
+  // each voxel with the method's label there, or its nearest labelled neighbour's within it; the
+  // materials are then that solid's labels.
+  if (smooth)
+    m.voxel_label = labelsOfSmoothSolid(smooth->field, m.voxel_label, labels.empty() ? std::uint16_t(1) : labels.front());
   // Several materials: the union's solid partitioned by the labels of the sections the voxels lift
   // from, each label's solid and mesh from dense copies (not yet by blocks). Method 3 too (issue 49:
   // each label's own R'' overlapped the others' and was not the union's), so that the materials
   // tile the union and each mesh bounds its label's voxels.
   const bool voxelMaterials = several;
-  const ScalarField field = voxelMaterials ? denseField(rec.field) : ScalarField{};
-  const std::vector<std::uint16_t> voxelLabel = voxelMaterials ? denseValues(materialLabelGrid) : std::vector<std::uint16_t>{};
+  const ScalarField field = !voxelMaterials ? ScalarField{} : smooth ? smooth->field : denseField(rec.field);
+  const std::vector<std::uint16_t> voxelLabel = voxelMaterials ? denseValues(m.voxel_label) : std::vector<std::uint16_t>{};
   if (voxelMaterials)
     for (const std::uint16_t L : labels) {
       Material mat = materialOf(L, voxelLabel, field, voxel);

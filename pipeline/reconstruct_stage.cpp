@@ -12,6 +12,7 @@
 #include "geometry/delaunay/tetrahedra_voxels.h"
 #include "geometry/meshing/mesh_topology.h"
 #include "io/input_error.h"
+#include "pipeline/material_sections.h"
 
 namespace xsect {
 
@@ -59,10 +60,12 @@ void delaunayOnGrid(const RunInputs& in, const SceneStage& built, const ArrangeS
         if (d.stats.open_edges > 0) {
           r.solid = tetrahedraOnGrid(d.tetrahedra, scene.planes, scene.real_planes, scene.grid(), band);
         } else {
-          // Refined grids (the voxel halved up to twice) only without smoothing: the smoothing
-          // works on the scene's lattice.
+          // Refined grids (the voxel halved up to twice, sparse: the blocks the boundary and the
+          // solid fill) only without smoothing: the smoothing works on the scene's lattice.
           r.boundary_betti = meshTopology(d.mesh).betti;
-          const int refinements = c.smoothing_method == SmoothingMethod::none ? 2 : 0;
+          // Nor with several materials: their solids are made from dense copies of the grid.
+          const int refinements =
+              c.smoothing_method == SmoothingMethod::none && materialLabels(in).size() < 2 ? 2 : 0;
           r.solid = tetrahedraOnGridLike(d.tetrahedra, scene.planes, scene.real_planes, scene.grid(), band,
                                          r.boundary_betti, refinements, &r.voxels);
         }

@@ -1,7 +1,8 @@
 // Issue 49, "one solid in every output": for every method, with and without smoothing, on dense and
 // sparse phantoms (one and two materials), the files a run writes describe one object: the Betti
 // numbers of mesh.ply (read back from the file), of labels.nrrd (read back, its non-zero voxels)
-// and report.json's betti and voxel_betti are all equal. 72 configurations: 6 shapes x 3 methods x
+// and report.json's betti and voxel_betti are all equal; with two materials each label's
+// mesh_label_L.ply and report.json's materials[] too (its voxels in labels.nrrd: counted). 72 configurations: 6 shapes x 3 methods x
 // 2 smoothings x 2 plane sets (dense, sparse random), the sparse ones where method 3's R'' is
 // thinner than a voxel in places (before issue 49 its voxels had other Betti numbers than its mesh
 // on most of them).
@@ -33,17 +34,18 @@ const std::vector<Shape> kShapes = {
     {"two-labels", "{kind: torus, params: {major_radius: 7, minor_radius: 2.5}, label_split: {normal: [1, 0, 0]}}"},
 };
 
-Betti labelBetti(const fs::path& nrrd) {
+/// The Betti numbers of the voxels of labels.nrrd holding `label` (0: any non-zero label).
+Betti labelBetti(const fs::path& nrrd, std::uint16_t label = 0) {
   const LabelVolume v = readLabelVolumeNrrd(nrrd.string());
   std::vector<std::uint8_t> inside(v.labels.size());
-  for (std::size_t i = 0; i < inside.size(); ++i) inside[i] = v.labels[i] != 0;
+  for (std::size_t i = 0; i < inside.size(); ++i) inside[i] = label == 0 ? v.labels[i] != 0 : v.labels[i] == label;
   return voxelBetti(inside, v.grid);
 }
 
 }  // namespace
 
 TEST(OneSolid, MeshLabelsAndReportDescribeOneObjectForEveryMethodAndSmoothing) {
-  int runs = 0, refused = 0;
+  int runs = 0, refused = 0, materials = 0, materialLabelsDiffer = 0;
   for (const Shape& shape : kShapes)
     for (const std::string pattern : {"{kind: multiaxial, count: 5}", "{kind: random, count: 9}"}) {
       const std::string spec = "seed: 5\nshape: " + shape.spec + "\npattern: " + pattern +
@@ -68,9 +70,20 @@ TEST(OneSolid, MeshLabelsAndReportDescribeOneObjectForEveryMethodAndSmoothing) {
           EXPECT_EQ(json(mesh.betti), rep["betti"]) << what;
           EXPECT_EQ(rep["voxel_betti"], rep["betti"]) << what;
           EXPECT_EQ(json(labelBetti(dir / "out/labels.nrrd")), rep["betti"]) << what;
+          // Each material: its mesh file and the report agree. Its voxels in labels.nrrd do not
+          // always: each label's solid is made well-composed by taking voxels of its neighbours,
+          // which labels.nrrd does not record (counted, not asserted: README "Not yet").
+          for (const json& mat : rep["materials"]) {
+            const std::uint16_t L = mat["label"].get<std::uint16_t>();
+            const fs::path file = dir / ("out/mesh_label_" + std::to_string(L) + ".ply");
+            EXPECT_EQ(json(meshTopology(readMesh(file.string())).betti), mat["betti"]) << what << " label " << L;
+            ++materials;
+            materialLabelsDiffer += json(labelBetti(dir / "out/labels.nrrd", L)) != mat["betti"];
+          }
         }
       fs::remove_all(dir);
     }
   EXPECT_GE(runs, 60);
-  std::cerr << "one solid: " << runs << " runs, " << refused << " refused\n";
+  std::cerr << "one solid: " << runs << " runs, " << refused << " refused; materials whose labels.nrrd voxels have "
+            << "other Betti numbers than their mesh: " << materialLabelsDiffer << " of " << materials << "\n";
 }

@@ -102,6 +102,20 @@ TEST(RingRepair, SimpleDisjointRingsAreReturnedAsGiven) {
   EXPECT_EQ(r.holes, holes);
 }
 
+TEST(RingRepair, AHoleTouchingItsOuterRingAtEveryVertexIsKept) {
+  // A diamond hole on the midpoints of a square's sides: every hole vertex on the outer ring.
+  Ring hole = {{1, 0}, {2, 1}, {1, 2}, {0, 1}};
+  std::reverse(hole.begin(), hole.end());
+  const RingRepair r = repairRings({{{0, 0}, {1, 0}, {2, 0}, {2, 1}, {2, 2}, {1, 2}, {0, 2}, {0, 1}}}, {hole});
+  const std::vector<Section> s = sectionsFromRings(r.outers, r.holes);
+  double area = 0;
+  for (const Section& sec : s) {
+    area += std::abs(signedArea(sec.outer));
+    for (const Ring& h : sec.holes) area -= std::abs(signedArea(h));
+  }
+  EXPECT_NEAR(area, 2.0, 1e-12);  // 4 minus the diamond's 2
+}
+
 TEST(RingRepair, FigureEightOverlapsTouchingAndCrossingHoles) {
   std::mt19937 rng(7);
   // A figure eight (a bow tie): two lobes, each once; its signed area nets zero.

@@ -2,6 +2,7 @@
 #include "geometry/core/polygon.h"
 
 #include <algorithm>
+#include <optional>
 #include <cmath>
 #include <limits>
 
@@ -122,9 +123,17 @@ std::vector<Section> sectionsFromRings(std::vector<Ring> outers, std::vector<Rin
     // vertex: repaired contours, geometry/core/ring_repair.h).
     int best = -1;
     for (std::size_t k = 0; k < out.size(); ++k) {
+      // (every vertex on it: the midpoint of an edge off it, as for a diamond hole on the midpoints
+      // of a square's sides.)
       const Ring& o = out[k].outer;
-      const auto off = std::find_if(h.begin(), h.end(), [&](const Vec2& p) { return ringDistance(o, p) > 0; });
-      if (off != h.end() && ringContains(o, *off) && (best < 0 || area[k] < area[best])) best = int(k);
+      std::optional<Vec2> off;
+      for (std::size_t q = 0; q < h.size() && !off; ++q)
+        if (ringDistance(o, h[q]) > 0) off = h[q];
+      for (std::size_t q = 0; q < h.size() && !off; ++q) {
+        const Vec2 mid = 0.5 * (h[q] + h[(q + 1) % h.size()]);
+        if (ringDistance(o, mid) > 0) off = mid;
+      }
+      if (off && ringContains(o, *off) && (best < 0 || area[k] < area[best])) best = int(k);
     }
     if (best >= 0) out[best].holes.push_back(std::move(h));
   }

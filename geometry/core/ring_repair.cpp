@@ -10,6 +10,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include "geometry/core/polygon.h"
 #include "geometry/core/ring_validity.h"
@@ -226,6 +227,12 @@ RingRepair repairRings(const std::vector<Ring>& outers, const std::vector<Ring>&
     out.area_after += area;
     (a > 0 ? out.outers : out.holes).push_back(std::move(r));
   }
+  // Rounded to doubles, crossing points closer than a double can tell apart could meet again.
+  std::vector<Ring> result = out.outers;
+  result.insert(result.end(), out.holes.begin(), out.holes.end());
+  if (!ringsAreSimpleAndDisjoint(result))
+    throw std::invalid_argument("the repaired contours cross again once their crossing points are rounded to double "
+                                "precision (features under 1e-15 of the coordinates)");
   return out;
 }
 

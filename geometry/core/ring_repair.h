@@ -44,6 +44,7 @@ std::string repairWarning(const std::string& where, const RingRepair& r);
 
 /// The region of `outers` and `holes` by the rule above, as simple rings. Rings of fewer than
 /// three distinct vertices are ignored. Exact: O((n + k) log n) for n segments crossing k times.
+/// Throws std::invalid_argument when the rings, rounded to doubles, would cross again.
 RingRepair repairRings(const std::vector<Ring>& outers, const std::vector<Ring>& holes);
 
 }  // namespace xsect

@@ -349,8 +349,10 @@ SampledReconstruction tetrahedraOnGrid(const TetrahedronSet& tetrahedra,
 SampledReconstruction tetrahedraOnGridLike(const TetrahedronSet& tetrahedra, const std::vector<CuttingPlane>& planes,
                                            std::size_t realPlanes, const GridSpec& grid, float band_mm,
                                            const Betti& target, int refinements, VoxelLikeness* how) {
+  // An empty set never beats a non-empty one (its distance is the target's whole size otherwise).
   const auto distance = [&](const Betti& b) {
-    return std::abs(b[0] - target[0]) + std::abs(b[1] - target[1]) + std::abs(b[2] - target[2]);
+    const bool empty = b == Betti{0, 0, 0} && target != Betti{0, 0, 0};
+    return (empty ? 1000000 : 0) + std::abs(b[0] - target[0]) + std::abs(b[1] - target[1]) + std::abs(b[2] - target[2]);
   };
   SampledReconstruction best;
   int bestDistance = -1;
