@@ -91,6 +91,19 @@ void expectRuleRegion(const std::vector<Ring>& outers, const std::vector<Ring>& 
 
 Ring square(double x0, double y0, double x1, double y1) { return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}; }
 
+/// The four vertex lines "x y z" of plane z of a prism whose middle plane (z = 1) holds a bow tie
+/// (its lobes net no area) and the others a square.
+std::string bowTiePlane(int z) {
+  const double bowTie[4][2] = {{0, 0}, {2, 2}, {2, 0}, {0, 2}};
+  const double square[4][2] = {{0, 0}, {2, 0}, {2, 2}, {0, 2}};
+  std::string lines;
+  for (int v = 0; v < 4; ++v) {
+    const auto& q = z == 1 ? bowTie[v] : square[v];
+    lines += std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(z) + "\n";
+  }
+  return lines;
+}
+
 }  // namespace
 
 TEST(RingRepair, SimpleDisjointRingsAreReturnedAsGiven) {
@@ -220,16 +233,8 @@ TEST(RingRepair, CslAndContourFilesWithCrossingRingsRunAndFalseRefuses) {
   const fs::path dir = test::freshDir("ring-repair");
   // Three planes z = 0, 1, 2; the middle plane's ring is a bow tie (its lobes net no area).
   std::string csl = "CSLC\n3 1\n\n";
-  for (int z = 0; z < 3; ++z) {
-    csl += std::to_string(z + 1) + " 4 1 0 0 1 " + std::to_string(-z) + "\n\n";
-    const double bowTie[4][2] = {{0, 0}, {2, 2}, {2, 0}, {0, 2}};
-    const double square[4][2] = {{0, 0}, {2, 0}, {2, 2}, {0, 2}};
-    for (int v = 0; v < 4; ++v) {
-      const auto& q = z == 1 ? bowTie[v] : square[v];
-      csl += std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(z) + "\n";
-    }
-    csl += "\n4 1 0 1 2 3\n\n";
-  }
+  for (int z = 0; z < 3; ++z)
+    csl += std::to_string(z + 1) + " 4 1 0 0 1 " + std::to_string(-z) + "\n\n" + bowTiePlane(z) + "\n4 1 0 1 2 3\n\n";
   test::writeFile(dir / "eight.csl", csl);
   test::writeFile(dir / "config.yaml", "input:\n  csl: eight.csl\nreconstruction:\n  voxel_size_mm: 0.1\n");
   auto r = test::runXsect("run " + (dir / "config.yaml").string() + " --out " + (dir / "out").string() + " --quiet");
@@ -245,16 +250,8 @@ TEST(RingRepair, CslAndContourFilesWithCrossingRingsRunAndFalseRefuses) {
   EXPECT_FALSE(fs::exists(dir / "out2"));
   // The same planes as a .contour file (material 1 on the left of each edge).
   std::string contour = "3\n";
-  for (int z = 0; z < 3; ++z) {
-    contour += "0 0 1 " + std::to_string(-z) + "\n4 4\n";
-    const double bowTie[4][2] = {{0, 0}, {2, 2}, {2, 0}, {0, 2}};
-    const double square[4][2] = {{0, 0}, {2, 0}, {2, 2}, {0, 2}};
-    for (int v = 0; v < 4; ++v) {
-      const auto& q = z == 1 ? bowTie[v] : square[v];
-      contour += std::to_string(q[0]) + " " + std::to_string(q[1]) + " " + std::to_string(z) + "\n";
-    }
-    contour += "0 1 1 0\n1 2 1 0\n2 3 1 0\n3 0 1 0\n";
-  }
+  for (int z = 0; z < 3; ++z)
+    contour += "0 0 1 " + std::to_string(-z) + "\n4 4\n" + bowTiePlane(z) + "0 1 1 0\n1 2 1 0\n2 3 1 0\n3 0 1 0\n";
   test::writeFile(dir / "eight.contour", contour);
   test::writeFile(dir / "contour.yaml", "input:\n  contour: eight.contour\nreconstruction:\n  voxel_size_mm: 0.1\n");
   r = test::runXsect("run " + (dir / "contour.yaml").string() + " --out " + (dir / "out3").string() + " --quiet");
