@@ -99,7 +99,7 @@ int checkCommand(const RunOptions& o) {
   if (sections > 0) {
     // The scene stage of `run` (its refusals: memory, time, representable sizes), then the
     // arrangement and the sampling diagnosis, which need no solid (issue 18).
-    const SceneStage built = sceneStage(in, true, clock.total());
+    const SceneStage built = sceneStage(in, true, clock.total(), true);
     const ReconstructionLayout& L = built.scene.layout;
     const RunConfig& c = in.config;
     r["voxel_size"] = voxelSizeJson(built.voxel_size);
@@ -108,7 +108,7 @@ int checkCommand(const RunOptions& o) {
     r["grid_dims"] = L.grid.dims;
     r["estimated_voxels"] = L.grid.count();
     // What the run will keep (issue 17): the solid by blocks, measured on a coarse trial.
-    const SolidMemoryEstimate e = estimateSolidMemory(in.planes, reconstructionParams(c), denseBytesPerVoxel(c));
+    const SolidMemoryEstimate& e = *built.memory_trial;
     r["estimated_memory_mb"] = e.total() / 1e6;
     r["estimated_memory"] = {{"blocks", e.blocks},
                              {"boundary_blocks", e.boundary_blocks},

@@ -17,17 +17,19 @@ namespace {
 
 /// Refuses, before allocating, a grid whose solid would not fit in this machine's memory (issue
 /// 17: what is kept, by blocks; a coarse trial measures it only when the worst case, every block
-/// a leaf, would not fit).
-void checkMemory(const RunConfig& c, const std::vector<CuttingPlane>& planes, const ReconstructionLayout& L) {
+/// a leaf, would not fit, or `*trial` is wanted anyway: it is then kept there, measured once).
+void checkMemory(const RunConfig& c, const std::vector<CuttingPlane>& planes, const ReconstructionLayout& L,
+                 bool wanted, std::optional<SolidMemoryEstimate>* trial) {
   const double have = physicalMemoryBytes();
-  if (!(have > 0)) return;
   const double budget = 0.8 * have;
   const double dense = denseBytesPerVoxel(c);
   const double blocks = double(blockCountOf(L.grid));
   const double rows = double(L.grid.dims[1]) * double(L.grid.dims[2]);
-  if (worstCaseSolidBytes(blocks, rows) + double(L.grid.count()) * dense <= budget) return;
-  const SolidMemoryEstimate e = estimateSolidMemory(planes, reconstructionParams(c), dense);
-  if (e.total() <= budget) return;
+  const bool fits = !(have > 0) || worstCaseSolidBytes(blocks, rows) + double(L.grid.count()) * dense <= budget;
+  if (fits && !wanted) return;
+  *trial = estimateSolidMemory(planes, reconstructionParams(c), dense);
+  const SolidMemoryEstimate& e = **trial;
+  if (fits || e.total() <= budget) return;
   const std::string setting = e.dense_bytes > 0.5 * e.total()
                                   ? "set smoothing.method: none (it holds the whole volume) or increase the voxel size"
                                   : "increase the voxel size";
@@ -96,7 +98,7 @@ nlohmann::ordered_json voxelSizeJson(const VoxelSizeReport& r) {
           {"sections_narrower_than_two_voxels", r.sections_narrower_than_two_voxels}};
 }
 
-SceneStage sceneStage(RunInputs& in, bool quiet, double elapsed_s) {
+SceneStage sceneStage(RunInputs& in, bool quiet, double elapsed_s, bool want_memory_trial) {
   SceneStage s;
   const RunConfig& c = in.config;
   s.counts = countSections(in.planes);
@@ -104,12 +106,14 @@ SceneStage sceneStage(RunInputs& in, bool quiet, double elapsed_s) {
     throw InputError(c.input_path, "", "no section found in any slice (check segmentation settings)");
   s.voxel_size = resolveVoxelSize(in, quiet);
   const ReconstructionLayout layout = layoutOf(in.planes, c);
-  checkMemory(c, in.planes, layout);
+  // The coarse trial is measured once: when the worst case would not fit, for `check`'s report, or
+  // for the time estimate of a large grid.
+  checkMemory(c, in.planes, layout, want_memory_trial || double(layout.grid.count()) > 1e8, &s.memory_trial);
   // The voxels the reconstruction evaluates: the grid's, or on a large grid the blocks the trial
-  // of the memory estimate finds filled (the others are decided per block).
+  // finds filled (the others are decided per block).
   double voxels = double(layout.grid.count());
   if (voxels > 1e8) {
-    const SolidMemoryEstimate m = estimateSolidMemory(in.planes, reconstructionParams(c), denseBytesPerVoxel(c));
+    const SolidMemoryEstimate& m = *s.memory_trial;
     voxels = double(m.blocks) + 512.0 * double(m.boundary_blocks + m.solid_blocks + m.plane_blocks);
   }
   s.time_estimate = sceneOnwardSeconds(in.planes, c.voxel_size_mm, voxels, c);

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <vector>
 
 #include "geometry/scene/section_scene.h"
@@ -25,6 +26,9 @@ struct SceneStage {
   SectionCounts counts;
   VoxelSizeReport voxel_size;
   TimeEstimate time_estimate;  ///< the stages from the scene on (pipeline/time_budget.h)
+  /// The memory estimate's coarse trial (solid_memory.h), when it was measured: the worst case did
+  /// not fit, the grid is over 1e8 voxels, or it was asked for.
+  std::optional<SolidMemoryEstimate> memory_trial;
   SectionScene scene;
 };
 
@@ -32,8 +36,9 @@ struct SceneStage {
 /// (the end planes; a single plane holding sections) to in.warnings. Throws InputError when no
 /// plane holds a section, the grid would not fit in memory, or the run would take longer than
 /// run.max_seconds with the `elapsed_s` already spent. `xsect check` and `xsect run` both build
-/// their scene here, so that they refuse the same configurations.
-SceneStage sceneStage(RunInputs& in, bool quiet, double elapsed_s);
+/// their scene here, so that they refuse the same configurations; `want_memory_trial` (check)
+/// keeps the memory estimate's trial in `memory_trial` whatever the grid.
+SceneStage sceneStage(RunInputs& in, bool quiet, double elapsed_s, bool want_memory_trial = false);
 
 /// The voxel size for the run (auto resolved; a too coarse explicit size is a warning printed even
 /// with --quiet), as `xsect check` also reports it.
