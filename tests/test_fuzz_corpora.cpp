@@ -8,6 +8,11 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "tests/fuzz/reader_harnesses.h"
 
@@ -17,6 +22,28 @@ namespace {
 
 fs::path corpusFolder(const std::string& harness) {
   return fs::path(XSECT_SOURCE_DIR) / "tests/fuzz/corpus" / harness;
+}
+
+std::string fileText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// The project's own headers a source includes, as paths relative to the source tree.
+std::vector<std::string> projectIncludes(const std::string& source) {
+  const fs::path root(XSECT_SOURCE_DIR);
+  static const std::regex include(R"re(#include "([^"]+)")re");
+  const std::string text = fileText(root / source);
+  std::vector<std::string> found;
+  for (std::sregex_iterator it(text.begin(), text.end(), include), end; it != end; ++it) {
+    const std::string name = (*it)[1];
+    for (const fs::path& candidate : {fs::path(name), fs::path(source).parent_path() / name})
+      if (fs::exists(root / candidate)) {
+        found.push_back(candidate.lexically_normal().generic_string());
+        break;
+      }
+  }
+  return found;
 }
 
 }  // namespace
@@ -51,4 +78,39 @@ TEST(FuzzCorpora, EveryHarnessHasASeedCorpusItAccepts) {
     EXPECT_GT(accepted, 0);
   }
   xsect::fuzz::removeScratchFolder();
+}
+
+// The fuzz build (scripts/fuzz.sh, clang with sanitizers) compiles its own list of sources; a
+// source added to the library and called by a reader but missing from that list breaks only
+// that build, at link time, after the whole test suite has passed. Every header a reader includes
+// at any depth whose .cpp exists must be in the list.
+TEST(FuzzCorpora, FuzzBuildCompilesEverySourceItsReadersInclude) {
+  const fs::path root(XSECT_SOURCE_DIR);
+  const std::string cmake = fileText(root / "tests/fuzz/CMakeLists.txt");
+  std::smatch match;
+  ASSERT_TRUE(std::regex_search(cmake, match, std::regex(R"(set\(XSECT_READER_SOURCES([^)]*)\))")));
+  std::set<std::string> listed;
+  std::istringstream words(match[1].str());
+  for (std::string word; words >> word;)
+    if (word.rfind('#', 0) != 0) listed.insert(word);
+  ASSERT_GT(listed.size(), 10u);
+  listed.insert("tests/fuzz/reader_harnesses.cpp");  // the library's own source, beside the list
+  std::vector<std::string> pending(listed.begin(), listed.end());
+  std::set<std::string> visited;
+  while (!pending.empty()) {
+    const std::string source = pending.back();
+    pending.pop_back();
+    if (!visited.insert(source).second) continue;
+    for (const std::string& header : projectIncludes(source)) {
+      pending.push_back(header);
+      if (header.size() < 2 || header.substr(header.size() - 2) != ".h") continue;
+      const std::string implementation = header.substr(0, header.size() - 2) + ".cpp";
+      if (!fs::exists(root / implementation)) continue;
+      pending.push_back(implementation);
+      EXPECT_TRUE(listed.count(implementation))
+          << implementation << " (its header is included by " << source
+          << ") is missing from XSECT_READER_SOURCES in tests/fuzz/CMakeLists.txt";
+    }
+  }
+  EXPECT_GT(visited.size(), listed.size());
 }
