@@ -85,9 +85,11 @@ SCENARIOS = {
     # set, read through input.plus_sequence (config_plus.yaml); frames/s of load + segment. Its
     # Poisson row reads the same phantom's config.yaml (slices.yaml: the same frames and poses)
     "plus-400": ("vessel-tree-plus-400.yaml", []),
+    # B-mode frames with speckle and shadows, segmented by segmentation.preset: ultrasound
+    "plus-ultrasound": ("torus-ultrasound-plus.yaml", []),
 }
 # The run configuration the phantom folder provides for a scenario (default config.yaml).
-RUN_CONFIG = {"plus-400": "config_plus.yaml", "plus-400-m3": "config_plus.yaml"}
+RUN_CONFIG = {"plus-400": "config_plus.yaml", "plus-400-m3": "config_plus.yaml", "plus-ultrasound": "config_plus.yaml"}
 QUICK = ["freehand-400", "multiaxial-3x40", "random-200", "freehand-400-m2", "freehand-400-shepard"]
 METHOD_LABELS = {"nearest_plane": "method 1", "section_voronoi": "method 2", "delaunay": "method 3"}
 BASES = ["freehand-400", "multiaxial-3x40", "random-200", "freehand-400-exact"]

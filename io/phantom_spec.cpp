@@ -272,8 +272,21 @@ PhantomSpec readPhantomSpec(const std::string& path) {
 
   const YAML::Node dg = r.map(root, "degradations", "degradations", false);
   r.keys(dg, "degradations.", {"noise_sigma", "speckle", "blur_sigma_px", "pose_jitter_mm",
-                               "pose_jitter_deg", "drop_probability"});
+                               "pose_jitter_deg", "drop_probability", "ultrasound"});
   auto& d = s.degradations;
+  if (dg && dg["ultrasound"]) {
+    const YAML::Node us = r.map(dg, "ultrasound", "degradations.ultrasound", false);
+    r.keys(us, "degradations.ultrasound.", {"object_echo", "grain_mm", "reflectors"});
+    d.ultrasound.enabled = true;
+    d.ultrasound.object_echo =
+        r.number(us, "object_echo", "degradations.ultrasound.object_echo", 0.25, 0, false, 10);
+    d.ultrasound.grain_mm = r.number(us, "grain_mm", "degradations.ultrasound.grain_mm", 0.3, 0, true, 1e6);
+    d.ultrasound.reflectors = r.integer(us, "reflectors", "degradations.ultrasound.reflectors", 2, 0, 20);
+    if (s.shape.label_split)
+      throw InputError(path, "degradations.ultrasound",
+                       "a two-label phantom (shape.label_split) is rendered as label images, not echoes",
+                       lineOf(dg["ultrasound"]));
+  }
   d.noise_sigma = r.number(dg, "noise_sigma", "degradations.noise_sigma", 0.0, 0);
   d.speckle = r.number(dg, "speckle", "degradations.speckle", 0.0, 0);
   d.blur_sigma_px = r.number(dg, "blur_sigma_px", "degradations.blur_sigma_px", 0.0, 0, false, 50);

@@ -37,6 +37,12 @@
 //     [pose_jitter_mm: 0]           # recorded pose error: translation std per axis, mm
 //     [pose_jitter_deg: 0]          # recorded pose error: rotation std, degrees
 //     [drop_probability: 0]         # probability that a frame is omitted from slices.yaml
+//     [ultrasound: {[object_echo: 0.25], [grain_mm: 0.3], [reflectors: 2]}]   # B-mode look:
+//                                   # tissue speckle (mean grey 100), the object hypoechoic
+//                                   # (object_echo x the tissue's), per frame `reflectors` bright
+//                                   # arcs whose shadows run to the far end of the beams, never
+//                                   # over the object; beams from the sector's apex (or down the
+//                                   # columns); speckle and blur_sigma_px are then not used
 //   [config:]                       # merged into the generated config.yaml, nested maps or
 //     reconstruction: {voxel_size_mm: 0.25}   # dotted keys ("reconstruction.voxel_size_mm: 0.25")
 //   [plus: false]                   # also write the slices as a PLUS tracked-ultrasound recording:
@@ -61,7 +67,17 @@
 
 namespace xsect {
 
+/// An ultrasound-like appearance (issue 49): B-mode speckle, a hypoechoic object, bright
+/// reflectors with their acoustic shadows (phantom_render.h renderUltrasoundSlice).
+struct UltrasoundLook {
+  bool enabled = false;
+  double object_echo = 0.25;  ///< the object's echogenicity relative to the tissue's (hypoechoic < 1)
+  double grain_mm = 0.3;      ///< speckle grain: correlation length of the echo field, mm
+  int reflectors = 2;         ///< bright reflectors per frame, each casting a shadow to the far end
+};
+
 struct PhantomDegradations {
+  UltrasoundLook ultrasound;
   double noise_sigma = 0.0;       ///< grey levels
   double speckle = 0.0;           ///< std of the multiplicative factor
   double blur_sigma_px = 0.0;     ///< pixels

@@ -89,6 +89,40 @@ PlusSequence readPlusSequence(const std::string& sequencePath, const std::string
   return s;
 }
 
+MetaImageHeader readPlusMasks(const std::string& path, const PlusSequence& s) {
+  MetaImageHeader m = readMetaImageHeader(path);
+  const MetaImageHeader& h = s.header;
+  if (m.width != h.width || m.height != h.height || m.frames != h.frames)
+    throw InputError(path, "DimSize",
+                     "the masks are " + std::to_string(m.width) + " x " + std::to_string(m.height) + " x " +
+                         std::to_string(m.frames) + " while the recording " + h.path + " is " + std::to_string(h.width) +
+                         " x " + std::to_string(h.height) + " x " + std::to_string(h.frames) +
+                         ": input.plus_masks needs one mask per frame, of the frame's size",
+                     m.line("DimSize"));
+  for (int f = 0; f < h.frames; ++f) {
+    const std::optional<double> a = frameNumber(m, f, "Timestamp"), b = frameNumber(h, f, "Timestamp");
+    if (a && b && std::abs(*a - *b) > 1e-3)
+      throw InputError(path, frameFieldKey(f, "Timestamp"),
+                       "mask frame " + std::to_string(f) + " is at " + std::to_string(*a) + " s, the recording's frame " +
+                           std::to_string(f) + " at " + std::to_string(*b) +
+                           " s: the masks are not the recording's frames in order",
+                       m.line(frameFieldKey(f, "Timestamp")));
+  }
+  if (m.orientation.empty()) {
+    m.flip_columns = h.flip_columns;
+    m.flip_rows = h.flip_rows;
+  }
+  return m;
+}
+
+cv::Mat orientedMask(const PlusSequence& s, const cv::Mat& pixels) {
+  const bool fc = s.masks->flip_columns, fr = s.masks->flip_rows;
+  if (!fc && !fr) return pixels;
+  cv::Mat out;
+  cv::flip(pixels, out, fc && fr ? -1 : (fc ? 1 : 0));
+  return out;
+}
+
 cv::Mat orientedFrame(const PlusSequence& s, const cv::Mat& pixels) {
   const bool fc = s.header.flip_columns, fr = s.header.flip_rows;
   if (!fc && !fr) return pixels;

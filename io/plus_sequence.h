@@ -8,6 +8,7 @@
 #pragma once
 
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,8 @@ struct PlusSequence {
   int skipped_image = 0;                     ///< frames whose ImageStatus is not OK
   int skipped_transform = 0;                 ///< frames with a transform whose status is not OK
   cv::Mat field_of_view;                     ///< CV_8UC1 (MF) mask, 255 observed; empty: whole frame
+  /// input.plus_masks: the mask sequence segmented instead of the frames (readPlusMasks).
+  std::optional<MetaImageHeader> masks;
 };
 
 /// Reads the sequence's header, the device set and every frame's pose (no pixel data).
@@ -43,5 +46,15 @@ PlusSequence readPlusSequence(const std::string& sequence_path, const std::strin
 
 /// Frame `pixels` (as the sequence stores it) in MF orientation: flipped as the header says.
 cv::Mat orientedFrame(const PlusSequence& s, const cv::Mat& pixels);
+
+/// The header of a mask sequence made for the recording `s` (input.plus_masks): its frames are the
+/// recording's, one for one. Throws InputError naming the mask file and field when its DimSize
+/// differs (columns, rows or frame count), or a frame's Seq_Frame<N>_Timestamp differs from the
+/// recording's by more than 1 ms where both give one. Its UltrasoundImageOrientation, when given,
+/// orients its frames (orientedMask); otherwise they are stored as the recording's.
+MetaImageHeader readPlusMasks(const std::string& path, const PlusSequence& s);
+
+/// Mask frame `pixels` in MF orientation (the mask header's orientation, else the recording's).
+cv::Mat orientedMask(const PlusSequence& s, const cv::Mat& pixels);
 
 }  // namespace xsect

@@ -33,6 +33,14 @@ constexpr std::array<NamedChoice<SmoothingMethod>, 3> kSmoothingMethods{{
     {SmoothingMethod::level_set, "level_set"},
 }};
 
+/// segmentation.preset: starting values for a kind of image, under the keys the configuration
+/// leaves out (run_config.cpp applySegmentationPreset; README, "Ultrasound").
+enum class SegmentationPreset { none, ultrasound };
+constexpr std::array<NamedChoice<SegmentationPreset>, 2> kSegmentationPresets{{
+    {SegmentationPreset::none, "none"},
+    {SegmentationPreset::ultrasound, "ultrasound"},
+}};
+
 struct RunConfig {
   std::string path;                 ///< the configuration file (absolute)
   // input (exactly one)
@@ -45,7 +53,11 @@ struct RunConfig {
   /// input.repair_contours: contours that cross themselves or each other are made simple
   /// (geometry/core/ring_repair.h) with a warning; false refuses them.
   bool repair_contours = true;
+  /// input.plus_masks: a mask sequence (MetaImage) whose frames are the recording's, segmented
+  /// instead of its grey frames (plus_sequence only); empty: none.
+  std::string plus_masks_path;
   SegmentationParams segmentation;
+  SegmentationPreset segmentation_preset = SegmentationPreset::none;
   /// Stage 3, conformity along plane intersections (geometry/conformity/conformity_enforcement.h).
   struct Conformity {
     bool enforce = false;             ///< edit the sections so that traces agree

@@ -47,6 +47,11 @@ RunInputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress)
     in.input_files.push_back(c.plus_config_path);
     in.plus = readPlusSequence(c.input_path, c.plus_config_path, c.reference_frame);
     if (!in.plus->header.data_file.empty()) in.input_files.push_back(in.plus->header.data_file);  // .mhd + .raw
+    if (!c.plus_masks_path.empty()) {
+      in.input_files.push_back(c.plus_masks_path);
+      in.plus->masks = readPlusMasks(c.plus_masks_path, *in.plus);
+      if (!in.plus->masks->data_file.empty()) in.input_files.push_back(in.plus->masks->data_file);
+    }
     if (const int skipped = in.plus->skipped_image + in.plus->skipped_transform; skipped > 0)
       in.warnings.push_back(std::to_string(skipped) + " of " + std::to_string(in.plus->header.frames) +
                             " frames skipped (" + std::to_string(in.plus->skipped_image) + " with an image status, " +
@@ -67,10 +72,10 @@ RunInputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress)
   clock.end("load");
   progress.stage("segment", "frames");
   if (c.input_kind == InputKind::slices)
-    in.planes = sectionsFromSlices(slices, c.input_path, c.segmentation, c.path, headers, &in.warnings, &in.threshold,
+    in.planes = sectionsFromSlices(slices, c.input_path, c.segmentation, c.path, headers, &in.warnings, &in.segmentation,
                                    &in.labelled, progress.counter());
   else if (c.input_kind == InputKind::plus_sequence)
-    in.planes = sectionsFromPlusSequence(*in.plus, c.segmentation, c.path, &in.warnings, &in.threshold, &in.labelled,
+    in.planes = sectionsFromPlusSequence(*in.plus, c.segmentation, c.path, &in.warnings, &in.segmentation, &in.labelled,
                                          progress.counter());
   in.slices = int(in.planes.size());
   clock.end("segment");

@@ -30,7 +30,7 @@ struct RunInputs {
   OutputGuard output_guard;
   std::vector<std::string> warnings;
   int slices = 0;                               ///< planes read (before stage 3 merged or dropped any)
-  double threshold = 0;                         ///< grey threshold applied (slices input)
+  SegmentationParams segmentation;               ///< as applied to every frame (slices, PLUS input)
   std::vector<std::vector<Section>> labelled;   ///< segmentation labels: per plane, per label
   ConformityResult conformity;                  ///< stage 3's measurements (conform_stage.h)
   /// The slices as read (input.slices; repeats merged): CuttingPlane::slice indexes them.

@@ -8,13 +8,17 @@
 #include <exception>
 #include <functional>
 #include <map>
+#include <mutex>
 
 #include "geometry/core/plane_of_pose.h"
 #include "io/file_hash.h"
 #include "io/image_header.h"
 #include "io/image_io.h"
 #include "io/input_error.h"
+#include "segmentation/acoustic_shadows.h"
 #include "segmentation/field_of_view.h"
+#include "segmentation/grey_field.h"
+#include "segmentation/pixel_settings.h"
 #include "segmentation/series_threshold.h"
 #include "segmentation/setting_limits.h"
 
@@ -44,6 +48,7 @@ namespace {
 /// One frame decoded: its image and its field-of-view mask (empty: the whole image is observed).
 struct Frame {
   cv::Mat image, fov;
+  Vec2 spacing = Vec2::Ones();  ///< mm per pixel along i and j (the pose's)
 };
 
 cv::Mat readFieldOfView(const std::string& path, const std::string& listing_file, const std::string& key) {
@@ -144,6 +149,7 @@ Frame readFrame(const SliceRecord& slice, int i, const std::string& listing_file
   const std::map<std::string, SharedFieldOfView>& shared = all.byFile;
   const std::string key = "slices[" + std::to_string(i) + "]";
   Frame f;
+  f.spacing = pixelSpacing(slice);
   f.image = readGreyImage(slice.image_resolved, listing_file, key + ".image");
   if (grey_scale != 1.0) f.image.convertTo(f.image, CV_32F, grey_scale);
   if (slice.fov_resolved) {
@@ -173,8 +179,15 @@ class FrameCount {
   std::atomic<std::int64_t> readings_done_{0};
 };
 
-/// How many times the series is read: twice for Otsu's threshold (seriesParams).
-int readingsOf(const SegmentationParams& params) { return params.method == SegmentationMethod::otsu ? 2 : 1; }
+/// How many times the series is read: twice for Otsu's threshold or the automatic inside side
+/// (seriesParams).
+int readingsOf(const SegmentationParams& params) {
+  return params.method != SegmentationMethod::labels &&
+                 (params.method == SegmentationMethod::otsu || params.method == SegmentationMethod::min_error ||
+                  params.inside == InsideSide::automatic)
+             ? 2
+             : 1;
+}
 
 /// Runs work(i, frame) for every frame, in parallel; each task decodes its frame and releases it
 /// when done, so that at most one frame per thread is held. A failure is reported for the first
@@ -236,28 +249,28 @@ CuttingPlane planeOfFrame(int slice, const std::string& name, const Mat4& pose, 
   cp.name = name;
   cp.plane = planeOfPose(pose, &spacing);
   const int observed = frame.fov.empty() ? int(frame.image.total()) : cv::countNonZero(frame.fov);
-  checkSettings(perSlice, frame.image.size(), spacing, double(observed), settings_file, name);
+  const SegmentationParams params = inPixels(perSlice, spacing);
+  checkSettings(params, frame.image.size(), spacing, double(observed), settings_file, name);
   cp.pixel_mm = std::min(spacing.x(), spacing.y());
   cp.extent.min = Vec2::Zero();
   cp.extent.max = Vec2((frame.image.cols - 1) * spacing.x(), (frame.image.rows - 1) * spacing.y());
-  cp.field_of_view = sharedRings ? *sharedRings : fieldOfViewRings(frame.fov, spacing);
   if (observed == 0) cp.extent = PlaneRect{};  // observed nowhere
-  const bool perLabel = perSlice.method == SegmentationMethod::labels && labelled;
+  const bool perLabel = params.method == SegmentationMethod::labels && labelled;
   SegmentedSlice seg;
   try {
     bool labelsRepaired = false;
-    if (perLabel && !perSlice.merge_labels) {
-      SegmentedSlice labels = segmentSlice(frame.image, frame.fov, spacing, perSlice);
+    if (perLabel && !params.merge_labels) {
+      SegmentedSlice labels = segmentSlice(frame.image, frame.fov, spacing, params);
       *labelled = std::move(labels.sections);
       labelsRepaired = labels.contours_repaired;
     }
     cv::Mat input = frame.image;
-    if (perSlice.method == SegmentationMethod::labels) {  // the union of the labels: the geometry reconstructed
+    if (params.method == SegmentationMethod::labels) {  // the union of the labels: the geometry reconstructed
       input = cv::Mat(frame.image.size(), CV_8U);
       input.setTo(0);
       input.setTo(1, frame.image != 0);
     }
-    seg = segmentSlice(input, frame.fov, spacing, perSlice);
+    seg = segmentSlice(input, frame.fov, spacing, params);
     seg.contours_repaired |= labelsRepaired;
   } catch (const cv::Exception& e) {  // a setting OpenCV cannot apply to this image
     throw InputError(settings_file, "segmentation",
@@ -266,6 +279,10 @@ CuttingPlane planeOfFrame(int slice, const std::string& name, const Mat4& pose, 
     throw InputError(settings_file, "segmentation.simplify_mm", std::string(e.what()) + " (" + name + ")");
   }
   cp.sections = std::move(seg.sections);
+  // The field of view: the frame's, or what its shadows left of it (segmentation.shadows).
+  cp.field_of_view = !seg.observed.empty() ? fieldOfViewRings(seg.observed, spacing)
+                     : sharedRings         ? *sharedRings
+                                           : fieldOfViewRings(frame.fov, spacing);
   *touches = char((seg.touches_fov_edge ? kTouches : 0) | (seg.contours_repaired ? kRepaired : 0));
   const Vec3 c0 = pose.block<3, 1>(0, 0), c1 = pose.block<3, 1>(0, 1);
   if (std::abs(c0.dot(c1)) > 1e-9 * c0.norm() * c1.norm()) {
@@ -296,28 +313,65 @@ CuttingPlane planeOfFrame(int slice, const std::string& name, const Mat4& pose, 
 
 /// The segmentation of every frame of a series: Otsu's method gives one threshold for the series,
 /// from the histogram pooled over a first reading of the frames (series_threshold.h; integer
-/// counts: the same whatever the order), applied as a fixed threshold.
+/// counts: the same whatever the order), applied as a fixed threshold; inside: auto is resolved
+/// from the same reading (the border histogram, insideOfBorder), once for the series.
 /// @param bits        the series' sample depth (8 or 16), from its first frame
 /// @param readFrames  runs its argument on every frame (i, frame), in any order
+/// @param applied     receives the settings applied to every frame (threshold, inside resolved)
 SegmentationParams seriesParams(const SegmentationParams& params, int bits,
                                 const std::function<void(const std::function<void(int, const Frame&)>&)>& readFrames,
-                                int n, double* thresholdUsed) {
+                                int n, SegmentationParams* applied) {
   SegmentationParams perSlice = params;
-  if (params.method == SegmentationMethod::otsu && n > 0) {
-    const double scale = seriesGreyScale(bits);
-    std::vector<GreyHistogram> histograms(static_cast<std::size_t>(n));
-    readFrames([&](int i, const Frame& f) {
-      histograms[std::size_t(i)] = observedHistogram(f.image, f.fov, params.sigma_px, scale);
-    });
-    GreyHistogram pooled{};
-    for (const GreyHistogram& h : histograms)
-      for (std::size_t b = 0; b < pooled.size(); ++b) pooled[b] += h[b];
-    perSlice.method = SegmentationMethod::threshold;
-    perSlice.threshold = otsuThresholdOfPooled(pooled, scale);
-    if (thresholdUsed) *thresholdUsed = perSlice.threshold;
-  } else if (thresholdUsed) {
-    *thresholdUsed = params.method == SegmentationMethod::labels ? 0.5 : params.threshold;
+  const double scale = seriesGreyScale(bits);
+  perSlice.grey_to_8bit = scale;
+  // The series' threshold of a histogram, in grey units (a fixed one stays as given).
+  const auto thresholdOf = [&](const GreyHistogram& h) {
+    if (params.method == SegmentationMethod::otsu) return otsuThresholdOfPooled(h, scale);
+    if (params.method == SegmentationMethod::min_error) return minimumErrorThresholdOfHistogram(h) / scale;
+    return params.threshold;
+  };
+  if (params.method == SegmentationMethod::labels) {
+    perSlice.threshold = 0.5;
+  } else if (readingsOf(params) == 2 && n > 0) {
+    ObservedHistograms pooled;
+    if (params.shadows == ShadowRule::unobserved) {
+      // Shadows are out of the view, so out of the histogram: a first threshold from every
+      // observed pixel (shadows are darker than anything), then the histogram of the pixels out
+      // of its shadows gives the threshold applied (shadows, object and tissue are three classes;
+      // a two-class rule would split the shadows from the rest).
+      ShadowedHistograms joint;
+      std::mutex pooling;
+      readFrames([&](int, const Frame& f) {
+        const SegmentationParams px = inPixels(perSlice, f.spacing);
+        const cv::Mat grey = greyField(f.image, f.fov, px);
+        const ShadowedHistograms h = shadowedHistograms(grey, f.fov, beamTailMaximum(grey, f.fov, px.beam_apex_px), scale);
+        const std::lock_guard<std::mutex> lock(pooling);
+        joint.add(h);
+      });
+      if (params.method == SegmentationMethod::threshold) {
+        pooled = outsideShadow(joint, params.threshold * scale);
+      } else {
+        const double t8 = thresholdOutOfShadows(joint, [&](const GreyHistogram& g) { return thresholdOf(g) * scale; });
+        perSlice.method = SegmentationMethod::threshold;
+        perSlice.threshold = t8 / scale;
+        pooled = outsideShadow(joint, t8);
+      }
+    } else {
+      std::vector<ObservedHistograms> histograms(static_cast<std::size_t>(n));
+      readFrames([&](int i, const Frame& f) {
+        histograms[std::size_t(i)] = observedHistograms(greyField(f.image, f.fov, inPixels(perSlice, f.spacing)), f.fov, scale);
+      });
+      for (const ObservedHistograms& h : histograms)
+        for (std::size_t b = 0; b < 256; ++b) pooled.observed[b] += h.observed[b], pooled.border[b] += h.border[b];
+    }
+    if (perSlice.method != SegmentationMethod::threshold) {
+      perSlice.method = SegmentationMethod::threshold;
+      perSlice.threshold = thresholdOf(pooled.observed);
+    }
+    if (params.inside == InsideSide::automatic) perSlice.inside = insideOfBorder(pooled.border, perSlice.threshold * scale);
   }
+  if (perSlice.inside == InsideSide::automatic) perSlice.inside = InsideSide::above;  // no frame
+  if (applied) *applied = perSlice;
   return perSlice;
 }
 
@@ -360,7 +414,7 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
                                              const std::string& settings_file,
                                              std::vector<ImageHeader> headers,
                                              std::vector<std::string>* warnings,
-                                             double* thresholdUsed,
+                                             SegmentationParams* applied,
                                              std::vector<std::vector<Section>>* labelled,
                                              const std::function<void(std::int64_t, std::int64_t)>& progress) {
   const int n = int(slices.size());
@@ -376,7 +430,7 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
     const ImageHeader& h = headers[std::size_t(i)];
     bits[std::size_t(i)] = h.bits_per_sample;
     const cv::Size size(int(h.width), int(h.height));
-    checkSettings(params, size, pixelSpacing(slices[i]), double(size.area()), settings_file,
+    checkSettings(inPixels(params, pixelSpacing(slices[i])), size, pixelSpacing(slices[i]), double(size.area()), settings_file,
                   "slice " + std::to_string(i) + ", " + slices[i].image);
   }
   const SeriesDepth depth = seriesDepth(bits, params);
@@ -387,7 +441,7 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
                                              [&](const std::function<void(int, const Frame&)>& each) {
                                                forEachFrame(slices, listing_file, shared, depth, count, each);
                                              },
-                                             n, thresholdUsed);
+                                             n, applied);
   if (labelled) labelled->assign(std::size_t(n), {});
   forEachFrame(slices, listing_file, shared, depth, count, [&](int i, const Frame& frame) {
     planes[std::size_t(i)] = planeOfFrame(i, slices[std::size_t(i)].image, slices[std::size_t(i)].image_to_world, frame,
@@ -404,9 +458,13 @@ namespace {
 /// compressed stream is read in order, in batches of a few frames per thread, each batch then
 /// worked on in parallel and released: memory holds one batch, not the recording (issue 17).
 /// `count` ticks per frame.
-void forEachSequenceFrame(const PlusSequence& seq, FrameCount& count,
+void forEachSequenceFrame(const PlusSequence& seq, bool labels, FrameCount& count,
                           const std::function<void(int, const Frame&)>& work) {
   MetaImageFrames reader(seq.header);
+  // input.plus_masks: the masks are read in step with the frames and segmented instead; a mask's
+  // non-zero pixels are inside (0/255 for thresholds; labels keep their values).
+  std::optional<MetaImageFrames> masks;
+  if (seq.masks) masks.emplace(*seq.masks);
   const int kept = int(seq.frames.size());
   const int batch = 32;
   std::vector<Frame> frames;
@@ -417,7 +475,14 @@ void forEachSequenceFrame(const PlusSequence& seq, FrameCount& count,
     for (; k < last; ++k) {
       while (reader.index() < seq.frames[std::size_t(k)]) reader.next();  // a skipped frame
       frames[std::size_t(k - first)].image = orientedFrame(seq, reader.next());
+      if (masks) {
+        while (masks->index() < seq.frames[std::size_t(k)]) masks->next();
+        cv::Mat mask = orientedMask(seq, masks->next());
+        if (!labels) mask = mask != 0;
+        frames[std::size_t(k - first)].image = mask;
+      }
       frames[std::size_t(k - first)].fov = seq.field_of_view;
+      planeOfPose(seq.image_to_reference[std::size_t(k)], &frames[std::size_t(k - first)].spacing);
     }
     tbb::parallel_for(first, last, [&](int q) {
       work(q, frames[std::size_t(q - first)]);
@@ -427,31 +492,48 @@ void forEachSequenceFrame(const PlusSequence& seq, FrameCount& count,
   // Skipped frames after the last kept one are still read: the last frame verifies the compressed
   // stream's checksum and that it holds no more than DimSize says.
   while (reader.index() < reader.frames()) reader.next();
+  if (masks)
+    while (masks->index() < masks->frames()) masks->next();
 }
 
 }  // namespace
 
-std::vector<CuttingPlane> sectionsFromPlusSequence(const PlusSequence& seq, const SegmentationParams& params,
+std::vector<CuttingPlane> sectionsFromPlusSequence(const PlusSequence& seq, const SegmentationParams& settings,
                                                    const std::string& settings_file,
-                                                   std::vector<std::string>* warnings, double* thresholdUsed,
+                                                   std::vector<std::string>* warnings, SegmentationParams* applied,
                                                    std::vector<std::vector<Section>>* labelled,
                                                    const std::function<void(std::int64_t, std::int64_t)>& progress) {
   const int n = int(seq.frames.size());
+  // The beams start at the device set's fan apex, unless the configuration says where.
+  SegmentationParams params = settings;
+  if (!params.beam_apex_px && seq.device_set.fan)
+    params.beam_apex_px = Vec2(seq.device_set.fan->origin_px[0], seq.device_set.fan->origin_px[1]);
+  // input.plus_masks: the masks' non-zero pixels are inside (as 255 against a threshold of half);
+  // what grey frames need (threshold, side, shadows, speckle) does not apply, the cleaning does.
+  const bool labels = params.method == SegmentationMethod::labels;
+  if (seq.masks && !labels) {
+    params.method = SegmentationMethod::threshold;
+    params.threshold = 127.5;
+    params.inside = InsideSide::above;
+    params.shadows = ShadowRule::keep;
+    params.speckle_filter_mm = 0;
+    params.speckle_filter_px = 0;
+  }
   std::vector<CuttingPlane> planes(static_cast<std::size_t>(n));
   std::vector<char> touches(static_cast<std::size_t>(n), 0);
   if (n > 0) {
     Vec2 spacing;
     planeOfPose(seq.image_to_reference.front(), &spacing);
     const cv::Size size(seq.header.width, seq.header.height);
-    checkSettings(params, size, spacing,
+    checkSettings(inPixels(params, spacing), size, spacing,
                   seq.field_of_view.empty() ? double(size.area()) : double(cv::countNonZero(seq.field_of_view)),
                   settings_file, "frame " + std::to_string(seq.frames.front()));
   }
   FrameCount count(progress, n, readingsOf(params));
   const SegmentationParams perSlice = seriesParams(
       params, seq.header.pixel == MetaPixelType::uint8 ? 8 : 16,
-      [&](const std::function<void(int, const Frame&)>& each) { forEachSequenceFrame(seq, count, each); }, n,
-      thresholdUsed);
+      [&](const std::function<void(int, const Frame&)>& each) { forEachSequenceFrame(seq, labels, count, each); }, n,
+      applied);
   // The field of view is the device set's, one for the recording: traced once per pixel spacing.
   std::map<std::pair<double, double>, std::vector<Ring>> rings;
   std::vector<const std::vector<Ring>*> ringsOf(static_cast<std::size_t>(n), nullptr);
@@ -465,7 +547,7 @@ std::vector<CuttingPlane> sectionsFromPlusSequence(const PlusSequence& seq, cons
       ringsOf[std::size_t(k)] = &r->second;
     }
   if (labelled) labelled->assign(std::size_t(n), {});
-  forEachSequenceFrame(seq, count, [&](int k, const Frame& frame) {
+  forEachSequenceFrame(seq, labels, count, [&](int k, const Frame& frame) {
     planes[std::size_t(k)] =
         planeOfFrame(k, "frame " + std::to_string(seq.frames[std::size_t(k)]), seq.image_to_reference[std::size_t(k)],
                      frame, ringsOf[std::size_t(k)], perSlice, settings_file, labelled ? &(*labelled)[std::size_t(k)] : nullptr,

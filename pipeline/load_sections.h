@@ -38,8 +38,9 @@ std::vector<ImageHeader> sliceImageHeaders(const std::vector<SliceRecord>& slice
 ///                      have (the first frame's on a tie), full range to full range, with a warning:
 ///                      the threshold is in that depth's grey units.
 /// @param warnings      receives "slice N touches the edge of its field of view" and the like.
-/// @param thresholdUsed receives the grey threshold applied (method otsu: one threshold for the
-///                      whole series, Otsu's on the pooled histogram, series_threshold.h).
+/// @param applied       receives the settings applied to every frame: the grey threshold (method
+///                      otsu: one threshold for the whole series, Otsu's on the pooled histogram,
+///                      series_threshold.h), the inside side (auto resolved for the series).
 /// @param labelled      method labels (several materials, thesis remark after Def. 17): receives,
 ///                      per plane, the sections of each label value; the planes returned then hold
 ///                      the union of all labels (one section per connected region, label 1), the
@@ -53,7 +54,7 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
                                              const std::string& settings_file,
                                              std::vector<ImageHeader> headers,
                                              std::vector<std::string>* warnings,
-                                             double* thresholdUsed = nullptr,
+                                             SegmentationParams* applied = nullptr,
                                              std::vector<std::vector<Section>>* labelled = nullptr,
                                              const std::function<void(std::int64_t, std::int64_t)>& progress = {});
 
@@ -64,7 +65,7 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
 std::vector<CuttingPlane> sectionsFromPlusSequence(
     const PlusSequence& seq, const SegmentationParams& params, const std::string& settings_file,
     std::vector<std::string>* warnings,
-    double* thresholdUsed = nullptr, std::vector<std::vector<Section>>* labelled = nullptr,
+    SegmentationParams* applied = nullptr, std::vector<std::vector<Section>>* labelled = nullptr,
     const std::function<void(std::int64_t, std::int64_t)>& progress = {});
 
 }  // namespace xsect

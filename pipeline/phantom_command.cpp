@@ -73,7 +73,7 @@ void mergeValue(YAML::Node base, const std::string& key, const YAML::Node& value
 }
 
 /// The run configuration; with `plus`, reading the PLUS recording instead of slices.yaml.
-std::string configYaml(const PhantomSpec& spec, bool plus = false) {
+std::string configYaml(const PhantomSpec& spec, const SlicePlan& plan, bool plus = false) {
   YAML::Node c(YAML::NodeType::Map);
   c["input"]["slices"] = "slices.yaml";
   const auto& d = spec.degradations;
@@ -83,6 +83,15 @@ std::string configYaml(const PhantomSpec& spec, bool plus = false) {
     // Betti (1, 5, 0) against (1, 1, 0); with 1.5 px, the truth's, and each half (1, 0, 0)).
     c["segmentation"]["method"] = "labels";
     c["segmentation"]["sigma_px"] = "1.5";
+  } else if (d.ultrasound.enabled) {
+    c["segmentation"]["preset"] = "ultrasound";  // B-mode frames: its starting values
+    if (plan.sector) {  // the beams' origin (a PLUS recording's device set says it as the fan's)
+      YAML::Node apex(YAML::NodeType::Sequence);
+      apex.SetStyle(YAML::EmitterStyle::Flow);
+      apex.push_back(plan.sector->apex_i);
+      apex.push_back(plan.sector->apex_j);
+      c["segmentation"]["beam_apex_px"] = apex;
+    }
   } else if (d.noise_sigma > 0 || d.speckle > 0) {
     c["segmentation"]["method"] = "otsu";
     c["segmentation"]["sigma_px"] = "1.5";
@@ -163,6 +172,9 @@ RenderedSeries renderSeries(const PhantomSpec& spec, const PhantomShape& shape, 
       const RenderedSlice r =
           shape.label_split
               ? renderLabelSlice(shape, plan.poses[std::size_t(i)], plan.width, plan.height, fov)
+          : spec.degradations.ultrasound.enabled
+              ? renderUltrasoundSlice(shape, plan.poses[std::size_t(i)], plan.width, plan.height, fov, plan.sector,
+                                      spec.degradations, spec.seed, i)
               : renderSlice(shape, plan.poses[std::size_t(i)], plan.width, plan.height, fov, spec.degradations,
                             spec.seed, i);
       s.clipped[std::size_t(i)] = r.clipped;
@@ -274,7 +286,7 @@ void writePlusRecording(const PhantomSpec& spec, const SlicePlan& plan, const Re
     fan = f;
   }
   writePlusDeviceSet(out.file("deviceset.xml").string(), imageToProbe, std::nullopt, std::nullopt, fan);
-  writeTextFile(out.file("config_plus.yaml").string(), configYaml(spec, true));
+  writeTextFile(out.file("config_plus.yaml").string(), configYaml(spec, plan, true));
 }
 
 }  // namespace
@@ -305,7 +317,7 @@ int phantomCommand(const PhantomOptions& options) {
   writeSlicesFile(out.file("slices.yaml").string(), recorded);
   writeSlicesFile(out.file("true_poses.yaml").string(), truth);
   writeTruthFile(out.file("truth.yaml").string(), shape);
-  writeTextFile(out.file("config.yaml").string(), configYaml(spec));
+  writeTextFile(out.file("config.yaml").string(), configYaml(spec, plan));
   if (spec.plus) writePlusRecording(spec, plan, series, recorded, out);
   writeTextFile(out.file(kManifestName).string(), outputManifestText(manifestHead("phantom", {spec.path}), out.dir()));
   out.commit();

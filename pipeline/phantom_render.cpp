@@ -16,6 +16,7 @@ namespace {
 constexpr std::uint64_t kNoiseStream = 0x6e6f697365ULL;   // "noise"
 constexpr std::uint64_t kJitterStream = 0x6a6974ULL;      // "jit"
 constexpr std::uint64_t kDropStream = 0x64726f70ULL;      // "drop"
+constexpr std::uint64_t kUltrasoundStream = 0x6563686fULL;  // "echo"
 
 /// For a vessel tree, the sdf is the minimum over junctions of a value that is at least the
 /// distance to the junction's nearest capsule minus its blend offset (vessel_tree.h). A junction
@@ -98,6 +99,118 @@ RenderedSlice renderSlice(const PhantomShape& shape, const Mat4& pose, int width
       }
   }
   img.convertTo(out.image, CV_8U);  // rounds and saturates to [0, 255]
+  if (!fov.empty()) out.image.setTo(0, fov == 0);
+  return out;
+}
+
+RenderedSlice renderUltrasoundSlice(const PhantomShape& shape, const Mat4& pose, int width, int height,
+                                    const cv::Mat& fov, const std::optional<SectorFov>& sector,
+                                    const PhantomDegradations& degr, std::uint64_t seed, int index) {
+  const UltrasoundLook& look = degr.ultrasound;
+  const double px = pose.block<3, 1>(0, 0).norm();
+  const PhantomShape local = cullTubes(shape, planeOfPose(pose), px);
+  const bool noTubes =
+      local.kind == ShapeKind::vessel_tree &&
+      (local.tubes.empty() || (!shape.junctions.empty() && local.junctions.empty()));
+  // The signed distance of every pixel, in pixels (far outside where no tube comes near).
+  cv::Mat sdf(height, width, CV_32F, cv::Scalar(1e6f));
+  std::vector<char> rowClipped(std::size_t(height), 0);
+  const Vec3 o = pose.block<3, 1>(0, 3), du = pose.block<3, 1>(0, 0), dv = pose.block<3, 1>(0, 1);
+  if (!noTubes)
+    tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
+      for (int j = rows.begin(); j != rows.end(); ++j) {
+        float* row = sdf.ptr<float>(j);
+        const std::uint8_t* mask = fov.empty() ? nullptr : fov.ptr<std::uint8_t>(j);
+        for (int i = 0; i < width; ++i) {
+          const double d = signedDistance(local, o + double(i) * du + double(j) * dv) / px;
+          row[i] = float(std::min(d, 1e6));
+          if (d < 0 && (i == 0 || j == 0 || i == width - 1 || j == height - 1 || (mask && mask[i] == 0)))
+            rowClipped[std::size_t(j)] = 1;
+        }
+      }
+    });
+
+  // Beam coordinates: (angle, radius) from the sector's apex, or (column, row).
+  const auto beam = [&](double i, double j) -> std::pair<double, double> {
+    if (!sector) return {i, j};
+    return {std::atan2(i - sector->apex_i, j - sector->apex_j), std::hypot(i - sector->apex_i, j - sector->apex_j)};
+  };
+  double across0 = 0.1 * width, across1 = 0.9 * width, depth0 = 0.15 * height, depth1 = 0.5 * height;
+  double halfWidth = 0.05 * width;
+  if (sector) {
+    across0 = -0.8 * sector->half_angle_rad, across1 = -across0;
+    depth0 = sector->near_px + 0.15 * (sector->far_px - sector->near_px);
+    depth1 = sector->near_px + 0.5 * (sector->far_px - sector->near_px);
+    halfWidth = 0.1 * sector->half_angle_rad;
+  }
+  struct Reflector {
+    double across, depth;
+  };
+  std::mt19937_64 rng = makeStream(seed, kUltrasoundStream, std::uint64_t(index));
+  std::vector<Reflector> reflectors;
+  const double thick = 3.0;  // pixels along the beam
+  for (int k = 0; k < look.reflectors; ++k)
+    for (int attempt = 0; attempt < 30; ++attempt) {
+      const Reflector r{uniform(rng, across0, across1), uniform(rng, depth0, depth1)};
+      bool clear = true;
+      for (int j = 0; j < height && clear; ++j)
+        for (int i = 0; i < width && clear; ++i) {
+          const auto [a, d] = beam(i, j);
+          if (std::abs(a - r.across) <= halfWidth && d >= r.depth && sdf.at<float>(j, i) < 2.0f) clear = false;
+        }
+      if (!clear) continue;
+      reflectors.push_back(r);
+      break;
+    }
+
+  std::sort(reflectors.begin(), reflectors.end(), [](const Reflector& a, const Reflector& b) { return a.depth < b.depth; });
+
+  // Speckle: the modulus of a complex Gaussian field smoothed to the grain, unit mean.
+  cv::Mat re(height, width, CV_32F), im(height, width, CV_32F);
+  for (int j = 0; j < height; ++j) {
+    float *a = re.ptr<float>(j), *b = im.ptr<float>(j);
+    for (int i = 0; i < width; ++i) a[i] = float(standardNormal(rng)), b[i] = float(standardNormal(rng));
+  }
+  const double grain = std::max(0.5, look.grain_mm / px);
+  cv::GaussianBlur(re, re, cv::Size(0, 0), grain, grain, cv::BORDER_REFLECT);
+  cv::GaussianBlur(im, im, cv::Size(0, 0), grain, grain, cv::BORDER_REFLECT);
+  cv::Mat amplitude;
+  cv::magnitude(re, im, amplitude);
+  const double meanAmplitude = cv::mean(amplitude)[0];
+
+  cv::Mat img(height, width, CV_32F);
+  for (int j = 0; j < height; ++j) {
+    const float* d = sdf.ptr<float>(j);
+    const float* a = amplitude.ptr<float>(j);
+    float* out = img.ptr<float>(j);
+    for (int i = 0; i < width; ++i) {
+      const double w = std::clamp(0.5 - double(d[i]), 0.0, 1.0);  // inside fraction of the pixel
+      double echo = (1.0 - w) + w * look.object_echo;
+      const auto [across, depth] = beam(i, j);
+      // Along the beam, each reflector passed leaves 5% of the echo; a reflector is itself seen
+      // through those above it (one inside another's shadow stays dark).
+      double passed = 1.0;
+      bool onReflector = false;
+      for (const Reflector& r : reflectors) {  // by depth
+        if (std::abs(across - r.across) > halfWidth || depth < r.depth) continue;
+        if (depth < r.depth + thick) {
+          onReflector = true;
+          break;
+        }
+        passed *= 0.05;
+      }
+      echo = (onReflector ? 3.0 : echo) * passed;
+      out[i] = float(100.0 * echo * a[i] / meanAmplitude);
+    }
+  }
+  if (degr.noise_sigma > 0)
+    for (int j = 0; j < height; ++j) {
+      float* row = img.ptr<float>(j);
+      for (int i = 0; i < width; ++i) row[i] += float(degr.noise_sigma * standardNormal(rng));
+    }
+  RenderedSlice out;
+  out.clipped = std::find(rowClipped.begin(), rowClipped.end(), 1) != rowClipped.end();
+  img.convertTo(out.image, CV_8U);
   if (!fov.empty()) out.image.setTo(0, fov == 0);
   return out;
 }

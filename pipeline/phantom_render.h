@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <opencv2/core.hpp>
 
 #include "geometry/phantoms/phantom_shape.h"
@@ -32,6 +33,20 @@ struct RenderedSlice {
 RenderedSlice renderSlice(const PhantomShape& shape, const Mat4& pose, int width, int height,
                           const cv::Mat& fov, const PhantomDegradations& degr, std::uint64_t seed,
                           int index);
+
+/// The B-mode image of a slice (degr.ultrasound enabled): the echogenicity is the tissue's (1)
+/// outside the object and object_echo inside (anti-aliased over a pixel at sdf = 0), times a
+/// Rayleigh speckle of grain grain_mm (the modulus of a complex Gaussian field smoothed to that
+/// correlation length, unit mean), scaled to a tissue mean of grey 100. Each frame gets
+/// `reflectors` bright arcs (echo 3, 3 pixels thick, across a tenth of the beams) in the upper half
+/// of the view, each darkening everything beyond it along its beams to 5% (an acoustic shadow to
+/// the far end); an arc is placed only where neither it nor its shadow comes within 2 pixels of
+/// the object (up to 30 tries). Beams are rays from the sector's apex, or the columns when the
+/// frame has no sector. Then additive noise (noise_sigma) and the field of view. `clipped` as
+/// renderSlice's. Deterministic as renderSlice.
+RenderedSlice renderUltrasoundSlice(const PhantomShape& shape, const Mat4& pose, int width, int height,
+                                    const cv::Mat& fov, const std::optional<SectorFov>& sector,
+                                    const PhantomDegradations& degr, std::uint64_t seed, int index);
 
 /// The label image of a slice: CV_8UC1, pixel (i, j) = materialLabel(shape, p) at its centre p
 /// (0 background, 1 and 2 the materials of a label_split), 0 where `fov` is 0. No anti-aliasing

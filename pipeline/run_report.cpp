@@ -46,6 +46,20 @@ json refinedCellsJson(const std::vector<CellRefinement>& cells) {
   return out;
 }
 
+/// The segmentation as applied: the method and preset asked for, the threshold and inside side
+/// every frame got (Otsu's and auto resolved for the series), the shadows' rule.
+json segmentationJson(const RunConfig& c, const SegmentationParams& applied) {
+  json s = {{"method", nameOf(kSegmentationMethods, c.segmentation.method)},
+            {"preset", nameOf(kSegmentationPresets, c.segmentation_preset)},
+            {"threshold_used", applied.threshold}};
+  if (c.segmentation.method != SegmentationMethod::labels) {
+    s["inside"] = nameOf(kInsideSides, c.segmentation.inside);
+    s["inside_used"] = nameOf(kInsideSides, applied.inside);
+    s["shadows"] = nameOf(kShadowRules, c.segmentation.shadows);
+  }
+  return s;
+}
+
 json countsJson(const RunResults& r) {
   const SampledReconstruction& rec = r.reconstruction.solid;
   const SectionArrangement& a = r.arrangement.arrangement;
@@ -278,8 +292,7 @@ json reportJson(const RunResults& r, const StageClock& clock) {
   report["watertight"] = r.diagnosis.topology.watertight;
   report["counts"] = countsJson(r);
   if (c.input_kind == InputKind::slices || c.input_kind == InputKind::plus_sequence)
-    report["segmentation"] = {{"method", nameOf(kSegmentationMethods, c.segmentation.method)},
-                              {"threshold_used", r.inputs.threshold}};
+    report["segmentation"] = segmentationJson(c, r.inputs.segmentation);
   if (r.inputs.plus) report["plus_sequence"] = plusSequenceJson(*r.inputs.plus);
   report["reconstruction"] = reconstructionJson(r);
   report["materials"] = materialsJson(r);

@@ -70,15 +70,6 @@ VoxelSizeReport resolveVoxelSize(RunInputs& in, bool quiet) {
   return r;
 }
 
-double denseBytesPerVoxel(const RunConfig& c) {
-  double dense = 0;
-  if (c.smoothing_method != SmoothingMethod::none) dense += kSmoothingBytesPerVoxel;
-  // Several materials: their solids are made from dense copies (field, labels, one label's set),
-  // for every method (mesh_stage.cpp).
-  if (c.segmentation.method == SegmentationMethod::labels) dense += 4 + 2 + 1;
-  return dense;
-}
-
 std::string memoryBreakdown(const SolidMemoryEstimate& e) {
   const auto mb = [](double bytes) { return std::to_string(std::int64_t(std::ceil(bytes / 1e6))) + " MB"; };
   return "solid by blocks " + mb(e.table_bytes + e.leaf_bytes) + ", meshes " + mb(e.mesh_bytes) +

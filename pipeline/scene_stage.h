@@ -47,10 +47,6 @@ VoxelSizeReport resolveVoxelSize(RunInputs& in, bool quiet);
 /// The grid the reconstruction will use; configuration problems become InputError.
 ReconstructionLayout layoutOf(const std::vector<CuttingPlane>& planes, const RunConfig& c);
 
-/// Bytes per voxel of the configured stages that still hold whole volumes (smoothing, several
-/// materials with methods 1 and 2); 0 for a method alone.
-double denseBytesPerVoxel(const RunConfig& c);
-
 /// The estimate's parts in words, for messages.
 std::string memoryBreakdown(const SolidMemoryEstimate& e);
 

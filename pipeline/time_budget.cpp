@@ -92,7 +92,10 @@ double pairsMeetingInBox(const std::vector<CuttingPlane>& planes, const Vec3& lo
 
 double segmentSeconds(double pixels, const SegmentationParams& p) {
   const double disk = kPi * (double(p.open_radius_px) * p.open_radius_px + double(p.close_radius_px) * p.close_radius_px);
-  const double readings = p.method == SegmentationMethod::otsu ? 2.0 : 1.0;
+  const double readings =
+      p.method == SegmentationMethod::otsu || p.method == SegmentationMethod::min_error || p.inside == InsideSide::automatic
+          ? 2.0
+          : 1.0;
   return pixels * (readings * (kPixelS + kPixelSigmaS * p.sigma_px) + kPixelDiskS * disk);
 }
 

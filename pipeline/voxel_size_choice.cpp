@@ -5,9 +5,12 @@
 #include <cmath>
 #include <sstream>
 
+#include "geometry/core/block_grid.h"
 #include "geometry/core/median.h"
+#include "geometry/reconstruction/solid_memory.h"
 #include "geometry/reconstruction/section_width.h"
 #include "io/input_error.h"
+#include "pipeline/machine_memory.h"
 
 namespace xsect {
 
@@ -57,7 +60,75 @@ std::string unitsHint(double voxel_mm, double median_width_mm) {
          "against millimetres? auto sizes the voxel from the data in any units)";
 }
 
+/// Whether a run at `voxel_mm` fits in this machine's memory as the scene stage's check measures
+/// it (the worst case, else the coarse trial's estimate, against 80% of the memory); `need`
+/// receives the bytes estimated when it does not.
+bool fitsInMemory(const RunConfig& c, const std::vector<CuttingPlane>& planes, double voxel_mm, double* need) {
+  const double have = physicalMemoryBytes();
+  if (!(have > 0)) return true;
+  ReconstructionParams p = reconstructionParams(c);
+  p.voxel_mm = voxel_mm;
+  GridSpec g;
+  try {
+    g = reconstructionLayout(planes, p).grid;
+  } catch (const std::invalid_argument&) {
+    *need = INFINITY;
+    return false;
+  }
+  const double dense = denseBytesPerVoxel(c);
+  if (worstCaseSolidBytes(double(blockCountOf(g)), double(g.dims[1]) * double(g.dims[2])) + double(g.count()) * dense <=
+      0.8 * have)
+    return true;
+  *need = estimateSolidMemory(planes, p, dense).total();
+  return *need <= 0.8 * have;
+}
+
+/// "use reconstruction.voxel_size_mm: S" when a run at S fits in memory; otherwise what S would
+/// need, so that no message advises a run `xsect check` would refuse.
+std::string voxelAdvice(const RunConfig& c, const std::vector<CuttingPlane>& planes, double voxel_mm,
+                        const std::string& advice) {
+  double need = 0;
+  if (fitsInMemory(c, planes, voxel_mm, &need)) return advice;
+  return "a voxel fine enough for them (" + mm(voxel_mm) + " mm) would need about " +
+         (std::isfinite(need) ? std::to_string(int(std::ceil(need / 1e9))) + " GB" : std::string("more memory")) +
+         ", more than this machine has (" + std::to_string(int(physicalMemoryBytes() / 1e9)) +
+         " GB): make the sections wider at their source instead";
+}
+
+/// Sections from images that most of are narrower than two voxels are most often the
+/// segmentation's (speckle, noise): the counts, the width in pixels, and the keys to change.
+/// Empty for contours given as such.
+std::string segmentationHint(const RunConfig& c, const std::vector<CuttingPlane>& planes, const VoxelSizeReport& r) {
+  if (c.input_kind != InputKind::slices && c.input_kind != InputKind::plus_sequence) return "";
+  std::vector<double> pixels;
+  int slices = 0;
+  for (const CuttingPlane& p : planes)
+    if (!p.is_virtual && p.slice >= 0) {
+      ++slices;
+      if (p.pixel_mm > 0) pixels.push_back(p.pixel_mm);
+    }
+  const double pixel = pixels.empty() ? 0 : upperMedian(pixels);
+  std::ostringstream s;
+  s << "the segmentation is the likely cause: the images gave " << r.sections << " sections in " << slices
+    << " slices (" << twoSignificantDigits(double(r.sections) / std::max(1, slices)) << " per slice), median width "
+    << mm(r.median_section_width_mm) << " mm";
+  if (pixel > 0) s << " (" << twoSignificantDigits(r.median_section_width_mm / pixel) << " pixels)";
+  s << ", as speckle or noise segmented as objects; segment for the structures you want: "
+       "segmentation.preset: ultrasound for B-mode frames, or raise segmentation.min_area_mm2, sigma_mm and "
+       "open_radius_mm. Otherwise: ";
+  return s.str();
+}
+
 }  // namespace
+
+double denseBytesPerVoxel(const RunConfig& c) {
+  double dense = 0;
+  if (c.smoothing_method != SmoothingMethod::none) dense += kSmoothingBytesPerVoxel;
+  // Several materials: their solids are made from dense copies (field, labels, one label's set),
+  // for every method (mesh_stage.cpp).
+  if (c.segmentation.method == SegmentationMethod::labels) dense += 4 + 2 + 1;
+  return dense;
+}
 
 ReconstructionParams reconstructionParams(const RunConfig& c) {
   ReconstructionParams p;
@@ -93,14 +164,21 @@ VoxelSizeReport chooseVoxelSize(RunConfig& c, const std::vector<CuttingPlane>& p
   const std::string what = std::to_string(r.sections_narrower_than_two_voxels) + " of " +
                            std::to_string(r.sections) + " sections are narrower than two voxels (median width " +
                            mm(r.median_section_width_mm) + " mm)";
+  // An automatic size on images: the segmentation is named first (issue 49; an explicit size is
+  // the user's choice, warned about below). A voxel is advised only where a run at it fits in
+  // memory.
+  const std::string units = unitsHint(r.voxel_mm, r.median_section_width_mm);
+  const std::string cause = units.empty() ? segmentationHint(c, planes, r) : "";
   if (c.voxel_size_auto && r.choice.limited_by == VoxelSizeLimit::pixel)
     // The rule stops at half a pixel: sections under a pixel wide are the segmentation's noise or
     // structures the images do not resolve; a finer grid is the user's explicit choice.
     throw InputError(c.path, "reconstruction.voxel_size_mm",
                      "at the automatic voxel size of " + mm(r.voxel_mm) + " mm (half the median pixel, " +
-                         mm(r.choice.median_pixel_mm) + " mm), " + what +
-                         ": the images hardly resolve them; set reconstruction.voxel_size_mm: " +
-                         mm(r.suggested_voxel_mm) + " (a quarter of the median width) to reconstruct them anyway");
+                         mm(r.choice.median_pixel_mm) + " mm), " + what + ": " + cause +
+                         voxelAdvice(c, planes, r.suggested_voxel_mm,
+                                     "the images hardly resolve them; set reconstruction.voxel_size_mm: " +
+                                         mm(r.suggested_voxel_mm) +
+                                         " (a quarter of the median width) to reconstruct them anyway"));
   if (c.voxel_size_auto) {
     // Otherwise only the budget makes the rule this coarse (h <= w/4 leaves the median section
     // four voxels wide): the size to use needs a larger budget.
@@ -113,15 +191,17 @@ VoxelSizeReport chooseVoxelSize(RunConfig& c, const std::vector<CuttingPlane>& p
     }
     throw InputError(c.path, "reconstruction.voxel_size_mm",
                      "at the automatic voxel size of " + mm(r.voxel_mm) + " mm (limited by reconstruction.voxel_budget = " +
-                         std::to_string(c.voxel_budget) + " voxels), " + what +
-                         ": the grid cannot resolve them; set reconstruction.voxel_size_mm: " +
-                         mm(r.suggested_voxel_mm) + " (a quarter of the median width) and reconstruction.voxel_budget: " +
-                         voxels);
+                         std::to_string(c.voxel_budget) + " voxels), " + what + ": " + cause +
+                         voxelAdvice(c, planes, r.suggested_voxel_mm,
+                                     "the grid cannot resolve them; set reconstruction.voxel_size_mm: " +
+                                         mm(r.suggested_voxel_mm) +
+                                         " (a quarter of the median width) and reconstruction.voxel_budget: " + voxels));
   }
   r.warning = "reconstruction.voxel_size_mm = " + mm(r.voxel_mm) + " mm is too coarse for these sections: " + what +
-              unitsHint(r.voxel_mm, r.median_section_width_mm) +
-              "; the result may lose thin parts or be empty. Use reconstruction.voxel_size_mm: " +
-              mm(r.suggested_voxel_mm) + " (a quarter of the median width) or auto";
+              units + "; the result may lose thin parts or be empty. " +
+              voxelAdvice(c, planes, r.suggested_voxel_mm,
+                          "Use reconstruction.voxel_size_mm: " + mm(r.suggested_voxel_mm) +
+                              " (a quarter of the median width) or auto");
   return r;
 }
 

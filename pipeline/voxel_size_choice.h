@@ -35,6 +35,10 @@ ReconstructionParams reconstructionParams(const RunConfig& config);
 /// @param planes  the real planes with their sections (at least one section).
 VoxelSizeReport chooseVoxelSize(RunConfig& config, const std::vector<CuttingPlane>& planes);
 
+/// Bytes per voxel of the configured stages that still hold whole volumes (smoothing, several
+/// materials with methods 1 and 2); 0 for a method alone.
+double denseBytesPerVoxel(const RunConfig& c);
+
 /// The message of a run whose solid came out empty from non-empty sections: the grid, the
 /// sections' width and the voxel size to use.
 std::string emptySolidMessage(const VoxelSizeReport& report, int sections);

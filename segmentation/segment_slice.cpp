@@ -16,6 +16,8 @@
 #include "geometry/core/disjoint_sets.h"
 #include "geometry/core/polygon.h"
 #include "geometry/core/ring_repair.h"
+#include "segmentation/acoustic_shadows.h"
+#include "segmentation/grey_field.h"
 #include "segmentation/iso_contours.h"
 #include "segmentation/series_threshold.h"
 
@@ -243,24 +245,42 @@ SegmentedSlice segmentSlice(const cv::Mat& image, const cv::Mat& fov, const Vec2
   if (p.method == SegmentationMethod::labels) return segmentLabels(image, fov, spacing, p);
   SegmentedSlice out;
 
-  // 1. Field whose zero level is the boundary: smoothed image minus threshold.
-  cv::Mat f;
-  image.convertTo(f, CV_32F);
-  if (p.sigma_px > 0) cv::GaussianBlur(f, f, cv::Size(0, 0), p.sigma_px, p.sigma_px,
-                                       cv::BORDER_REPLICATE);
+  // 1. Field whose zero level is the boundary: the grey field (speckle filter, smoothing) minus
+  //    the threshold, negated when the object is the dark side.
+  cv::Mat f = greyField(image, fov, p);
   double t = p.threshold;
   if (p.method == SegmentationMethod::otsu) {
     const double scale = seriesGreyScale(image.depth() == CV_16U ? 16 : 8);
     cv::Mat f8;
     f.convertTo(f8, CV_8U, scale);
     t = cv::threshold(f8, f8, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU) / scale;
+  } else if (p.method == SegmentationMethod::min_error) {
+    const double scale = seriesGreyScale(image.depth() == CV_16U ? 16 : 8);
+    t = minimumErrorThresholdOfHistogram(observedHistograms(f, fov, scale).observed) / scale;
   }
   out.threshold_used = t;
+  // Acoustic shadows: what the beams did not reach leaves the field of view (acoustic_shadows.h).
+  // Shorter than twice the speckle filter (or 4 pixels), a dark run at the beam's end is noise.
+  cv::Mat observed = fov;
+  if (p.shadows == ShadowRule::unobserved) {
+    cv::Mat shadow = acousticShadows(f, fov, t, p.beam_apex_px, std::max(4, 2 * p.speckle_filter_px));
+    if (cv::countNonZero(shadow) > 0) {
+      // The filters spread a shadow's dark over the pixels within their reach (half the median,
+      // two sigmas): those pixels are grown into it, or they stay as dark slivers along its sides.
+      const int reach = p.speckle_filter_px / 2 + int(std::ceil(2 * p.sigma_px));
+      if (reach > 0) cv::dilate(shadow, shadow, disk(reach));
+      observed = fov.empty() ? cv::Mat(image.size(), CV_8U, cv::Scalar(255)) : fov.clone();
+      observed.setTo(0, shadow);
+      out.observed = observed;
+    }
+  }
   f -= t;
+  if (p.inside == InsideSide::below) f = -f;
+  CV_Assert(p.inside != InsideSide::automatic);  // resolved for the series before any frame
 
   // 2-4. Cleaning, nudging, edge test.
   const float nudge = 1e-3f * float(std::max(1.0, std::abs(t)));
-  out.touches_fov_edge = cleanField(f, fov, spacing, p, nudge, ImageSides(), true);
+  out.touches_fov_edge = cleanField(f, observed, spacing, p, nudge, ImageSides(), true);
 
   // 5. Sub-pixel contours -> rings in mm; simplification; holes attached to their outer ring.
   //    Every section keeps Section::label = 1 (one material).

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,21 +21,68 @@ namespace xsect {
 enum class SegmentationMethod {
   threshold,  ///< a grey level
   otsu,       ///< Otsu's threshold (of the series, pipeline/load_sections.cpp; of one image here)
+  /// Kittler and Illingworth's minimum-error threshold (series_threshold.h): two classes of
+  /// different sizes and spreads, where Otsu's splits the larger one (speckled tissue around a
+  /// small dark vessel).
+  min_error,
   labels,     ///< every pixel value a material
 };
-constexpr std::array<NamedChoice<SegmentationMethod>, 3> kSegmentationMethods{{
+constexpr std::array<NamedChoice<SegmentationMethod>, 4> kSegmentationMethods{{
     {SegmentationMethod::threshold, "threshold"},
     {SegmentationMethod::otsu, "otsu"},
+    {SegmentationMethod::min_error, "min_error"},
     {SegmentationMethod::labels, "labels"},
+}};
+
+/// Which side of the threshold the object is (threshold, otsu).
+enum class InsideSide {
+  above,      ///< brighter than the threshold (bone, contrast, a fluorescent organ)
+  below,      ///< darker (a vessel, a cyst: hypoechoic structures in ultrasound)
+  automatic,  ///< auto: the side that covers less of the border of the observed region over
+              ///< the series (pipeline/load_sections.cpp resolves it before any frame is segmented)
+};
+constexpr std::array<NamedChoice<InsideSide>, 3> kInsideSides{{
+    {InsideSide::above, "above"},
+    {InsideSide::below, "below"},
+    {InsideSide::automatic, "auto"},
+}};
+
+/// What acoustic shadows are (segmentation/acoustic_shadows.h).
+enum class ShadowRule {
+  keep,        ///< pixels like any other
+  unobserved,  ///< removed from the field of view: nothing is known there
+};
+constexpr std::array<NamedChoice<ShadowRule>, 2> kShadowRules{{
+    {ShadowRule::keep, "keep"},
+    {ShadowRule::unobserved, "unobserved"},
 }};
 
 struct SegmentationParams {
   SegmentationMethod method = SegmentationMethod::threshold;
-  double threshold = 128.0;          ///< grey level (threshold method); inside = above
+  double threshold = 128.0;          ///< grey level (threshold method)
+  InsideSide inside = InsideSide::above;
   double sigma_px = 0.0;             ///< Gaussian smoothing, pixels (0 = none)
   int open_radius_px = 0;            ///< morphological opening radius, pixels
   int close_radius_px = 0;           ///< morphological closing radius, pixels
-  double min_area_mm2 = 0.0;         ///< components smaller than this are removed
+  /// The same in mm (0 = not given): they transfer between probes and zooms. Converted to pixels
+  /// per frame by inPixels (segmentation/pixel_settings.h) before segmentSlice; a key is given in
+  /// pixels or in mm, never both.
+  double sigma_mm = 0.0;
+  double open_radius_mm = 0.0;
+  double close_radius_mm = 0.0;
+  /// Speckle-reducing median filter, applied first: its diameter in mm (0 = none), and in pixels
+  /// as inPixels resolves it (odd, >= 3, or 0 = none).
+  double speckle_filter_mm = 0.0;
+  int speckle_filter_px = 0;
+  /// Grey scale that brings the series to 8 bits (1, or 1/257 for 16-bit series), for the median
+  /// filter, which OpenCV computes exactly on 8-bit images only (pipeline/load_sections.cpp sets it).
+  double grey_to_8bit = 1.0;
+  ShadowRule shadows = ShadowRule::keep;
+  /// The beams' common origin in pixels (x = column, y = row: a curved or phased probe's fan
+  /// apex, PLUS's FanOriginPixel); none: the beams are the image's columns, depth going down the
+  /// rows (a linear probe, PLUS's MF orientation).
+  std::optional<Vec2> beam_apex_px;
+  double min_area_mm2 = 0.0;         ///< components and holes smaller than this are removed
   double simplify_mm = 0.0;          ///< Douglas-Peucker tolerance on contours, mm (0 = none)
   /// labels: reconstruct the union of all labels as one material (no per-label solids).
   bool merge_labels = false;
@@ -51,6 +99,9 @@ struct SegmentedSlice {
   double threshold_used = 0.0;     ///< the threshold applied (Otsu's when method = otsu)
   bool touches_fov_edge = false;   ///< a section reaches the edge of the image / field of view
   bool contours_repaired = false;  ///< simplify_mm made rings cross, and they were made simple
+  /// shadows: unobserved: the observed pixels (CV_8U, 255) once the shadows are removed, when
+  /// they removed any; empty otherwise (the field of view given is the observed region).
+  cv::Mat observed;
 };
 
 /// @param image    8- or 16-bit single-channel image (row j, column i); for `labels`, the label

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cfloat>
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 
 namespace xsect {
@@ -11,19 +12,85 @@ namespace xsect {
 // depth (v16 = 257 v8) has the same histogram, hence the same threshold (issue 48).
 double seriesGreyScale(int bits_per_sample) { return bits_per_sample > 8 ? 1.0 / 257.0 : 1.0; }
 
-GreyHistogram observedHistogram(const cv::Mat& image, const cv::Mat& fov, double sigma_px, double scale) {
-  GreyHistogram h{};
-  cv::Mat f, f8;
-  image.convertTo(f, CV_32F);
-  if (sigma_px > 0) cv::GaussianBlur(f, f, cv::Size(0, 0), sigma_px, sigma_px, cv::BORDER_REPLICATE);
-  f.convertTo(f8, CV_8U, scale);
+ObservedHistograms observedHistograms(const cv::Mat& grey, const cv::Mat& fov, double scale) {
+  ObservedHistograms h;
+  cv::Mat f8;
+  grey.convertTo(f8, CV_8U, scale);
+  const auto seen = [&](int j, int i) {
+    return i >= 0 && j >= 0 && i < f8.cols && j < f8.rows && (fov.empty() || fov.at<unsigned char>(j, i));
+  };
   for (int j = 0; j < f8.rows; ++j) {
     const unsigned char* r = f8.ptr<unsigned char>(j);
     const unsigned char* m = fov.empty() ? nullptr : fov.ptr<unsigned char>(j);
-    for (int i = 0; i < f8.cols; ++i)
-      if (!m || m[i]) ++h[r[i]];
+    for (int i = 0; i < f8.cols; ++i) {
+      if (m && !m[i]) continue;
+      ++h.observed[r[i]];
+      if (!seen(j, i - 1) || !seen(j, i + 1) || !seen(j - 1, i) || !seen(j + 1, i)) ++h.border[r[i]];
+    }
   }
   return h;
+}
+
+void ShadowedHistograms::add(const ShadowedHistograms& other) {
+  for (std::size_t k = 0; k < observed.size(); ++k) observed[k] += other.observed[k], border[k] += other.border[k];
+}
+
+ShadowedHistograms shadowedHistograms(const cv::Mat& grey, const cv::Mat& fov, const cv::Mat& tail, double scale) {
+  ShadowedHistograms h;
+  cv::Mat f8;
+  grey.convertTo(f8, CV_8U, scale);
+  const auto seen = [&](int j, int i) {
+    return i >= 0 && j >= 0 && i < f8.cols && j < f8.rows && (fov.empty() || fov.at<unsigned char>(j, i));
+  };
+  for (int j = 0; j < f8.rows; ++j) {
+    const unsigned char* r = f8.ptr<unsigned char>(j);
+    const float* t = tail.ptr<float>(j);
+    for (int i = 0; i < f8.cols; ++i) {
+      if (!seen(j, i)) continue;
+      const int tailBin = std::isfinite(t[i]) ? int(std::clamp(std::lround(double(t[i]) * scale), 0L, 255L)) : 256;
+      const std::size_t k = std::size_t(r[i]) * ShadowedHistograms::kTailBins + std::size_t(tailBin);
+      ++h.observed[k];
+      if (!seen(j, i - 1) || !seen(j, i + 1) || !seen(j - 1, i) || !seen(j + 1, i)) ++h.border[k];
+    }
+  }
+  return h;
+}
+
+ObservedHistograms outsideShadow(const ShadowedHistograms& h, double threshold_8bit) {
+  ObservedHistograms out;
+  for (int g = 0; g < 256; ++g)
+    for (int t = 0; t < ShadowedHistograms::kTailBins; ++t) {
+      if (t <= threshold_8bit) continue;  // in the shadow of this threshold
+      const std::size_t k = std::size_t(g) * ShadowedHistograms::kTailBins + std::size_t(t);
+      out.observed[std::size_t(g)] += h.observed[k];
+      out.border[std::size_t(g)] += h.border[k];
+    }
+  return out;
+}
+
+double thresholdOutOfShadows(const ShadowedHistograms& h, const std::function<double(const GreyHistogram&)>& rule) {
+  double previous = rule(outsideShadow(h, -1).observed);
+  if (previous < 0) return previous;
+  for (int t = 0; t < 255; ++t) {
+    const double next = rule(outsideShadow(h, t + 1).observed);
+    if (previous >= t && std::abs(next - previous) > std::max(1.0, previous - t)) return previous;
+    if (previous >= t && next < t + 1) return std::max(double(t), std::min(previous, double(t + 1)));
+    previous = next;
+  }
+  return rule(outsideShadow(h, -1).observed);
+}
+
+GreyHistogram observedHistogram(const cv::Mat& image, const cv::Mat& fov, double sigma_px, double scale) {
+  cv::Mat f;
+  image.convertTo(f, CV_32F);
+  if (sigma_px > 0) cv::GaussianBlur(f, f, cv::Size(0, 0), sigma_px, sigma_px, cv::BORDER_REPLICATE);
+  return observedHistograms(f, fov, scale).observed;
+}
+
+InsideSide insideOfBorder(const GreyHistogram& border, double threshold_8bit) {
+  std::int64_t dark = 0, bright = 0;
+  for (int b = 0; b < 256; ++b) (b <= threshold_8bit ? dark : bright) += border[std::size_t(b)];
+  return dark >= bright ? InsideSide::above : InsideSide::below;
 }
 
 double otsuThresholdOfHistogram(const GreyHistogram& h) {
@@ -52,6 +119,39 @@ double otsuThresholdOfHistogram(const GreyHistogram& h) {
     }
   }
   return bestBin;
+}
+
+double minimumErrorThresholdOfHistogram(const GreyHistogram& h) {
+  // Prefix sums of counts, first and second moments.
+  std::array<double, 257> n{}, s1{}, s2{};
+  for (int b = 0; b < 256; ++b) {
+    const double c = double(h[std::size_t(b)]);
+    n[std::size_t(b) + 1] = n[std::size_t(b)] + c;
+    s1[std::size_t(b) + 1] = s1[std::size_t(b)] + c * b;
+    s2[std::size_t(b) + 1] = s2[std::size_t(b)] + c * b * double(b);
+  }
+  const double total = n[256];
+  if (total <= 0) return 0;
+  double best = INFINITY, bestBin = -1;
+  for (int t = 0; t < 255; ++t) {
+    const double n1 = n[std::size_t(t) + 1], n2 = total - n1;
+    if (n1 < 1e-3 * total || n2 < 1e-3 * total) continue;
+    const double m1 = s1[std::size_t(t) + 1] / n1, m2 = (s1[256] - s1[std::size_t(t) + 1]) / n2;
+    const double v1 = s2[std::size_t(t) + 1] / n1 - m1 * m1, v2 = (s2[256] - s2[std::size_t(t) + 1]) / n2 - m2 * m2;
+    if (v1 < 1.0 / 12 || v2 < 1.0 / 12) continue;
+    const double p1 = n1 / total, p2 = n2 / total;
+    const double j = p1 * std::log(v1) + p2 * std::log(v2) - 2 * (p1 * std::log(p1) + p2 * std::log(p2));
+    if (j < best) {
+      best = j;
+      bestBin = t;
+    }
+  }
+  if (bestBin < 0) return otsuThresholdOfHistogram(h);
+  // The classes found, the boundary placed where a blurred step between them crosses: half-way
+  // between their means (the minimum-error split itself leans into the narrower class).
+  const std::size_t t = std::size_t(bestBin) + 1;
+  const double m1 = s1[t] / n[t], m2 = (s1[256] - s1[t]) / (total - n[t]);
+  return std::floor(0.5 * (m1 + m2));
 }
 
 double otsuThresholdOfPooled(const GreyHistogram& pooled, double scale) {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <tuple>
 
 namespace xsect {
 
@@ -22,19 +23,31 @@ std::optional<SettingProblem> segmentationSettingProblem(const SegmentationParam
                                                          const Vec2& spacing, double observed_pixels) {
   const int larger = std::max(size.width, size.height), smaller = std::min(size.width, size.height);
   const std::string image = std::to_string(size.width) + " x " + std::to_string(size.height) + " pixels";
+  // A length given in mm (pixel_settings.h) is named as given, its value in this image's pixels.
+  const double pixel = 0.5 * (spacing.x() + spacing.y());
+  const auto keyOf = [](const char* stem, double mm) { return std::string(stem) + (mm > 0 ? "_mm" : "_px"); };
+  if (p.speckle_filter_px > smaller)
+    return SettingProblem{"speckle_filter_mm", "a median filter " + std::to_string(p.speckle_filter_px) +
+                                                   " pixels wide does not fit in the image (" + image +
+                                                   "); use at most " + number(smaller * pixel) +
+                                                   " mm (about 1 mm is typical against speckle)"};
   if (4 * p.sigma_px > larger)
-    return SettingProblem{"sigma_px", "a Gaussian of " + number(p.sigma_px) + " pixels reaches " +
+    return SettingProblem{keyOf("sigma", p.sigma_mm), "a Gaussian of " + number(p.sigma_px) + " pixels reaches " +
                                           number(4 * p.sigma_px) + " pixels on each side, beyond the image (" + image +
                                           "): it would blur every section away; use at most " +
-                                          number(std::floor(larger / 4.0)) + " (a few pixels is typical)"};
+                                          (p.sigma_mm > 0 ? number(std::floor(larger / 4.0) * pixel) + " mm"
+                                                          : number(std::floor(larger / 4.0))) +
+                                          " (a few pixels is typical)"};
   const int largestRadius = (smaller - 1) / 2;
-  for (const auto& [key, r] : {std::pair{"open_radius_px", p.open_radius_px}, std::pair{"close_radius_px", p.close_radius_px}})
+  for (const auto& [stem, r, mm] : {std::tuple{"open_radius", p.open_radius_px, p.open_radius_mm},
+                                     std::tuple{"close_radius", p.close_radius_px, p.close_radius_mm}})
     if (r > largestRadius)
-      return SettingProblem{key, "a disk of radius " + std::to_string(r) + " pixels does not fit in the image (" +
+      return SettingProblem{keyOf(stem, mm), "a disk of radius " + std::to_string(r) + " pixels does not fit in the image (" +
                                      image + "): " +
-                                     (std::string(key) == "open_radius_px" ? "the opening would remove every section"
+                                     (std::string(stem) == "open_radius" ? "the opening would remove every section"
                                                                            : "the closing would fill the image") +
-                                     "; use at most " + std::to_string(largestRadius) + " (a few pixels is typical)"};
+                                     "; use at most " + (mm > 0 ? number(largestRadius * pixel) + " mm" : std::to_string(largestRadius)) +
+                                     " (a few pixels is typical)"};
   const double observed_mm2 = observed_pixels * spacing.x() * spacing.y();
   if (p.min_area_mm2 > 0 && observed_pixels > 0 && p.min_area_mm2 >= observed_mm2)  // (a frame observed nowhere holds nothing to remove)
     return SettingProblem{"min_area_mm2", "a minimum area of " + number(p.min_area_mm2) +

@@ -36,6 +36,9 @@ TEST(NamedChoices, EveryTableRoundTrips) {
   expectRoundTrip(kConsensusModes);
   expectRoundTrip(kPoseCorrectionKinds);
   expectRoundTrip(kSegmentationMethods);
+  expectRoundTrip(kSegmentationPresets);
+  expectRoundTrip(kInsideSides);
+  expectRoundTrip(kShadowRules);
   expectRoundTrip(kShapeKinds);
   expectRoundTrip(kPatternKinds);
   EXPECT_EQ(choiceNames(kSmoothingMethods), "none | shepard | level_set");
@@ -49,7 +52,8 @@ TEST(NamedChoices, AnUnknownChoiceIsRefusedWithTheNames) {
       {"smoothing.method=gauss", "smoothing.method: unknown method 'gauss' (none | shepard | level_set)"},
       {"reconstruction.method=poisson", "reconstruction.method: unknown method 'poisson' (nearest_plane | section_voronoi | delaunay)"},
       {"conformity.mode=mean", "conformity.mode: unknown mode 'mean' (intersection | union | average)"},
-      {"segmentation.method=kmeans", "segmentation.method: unknown method 'kmeans' (threshold | otsu | labels)"},
+      {"segmentation.method=kmeans", "segmentation.method: unknown method 'kmeans' (threshold | otsu | min_error | labels)"},
+      {"segmentation.inside=dark", "segmentation.inside: unknown side 'dark' (above | below | auto)"},
   };
   for (const auto& c : cases) {
     const auto r = test::runXsect("check " + (dir / "c.yaml").string() + " --set " + c.set);

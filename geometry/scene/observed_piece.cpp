@@ -16,14 +16,22 @@ namespace {
 /// quarter of its size on each side (unobserved), eroded by one node; null when nothing is observed.
 /// Why the margin: beyond the raster the distance is only bounded (through the domain's nearest
 /// point); within it, a point beside the image finds its own nearest observed node.
+/// Nodes of the raster over `full` at `step` (the image rectangle and its margin).
+double rasterNodes(const PlaneRect& full, double step) {
+  const Vec2 size = full.max - full.min;
+  const double margin = 0.25 * std::max(size.x(), size.y());
+  return (size.x() + 2 * margin) / step * ((size.y() + 2 * margin) / step);
+}
+
+/// `coarsening`: the raster's step is the pixel times this (a power of two, observedPieces).
 std::shared_ptr<const FieldOfViewRaster> fieldOfViewRaster(const std::vector<Ring>& rings, const PlaneRect& full,
-                                                           double pixel) {
+                                                           double pixel, double coarsening) {
   auto r = std::make_shared<FieldOfViewRaster>();
   const Vec2 size = full.max - full.min;
   const double margin = 0.25 * std::max(size.x(), size.y());
-  r->step = pixel;
+  r->step = pixel * coarsening;
   // At most 16 M nodes (a 3000² image and its margin): coarser beyond (the slack follows the step).
-  while ((size.x() + 2 * margin) / r->step * ((size.y() + 2 * margin) / r->step) > 16.0e6) r->step *= 2;
+  while (rasterNodes(full, r->step) > 16.0e6) r->step *= 2;
   const int pad = int(std::ceil(margin / r->step)) + 1;
   r->origin = full.min - Vec2::Constant(pad * r->step);
   r->nu = int(std::floor(size.x() / r->step)) + 1 + 2 * pad;
@@ -120,15 +128,21 @@ void markSectionsClearOfEdges(std::vector<ObservedPiece>& pieces, const std::vec
 std::vector<ObservedPiece> observedPieces(const std::vector<CuttingPlane>& planes, bool observed) {
   std::vector<ObservedPiece> out(planes.size());
   if (!observed) return out;
-  std::map<std::string, std::shared_ptr<const FieldOfViewRaster>> shared;
+  // Fields of view by key, in the order first met: the plane that rasterises each, then its raster.
+  std::map<std::string, std::size_t> keyed;
+  std::vector<std::size_t> first;
+  std::vector<std::size_t> fovOf(planes.size(), 0);  // 0: none, else 1 + index into `first`
+  // One pixel: the image's own, or, without one, a thousandth of the rectangle.
+  const auto pixelOf = [&](const CuttingPlane& p) {
+    const Vec2 size = p.extent.max - p.extent.min;
+    return p.pixel_mm > 0 ? p.pixel_mm : 1e-3 * std::max(size.x(), size.y());
+  };
   for (std::size_t i = 0; i < planes.size(); ++i) {
     const CuttingPlane& p = planes[i];
     ObservedPiece& piece = out[i];
     if (p.is_virtual || p.observed_everywhere) continue;
     piece.whole = false;
-    const Vec2 size = p.extent.max - p.extent.min;
-    // One pixel: the image's own, or, without one, a thousandth of the rectangle.
-    const double pixel = p.pixel_mm > 0 ? p.pixel_mm : 1e-3 * std::max(size.x(), size.y());
+    const double pixel = pixelOf(p);
     piece.rect.min = p.extent.min + Vec2::Constant(pixel);
     piece.rect.max = p.extent.max - Vec2::Constant(pixel);
     if (!(pixel > 0) || !(piece.rect.max.x() >= piece.rect.min.x() && piece.rect.max.y() >= piece.rect.min.y())) {
@@ -136,11 +150,31 @@ std::vector<ObservedPiece> observedPieces(const std::vector<CuttingPlane>& plane
       continue;
     }
     if (p.field_of_view.empty()) continue;
-    const std::string key = fieldOfViewKey(p);
-    auto it = shared.find(key);
-    if (it == shared.end()) it = shared.emplace(key, fieldOfViewRaster(p.field_of_view, p.extent, pixel)).first;
-    piece.fov = it->second;
-    if (!piece.fov) piece.empty = true;
+    const auto it = keyed.emplace(fieldOfViewKey(p), first.size()).first;
+    if (it->second == first.size()) first.push_back(i);
+    fovOf[i] = it->second + 1;
+  }
+  // Every distinct field of view is a raster kept for the whole run: one for a probe's sector, but
+  // one per frame where each frame's differs (acoustic shadows left unobserved, issue 49: 200
+  // frames of 640x480 px held 1.1 GB of rasters at the pixel). Together they are kept under 64 M
+  // nodes (512 MB) by doubling every raster's step; the slack of their distances follows the step.
+  double coarsening = 1;
+  for (;;) {
+    double nodes = 0;
+    for (const std::size_t i : first)
+      nodes += std::min(16.0e6, rasterNodes(planes[i].extent, pixelOf(planes[i]) * coarsening));
+    if (nodes <= 64.0e6) break;
+    coarsening *= 2;
+  }
+  std::vector<std::shared_ptr<const FieldOfViewRaster>> rasters(first.size());
+  tbb::parallel_for(std::size_t(0), first.size(), [&](std::size_t k) {
+    const CuttingPlane& p = planes[first[k]];
+    rasters[k] = fieldOfViewRaster(p.field_of_view, p.extent, pixelOf(p), coarsening);
+  });
+  for (std::size_t i = 0; i < planes.size(); ++i) {
+    if (fovOf[i] == 0) continue;
+    out[i].fov = rasters[fovOf[i] - 1];
+    if (!out[i].fov) out[i].empty = true;
   }
   return out;
 }
