@@ -12,8 +12,12 @@ namespace xsect {
 // depth (v16 = 257 v8) has the same histogram, hence the same threshold (issue 48).
 double seriesGreyScale(int bits_per_sample) { return bits_per_sample > 8 ? 1.0 / 257.0 : 1.0; }
 
-ObservedHistograms observedHistograms(const cv::Mat& grey, const cv::Mat& fov, double scale) {
-  ObservedHistograms h;
+namespace {
+
+/// visit(j, i, bin, border) for every observed pixel of `grey` (in `fov`, or all), its grey in
+/// 8-bit bins (times `scale`), and whether a 4-neighbour is unobserved or off the image.
+template <typename Visit>
+void forEachObservedPixel(const cv::Mat& grey, const cv::Mat& fov, double scale, const Visit& visit) {
   cv::Mat f8;
   grey.convertTo(f8, CV_8U, scale);
   const auto seen = [&](int j, int i) {
@@ -21,13 +25,19 @@ ObservedHistograms observedHistograms(const cv::Mat& grey, const cv::Mat& fov, d
   };
   for (int j = 0; j < f8.rows; ++j) {
     const unsigned char* r = f8.ptr<unsigned char>(j);
-    const unsigned char* m = fov.empty() ? nullptr : fov.ptr<unsigned char>(j);
-    for (int i = 0; i < f8.cols; ++i) {
-      if (m && !m[i]) continue;
-      ++h.observed[r[i]];
-      if (!seen(j, i - 1) || !seen(j, i + 1) || !seen(j - 1, i) || !seen(j + 1, i)) ++h.border[r[i]];
-    }
+    for (int i = 0; i < f8.cols; ++i)
+      if (seen(j, i)) visit(j, i, r[i], !seen(j, i - 1) || !seen(j, i + 1) || !seen(j - 1, i) || !seen(j + 1, i));
   }
+}
+
+}  // namespace
+
+ObservedHistograms observedHistograms(const cv::Mat& grey, const cv::Mat& fov, double scale) {
+  ObservedHistograms h;
+  forEachObservedPixel(grey, fov, scale, [&](int, int, unsigned char bin, bool border) {
+    ++h.observed[bin];
+    if (border) ++h.border[bin];
+  });
   return h;
 }
 
@@ -37,22 +47,13 @@ void ShadowedHistograms::add(const ShadowedHistograms& other) {
 
 ShadowedHistograms shadowedHistograms(const cv::Mat& grey, const cv::Mat& fov, const cv::Mat& tail, double scale) {
   ShadowedHistograms h;
-  cv::Mat f8;
-  grey.convertTo(f8, CV_8U, scale);
-  const auto seen = [&](int j, int i) {
-    return i >= 0 && j >= 0 && i < f8.cols && j < f8.rows && (fov.empty() || fov.at<unsigned char>(j, i));
-  };
-  for (int j = 0; j < f8.rows; ++j) {
-    const unsigned char* r = f8.ptr<unsigned char>(j);
-    const float* t = tail.ptr<float>(j);
-    for (int i = 0; i < f8.cols; ++i) {
-      if (!seen(j, i)) continue;
-      const int tailBin = std::isfinite(t[i]) ? int(std::clamp(std::lround(double(t[i]) * scale), 0L, 255L)) : 256;
-      const std::size_t k = std::size_t(r[i]) * ShadowedHistograms::kTailBins + std::size_t(tailBin);
-      ++h.observed[k];
-      if (!seen(j, i - 1) || !seen(j, i + 1) || !seen(j - 1, i) || !seen(j + 1, i)) ++h.border[k];
-    }
-  }
+  forEachObservedPixel(grey, fov, scale, [&](int j, int i, unsigned char bin, bool border) {
+    const float t = tail.at<float>(j, i);
+    const int tailBin = std::isfinite(t) ? int(std::clamp(std::lround(double(t) * scale), 0L, 255L)) : 256;
+    const std::size_t k = std::size_t(bin) * ShadowedHistograms::kTailBins + std::size_t(tailBin);
+    ++h.observed[k];
+    if (border) ++h.border[k];
+  });
   return h;
 }
 
