@@ -27,7 +27,8 @@ namespace {
 /// tests/test_ultrasound_segmentation.cpp), acoustic shadows unobserved. No closing: the holes
 /// under 8 mm² already fill the speckle inside a lumen, and a closing joined dark blobs near the
 /// object to it through necks thinner than a voxel, which the solid then kept as separate specks
-/// (9 freehand phantoms, seeds 1-3: truth topology on 3 with a 0.5 mm closing, on 8 without).
+/// (9 freehand phantoms, seeds 1-3: truth topology on 3 with a 0.5 mm closing, on 7-8 without;
+/// bench/ultrasound_family.py).
 /// README, "Ultrasound", says how to tune them.
 void applyUltrasoundPreset(const YAML::Node& s, SegmentationParams& p) {
   const auto given = [&](const char* k) { return bool(s[k]); };
@@ -238,11 +239,21 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
       if (!std::isfinite(*out))
         throw InputError(path, std::string("segmentation.") + k, "must be finite", yamlLine(s[k]));
     }
-    if (p.method == SegmentationMethod::labels &&
-        (p.inside != InsideSide::above || p.shadows != ShadowRule::keep || p.speckle_filter_mm > 0))
-      throw InputError(path, "segmentation.method",
-                       "label images are not thresholded: segmentation.inside, shadows and speckle_filter_mm apply "
-                       "to grey images only");
+    if (p.method == SegmentationMethod::labels) {
+      for (const char* k : {"inside", "shadows", "speckle_filter_mm", "beam_apex_px"})
+        if (s[k])
+          throw InputError(path, std::string("segmentation.") + k,
+                           "label images are not thresholded: segmentation.inside, shadows, speckle_filter_mm and "
+                           "beam_apex_px apply to grey images only",
+                           yamlLine(s[k]));
+    }
+    // A threshold given with a rule that computes its own is not used: said, not silently dropped.
+    if (s["threshold"] && p.method != SegmentationMethod::threshold)
+      c.warnings.push_back(path + ": segmentation.threshold is not used with method " +
+                           std::string(nameOf(kSegmentationMethods, p.method)) +
+                           " (the series' own threshold is applied; report.json's segmentation.threshold_used)");
+    if (s["beam_apex_px"] && p.shadows != ShadowRule::unobserved)
+      c.warnings.push_back(path + ": segmentation.beam_apex_px is used only with shadows: unobserved");
   }
   if (const YAML::Node s = section("conformity")) {
     RunConfig::Conformity& f = c.conformity;

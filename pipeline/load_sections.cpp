@@ -283,6 +283,10 @@ CuttingPlane planeOfFrame(int slice, const std::string& name, const Mat4& pose, 
   cp.field_of_view = !seg.observed.empty() ? fieldOfViewRings(seg.observed, spacing)
                      : sharedRings         ? *sharedRings
                                            : fieldOfViewRings(frame.fov, spacing);
+  // No ring from a mask that is not all observed: nothing was (every beam in shadow, or slivers
+  // under a pixel); an empty field_of_view would say the whole plane was.
+  const cv::Mat& seen = !seg.observed.empty() ? seg.observed : frame.fov;
+  if (cp.field_of_view.empty() && !seen.empty() && cv::countNonZero(seen) < int(seen.total())) cp.extent = PlaneRect{};
   *touches = char((seg.touches_fov_edge ? kTouches : 0) | (seg.contours_repaired ? kRepaired : 0));
   const Vec3 c0 = pose.block<3, 1>(0, 0), c1 = pose.block<3, 1>(0, 1);
   if (std::abs(c0.dot(c1)) > 1e-9 * c0.norm() * c1.norm()) {
@@ -318,7 +322,7 @@ CuttingPlane planeOfFrame(int slice, const std::string& name, const Mat4& pose, 
 /// @param bits        the series' sample depth (8 or 16), from its first frame
 /// @param readFrames  runs its argument on every frame (i, frame), in any order
 /// @param applied     receives the settings applied to every frame (threshold, inside resolved)
-SegmentationParams seriesParams(const SegmentationParams& params, int bits,
+SegmentationParams seriesParamsOfFrames(const SegmentationParams& params, int bits,
                                 const std::function<void(const std::function<void(int, const Frame&)>&)>& readFrames,
                                 int n, SegmentationParams* applied) {
   SegmentationParams perSlice = params;
@@ -373,6 +377,18 @@ SegmentationParams seriesParams(const SegmentationParams& params, int bits,
   if (perSlice.inside == InsideSide::automatic) perSlice.inside = InsideSide::above;  // no frame
   if (applied) *applied = perSlice;
   return perSlice;
+}
+
+/// seriesParamsOfFrames, with what OpenCV cannot do with these settings on these frames (a
+/// filter larger than a frame, a beam apex beyond any image) an input error naming the settings.
+SegmentationParams seriesParams(const SegmentationParams& params, int bits,
+                                const std::function<void(const std::function<void(int, const Frame&)>&)>& readFrames,
+                                int n, SegmentationParams* applied, const std::string& settings_file) {
+  try {
+    return seriesParamsOfFrames(params, bits, readFrames, n, applied);
+  } catch (const cv::Exception& e) {
+    throw InputError(settings_file, "segmentation", "OpenCV cannot read the series with these settings: " + e.err);
+  }
 }
 
 /// "N slice(s) have a section touching the edge..." and "N slice(s) had contours that
@@ -441,7 +457,7 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
                                              [&](const std::function<void(int, const Frame&)>& each) {
                                                forEachFrame(slices, listing_file, shared, depth, count, each);
                                              },
-                                             n, applied);
+                                             n, applied, settings_file);
   if (labelled) labelled->assign(std::size_t(n), {});
   forEachFrame(slices, listing_file, shared, depth, count, [&](int i, const Frame& frame) {
     planes[std::size_t(i)] = planeOfFrame(i, slices[std::size_t(i)].image, slices[std::size_t(i)].image_to_world, frame,
@@ -512,6 +528,19 @@ std::vector<CuttingPlane> sectionsFromPlusSequence(const PlusSequence& seq, cons
   // what grey frames need (threshold, side, shadows, speckle) does not apply, the cleaning does.
   const bool labels = params.method == SegmentationMethod::labels;
   if (seq.masks && !labels) {
+    std::vector<std::string> unused;
+    if (settings.method != SegmentationMethod::threshold || settings.threshold != SegmentationParams().threshold)
+      unused.push_back("method/threshold");
+    if (settings.inside != InsideSide::above) unused.push_back("inside");
+    if (settings.shadows != ShadowRule::keep) unused.push_back("shadows");
+    if (settings.speckle_filter_mm > 0 || settings.speckle_filter_px > 0) unused.push_back("speckle_filter_mm");
+    if (warnings && !unused.empty()) {
+      std::string keys;
+      for (const std::string& k : unused) keys += (keys.empty() ? "segmentation." : ", segmentation.") + k;
+      warnings->push_back("input.plus_masks: the masks are segmented as masks (non-zero inside, at half their "
+                          "range); " + keys + " apply to grey frames and were not used (report.json's "
+                          "segmentation block shows them as configured)");
+    }
     params.method = SegmentationMethod::threshold;
     params.threshold = 127.5;
     params.inside = InsideSide::above;
@@ -533,7 +562,7 @@ std::vector<CuttingPlane> sectionsFromPlusSequence(const PlusSequence& seq, cons
   const SegmentationParams perSlice = seriesParams(
       params, seq.header.pixel == MetaPixelType::uint8 ? 8 : 16,
       [&](const std::function<void(int, const Frame&)>& each) { forEachSequenceFrame(seq, labels, count, each); }, n,
-      applied);
+      applied, settings_file);
   // The field of view is the device set's, one for the recording: traced once per pixel spacing.
   std::map<std::pair<double, double>, std::vector<Ring>> rings;
   std::vector<const std::vector<Ring>*> ringsOf(static_cast<std::size_t>(n), nullptr);

@@ -4,6 +4,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace xsect {
@@ -57,30 +58,74 @@ void tailMaximumAlongRows(const cv::Mat& grey, const cv::Mat& seen, cv::Mat& tai
 }
 
 /// The polar frame of the beams from `apex`: one row per direction, at most a pixel apart at the
-/// farthest image corner, and one column per pixel of radius. WARP_FILL_OUTLIERS: samples off the
-/// image are 0 (unobserved); without it OpenCV leaves them as the buffer held them. Grey values are
-/// sampled at the nearest pixel, as the observed mask is: a linear sample at the view's far edge
-/// mixes in the grey beyond it and ended whole beams' shadows there (a test's fan lost a beam).
+/// farthest image corner, one column per pixel of radius, over the directions and radii that meet
+/// the image only: all directions when the apex lies inside it, otherwise the angle the image
+/// subtends (under half a turn), and radii from the image's nearest point to its farthest corner.
+/// So the polar image is at most 2π times the image's diagonal squared wherever the apex lies (a
+/// full circle out to the farthest corner, as OpenCV's warpPolar samples, grows with the apex's
+/// distance: 0.7 GB per frame 5000 px away). Maps are built in double precision (an apex may lie
+/// far away) and stored as the image positions they reach. Samples are read at the nearest pixel,
+/// the grey as the observed mask: a linear sample at the view's far edge mixes in the grey beyond
+/// it and ended whole beams' shadows there (a test's fan lost a beam). Off the image: 0.
 struct PolarBeams {
-  cv::Point2f centre;
-  double radius = 0;
-  cv::Size size;
-  PolarBeams(const cv::Size& image, const Vec2& apex) : centre(float(apex.x()), float(apex.y())) {
-    for (const cv::Point2f corner : {cv::Point2f(0, 0), cv::Point2f(float(image.width), 0),
-                                     cv::Point2f(0, float(image.height)),
-                                     cv::Point2f(float(image.width), float(image.height))})
-      radius = std::max(radius, double(cv::norm(corner - centre)));
-    size = cv::Size(int(std::ceil(radius)) + 1, std::clamp(int(std::ceil(2 * M_PI * radius)), 64, 16384));
+  cv::Mat forward_x, forward_y;  ///< per polar sample, its image position (CV_32F)
+  cv::Mat inverse_x, inverse_y;  ///< per image pixel, its polar position (CV_32F)
+  PolarBeams(const cv::Size& image, const Vec2& apex) {
+    CV_Assert(std::isfinite(apex.x()) && std::isfinite(apex.y()) && apex.cwiseAbs().maxCoeff() < 1e9);
+    const double cx = apex.x(), cy = apex.y();
+    const double x0 = -0.5, y0 = -0.5, x1 = image.width - 0.5, y1 = image.height - 0.5;
+    const std::array<Vec2, 4> corners{Vec2(x0, y0), Vec2(x1, y0), Vec2(x0, y1), Vec2(x1, y1)};
+    double rmax = 0;
+    for (const Vec2& c : corners) rmax = std::max(rmax, (c - apex).norm());
+    const double rmin = std::floor(std::hypot(std::max({x0 - cx, 0.0, cx - x1}), std::max({y0 - cy, 0.0, cy - y1})));
+    // Directions relative to the one towards the image's centre, in (-pi, pi].
+    const double towards = std::atan2(0.5 * (y0 + y1) - cy, 0.5 * (x0 + x1) - cx);
+    const auto relative = [&](double dy, double dx) {
+      double a = std::atan2(dy, dx) - towards;
+      if (a > M_PI) a -= 2 * M_PI;
+      if (a <= -M_PI) a += 2 * M_PI;
+      return a;
+    };
+    double lo = -M_PI, hi = M_PI;
+    if (rmin > 0) {
+      lo = hi = 0;
+      for (const Vec2& c : corners) {
+        const double r = relative(c.y() - cy, c.x() - cx);
+        lo = std::min(lo, r), hi = std::max(hi, r);
+      }
+    }
+    const int cols = int(std::ceil(rmax - rmin)) + 1;
+    const int rows = int(std::ceil((hi - lo) * rmax)) + 2;
+    const double dAngle = (hi - lo) / (rows - 1);
+    forward_x.create(rows, cols, CV_32F);
+    forward_y.create(rows, cols, CV_32F);
+    for (int r = 0; r < rows; ++r) {
+      const double angle = towards + lo + r * dAngle, c = std::cos(angle), sn = std::sin(angle);
+      float* fx = forward_x.ptr<float>(r);
+      float* fy = forward_y.ptr<float>(r);
+      for (int k = 0; k < cols; ++k) fx[k] = float(cx + (rmin + k) * c), fy[k] = float(cy + (rmin + k) * sn);
+    }
+    inverse_x.create(image, CV_32F);
+    inverse_y.create(image, CV_32F);
+    for (int j = 0; j < image.height; ++j) {
+      float* ix = inverse_x.ptr<float>(j);
+      float* iy = inverse_y.ptr<float>(j);
+      const double dy = j - cy;
+      for (int i = 0; i < image.width; ++i) {
+        const double dx = i - cx;
+        ix[i] = float(std::sqrt(dx * dx + dy * dy) - rmin);
+        iy[i] = float(std::clamp((relative(dy, dx) - lo) / dAngle, 0.0, double(rows - 1)));
+      }
+    }
   }
-  cv::Mat forward(const cv::Mat& m, int interpolation) const {
+  cv::Mat forward(const cv::Mat& m) const {
     cv::Mat out;
-    cv::warpPolar(m, out, size, centre, radius, interpolation | cv::WARP_POLAR_LINEAR | cv::WARP_FILL_OUTLIERS);
+    cv::remap(m, out, forward_x, forward_y, cv::INTER_NEAREST, cv::BORDER_CONSTANT, cv::Scalar(0));
     return out;
   }
-  cv::Mat inverse(const cv::Mat& m, const cv::Size& image) const {
+  cv::Mat inverse(const cv::Mat& m) const {
     cv::Mat out;
-    cv::warpPolar(m, out, image, centre, radius,
-                  cv::INTER_NEAREST | cv::WARP_POLAR_LINEAR | cv::WARP_INVERSE_MAP | cv::WARP_FILL_OUTLIERS);
+    cv::remap(m, out, inverse_x, inverse_y, cv::INTER_NEAREST, cv::BORDER_CONSTANT, cv::Scalar(0));
     return out;
   }
 };
@@ -98,8 +143,8 @@ cv::Mat beamTailMaximum(const cv::Mat& grey, const cv::Mat& observed, const std:
   } else {
     const PolarBeams beams(grey.size(), *apex_px);
     cv::Mat polarTail;
-    tailMaximumAlongRows(beams.forward(grey, cv::INTER_NEAREST), beams.forward(seen, cv::INTER_NEAREST), polarTail);
-    tail = beams.inverse(polarTail, grey.size());
+    tailMaximumAlongRows(beams.forward(grey), beams.forward(seen), polarTail);
+    tail = beams.inverse(polarTail);
   }
   tail.setTo(INFINITY, seen == 0);
   return tail;
@@ -121,9 +166,8 @@ cv::Mat acousticShadows(const cv::Mat& grey, const cv::Mat& observed, double thr
     // radius, out to the farthest image corner (PolarBeams).
     const PolarBeams beams(grey.size(), *apex_px);
     cv::Mat polarShadow;
-    shadowsAlongRows(beams.forward(grey, cv::INTER_NEAREST), beams.forward(seen, cv::INTER_NEAREST), threshold,
-                     minLength, polarShadow);
-    shadow = beams.inverse(polarShadow, grey.size());
+    shadowsAlongRows(beams.forward(grey), beams.forward(seen), threshold, minLength, polarShadow);
+    shadow = beams.inverse(polarShadow);
   }
   shadow &= seen;
   return shadow;

@@ -274,8 +274,12 @@ SegmentedSlice segmentSlice(const cv::Mat& image, const cv::Mat& fov, const Vec2
       out.observed = observed;
     }
   }
-  f -= t;
-  if (p.inside == InsideSide::below) f = -f;
+  if (p.inside == InsideSide::below)
+    // The dark class is g <= t, as the threshold rules' classes and the shadows have it: a pixel
+    // at the threshold is inside (integer-valued fields, e.g. the median filter alone, hold ties).
+    f = double(std::nextafter(float(t), INFINITY)) - f;
+  else
+    f -= t;
   CV_Assert(p.inside != InsideSide::automatic);  // resolved for the series before any frame
 
   // 2-4. Cleaning, nudging, edge test.

@@ -26,11 +26,14 @@ std::optional<SettingProblem> segmentationSettingProblem(const SegmentationParam
   // A length given in mm (pixel_settings.h) is named as given, its value in this image's pixels.
   const double pixel = 0.5 * (spacing.x() + spacing.y());
   const auto keyOf = [](const char* stem, double mm) { return std::string(stem) + (mm > 0 ? "_mm" : "_px"); };
-  if (p.speckle_filter_px > smaller)
-    return SettingProblem{"speckle_filter_mm", "a median filter " + std::to_string(p.speckle_filter_px) +
-                                                   " pixels wide does not fit in the image (" + image +
-                                                   "); use at most " + number(smaller * pixel) +
-                                                   " mm (about 1 mm is typical against speckle)"};
+  if (p.speckle_filter_px > smaller) {
+    const int widest = smaller % 2 ? smaller : smaller - 1;  // the filter's width is odd
+    return SettingProblem{keyOf("speckle_filter", p.speckle_filter_mm),
+                          "a median filter " + std::to_string(p.speckle_filter_px) +
+                              " pixels wide does not fit in the image (" + image + "); use at most " +
+                              (p.speckle_filter_mm > 0 ? number(widest * pixel) + " mm" : std::to_string(widest)) +
+                              " (about 1 mm is typical against speckle)"};
+  }
   if (4 * p.sigma_px > larger)
     return SettingProblem{keyOf("sigma", p.sigma_mm), "a Gaussian of " + number(p.sigma_px) + " pixels reaches " +
                                           number(4 * p.sigma_px) + " pixels on each side, beyond the image (" + image +

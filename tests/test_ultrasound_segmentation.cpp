@@ -12,7 +12,10 @@
 #include <map>
 #include <random>
 
+#include "io/image_header.h"
 #include "io/input_error.h"
+#include "io/slices_file.h"
+#include "pipeline/load_sections.h"
 #include "io/meta_image.h"
 #include "io/meta_image_writer.h"
 #include "io/run_config.h"
@@ -59,7 +62,8 @@ TEST(UltrasoundSegmentation, MinimumErrorThresholdSitsBetweenUnequalClasses) {
     otsuInsideTissue += otsuThresholdOfHistogram(h) > mTissue - 1.5 * sTissue;
   }
   EXPECT_GT(cases, 40);
-  std::cout << "Otsu's threshold inside the tissue class on " << otsuInsideTissue << " of " << cases << "\n";
+  // Why the preset does not use Otsu's: on these histograms it often splits the larger class.
+  EXPECT_GT(otsuInsideTissue, cases / 10) << "Otsu's threshold inside the tissue class on " << otsuInsideTissue << " of " << cases;
 }
 
 // A shadow is the dark run at the far end of a beam: down the columns for a linear probe, along
@@ -178,7 +182,7 @@ TEST(UltrasoundSegmentation, PresetFindsTheLumenAndLeavesShadowsOut) {
   EXPECT_EQ(plus["counts"]["sections"], png["counts"]["sections"]);
   EXPECT_EQ(test::slurp(dir / "plus/mesh.ply"), test::slurp(dir / "png/mesh.ply"));
   EXPECT_EQ(plus["betti"], nlohmann::json({1, 1, 0}));
-  // The clean phantom's sections: the same count per frame.
+  // The clean phantom's sections: the same count over the sweep.
   const fs::path clean = test::phantom("us-torus-clean", std::string(spec).replace(spec.find("degradations: {ultrasound: {}}"),
                                                                                     30, "degradations: {}"));
   const nlohmann::json truth = test::run(clean, "out", "");
@@ -284,6 +288,8 @@ TEST(UltrasoundSegmentation, SpeckleSectionsAreBlamedOnTheSegmentation) {
   EXPECT_FALSE(fs::exists(dir / "otsu"));
   const std::string key = "set reconstruction.voxel_size_mm: ";
   const std::size_t at = r.err.find(key);
+  // A voxel size is advised only where a run at it fits in memory (else the message says so).
+  EXPECT_TRUE(at != std::string::npos || r.err.find("more than this machine has") != std::string::npos) << r.err;
   if (at != std::string::npos) {
     const std::string voxel = r.err.substr(at + key.size(), r.err.find_first_of(" \n", at + key.size()) - at - key.size());
     const auto c = test::runXsect("check " + (dir / "ph/config_otsu.yaml").string() + " --set reconstruction.voxel_size_mm=" +
@@ -291,4 +297,66 @@ TEST(UltrasoundSegmentation, SpeckleSectionsAreBlamedOnTheSegmentation) {
     EXPECT_EQ(c.code, 0) << c.err;
   }
   fs::remove_all(dir);
+}
+
+// A frame whose every beam is dark to its end (the probe lifted off the skin) was observed nowhere:
+// its plane has no extent, not an empty field of view (which says "observed everywhere").
+TEST(UltrasoundSegmentation, AFrameAllInShadowIsObservedNowhere) {
+  const fs::path dir = test::phantom("us-lifted",
+                                     "seed: 1\n"
+                                     "shape: {kind: sphere, params: {radius: 5}}\n"
+                                     "pattern: {kind: freehand, count: 8, direction: [0, 0, 1], sector: true}\n"
+                                     "image: {pixel_mm: 0.2, width: 160, height: 120}\n"
+                                     "degradations: {ultrasound: {}}\n");
+  const fs::path ph = dir / "ph";
+  const std::vector<SliceRecord> slices = readSlicesFile((ph / "slices.yaml").string());
+  ASSERT_EQ(slices.size(), 8u);
+  const cv::Mat frame = cv::imread(slices[4].image_resolved, cv::IMREAD_UNCHANGED);
+  ASSERT_TRUE(cv::imwrite(slices[4].image_resolved, cv::Mat::zeros(frame.size(), frame.type())));
+  const RunConfig c = readRunConfig((ph / "config.yaml").string());
+  std::vector<ImageHeader> headers;
+  for (const SliceRecord& s : slices) headers.push_back(readImageHeader(s.image_resolved));
+  const std::vector<CuttingPlane> planes =
+      sectionsFromSlices(slices, (ph / "slices.yaml").string(), c.segmentation, (ph / "config.yaml").string(), headers,
+                         nullptr, nullptr, nullptr, nullptr);
+  ASSERT_EQ(planes.size(), 8u);
+  EXPECT_TRUE(planes[4].sections.empty());
+  EXPECT_EQ(planes[4].extent.min, planes[4].extent.max);  // observed nowhere
+  for (const int k : {3, 5}) {  // its neighbours: observed, in a sector
+    EXPECT_NE(planes[std::size_t(k)].extent.min, planes[std::size_t(k)].extent.max) << k;
+    EXPECT_FALSE(planes[std::size_t(k)].field_of_view.empty()) << k;
+  }
+  fs::remove_all(dir);
+}
+
+// Shadows (grey ~6, their beams dark to the end), a small dark object (~30, tissue beyond it) and
+// tissue (~110), over random class sizes: the threshold out of its own shadows separates object
+// from tissue, and leaves the shadows out of the histogram it comes from.
+TEST(UltrasoundSegmentation, ThresholdOutOfShadowsSplitsObjectFromTissue) {
+  std::mt19937_64 rng(7);
+  int right = 0, cases = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    std::uniform_real_distribution<double> u(0, 1);
+    const std::int64_t nShadow = std::int64_t(20000 + 40000 * u(rng)), nObject = std::int64_t(3000 + 5000 * u(rng));
+    const std::int64_t nTissue = 100000;
+    ShadowedHistograms h;
+    std::normal_distribution<double> shadow(6, 2), object(30, 5), tissue(110, 15);
+    const auto add = [&](std::normal_distribution<double>& d, std::int64_t n, bool inShadow) {
+      for (std::int64_t k = 0; k < n; ++k) {
+        const int g = int(std::clamp(std::lround(d(rng)), 0L, 255L));
+        const int tail = inShadow ? std::min(255, g + 3) : ShadowedHistograms::kTailBins - 1;
+        ++h.observed[std::size_t(g) * ShadowedHistograms::kTailBins + std::size_t(tail)];
+      }
+    };
+    add(shadow, nShadow, true), add(object, nObject, false), add(tissue, nTissue, false);
+    const auto rule = [](const GreyHistogram& g) { return minimumErrorThresholdOfHistogram(g); };
+    const double t = thresholdOutOfShadows(h, rule);
+    ++cases;
+    right += t > 30 + 2 * 5 && t < 110 - 2 * 15;
+    std::int64_t shadowLeft = 0;  // pixels as dark as the shadows (the object's are 3 spreads above)
+    const ObservedHistograms out = outsideShadow(h, t);
+    for (int g = 0; g < 15; ++g) shadowLeft += out.observed[std::size_t(g)];
+    EXPECT_LT(shadowLeft, nShadow / 100) << trial;
+  }
+  EXPECT_EQ(right, cases);
 }
