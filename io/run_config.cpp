@@ -113,6 +113,86 @@ std::string resolvePath(const fs::path& base, const std::string& p) {
   return q.lexically_normal().string();
 }
 
+/// The `segmentation:` block `s` of `path` into c.segmentation (and the preset, and warnings for
+/// keys given that their method does not use).
+void readSegmentation(const YAML::Node& s, const std::string& path, RunConfig& c) {
+  auto& p = c.segmentation;
+  if (s["preset"])
+    c.segmentation_preset = yamlChoice(s["preset"], path, "segmentation.preset", kSegmentationPresets, "preset");
+  if (c.segmentation_preset == SegmentationPreset::ultrasound) applyUltrasoundPreset(s, p);
+  if (s["method"]) {
+    p.method = yamlChoice(s["method"], path, "segmentation.method", kSegmentationMethods, "method");
+  }
+  if (c.segmentation_preset != SegmentationPreset::none && p.method == SegmentationMethod::labels)
+    throw InputError(path, "segmentation.preset",
+                     "a preset sets how grey images are segmented; label images (method: labels) take none: remove "
+                     "segmentation.preset",
+                     yamlLine(s["preset"]));
+  if (s["inside"]) p.inside = yamlChoice(s["inside"], path, "segmentation.inside", kInsideSides, "side");
+  if (s["shadows"]) p.shadows = yamlChoice(s["shadows"], path, "segmentation.shadows", kShadowRules, "rule");
+  if (s["beam_apex_px"]) {
+    const YAML::Node a = s["beam_apex_px"];
+    if (!a.IsSequence() || a.size() != 2)
+      throw InputError(path, "segmentation.beam_apex_px", "expected [column, row] in pixels", yamlLine(a));
+    p.beam_apex_px = Vec2(yamlNumber(a[0], path, "segmentation.beam_apex_px"),
+                          yamlNumber(a[1], path, "segmentation.beam_apex_px"));
+    if (!std::isfinite(p.beam_apex_px->x()) || !std::isfinite(p.beam_apex_px->y()) ||
+        p.beam_apex_px->cwiseAbs().maxCoeff() > 1e7)
+      throw InputError(path, "segmentation.beam_apex_px", "must be finite, within 1e7 pixels", yamlLine(a));
+  }
+  // A length is given in pixels or in mm, not both.
+  for (const char* k : {"sigma", "open_radius", "close_radius"})
+    if (s[std::string(k) + "_px"] && s[std::string(k) + "_mm"])
+      throw InputError(path, std::string("segmentation.") + k + "_mm",
+                       std::string("given with segmentation.") + k + "_px: keep one of the two",
+                       yamlLine(s[std::string(k) + "_mm"]));
+  const auto num = [&](const char* k, double lo, double* out) {
+    if (!s[k]) return;
+    const double v = yamlNumber(s[k], path, std::string("segmentation.") + k);
+    if (v < lo)
+      throw InputError(path, std::string("segmentation.") + k,
+                       "must be >= " + std::to_string(lo), yamlLine(s[k]));
+    *out = v;
+  };
+  if (s["merge_labels"]) p.merge_labels = yamlBool(s["merge_labels"], path, "segmentation.merge_labels");
+  num("threshold", -1e300, &p.threshold);
+  num("sigma_px", 0, &p.sigma_px);
+  // Radii are whole pixels (a fraction is dropped); past a million pixels no image holds the disk
+  // (the images' own limits are checked against their sizes: segmentation/setting_limits.h).
+  for (const auto& [k, out] : {std::pair{"open_radius_px", &p.open_radius_px}, std::pair{"close_radius_px", &p.close_radius_px}}) {
+    double r = 0;
+    num(k, 0, &r);
+    if (r > 1e6)
+      throw InputError(path, std::string("segmentation.") + k, "a radius of " + s[k].Scalar() + " pixels is larger than any image",
+                       yamlLine(s[k]));
+    *out = int(r);
+  }
+  num("min_area_mm2", 0, &p.min_area_mm2);
+  num("simplify_mm", 0, &p.simplify_mm);
+  for (const auto& [k, out] : {std::pair{"sigma_mm", &p.sigma_mm}, std::pair{"open_radius_mm", &p.open_radius_mm},
+                               std::pair{"close_radius_mm", &p.close_radius_mm},
+                               std::pair{"speckle_filter_mm", &p.speckle_filter_mm}}) {
+    num(k, 0, out);
+    if (!std::isfinite(*out))
+      throw InputError(path, std::string("segmentation.") + k, "must be finite", yamlLine(s[k]));
+  }
+  if (p.method == SegmentationMethod::labels) {
+    for (const char* k : {"inside", "shadows", "speckle_filter_mm", "beam_apex_px"})
+      if (s[k])
+        throw InputError(path, std::string("segmentation.") + k,
+                         "label images are not thresholded: segmentation.inside, shadows, speckle_filter_mm and "
+                         "beam_apex_px apply to grey images only",
+                         yamlLine(s[k]));
+  }
+  // A threshold given with a rule that computes its own is not used: said, not silently dropped.
+  if (s["threshold"] && p.method != SegmentationMethod::threshold)
+    c.warnings.push_back(path + ": segmentation.threshold is not used with method " +
+                         std::string(nameOf(kSegmentationMethods, p.method)) +
+                         " (the series' own threshold is applied; report.json's segmentation.threshold_used)");
+  if (s["beam_apex_px"] && p.shadows != ShadowRule::unobserved)
+    c.warnings.push_back(path + ": segmentation.beam_apex_px is used only with shadows: unobserved");
+}
+
 }  // namespace
 
 RunConfig readRunConfig(const std::string& path, const std::vector<std::string>& overrides) {
@@ -178,83 +258,7 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
         throw InputError(path, std::string("input.") + k, "only for input.plus_sequence", yamlLine(input[k]));
   }
 
-  if (const YAML::Node s = section("segmentation")) {
-    auto& p = c.segmentation;
-    if (s["preset"])
-      c.segmentation_preset = yamlChoice(s["preset"], path, "segmentation.preset", kSegmentationPresets, "preset");
-    if (c.segmentation_preset == SegmentationPreset::ultrasound) applyUltrasoundPreset(s, p);
-    if (s["method"]) {
-      p.method = yamlChoice(s["method"], path, "segmentation.method", kSegmentationMethods, "method");
-    }
-    if (c.segmentation_preset != SegmentationPreset::none && p.method == SegmentationMethod::labels)
-      throw InputError(path, "segmentation.preset",
-                       "a preset sets how grey images are segmented; label images (method: labels) take none: remove "
-                       "segmentation.preset",
-                       yamlLine(s["preset"]));
-    if (s["inside"]) p.inside = yamlChoice(s["inside"], path, "segmentation.inside", kInsideSides, "side");
-    if (s["shadows"]) p.shadows = yamlChoice(s["shadows"], path, "segmentation.shadows", kShadowRules, "rule");
-    if (s["beam_apex_px"]) {
-      const YAML::Node a = s["beam_apex_px"];
-      if (!a.IsSequence() || a.size() != 2)
-        throw InputError(path, "segmentation.beam_apex_px", "expected [column, row] in pixels", yamlLine(a));
-      p.beam_apex_px = Vec2(yamlNumber(a[0], path, "segmentation.beam_apex_px"),
-                            yamlNumber(a[1], path, "segmentation.beam_apex_px"));
-      if (!std::isfinite(p.beam_apex_px->x()) || !std::isfinite(p.beam_apex_px->y()) ||
-          p.beam_apex_px->cwiseAbs().maxCoeff() > 1e7)
-        throw InputError(path, "segmentation.beam_apex_px", "must be finite, within 1e7 pixels", yamlLine(a));
-    }
-    // A length is given in pixels or in mm, not both.
-    for (const char* k : {"sigma", "open_radius", "close_radius"})
-      if (s[std::string(k) + "_px"] && s[std::string(k) + "_mm"])
-        throw InputError(path, std::string("segmentation.") + k + "_mm",
-                         std::string("given with segmentation.") + k + "_px: keep one of the two",
-                         yamlLine(s[std::string(k) + "_mm"]));
-    const auto num = [&](const char* k, double lo, double* out) {
-      if (!s[k]) return;
-      const double v = yamlNumber(s[k], path, std::string("segmentation.") + k);
-      if (v < lo)
-        throw InputError(path, std::string("segmentation.") + k,
-                         "must be >= " + std::to_string(lo), yamlLine(s[k]));
-      *out = v;
-    };
-    if (s["merge_labels"]) p.merge_labels = yamlBool(s["merge_labels"], path, "segmentation.merge_labels");
-    num("threshold", -1e300, &p.threshold);
-    num("sigma_px", 0, &p.sigma_px);
-    // Radii are whole pixels (a fraction is dropped); past a million pixels no image holds the disk
-    // (the images' own limits are checked against their sizes: segmentation/setting_limits.h).
-    for (const auto& [k, out] : {std::pair{"open_radius_px", &p.open_radius_px}, std::pair{"close_radius_px", &p.close_radius_px}}) {
-      double r = 0;
-      num(k, 0, &r);
-      if (r > 1e6)
-        throw InputError(path, std::string("segmentation.") + k, "a radius of " + s[k].Scalar() + " pixels is larger than any image",
-                         yamlLine(s[k]));
-      *out = int(r);
-    }
-    num("min_area_mm2", 0, &p.min_area_mm2);
-    num("simplify_mm", 0, &p.simplify_mm);
-    for (const auto& [k, out] : {std::pair{"sigma_mm", &p.sigma_mm}, std::pair{"open_radius_mm", &p.open_radius_mm},
-                                 std::pair{"close_radius_mm", &p.close_radius_mm},
-                                 std::pair{"speckle_filter_mm", &p.speckle_filter_mm}}) {
-      num(k, 0, out);
-      if (!std::isfinite(*out))
-        throw InputError(path, std::string("segmentation.") + k, "must be finite", yamlLine(s[k]));
-    }
-    if (p.method == SegmentationMethod::labels) {
-      for (const char* k : {"inside", "shadows", "speckle_filter_mm", "beam_apex_px"})
-        if (s[k])
-          throw InputError(path, std::string("segmentation.") + k,
-                           "label images are not thresholded: segmentation.inside, shadows, speckle_filter_mm and "
-                           "beam_apex_px apply to grey images only",
-                           yamlLine(s[k]));
-    }
-    // A threshold given with a rule that computes its own is not used: said, not silently dropped.
-    if (s["threshold"] && p.method != SegmentationMethod::threshold)
-      c.warnings.push_back(path + ": segmentation.threshold is not used with method " +
-                           std::string(nameOf(kSegmentationMethods, p.method)) +
-                           " (the series' own threshold is applied; report.json's segmentation.threshold_used)");
-    if (s["beam_apex_px"] && p.shadows != ShadowRule::unobserved)
-      c.warnings.push_back(path + ": segmentation.beam_apex_px is used only with shadows: unobserved");
-  }
+  if (const YAML::Node s = section("segmentation")) readSegmentation(s, path, c);
   if (const YAML::Node s = section("conformity")) {
     RunConfig::Conformity& f = c.conformity;
     if (s["enforce"]) f.enforce = yamlBool(s["enforce"], path, "conformity.enforce");

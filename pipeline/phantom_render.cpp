@@ -49,36 +49,49 @@ PhantomShape cullTubes(const PhantomShape& shape, const Plane& plane, double pix
   return out;
 }
 
-}  // namespace
-
-RenderedSlice renderSlice(const PhantomShape& shape, const Mat4& pose, int width, int height,
-                          const cv::Mat& fov, const PhantomDegradations& degr, std::uint64_t seed,
-                          int index) {
+/// The shape's signed distance at every pixel of the slice `pose` images, in pixels (CV_64F;
+/// +1e6 where no tube of a vessel tree comes near), and whether the shape crosses the image's edge
+/// or the field of view's (the slice is clipped).
+cv::Mat pixelSignedDistances(const PhantomShape& shape, const Mat4& pose, int width, int height, const cv::Mat& fov,
+                             bool* clipped) {
   const double px = pose.block<3, 1>(0, 0).norm();
   const PhantomShape local = cullTubes(shape, planeOfPose(pose), px);
   const bool noTubes =
       local.kind == ShapeKind::vessel_tree &&
       (local.tubes.empty() || (!shape.junctions.empty() && local.junctions.empty()));
-  cv::Mat img(height, width, CV_32F, cv::Scalar(0));
-  std::vector<char> rowClipped(height, 0);
+  cv::Mat d(height, width, CV_64F, cv::Scalar(1e6));
+  std::vector<char> rowClipped(std::size_t(height), 0);
   const Vec3 o = pose.block<3, 1>(0, 3), du = pose.block<3, 1>(0, 0), dv = pose.block<3, 1>(0, 1);
-  if (!noTubes) {
+  if (!noTubes)
     tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
       for (int j = rows.begin(); j != rows.end(); ++j) {
-        float* row = img.ptr<float>(j);
+        double* row = d.ptr<double>(j);
         const std::uint8_t* mask = fov.empty() ? nullptr : fov.ptr<std::uint8_t>(j);
         for (int i = 0; i < width; ++i) {
           const double sdf = signedDistance(local, o + double(i) * du + double(j) * dv);
-          row[i] = float(std::clamp(127.5 * (1.0 - sdf / px), 0.0, 255.0));
-          if (sdf < 0 && (i == 0 || j == 0 || i == width - 1 || j == height - 1 ||
-                          (mask && mask[i] == 0)))
-            rowClipped[j] = 1;
+          row[i] = sdf / px;
+          if (sdf < 0 && (i == 0 || j == 0 || i == width - 1 || j == height - 1 || (mask && mask[i] == 0)))
+            rowClipped[std::size_t(j)] = 1;
         }
       }
     });
-  }
+  *clipped = std::find(rowClipped.begin(), rowClipped.end(), 1) != rowClipped.end();
+  return d;
+}
+
+}  // namespace
+
+RenderedSlice renderSlice(const PhantomShape& shape, const Mat4& pose, int width, int height,
+                          const cv::Mat& fov, const PhantomDegradations& degr, std::uint64_t seed,
+                          int index) {
   RenderedSlice out;
-  out.clipped = std::find(rowClipped.begin(), rowClipped.end(), 1) != rowClipped.end();
+  const cv::Mat distance = pixelSignedDistances(shape, pose, width, height, fov, &out.clipped);
+  cv::Mat img(height, width, CV_32F);
+  for (int j = 0; j < height; ++j) {
+    const double* d = distance.ptr<double>(j);
+    float* row = img.ptr<float>(j);
+    for (int i = 0; i < width; ++i) row[i] = float(std::clamp(127.5 * (1.0 - d[i]), 0.0, 255.0));
+  }
   // Degradations in the order a scanner produces them: speckle (multiplicative, in the tissue),
   // blur (the point-spread function), then additive electronic noise.
   if (degr.speckle > 0 || degr.noise_sigma > 0 || degr.blur_sigma_px > 0) {
@@ -108,27 +121,11 @@ RenderedSlice renderUltrasoundSlice(const PhantomShape& shape, const Mat4& pose,
                                     const PhantomDegradations& degr, std::uint64_t seed, int index) {
   const UltrasoundLook& look = degr.ultrasound;
   const double px = pose.block<3, 1>(0, 0).norm();
-  const PhantomShape local = cullTubes(shape, planeOfPose(pose), px);
-  const bool noTubes =
-      local.kind == ShapeKind::vessel_tree &&
-      (local.tubes.empty() || (!shape.junctions.empty() && local.junctions.empty()));
+  RenderedSlice out;
   // The signed distance of every pixel, in pixels (far outside where no tube comes near).
-  cv::Mat sdf(height, width, CV_32F, cv::Scalar(1e6f));
-  std::vector<char> rowClipped(std::size_t(height), 0);
-  const Vec3 o = pose.block<3, 1>(0, 3), du = pose.block<3, 1>(0, 0), dv = pose.block<3, 1>(0, 1);
-  if (!noTubes)
-    tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
-      for (int j = rows.begin(); j != rows.end(); ++j) {
-        float* row = sdf.ptr<float>(j);
-        const std::uint8_t* mask = fov.empty() ? nullptr : fov.ptr<std::uint8_t>(j);
-        for (int i = 0; i < width; ++i) {
-          const double d = signedDistance(local, o + double(i) * du + double(j) * dv) / px;
-          row[i] = float(std::min(d, 1e6));
-          if (d < 0 && (i == 0 || j == 0 || i == width - 1 || j == height - 1 || (mask && mask[i] == 0)))
-            rowClipped[std::size_t(j)] = 1;
-        }
-      }
-    });
+  cv::Mat sdf;
+  pixelSignedDistances(shape, pose, width, height, fov, &out.clipped).convertTo(sdf, CV_32F);
+  cv::min(sdf, 1e6, sdf);
 
   // Beam coordinates: (angle, radius) from the sector's apex, or (column, row).
   const auto beam = [&](double i, double j) -> std::pair<double, double> {
@@ -208,8 +205,6 @@ RenderedSlice renderUltrasoundSlice(const PhantomShape& shape, const Mat4& pose,
       float* row = img.ptr<float>(j);
       for (int i = 0; i < width; ++i) row[i] += float(degr.noise_sigma * standardNormal(rng));
     }
-  RenderedSlice out;
-  out.clipped = std::find(rowClipped.begin(), rowClipped.end(), 1) != rowClipped.end();
   img.convertTo(out.image, CV_8U);
   if (!fov.empty()) out.image.setTo(0, fov == 0);
   return out;
