@@ -1,6 +1,7 @@
 // Stages 1-3: load, segment, conform (see input_stage.h).
 #include "pipeline/input_stage.h"
 
+#include "geometry/core/plane_of_pose.h"
 #include "io/contour_file.h"
 #include "io/csl_file.h"
 #include "io/input_error.h"
@@ -67,7 +68,11 @@ RunInputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress)
   // and the kernels' sizes): refused here, before it starts.
   const std::vector<ImageHeader> headers = sliceImageHeaders(slices, c.input_path);
   TimeEstimate segment;
-  segment.segment_s = segmentSeconds(pixelsToSegment(headers, in.plus), c.segmentation);
+  // The first frame's pixel stands for the series' (settings in mm become pixels at it).
+  Vec2 spacing = Vec2::Zero();
+  if (!slices.empty()) planeOfPose(slices.front().image_to_world, &spacing);
+  if (in.plus && !in.plus->image_to_reference.empty()) planeOfPose(in.plus->image_to_reference.front(), &spacing);
+  segment.segment_s = segmentSeconds(pixelsToSegment(headers, in.plus), c.segmentation, 0.5 * (spacing.x() + spacing.y()));
   checkTimeBudget(segment, 0.0, c);
   clock.end("load");
   progress.stage("segment", "frames");

@@ -31,8 +31,9 @@ struct TimeEstimate {
   double total() const { return segment_s + scene_s + arrange_s + reconstruct_s; }
 };
 
-/// Stage 2 from the images' sizes: `pixels` in all frames read (Otsu's method reads them twice).
-double segmentSeconds(double pixels, const SegmentationParams& params);
+/// Stage 2 from the images' sizes: `pixels` in all frames read (Otsu's and the minimum-error
+/// methods, and inside: auto, read them twice); `pixel_mm` (0: none) resolves lengths given in mm.
+double segmentSeconds(double pixels, const SegmentationParams& params, double pixel_mm = 0);
 
 /// The stages after segmentation, on the conformed planes at the resolved voxel size.
 /// `voxels`: the voxels the reconstruction evaluates (see above).
