@@ -14,6 +14,7 @@ ultrasound`, method 1) at the voxel size given (`--voxel`, default 0.4 mm; `auto
 automatic one). Each run is evaluated against the analytic truth (`xsect eval`).
 
   python3 bench/ultrasound_family.py --xsect build/xsect --work /tmp/us [--seeds 1-6] [--voxel auto]
+      [--look "{reflectors: 0}"] [--segmentation "{open_radius_mm: 1}"] [--smoothing "{method: shepard}"]
 """
 import argparse, json, os, subprocess, sys
 
@@ -24,12 +25,14 @@ SHAPES = [
 ]
 
 
-def spec(shape, pixel, seed, voxel):
+def spec(shape, pixel, seed, voxel, look, segmentation, smoothing=None):
+    seg = f", segmentation: {segmentation}" if segmentation else ""
+    seg += f", smoothing: {smoothing}" if smoothing else ""
     return (f"seed: {seed}\nshape: {shape}\n"
             "pattern: {kind: freehand, count: 60, direction: [0, 0, 1], tilt_deg: 3, sector: true}\n"
             f"image: {{pixel_mm: {pixel}, width: 320, height: 240}}\n"
-            "degradations: {ultrasound: {}}\n"
-            f"config: {{reconstruction: {{voxel_size_mm: {voxel}}}}}\nplus: true\n")
+            f"degradations: {{ultrasound: {look}}}\n"
+            f"config: {{reconstruction: {{voxel_size_mm: {voxel}}}{seg}}}\nplus: true\n")
 
 
 def seeds_of(text):
@@ -43,6 +46,9 @@ def main():
     ap.add_argument("--work", required=True, help="scratch folder (its contents are replaced)")
     ap.add_argument("--seeds", default="1-3")
     ap.add_argument("--voxel", default="0.4")
+    ap.add_argument("--look", default="{}", help="the phantom's degradations.ultrasound (YAML flow)")
+    ap.add_argument("--segmentation", help="segmentation keys added to the preset (YAML flow)")
+    ap.add_argument("--smoothing", help="the configuration's smoothing (YAML flow)")
     ap.add_argument("--json", help="write the rows here")
     a = ap.parse_args()
     os.makedirs(a.work, exist_ok=True)
@@ -53,7 +59,7 @@ def main():
             tag = f"{name.replace(' ', '-')}-{seed}"
             folder = os.path.join(a.work, tag)
             with open(folder + ".yaml", "w") as f:
-                f.write(spec(shape, pixel, seed, a.voxel))
+                f.write(spec(shape, pixel, seed, a.voxel, a.look, a.segmentation, a.smoothing))
             run = lambda *args: subprocess.run([a.xsect, *args, "--quiet"], capture_output=True, text=True)
             row = {"shape": name, "seed": seed}
             p = run("phantom", folder + ".yaml", "--out", folder)
