@@ -72,7 +72,7 @@ RunInputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress)
   Vec2 spacing = Vec2::Zero();
   if (!slices.empty()) planeOfPose(slices.front().image_to_world, &spacing);
   if (in.plus && !in.plus->image_to_reference.empty()) planeOfPose(in.plus->image_to_reference.front(), &spacing);
-  segment.segment_s = segmentSeconds(pixelsToSegment(headers, in.plus), c.segmentation, 0.5 * (spacing.x() + spacing.y()));
+  segment.segment_s = segmentSeconds(pixelsToSegment(headers, in.plus), c.segmentation, spacing);
   checkTimeBudget(segment, 0.0, c);
   clock.end("load");
   progress.stage("segment", "frames");

@@ -96,9 +96,8 @@ double pairsMeetingInBox(const std::vector<CuttingPlane>& planes, const Vec3& lo
 
 }  // namespace
 
-double segmentSeconds(double pixels, const SegmentationParams& params, double pixel_mm) {
-  // Lengths given in mm, at the series' pixel (segmentation/pixel_settings.h).
-  const SegmentationParams p = pixel_mm > 0 ? inPixels(params, Vec2(pixel_mm, pixel_mm)) : params;
+double segmentSeconds(double pixels, const SegmentationParams& params, const Vec2& spacing) {
+  const SegmentationParams p = spacing.minCoeff() > 0 ? inPixels(params, spacing) : params;
   const double disk = kPi * (double(p.open_radius_px) * p.open_radius_px + double(p.close_radius_px) * p.close_radius_px);
   const double readings =
       p.method == SegmentationMethod::otsu || p.method == SegmentationMethod::min_error || p.inside == InsideSide::automatic

@@ -32,8 +32,10 @@ struct TimeEstimate {
 };
 
 /// Stage 2 from the images' sizes: `pixels` in all frames read (Otsu's and the minimum-error
-/// methods, and inside: auto, read them twice); `pixel_mm` (0: none) resolves lengths given in mm.
-double segmentSeconds(double pixels, const SegmentationParams& params, double pixel_mm = 0);
+/// methods, and inside: auto, read them twice). `spacing`: the series' pixel (mm along u and v), at
+/// which lengths given in mm become pixels (segmentation/pixel_settings.h); zero when unknown (no
+/// frame), and then only the lengths given in pixels count.
+double segmentSeconds(double pixels, const SegmentationParams& params, const Vec2& spacing);
 
 /// The stages after segmentation, on the conformed planes at the resolved voxel size.
 /// `voxels`: the voxels the reconstruction evaluates (see above).

@@ -16,6 +16,7 @@
 #include "io/input_error.h"
 #include "io/yaml_duplicate_keys.h"
 #include "phantom_runs.h"
+#include "pipeline/time_budget.h"
 
 namespace fs = std::filesystem;
 using namespace xsect;
@@ -94,6 +95,26 @@ TEST(SettingRefusals, CheckAndRunRefuseTheSameTimeAndMemory) {
   EXPECT_EQ(c["estimated_time_s"]["max_seconds"], 86400.0);
   EXPECT_FALSE(fs::exists(dir / "ph/out"));
   fs::remove_all(dir);
+}
+
+// The segmentation's time estimate reads lengths given in mm at the series' pixel, as the frames
+// are segmented (pixel_settings.h), and counts the speckle filter and the shadows' beams: an
+// estimate that read the ultrasound preset's mm settings as 0 pixels came out at a third of the run.
+TEST(SettingRefusals, SegmentationEstimateReadsMillimetreSettingsAtThePixel) {
+  const double pixels = 1e8;
+  const Vec2 pixel(0.1, 0.1);
+  SegmentationParams mm, px;
+  mm.open_radius_mm = 1.0, mm.sigma_mm = 0.3;
+  px.open_radius_px = 10, px.sigma_px = 3.0;
+  EXPECT_DOUBLE_EQ(segmentSeconds(pixels, mm, pixel), segmentSeconds(pixels, px, pixel));
+  EXPECT_GT(segmentSeconds(pixels, mm, pixel), segmentSeconds(pixels, SegmentationParams(), pixel));
+  // No frame, no pixel: only settings in pixels count.
+  EXPECT_DOUBLE_EQ(segmentSeconds(pixels, mm, Vec2::Zero()), segmentSeconds(pixels, SegmentationParams(), Vec2::Zero()));
+  SegmentationParams median = mm, shadows = mm;
+  median.speckle_filter_mm = 1.0;
+  shadows.shadows = ShadowRule::unobserved;
+  EXPECT_GT(segmentSeconds(pixels, median, pixel), segmentSeconds(pixels, mm, pixel));
+  EXPECT_GT(segmentSeconds(pixels, shadows, pixel), segmentSeconds(pixels, mm, pixel));
 }
 
 TEST(SettingRefusals, DuplicatedKeysAreInputErrorsNamingBothLines) {
