@@ -373,6 +373,8 @@ SegmentationParams seriesParamsOfFrames(const SegmentationParams& params, int bi
       perSlice.threshold = thresholdOf(pooled.observed);
     }
     if (params.inside == InsideSide::automatic) perSlice.inside = insideOfBorder(pooled.border, perSlice.threshold * scale);
+    if (params.method == SegmentationMethod::min_error)
+      perSlice.core_threshold = coreThresholdOfClasses(minimumErrorClassesAt(pooled.observed, perSlice.threshold * scale), perSlice.inside) / scale;
   }
   if (perSlice.inside == InsideSide::automatic) perSlice.inside = InsideSide::above;  // no frame
   if (applied) *applied = perSlice;

@@ -47,7 +47,8 @@ json refinedCellsJson(const std::vector<CellRefinement>& cells) {
 }
 
 /// The segmentation as applied: the method and preset asked for, the threshold and inside side
-/// every frame got (Otsu's and auto resolved for the series), the shadows' rule.
+/// every frame got (Otsu's and auto resolved for the series), the shadows' rule, and the core's
+/// level when the minimum-error rule set one (SegmentationParams::core_threshold).
 json segmentationJson(const RunConfig& c, const SegmentationParams& applied) {
   json s = {{"method", nameOf(kSegmentationMethods, c.segmentation.method)},
             {"preset", nameOf(kSegmentationPresets, c.segmentation_preset)},
@@ -57,6 +58,7 @@ json segmentationJson(const RunConfig& c, const SegmentationParams& applied) {
     s["inside_used"] = nameOf(kInsideSides, applied.inside);
     s["shadows"] = nameOf(kShadowRules, c.segmentation.shadows);
   }
+  if (!std::isnan(applied.core_threshold)) s["core_threshold_used"] = applied.core_threshold;
   return s;
 }
 

@@ -98,7 +98,13 @@ double pairsMeetingInBox(const std::vector<CuttingPlane>& planes, const Vec3& lo
 
 double segmentSeconds(double pixels, const SegmentationParams& params, const Vec2& spacing) {
   const SegmentationParams p = spacing.minCoeff() > 0 ? inPixels(params, spacing) : params;
-  const double disk = kPi * (double(p.open_radius_px) * p.open_radius_px + double(p.close_radius_px) * p.close_radius_px);
+  double disk = kPi * (double(p.open_radius_px) * p.open_radius_px + double(p.close_radius_px) * p.close_radius_px);
+  if (p.method == SegmentationMethod::min_error) {
+    // The core (SegmentationParams::core_threshold): its opening, its growth by the reach, and
+    // the closing of the cut mask.
+    const double reach = std::max(1.0, std::ceil(p.sigma_px)), r = double(p.open_radius_px);
+    disk += kPi * (std::pow(std::max(0.0, r - reach), 2) + reach * reach + r * r);
+  }
   const double readings =
       p.method == SegmentationMethod::otsu || p.method == SegmentationMethod::min_error || p.inside == InsideSide::automatic
           ? 2.0

@@ -8,6 +8,7 @@
 // two labels touch their contours share their vertices (see labelIsoContours).
 #pragma once
 
+#include <limits>
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
@@ -82,6 +83,14 @@ struct SegmentationParams {
   /// apex, PLUS's FanOriginPixel); none: the beams are the image's columns, depth going down the
   /// rows (a linear probe, PLUS's MF orientation).
   std::optional<Vec2> beam_apex_px;
+  /// The object's core (grey units; NaN = none): the object's pixels are kept only within
+  /// sigma_px (rounded up, at least a pixel) of a region of pixels past this level on the object's
+  /// side, opened by open_radius_px. Speckle next to the object that is only a little darker (or
+  /// brighter) than the threshold then no longer joins it over a neck wider than the opening,
+  /// while a blurred step between the classes crosses the core's level within that reach of where
+  /// it crosses the threshold, so a true boundary stays where the threshold puts it. Set by the
+  /// min_error threshold (coreThresholdOfClasses, series_threshold.h).
+  double core_threshold = std::numeric_limits<double>::quiet_NaN();
   double min_area_mm2 = 0.0;         ///< components and holes smaller than this are removed
   double simplify_mm = 0.0;          ///< Douglas-Peucker tolerance on contours, mm (0 = none)
   /// labels: reconstruct the union of all labels as one material (no per-label solids).

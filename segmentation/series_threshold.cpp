@@ -122,7 +122,12 @@ double otsuThresholdOfHistogram(const GreyHistogram& h) {
   return bestBin;
 }
 
-double minimumErrorThresholdOfHistogram(const GreyHistogram& h) {
+namespace {
+
+/// visit(t, m1, m2, J) for every split {<= t}, {> t} of `h` that Kittler and Illingworth's
+/// criterion considers (classes of at least 0.1% of the pixels, variances of at least 1/12).
+template <typename Visit>
+void forEachMinimumErrorSplit(const GreyHistogram& h, const Visit& visit) {
   // Prefix sums of counts, first and second moments.
   std::array<double, 257> n{}, s1{}, s2{};
   for (int b = 0; b < 256; ++b) {
@@ -132,8 +137,7 @@ double minimumErrorThresholdOfHistogram(const GreyHistogram& h) {
     s2[std::size_t(b) + 1] = s2[std::size_t(b)] + c * b * double(b);
   }
   const double total = n[256];
-  if (total <= 0) return 0;
-  double best = INFINITY, bestBin = -1;
+  if (total <= 0) return;
   for (int t = 0; t < 255; ++t) {
     const double n1 = n[std::size_t(t) + 1], n2 = total - n1;
     if (n1 < 1e-3 * total || n2 < 1e-3 * total) continue;
@@ -141,18 +145,41 @@ double minimumErrorThresholdOfHistogram(const GreyHistogram& h) {
     const double v1 = s2[std::size_t(t) + 1] / n1 - m1 * m1, v2 = (s2[256] - s2[std::size_t(t) + 1]) / n2 - m2 * m2;
     if (v1 < 1.0 / 12 || v2 < 1.0 / 12) continue;
     const double p1 = n1 / total, p2 = n2 / total;
-    const double j = p1 * std::log(v1) + p2 * std::log(v2) - 2 * (p1 * std::log(p1) + p2 * std::log(p2));
-    if (j < best) {
-      best = j;
-      bestBin = t;
-    }
+    visit(t, m1, m2, p1 * std::log(v1) + p2 * std::log(v2) - 2 * (p1 * std::log(p1) + p2 * std::log(p2)));
   }
-  if (bestBin < 0) return otsuThresholdOfHistogram(h);
+}
+
+}  // namespace
+
+double minimumErrorThresholdOfHistogram(const GreyHistogram& h) {
+  double best = INFINITY, level = -1;
+  forEachMinimumErrorSplit(h, [&](int, double m1, double m2, double j) {
+    if (j < best) best = j, level = 0.5 * (m1 + m2);
+  });
+  if (level < 0) return otsuThresholdOfHistogram(h);
   // The classes found, the boundary placed where a blurred step between them crosses: half-way
   // between their means (the minimum-error split itself leans into the narrower class).
-  const std::size_t t = std::size_t(bestBin) + 1;
-  const double m1 = s1[t] / n[t], m2 = (s1[256] - s1[t]) / (total - n[t]);
-  return std::floor(0.5 * (m1 + m2));
+  return std::floor(level);
+}
+
+GreyClasses minimumErrorClassesAt(const GreyHistogram& h, double threshold_8bit) {
+  GreyClasses out;
+  double bestGap = INFINITY, bestJ = INFINITY;
+  forEachMinimumErrorSplit(h, [&](int, double m1, double m2, double j) {
+    const double level = std::floor(0.5 * (m1 + m2));
+    const double gap = std::abs(level - threshold_8bit);
+    if (gap < bestGap || (gap == bestGap && j < bestJ)) {
+      bestGap = gap, bestJ = j;
+      out = {true, m1, m2};
+    }
+  });
+  return out;
+}
+
+double coreThresholdOfClasses(const GreyClasses& c, InsideSide inside) {
+  if (!c.found) return NAN;
+  const double quarter = 0.25 * (c.bright_mean - c.dark_mean);
+  return inside == InsideSide::below ? c.dark_mean + quarter : c.bright_mean - quarter;
 }
 
 double otsuThresholdOfPooled(const GreyHistogram& pooled, double scale) {

@@ -91,6 +91,22 @@ double otsuThresholdOfHistogram(const GreyHistogram& histogram);
 /// the split itself leans into the narrower class. Otsu's threshold when no split qualifies.
 double minimumErrorThresholdOfHistogram(const GreyHistogram& histogram);
 
+/// The two classes of a minimum-error split whose threshold (as above, half-way between their
+/// means) is `threshold_8bit`, by their means in 8-bit units: among the splits whose half-way level
+/// rounds down to the threshold, or else lies nearest to it, the one of least J. The classes behind
+/// a series' threshold, found again on the histogram it was applied to (out of its shadows).
+/// `found` is false when no split qualifies.
+struct GreyClasses {
+  bool found = false;
+  double dark_mean = 0, bright_mean = 0;
+};
+GreyClasses minimumErrorClassesAt(const GreyHistogram& histogram, double threshold_8bit);
+
+/// The grey level (8-bit units) past which a pixel is the object's core: a quarter of the way from
+/// the object's class mean to the other class's, the object being the dark class when `inside` is
+/// below. NaN when the classes were not found. See SegmentationParams::core_threshold.
+double coreThresholdOfClasses(const GreyClasses& classes, InsideSide inside);
+
 /// @param images    8- or 16-bit single-channel images.
 /// @param fovs      per image: empty, or a CV_8U mask of the same size (non-zero = observed).
 /// @param sigma_px  Gaussian smoothing applied before the histogram, pixels (0 = none).

@@ -21,6 +21,7 @@
 #include "io/run_config.h"
 #include "segmentation/acoustic_shadows.h"
 #include "segmentation/pixel_settings.h"
+#include "segmentation/segment_slice.h"
 #include "segmentation/series_threshold.h"
 #include "tests/phantom_runs.h"
 
@@ -59,11 +60,78 @@ TEST(UltrasoundSegmentation, MinimumErrorThresholdSitsBetweenUnequalClasses) {
     SCOPED_TRACE("dark " + std::to_string(mDark) + "±" + std::to_string(sDark) + " x" + std::to_string(nDark) +
                  ", tissue " + std::to_string(mTissue) + "±" + std::to_string(sTissue));
     EXPECT_NEAR(t, 0.5 * (mDark + mTissue), 3.0);
+    // The classes behind the threshold, found again from it; the core a quarter of the way in.
+    const GreyClasses c = minimumErrorClassesAt(h, t);
+    ASSERT_TRUE(c.found);
+    EXPECT_NEAR(c.dark_mean, mDark, 0.5 * sDark + 0.5);
+    EXPECT_NEAR(c.bright_mean, mTissue, 0.5 * sTissue + 0.5);
+    EXPECT_EQ(std::floor(0.5 * (c.dark_mean + c.bright_mean)), t);
+    EXPECT_NEAR(coreThresholdOfClasses(c, InsideSide::below), c.dark_mean + 0.25 * (c.bright_mean - c.dark_mean), 1e-9);
+    EXPECT_NEAR(coreThresholdOfClasses(c, InsideSide::above), c.bright_mean - 0.25 * (c.bright_mean - c.dark_mean), 1e-9);
     otsuInsideTissue += otsuThresholdOfHistogram(h) > mTissue - 1.5 * sTissue;
   }
   EXPECT_GT(cases, 40);
   // Why the preset does not use Otsu's: on these histograms it often splits the larger class.
   EXPECT_GT(otsuInsideTissue, cases / 10) << "Otsu's threshold inside the tissue class on " << otsuInsideTissue << " of " << cases;
+}
+
+// The core (SegmentationParams::core_threshold): over random lumens (a dark disk, grey 25, in
+// tissue of grey 100) with a patch of speckle a little darker than the threshold beside them (grey
+// between the core's level and the threshold, 8-14 px across, joined over a neck wider than the
+// opening), the threshold alone takes the patch into the section (its edge 10 px or more beyond
+// the circle); with the core the patch is cut at the core's reach: the edge lies within that
+// reach (2 px for sigma 1.5 px) beyond where the blurred lumen-patch step crosses the core's
+// level, plus a pixel, of the circle, and nowhere inside it by more than a pixel.
+TEST(UltrasoundSegmentation, CoreKeepsSpeckleBesideTheLumenOut) {
+  std::mt19937_64 rng(4903);
+  std::uniform_real_distribution<double> u(0, 1);
+  int cases = 0, patchTakenWithoutCore = 0;
+  for (int k = 0; k < 40; ++k) {
+    const int w = 160, h = 160;
+    const double cx = 70 + 10 * u(rng), cy = 70 + 10 * u(rng), r = 18 + 22 * u(rng);
+    const double angle = 2 * M_PI * u(rng), pr = 8 + 6 * u(rng);  // the patch's centre and radius
+    const double px = cx + (r + 0.6 * pr) * std::cos(angle), py = cy + (r + 0.6 * pr) * std::sin(angle);
+    const double threshold = 62.5, core = 25 + 0.25 * 75;  // half-way; a quarter of the way
+    const double patchGrey = core + 4 + (threshold - core - 8) * u(rng);
+    cv::Mat img(h, w, CV_32F);
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i) {
+        const double inDisk = std::clamp(r - std::hypot(i - cx, j - cy) + 0.5, 0.0, 1.0);
+        const double inPatch = std::hypot(i - px, j - py) < pr ? 1.0 : 0.0;
+        img.at<float>(j, i) = float(inDisk * 25 + (1 - inDisk) * (inPatch ? patchGrey : 100.0));
+      }
+    cv::Mat grey;
+    img.convertTo(grey, CV_8U);
+    SegmentationParams p;
+    p.method = SegmentationMethod::threshold;
+    p.threshold = threshold;
+    p.inside = InsideSide::below;
+    p.sigma_px = 1.5;
+    p.open_radius_px = 3;
+    const SegmentedSlice without = segmentSlice(grey, cv::Mat(), Vec2(1, 1), p);
+    p.core_threshold = core;
+    const SegmentedSlice with = segmentSlice(grey, cv::Mat(), Vec2(1, 1), p);
+    ++cases;
+    SCOPED_TRACE("case " + std::to_string(k) + ": r " + std::to_string(r) + ", patch grey " + std::to_string(patchGrey));
+    ASSERT_EQ(without.sections.size(), 1u);
+    ASSERT_EQ(with.sections.size(), 1u);
+    double farWithout = 0, outWith = 0, inWith = 0;
+    for (const Vec2& q : without.sections[0].outer) farWithout = std::max(farWithout, std::hypot(q.x() - cx, q.y() - cy) - r);
+    for (const Vec2& q : with.sections[0].outer) {
+      outWith = std::max(outWith, std::hypot(q.x() - cx, q.y() - cy) - r);
+      inWith = std::max(inWith, r - std::hypot(q.x() - cx, q.y() - cy));
+    }
+    patchTakenWithoutCore += farWithout > 10;
+    // Where the step from the lumen to the patch, blurred by sigma, crosses the core's level.
+    double lo = 0, hi = 10;
+    for (int it = 0; it < 60; ++it) {
+      const double d = 0.5 * (lo + hi), stepAt = 25 + (patchGrey - 25) * 0.5 * std::erfc(-d / (1.5 * std::sqrt(2.0)));
+      (stepAt < core ? lo : hi) = d;
+    }
+    EXPECT_LT(outWith, std::hypot(2, 1) + lo + 1);  // OpenCV's 5-pixel ellipse reaches (2, 1)
+    EXPECT_LT(inWith, 1.0);
+  }
+  EXPECT_EQ(patchTakenWithoutCore, cases);  // the threshold alone takes every patch
 }
 
 // A shadow is the dark run at the far end of a beam: down the columns for a linear probe, along
