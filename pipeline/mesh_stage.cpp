@@ -228,8 +228,7 @@ MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const Recons
   return m;
 }
 
-DiagnoseStage diagnoseStage(const ReconstructStage& reconstruction, const SmoothStage* smooth, MeshStage& meshes,
-                            std::vector<std::string>* warnings) {
+DiagnoseStage diagnoseStage(const ReconstructStage& reconstruction, const SmoothStage* smooth, const MeshStage& meshes) {
   const Betti& methodBetti = reconstruction.solid.voxel_betti;
   const bool method3 = reconstruction.delaunay.has_value();
   // The method's own mesh: bounds the repaired voxel solid (methods 1 and 2), or the tetrahedra (method 3).
@@ -254,10 +253,9 @@ DiagnoseStage diagnoseStage(const ReconstructStage& reconstruction, const Smooth
     throw std::runtime_error("method 3's mesh has Betti numbers " + bettiText(d.method_topology.betti) +
                              " while its voxels have " + bettiText(methodBetti) +
                              "; nothing written (a defect of xsect: please report it with the configuration)");
-  for (Material& m : meshes.materials) {
-    m.topology = meshTopology(m.mesh);
-    const std::string what = "the mesh of label " + std::to_string(m.label);
-    requireMeshBoundsSolid(m.topology, m.voxel_betti, what);
+  for (const Material& m : meshes.materials) {
+    d.material_topology.push_back(meshTopology(m.mesh));
+    requireMeshBoundsSolid(d.material_topology.back(), m.voxel_betti, "the mesh of label " + std::to_string(m.label));
   }
   return d;
 }

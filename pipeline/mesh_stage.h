@@ -33,7 +33,6 @@ struct Material {
   std::int64_t voxels = 0;
   int critical_voxels_added = 0;   ///< voxels taken from neighbours to make it well-composed
   Betti voxel_betti{0, 0, 0};
-  MeshTopology topology;           ///< of `mesh`, computed by diagnoseStage
 };
 
 struct MeshStage {
@@ -60,12 +59,10 @@ MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const Recons
 struct DiagnoseStage {
   MeshTopology topology;         ///< of mesh.<fmt>
   MeshTopology method_topology;  ///< of the method's mesh (the same as `topology` without smoothing)
+  std::vector<MeshTopology> material_topology;  ///< of each material's mesh, in MeshStage::materials' order
 };
 
 /// Every mesh's topology against its solid; throws std::runtime_error naming the mesh otherwise.
-/// Fills the materials' topologies. Method 3: appends a warning for each mesh whose voxelisation
-/// has other Betti numbers (parts of R'' thinner than a voxel).
-DiagnoseStage diagnoseStage(const ReconstructStage& reconstruction, const SmoothStage* smooth, MeshStage& meshes,
-                            std::vector<std::string>* warnings);
+DiagnoseStage diagnoseStage(const ReconstructStage& reconstruction, const SmoothStage* smooth, const MeshStage& meshes);
 
 }  // namespace xsect

@@ -61,11 +61,11 @@ int runCommand(const RunOptions& o) {
   const SmoothStage* smoothed = smooth ? &*smooth : nullptr;
 
   progress.stage("mesh");
-  MeshStage meshes = meshStage(in, scene, reconstruction, smoothed, &in.warnings);
+  const MeshStage meshes = meshStage(in, scene, reconstruction, smoothed, &in.warnings);
   clock.end("mesh");
 
   progress.stage("diagnose");
-  const DiagnoseStage diagnosis = diagnoseStage(reconstruction, smoothed, meshes, &in.warnings);
+  const DiagnoseStage diagnosis = diagnoseStage(reconstruction, smoothed, meshes);
   clock.end("diagnose");
 
   progress.stage("sampling");

@@ -172,8 +172,9 @@ json reconstructionJson(const RunResults& r) {
 
 json materialsJson(const RunResults& r) {
   json mats = json::array();
-  for (const Material& m : r.meshes.materials) {
-    const MeshTopology& t = m.topology;
+  for (std::size_t k = 0; k < r.meshes.materials.size(); ++k) {
+    const Material& m = r.meshes.materials[k];
+    const MeshTopology& t = r.diagnosis.material_topology[k];
     mats.push_back({{"label", m.label}, {"betti", t.betti}, {"voxel_betti", m.voxel_betti},
                     {"watertight", t.watertight}, {"voxels", m.voxels},
                     {"critical_voxels_added", m.critical_voxels_added}, {"volume_mm3", t.volume_mm3},
