@@ -90,6 +90,34 @@ void removeSmall(cv::Mat& mask, const cv::Mat& f, const cv::Mat& inside, float n
   }
 }
 
+/// The object's mask `mask` cut to its core (SegmentationParams::core_threshold): the pixels where
+/// f >= core_depth, opened by the opening's radius less the reach (a part of the object that the
+/// opening keeps is at least that much wider than its core, so the core's opening does not lose
+/// it), grown by the reach of a blurred step (it crosses the core's level, a quarter of the way
+/// between the classes, 0.67 sigma from where it crosses the threshold: the normal quantile of
+/// 1/4; sigma rounded up to a pixel holds that). The cut mask is then closed by the opening's
+/// radius within the threshold's mask: notches the cut leaves where the object's own speckle is
+/// lighter near its edge fill again, and what was cut off beyond the reach stays out (a closing
+/// adds no pixel beyond the set's convex parts). Unobserved pixels count as core, so that the
+/// core's opening does not erode against the view's edge or a shadow, which are not the object's.
+/// Measured on the B-mode family (bench/ultrasound_family.py, 36 runs at 0.4 mm voxels): truth
+/// topology on 34 (32 without the core); before the closing, a reach of 2 sigma gave 15 of 18
+/// runs where 1 sigma gave 18, and the denser plus-ultrasound sweeps got 2-voxel cavities where
+/// the cut notched a section next to a shadow.
+void cutToCore(cv::Mat& mask, const cv::Mat& f, const cv::Mat& fov, const SegmentationParams& p, float core_depth) {
+  const int reach = std::max(1, int(std::ceil(p.sigma_px)));
+  cv::Mat core = f >= core_depth;
+  if (!fov.empty()) core |= (fov == 0);
+  if (p.open_radius_px > reach) cv::morphologyEx(core, core, cv::MORPH_OPEN, disk(p.open_radius_px - reach));
+  cv::dilate(core, core, disk(reach));
+  const cv::Mat threshold = mask.clone();
+  mask &= core;
+  if (p.open_radius_px > 0) {
+    cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, disk(p.open_radius_px));
+    mask &= threshold;
+  }
+}
+
 /// Steps 2-4 on a field f (zero level = boundary; whole image or a crop of it with the crop's
 /// `sides` on the image border): cleaned mask (field of view, morphology, small components and
 /// holes), f nudged to agree with it. Returns whether the mask reaches the edge of what was
@@ -102,31 +130,7 @@ bool cleanField(cv::Mat& f, const cv::Mat& fov, const Vec2& spacing, const Segme
   // 2. Cleaned mask: threshold, field of view, core, morphology, small components (and holes).
   cv::Mat mask = f > 0;
   if (!fov.empty()) mask &= (fov != 0);
-  if (core_depth > 0) {
-    // The core, opened as the mask is (speckle joined to it over a neck goes), grown by the reach
-    // of a blurred step: it crosses the core's level (a quarter of the way between the classes)
-    // 0.67 sigma (the normal quantile of 1/4) from where it crosses the threshold, one sigma
-    // rounded up to a pixel holds that. Measured on the B-mode family (bench/ultrasound_family.py,
-    // seeds 1-12): truth topology on 35 of 36 runs, 32 without the core and 30 with twice that reach.
-    // Unobserved pixels count as core: the opening does not erode the core along the view's edge
-    // or a shadow (a notch there, next to the object's section, left a cavity in the solid).
-    // The core is opened by the opening's radius less that reach: a part of the object the opening
-    // keeps is at least that much wider than its core, so the core's opening does not lose it.
-    const int reach = std::max(1, int(std::ceil(p.sigma_px)));
-    cv::Mat core = f >= core_depth;
-    if (!fov.empty()) core |= (fov == 0);
-    if (p.open_radius_px > reach) cv::morphologyEx(core, core, cv::MORPH_OPEN, disk(p.open_radius_px - reach));
-    cv::dilate(core, core, disk(reach));
-    // Cut, then closed within the threshold's mask: notches the core leaves where the object's
-    // own speckle is lighter near its edge are filled again, what was cut off beyond the reach
-    // stays out (a closing adds no pixel beyond the set's convex parts).
-    const cv::Mat threshold = mask.clone();
-    mask &= core;
-    if (p.open_radius_px > 0) {
-      cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, disk(p.open_radius_px));
-      mask &= threshold;
-    }
-  }
+  if (core_depth > 0) cutToCore(mask, f, fov, p, core_depth);
   if (p.open_radius_px > 0) cv::morphologyEx(mask, mask, cv::MORPH_OPEN, disk(p.open_radius_px));
   if (p.close_radius_px > 0)
     cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, disk(p.close_radius_px));

@@ -84,12 +84,13 @@ struct SegmentationParams {
   /// rows (a linear probe, PLUS's MF orientation).
   std::optional<Vec2> beam_apex_px;
   /// The object's core (grey units; NaN = none): the object's pixels are kept only within
-  /// sigma_px (rounded up, at least a pixel) of a region of pixels past this level on the object's
-  /// side, opened by open_radius_px. Speckle next to the object that is only a little darker (or
-  /// brighter) than the threshold then no longer joins it over a neck wider than the opening,
-  /// while a blurred step between the classes crosses the core's level within that reach of where
-  /// it crosses the threshold, so a true boundary stays where the threshold puts it. Set by the
-  /// min_error threshold (coreThresholdOfClasses, series_threshold.h).
+  /// sigma_px (rounded up, at least a pixel) of the pixels past this level on the object's side
+  /// (opened by open_radius_px less that reach), then closed by open_radius_px within the
+  /// threshold's mask. Speckle next to the object that is only a little darker (or brighter) than
+  /// the threshold then no longer joins it over a neck wider than the opening, while a blurred
+  /// step between the classes crosses the core's level within that reach of where it crosses the
+  /// threshold, so a true boundary stays where the threshold puts it. Set by the min_error
+  /// threshold (coreThresholdOfClasses, series_threshold.h).
   double core_threshold = std::numeric_limits<double>::quiet_NaN();
   double min_area_mm2 = 0.0;         ///< components and holes smaller than this are removed
   double simplify_mm = 0.0;          ///< Douglas-Peucker tolerance on contours, mm (0 = none)
