@@ -137,7 +137,7 @@ BlockGrid<std::uint16_t> labelsOfSmoothSolid(const ScalarField& field, const Blo
 }  // namespace
 
 MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const ReconstructStage& reconstruction,
-                    const SmoothStage* smooth, std::vector<std::string>* warnings) {
+                    const SmoothStage* smooth) {
   const RunConfig& c = in.config;
   const SampledReconstruction& rec = reconstruction.solid;
   const bool method3 = reconstruction.delaunay.has_value();
@@ -159,10 +159,10 @@ MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const Recons
                              std::to_string(voxel) + " mm made well-composed, not its boundary through the "
                              "contours (report.json reconstruction.delaunay.mesh_source: voxels, mesh_voxel_betti)";
     if (reconstruction.delaunay->stats.open_edges > 0)
-      warnings->push_back("method 3's boundary could not be glued closed (" +
+      m.warnings.push_back("method 3's boundary could not be glued closed (" +
                           std::to_string(reconstruction.delaunay->stats.open_edges) + " open edges): " + what);
     else
-      warnings->push_back("R'' is thinner than the voxel in places: its boundary has Betti numbers " +
+      m.warnings.push_back("R'' is thinner than the voxel in places: its boundary has Betti numbers " +
                           bettiText(reconstruction.boundary_betti) + " but no voxel set on this grid (by centres or by "
                           "cubes) has them; so that the mesh, labels.nrrd and report.json describe one solid, " + what +
                           "; a smaller reconstruction.voxel_size_mm may hold the boundary's topology");
@@ -172,7 +172,7 @@ MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const Recons
     // stores no vertex indices, so a reader merges them back into a pinched surface.
     const bool stl = std::find(c.mesh_formats.begin(), c.mesh_formats.end(), "stl") != c.mesh_formats.end();
     if (stl && !smooth && reconstruction.delaunay->stats.singular_vertices > 0)
-      warnings->push_back(std::to_string(reconstruction.delaunay->stats.singular_vertices) +
+      m.warnings.push_back(std::to_string(reconstruction.delaunay->stats.singular_vertices) +
                           " vertices of method 3's mesh are copied where pieces touch at a point; mesh.stl keeps no "
                           "vertex indices, so readers merge the copies (the surface is then pinched there): use "
                           "mesh.ply or mesh.obj for the Betti numbers report.json states");
@@ -215,14 +215,14 @@ MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const Recons
     for (const std::uint16_t L : labels) {
       Material mat = materialOf(L, voxelLabel, field, voxel);
       if (mat.voxels == 0) {  // a label too small for the grid (a few pixels in one slice)
-        warnings->push_back("label " + std::to_string(L) + " has sections but no voxel at " +
+        m.warnings.push_back("label " + std::to_string(L) + " has sections but no voxel at " +
                             std::to_string(voxel) + " mm: no mesh for it");
         continue;
       }
       m.materials.push_back(std::move(mat));
     }
   if (labels.size() > 64)
-    warnings->push_back(std::to_string(labels.size()) +
+    m.warnings.push_back(std::to_string(labels.size()) +
                         " materials (segmentation.method: labels takes every pixel value as a "
                         "label; is the image a grey image?)");
   return m;

@@ -49,12 +49,14 @@ struct MeshStage {
   int voxel_mesh_critical_added = 0;    ///< voxels added to make it well-composed
   BlockGrid<std::uint16_t> voxel_label;  ///< labels.nrrd
   std::vector<Material> materials;
+  std::vector<std::string> warnings;  ///< labels without voxels, suspiciously many labels, method 3's boundary
 };
 
 /// @param smooth  stage 6's result, or nullptr without smoothing.
-/// Appends warnings (labels without voxels; suspiciously many labels).
+/// Warns (MeshStage::warnings) of labels without voxels, suspiciously many labels and method 3's
+/// boundary where it could not be used.
 MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const ReconstructStage& reconstruction,
-                    const SmoothStage* smooth, std::vector<std::string>* warnings);
+                    const SmoothStage* smooth);
 
 struct DiagnoseStage {
   MeshTopology topology;         ///< of mesh.<fmt>

@@ -25,7 +25,7 @@ double secondsSince(std::chrono::steady_clock::time_point t) {
 /// Method 3: R'' on the scene's planes and arrangement, its tetrahedra sampled on the grid, and per
 /// material when there are several labels.
 void delaunayOnGrid(const RunInputs& in, const SceneStage& built, const ArrangeStage& a, Progress& progress,
-                    ReconstructStage& r, std::vector<std::string>* warnings) {
+                    ReconstructStage& r) {
   const RunConfig& c = in.config;
   const SectionScene& scene = built.scene;
   auto t0 = std::chrono::steady_clock::now();
@@ -84,7 +84,7 @@ void delaunayOnGrid(const RunInputs& in, const SceneStage& built, const ArrangeS
     r.solid.voxel_betti = voxelBetti(r.solid.inside);
   }
   if (r.solid.voxels_inside == 0)
-    warnings->push_back("method 3's solid holds no voxel centre at " + std::to_string(c.voxel_size_mm) +
+    r.warnings.push_back("method 3's solid holds no voxel centre at " + std::to_string(c.voxel_size_mm) +
                         " mm (it is thinner than a voxel): labels.nrrd and the voxel checks are empty; the mesh is "
                         "R'' itself");
 }
@@ -92,12 +92,12 @@ void delaunayOnGrid(const RunInputs& in, const SceneStage& built, const ArrangeS
 }  // namespace
 
 ReconstructStage reconstructStage(const RunInputs& in, const SceneStage& built, const ArrangeStage& a,
-                                  Progress& progress, std::vector<std::string>* warnings) {
+                                  Progress& progress) {
   const RunConfig& c = in.config;
   const SectionScene& scene = built.scene;
   ReconstructStage r;
   const bool delaunay = scene.params.method == ReconstructionMethod::delaunay;
-  if (delaunay) delaunayOnGrid(in, built, a, progress, r, warnings);
+  if (delaunay) delaunayOnGrid(in, built, a, progress, r);
   else  // the unrepaired set is read only by the smoothing (smooth_stage.cpp)
     r.solid = reconstructOnGrid(scene, progress.counter(), c.smoothing_method != SmoothingMethod::none);
   const SampledReconstruction& rec = r.solid;
@@ -113,7 +113,7 @@ ReconstructStage reconstructStage(const RunInputs& in, const SceneStage& built, 
   r.cell_check = compareCellsWithVoxels(a.methodEdges(), scene, a.arrangement, rec.inside);
   const GraphVoxelCheck& g = r.graph_check;
   if (!g.same_partition)
-    warnings->push_back("the connectivity graph and the voxel solid group the sections differently (" +
+    r.warnings.push_back("the connectivity graph and the voxel solid group the sections differently (" +
                         std::to_string(g.pairs_joined_by_graph_only) + " pairs joined by the graph only, " +
                         std::to_string(g.pairs_joined_by_voxels_only) + " by the voxels only, " +
                         std::to_string(g.sections_unlocated) + " sections not located)");

@@ -43,14 +43,15 @@ struct ReconstructStage {
   VoxelLikeness voxels;
   bool mesh_from_voxels = false;
   int voxels_added_well_composed = 0;
+  std::vector<std::string> warnings;  ///< what the stage found worth a warning (report.json's warnings)
 };
 
-/// Reads the scene (stage 4's input) and the method's graph (stage 4); appends a warning when the
-/// graph and the solid group the sections differently. Throws InputError when the solid is empty
+/// Reads the scene (stage 4's input) and the method's graph (stage 4); warns (ReconstructStage::
+/// warnings) when the graph and the solid group the sections differently. Throws InputError when the solid is empty
 /// at a size the voxel budget forced, std::runtime_error when it is empty at another size; for
 /// method 3, InputError naming reconstruction.method when R'' has no tetrahedron (no two planes'
 /// sections face each other in a cell), a warning when its voxelisation is empty.
 ReconstructStage reconstructStage(const RunInputs& inputs, const SceneStage& scene, const ArrangeStage& arrangement,
-                                  Progress& progress, std::vector<std::string>* warnings);
+                                  Progress& progress);
 
 }  // namespace xsect

@@ -48,20 +48,19 @@ int runCommand(const RunOptions& o) {
 
   // Methods 1 and 2 count blocks of the grid, method 3 the cells it triangulates.
   progress.stage("reconstruct", c.reconstruction_method == ReconstructionMethod::delaunay ? "cells" : "blocks");
-  const ReconstructStage reconstruction = reconstructStage(in, built, arrangement, progress, &in.warnings);
+  const ReconstructStage reconstruction = reconstructStage(in, built, arrangement, progress);
   clock.end("reconstruct");
 
   std::optional<SmoothStage> smooth;
   if (c.smoothing_method != SmoothingMethod::none) {
     progress.stage("smooth", "blocks");
     smooth = smoothStage(c, scene, arrangement, reconstruction, progress.counter());
-    if (const std::string w = shepardConnectivityWarning(c, *smooth); !w.empty()) in.warnings.push_back(w);
     clock.end("smooth");
   }
   const SmoothStage* smoothed = smooth ? &*smooth : nullptr;
 
   progress.stage("mesh");
-  const MeshStage meshes = meshStage(in, scene, reconstruction, smoothed, &in.warnings);
+  const MeshStage meshes = meshStage(in, scene, reconstruction, smoothed);
   clock.end("mesh");
 
   progress.stage("diagnose");
@@ -73,9 +72,10 @@ int runCommand(const RunOptions& o) {
   clock.end("sampling");
 
   progress.stage("write");
-  writeRunOutputs({in, built, arrangement, reconstruction, smoothed, meshes, diagnosis, sampling}, o, clock);
+  const RunResults results{in, built, arrangement, reconstruction, smoothed, meshes, diagnosis, sampling};
+  writeRunOutputs(results, o, clock);
   progress.finish();
-  for (const auto& w : in.warnings) progress.note("warning: " + w);
+  for (const auto& w : runWarnings(results)) progress.note("warning: " + w);
   // The last lines (issue 21): the sampling verdict, the Betti numbers, the page to look at.
   const Betti& betti = diagnosis.topology.betti;
   progress.note(samplingLine(sampling));

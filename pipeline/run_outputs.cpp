@@ -122,6 +122,14 @@ std::string graphDot(const RunResults& r) {
   return dot;
 }
 
+std::vector<std::string> runWarnings(const RunResults& r) {
+  std::vector<std::string> w = r.inputs.warnings;
+  w.insert(w.end(), r.reconstruction.warnings.begin(), r.reconstruction.warnings.end());
+  if (r.smooth) w.insert(w.end(), r.smooth->warnings.begin(), r.smooth->warnings.end());
+  w.insert(w.end(), r.meshes.warnings.begin(), r.meshes.warnings.end());
+  return w;
+}
+
 void writeRunOutputs(const RunResults& r, const RunOptions& o, const StageClock& clock) {
   const RunConfig& c = r.inputs.config;
   const fs::path& outDir = r.inputs.output_dir;

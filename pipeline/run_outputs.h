@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "pipeline/arrange_stage.h"
 #include "pipeline/commands.h"
@@ -33,6 +34,10 @@ struct RunResults {
   const DiagnoseStage& diagnosis;
   const SamplingStage& sampling;
 };
+
+/// The run's warnings, gathered from the stages that found them, in the order they ran: loading
+/// and the scene (RunInputs), the reconstruction, the smoothing, the meshes.
+std::vector<std::string> runWarnings(const RunResults& r);
 
 /// graph.json's nodes and the run's method's edges, as report.html draws them.
 SectionGraph sectionGraph(const RunResults& r);

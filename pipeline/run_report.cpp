@@ -314,7 +314,7 @@ json reportJson(const RunResults& r, const StageClock& clock) {
   report["timings_s"]["total"] = clock.total();
   report["peak_memory_mb"] = clock.memory;
   report["throughput"] = throughputJson(r);
-  report["warnings"] = r.inputs.warnings;
+  report["warnings"] = runWarnings(r);
   return report;
 }
 

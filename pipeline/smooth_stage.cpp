@@ -202,6 +202,7 @@ SmoothStage smoothStage(const RunConfig& c, const SectionScene& scene, const Arr
     out.surface = levelSetSurface(out.field, 3.0, 0.0);
     out.adaptivity_dropped = true;
   }
+  if (std::string w = shepardConnectivityWarning(c, out); !w.empty()) out.warnings.push_back(std::move(w));
   return out;
 }
 

@@ -55,6 +55,7 @@ struct SmoothStage {
   Betti voxel_betti{0, 0, 0};         ///< of the smooth solid {field < 0}: the surface's, by construction
   bool adaptivity_dropped = false;    ///< the adaptive mesh changed the topology: meshed without
   GraphVoxelCheck final_check;        ///< the output's solid against the method's graph
+  std::vector<std::string> warnings;  ///< shepardConnectivityWarning's, when it has one
   CellConnectivityCheck final_cells;  ///< the same, cell by cell
 };
 

@@ -21,7 +21,7 @@ ReportPage runReportPage(const RunResults& r, const json& report, const json& co
   page.headline_html = headlineHtml(report);
   page.view_json = viewDataJson(r).dump();
   page.sections.push_back({"summary", "Summary", summaryHtml(report, samplingLine(r.sampling))});
-  page.sections.push_back({"warnings", "Warnings", warningsHtml(r.inputs.warnings)});
+  page.sections.push_back({"warnings", "Warnings", warningsHtml(runWarnings(r))});
   page.sections.push_back({"slice-plots", "Slices", "<div class=\"plots\">\n" + slicePlotsHtml(conformity) + "</div>"});
   page.sections.push_back({"graph", "How the sections connect", sectionGraphHtml(graph)});
   page.sections.push_back({"frames", "Frames", frameOverlaysHtml(r.inputs)});
