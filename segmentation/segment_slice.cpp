@@ -97,8 +97,10 @@ void removeSmall(cv::Mat& mask, const cv::Mat& f, const cv::Mat& inside, float n
 /// between the classes, 0.67 sigma from where it crosses the threshold: the normal quantile of
 /// 1/4; sigma rounded up to a pixel holds that). The cut mask is then closed by the opening's
 /// radius within the threshold's mask: notches the cut leaves where the object's own speckle is
-/// lighter near its edge fill again, and what was cut off beyond the reach stays out (a closing
-/// adds no pixel beyond the set's convex parts). Unobserved pixels count as core, so that the
+/// lighter near its edge fill again; a closing fills only concavities narrower than its disk, so
+/// what was cut off comes back at most in the corners where the cut meets the object's edge
+/// (tests/test_ultrasound_segmentation.cpp bounds the edge by the reach plus a pixel beyond where
+/// the step crosses the core's level). Unobserved pixels count as core, so that the
 /// core's opening does not erode against the view's edge or a shadow, which are not the object's.
 /// Measured on the B-mode family (bench/ultrasound_family.py, 36 runs at 0.4 mm voxels): truth
 /// topology on 34 (32 without the core); before the closing, a reach of 2 sigma gave 15 of 18
