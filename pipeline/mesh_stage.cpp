@@ -1,22 +1,21 @@
 // Stage 7: meshes, materials, and their check (see mesh_stage.h).
 #include "pipeline/mesh_stage.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <stdexcept>
 
 #include "geometry/meshing/volume_mesher.h"
 #include "geometry/reconstruction/voxel_labels.h"
+#include "geometry/reconstruction/well_composed_labels.h"
 #include "pipeline/material_sections.h"
 
 namespace xsect {
 
 namespace {
 
-/// Label L's solid (made well-composed, so that its mesh bounds the set voxelBetti counts: the
-/// mesh of a label may take a voxel of a neighbouring label where the two meet at a vertex or an
-/// edge only; labels.nrrd keeps each voxel's own label) and its mesh. No voxel: voxels == 0.
+/// Label L's solid (its voxels in `voxelLabel`, well-composed with every other label's:
+/// well_composed_labels.h, so that its mesh bounds the set voxelBetti counts) and its mesh. No
+/// voxel: voxels == 0.
 Material materialOf(std::uint16_t L, const std::vector<std::uint16_t>& voxelLabel, const ScalarField& field,
                     double voxel_mm) {
   Material m;
@@ -27,7 +26,6 @@ Material materialOf(std::uint16_t L, const std::vector<std::uint16_t>& voxelLabe
     m.voxels += in_L[q];
   }
   if (m.voxels == 0) return m;
-  m.critical_voxels_added = makeWellComposed(in_L, field.grid);
   ScalarField f = labelField(field, voxelLabel, L, float(0.05 * voxel_mm));
   imposeSolid(f, in_L, float(0.05 * voxel_mm));
   m.voxel_betti = voxelBetti(in_L, field.grid);
@@ -74,12 +72,44 @@ std::string bettiText(const Betti& b) {
 }
 
 
+/// Several materials, from dense copies of the labels and the field (not yet by blocks): where two
+/// voxels of a label meet at an edge or a vertex only, labels change until every label's voxels
+/// are well-composed at once (well_composed_labels.h), so that the materials stay a partition of
+/// the union and labels.nrrd (m.voxel_label, changed with them) holds what their meshes bound; then
+/// each label's solid and mesh. The union changes only where it was not well-composed itself
+/// (method 3's voxels by centres), and must keep the solid's Betti numbers `solid`.
+void addMaterials(const std::vector<std::uint16_t>& labels, const ScalarField& field, double voxel_mm,
+                  const Betti& solid, MeshStage& m) {
+  std::vector<std::uint16_t> voxelLabel = denseValues(m.voxel_label);
+  m.label_composition = makeLabelsWellComposed(voxelLabel, field.grid);
+  if (m.label_composition.voxels_added > 0) {
+    std::vector<std::uint8_t> in(voxelLabel.size());
+    for (std::size_t q = 0; q < in.size(); ++q) in[q] = voxelLabel[q] != 0;
+    const Betti now = voxelBetti(in, field.grid);
+    if (now != solid)
+      throw std::runtime_error("the materials' voxels, made well-composed (" +
+                               std::to_string(m.label_composition.voxels_added) + " voxels added), have Betti numbers " +
+                               bettiText(now) + " while the solid has " + bettiText(solid) +
+                               "; nothing written (a defect of xsect: please report it with the configuration)");
+  }
+  if (m.label_composition.voxels_relabelled + m.label_composition.voxels_added > 0)
+    m.voxel_label = blockValues(voxelLabel, field.grid);
+  for (const std::uint16_t L : labels) {
+    Material mat = materialOf(L, voxelLabel, field, voxel_mm);
+    if (mat.voxels == 0) {  // a label too small for the grid (a few pixels in one slice)
+      m.warnings.push_back("label " + std::to_string(L) + " has sections but no voxel at " + std::to_string(voxel_mm) +
+                           " mm: no mesh for it");
+      continue;
+    }
+    m.materials.push_back(std::move(mat));
+  }
+}
+
 /// The labels of the smooth solid {field < 0}, on the smoothing's grid (the method's lattice with
 /// wider margins, smooth_stage.cpp): the method's label where it has one, elsewhere the label
 /// reached first from the labelled voxels through the smooth solid's face neighbours (breadth
 /// first, from the voxels in index order: deterministic), `fallback` in a component holding no
-/// labelled voxel; 0 outside. By blocks (voxels beyond the grid repeat the block's first, so that
-/// uniform blocks are tiles).
+/// labelled voxel; 0 outside.
 BlockGrid<std::uint16_t> labelsOfSmoothSolid(const ScalarField& field, const BlockGrid<std::uint16_t>& method,
                                             std::uint16_t fallback) {
   const GridSpec& g = field.grid;
@@ -122,16 +152,7 @@ BlockGrid<std::uint16_t> labelsOfSmoothSolid(const ScalarField& field, const Blo
       std::vector<std::int64_t> one{v};
       spread(one);
     }
-  BlockGrid<std::uint16_t> labels(g, 0);
-  tbb::parallel_for(std::int64_t(0), labels.blockCount(), [&](std::int64_t b) {
-    const auto o = labels.blockOrigin(b);
-    std::array<std::uint16_t, BlockGrid<std::uint16_t>::kVoxels> values{};
-    forEachVoxelOfBlock(g, o, [&](int i, int j, int k, int q) { values[std::size_t(q)] = dense[std::size_t(g.index(i, j, k))]; });
-    forEachBeyondGrid(g, o, [&](int q) { values[std::size_t(q)] = values[0]; });
-    labels.setBlock(b, values.data());
-  });
-  labels.compact();
-  return labels;
+  return blockValues(dense, g);
 }
 
 }  // namespace
@@ -205,22 +226,11 @@ MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const Recons
   if (smooth)
     m.voxel_label = labelsOfSmoothSolid(smooth->field, m.voxel_label, labels.empty() ? std::uint16_t(1) : labels.front());
   // Several materials: the union's solid partitioned by the labels of the sections the voxels lift
-  // from, each label's solid and mesh from dense copies (not yet by blocks). Method 3 too (issue 49:
-  // each label's own R'' overlapped the others' and was not the union's), so that the materials
-  // tile the union and each mesh bounds its label's voxels.
-  const bool voxelMaterials = several;
-  const ScalarField field = !voxelMaterials ? ScalarField{} : smooth ? smooth->field : denseField(rec.field);
-  const std::vector<std::uint16_t> voxelLabel = voxelMaterials ? denseValues(m.voxel_label) : std::vector<std::uint16_t>{};
-  if (voxelMaterials)
-    for (const std::uint16_t L : labels) {
-      Material mat = materialOf(L, voxelLabel, field, voxel);
-      if (mat.voxels == 0) {  // a label too small for the grid (a few pixels in one slice)
-        m.warnings.push_back("label " + std::to_string(L) + " has sections but no voxel at " +
-                            std::to_string(voxel) + " mm: no mesh for it");
-        continue;
-      }
-      m.materials.push_back(std::move(mat));
-    }
+  // from (method 3 too, issue 49: each label's own R'' overlapped the others' and was not the
+  // union's), so that the materials tile the union and each mesh bounds its label's voxels.
+  if (several)
+    addMaterials(labels, smooth ? smooth->field : denseField(rec.field), voxel,
+                 smooth ? smooth->voxel_betti : rec.voxel_betti, m);
   if (labels.size() > 64)
     m.warnings.push_back(std::to_string(labels.size()) +
                         " materials (segmentation.method: labels takes every pixel value as a "

@@ -21,6 +21,7 @@
 #include "geometry/core/digital_topology.h"
 #include "geometry/meshing/conformal_cut.h"
 #include "geometry/meshing/mesh_topology.h"
+#include "geometry/reconstruction/well_composed_labels.h"
 #include "pipeline/reconstruct_stage.h"
 #include "pipeline/smooth_stage.h"
 
@@ -31,7 +32,6 @@ struct Material {
   std::uint16_t label = 0;
   TriangleMesh mesh;
   std::int64_t voxels = 0;
-  int critical_voxels_added = 0;   ///< voxels taken from neighbours to make it well-composed
   Betti voxel_betti{0, 0, 0};
 };
 
@@ -48,6 +48,8 @@ struct MeshStage {
   Betti voxel_mesh_betti{0, 0, 0};      ///< of that well-composed voxel set
   int voxel_mesh_critical_added = 0;    ///< voxels added to make it well-composed
   BlockGrid<std::uint16_t> voxel_label;  ///< labels.nrrd
+  /// Several materials: the labels changed so that each is well-composed (well_composed_labels.h).
+  LabelComposition label_composition;
   std::vector<Material> materials;
   std::vector<std::string> warnings;  ///< labels without voxels, suspiciously many labels, method 3's boundary
 };

@@ -176,8 +176,7 @@ json materialsJson(const RunResults& r) {
     const Material& m = r.meshes.materials[k];
     const MeshTopology& t = r.diagnosis.material_topology[k];
     mats.push_back({{"label", m.label}, {"betti", t.betti}, {"voxel_betti", m.voxel_betti},
-                    {"watertight", t.watertight}, {"voxels", m.voxels},
-                    {"critical_voxels_added", m.critical_voxels_added}, {"volume_mm3", t.volume_mm3},
+                    {"watertight", t.watertight}, {"voxels", m.voxels}, {"volume_mm3", t.volume_mm3},
                     {"mesh_triangles", m.mesh.triangles.size()}});
   }
   return mats;
@@ -299,6 +298,11 @@ json reportJson(const RunResults& r, const StageClock& clock) {
   if (r.inputs.plus) report["plus_sequence"] = plusSequenceJson(*r.inputs.plus);
   report["reconstruction"] = reconstructionJson(r);
   report["materials"] = materialsJson(r);
+  // Several materials: the voxels whose label changed so that every label is well-composed
+  // (well_composed_labels.h); labels.nrrd holds the changed labels.
+  if (!r.meshes.materials.empty())
+    report["label_composition"] = {{"voxels_relabelled", r.meshes.label_composition.voxels_relabelled},
+                                   {"voxels_added", r.meshes.label_composition.voxels_added}};
   report["arrangement"] = {{"cells", a.cells},
                            {"sub_sections", a.sub_sections.size()},
                            {"trace_points_added", a.trace_points},

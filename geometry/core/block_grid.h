@@ -214,6 +214,21 @@ std::vector<T> denseValues(const BlockGrid<T>& g) {
   return values;
 }
 
+/// The inverse of denseValues: a dense array (x fastest) on `grid` stored by blocks, uniform blocks
+/// as tiles (voxels beyond the grid repeat the block's first).
+template <typename T>
+BlockGrid<T> blockValues(const std::vector<T>& dense, const GridSpec& grid) {
+  BlockGrid<T> g(grid, T{});
+  std::array<T, BlockGrid<T>::kVoxels> values{};
+  for (std::int64_t b = 0; b < g.blockCount(); ++b) {
+    const auto o = g.blockOrigin(b);
+    forEachVoxelOfBlock(grid, o, [&](int i, int j, int k, int q) { values[std::size_t(q)] = dense[std::size_t(grid.index(i, j, k))]; });
+    forEachBeyondGrid(grid, o, [&](int q) { values[std::size_t(q)] = values[0]; });
+    g.setBlock(b, values.data());
+  }
+  return g;
+}
+
 inline ScalarField denseField(const BlockGrid<float>& g) {
   ScalarField f;
   f.grid = g.grid();
