@@ -15,12 +15,12 @@
 
 namespace xsect {
 
-double arrangementSpacing(const RunConfig& c, const std::vector<CuttingPlane>& planes, std::size_t realPlanes) {
+double arrangementSpacing(double voxel_mm, const std::vector<CuttingPlane>& planes, std::size_t realPlanes) {
   double area = 0;
   for (std::size_t p = 0; p < realPlanes; ++p)
     for (const auto& s : planes[p].sections) area += sectionArea(s);
   // Lattice of section points: the voxel size, coarser when it would exceed 250 000 points.
-  return std::max(c.voxel_size_mm, std::sqrt(area / 250000.0));
+  return std::max(voxel_mm, std::sqrt(area / 250000.0));
 }
 
 int edgesMissing(const std::vector<GraphEdge>& sub, const std::vector<GraphEdge>& super) {
@@ -31,7 +31,7 @@ int edgesMissing(const std::vector<GraphEdge>& sub, const std::vector<GraphEdge>
 
 ArrangeStage arrangeStage(const RunConfig& c, const SectionScene& scene) {
   ArrangeStage a;
-  a.arrangement = arrangeSections(scene.planes, arrangementSpacing(c, scene.planes, scene.real_planes));
+  a.arrangement = arrangeSections(scene.planes, arrangementSpacing(scene.params.voxel_mm, scene.planes, scene.real_planes));
   const ReconstructionMethod method = scene.params.method;
   if (method == ReconstructionMethod::delaunay && a.arrangement.pencil_crossings > 0) {
     // Method 3 glues cells along sub-sections whose corners lie on two planes at a time (general

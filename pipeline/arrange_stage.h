@@ -40,7 +40,7 @@ struct ArrangeStage {
 
 /// The spacing of the section points of the arrangement, mm: the voxel size, coarser when the
 /// sections' area would hold more than 250 000 points.
-double arrangementSpacing(const RunConfig& config, const std::vector<CuttingPlane>& planes, std::size_t realPlanes);
+double arrangementSpacing(double voxel_mm, const std::vector<CuttingPlane>& planes, std::size_t realPlanes);
 
 ArrangeStage arrangeStage(const RunConfig& config, const SectionScene& scene);
 

@@ -199,13 +199,13 @@ MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const Recons
                           "mesh.ply or mesh.obj for the Betti numbers report.json states");
   } else {
     m.method_mesh = meshZeroLevel(rec.field);
-    if (c.conformal_mesh) methodCut = cutAlongSections(m.method_mesh, scene.planes, scene.fields, c.voxel_size_mm);
+    if (c.conformal_mesh) methodCut = cutAlongSections(m.method_mesh, scene.planes, scene.fields, scene.params.voxel_mm);
   }
   m.conformal_by_construction = method3 && !m.method3_from_voxels && !smooth;
   if (smooth) m.mesh = smooth->surface.mesh;
   else m.mesh = std::move(m.method_mesh);  // one copy of a mesh of millions of triangles
   m.cut = !smooth ? methodCut
-                  : c.conformal_mesh ? cutAlongSections(m.mesh, scene.planes, scene.fields, c.voxel_size_mm)
+                  : c.conformal_mesh ? cutAlongSections(m.mesh, scene.planes, scene.fields, scene.params.voxel_mm)
                                      : ConformalCutStats{};
 
   // Several materials: each voxel takes the label of the section its lift comes from (method 3:

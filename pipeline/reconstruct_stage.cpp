@@ -84,7 +84,7 @@ void delaunayOnGrid(const RunInputs& in, const SceneStage& built, const ArrangeS
     r.solid.voxel_betti = voxelBetti(r.solid.inside);
   }
   if (r.solid.voxels_inside == 0)
-    r.warnings.push_back("method 3's solid holds no voxel centre at " + std::to_string(c.voxel_size_mm) +
+    r.warnings.push_back("method 3's solid holds no voxel centre at " + std::to_string(scene.params.voxel_mm) +
                         " mm (it is thinner than a voxel): labels.nrrd and the voxel checks are empty; the mesh is "
                         "R'' itself");
 }

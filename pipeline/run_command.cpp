@@ -33,7 +33,7 @@ using json = nlohmann::ordered_json;
 int runCommand(const RunOptions& o) {
   Progress progress(o.quiet);
   StageClock clock;
-  RunInputs in = loadInputs(o, clock, progress);
+  const RunInputs in = loadInputs(o, clock, progress);
   const RunConfig& c = in.config;
   const fs::path& outDir = in.output_dir;
 
@@ -87,7 +87,8 @@ int runCommand(const RunOptions& o) {
 int checkCommand(const RunOptions& o) {
   Progress progress(o.quiet);
   StageClock clock;
-  RunInputs in = loadInputs(o, clock, progress);
+  const RunInputs in = loadInputs(o, clock, progress);
+  std::vector<std::string> warnings = in.warnings;
   int sections = 0;
   for (const auto& p : in.planes) sections += int(p.sections.size());
   json r;
@@ -100,6 +101,7 @@ int checkCommand(const RunOptions& o) {
     // The scene stage of `run` (its refusals: memory, time, representable sizes), then the
     // arrangement and the sampling diagnosis, which need no solid (issue 18).
     const SceneStage built = sceneStage(in, true, clock.total(), true);
+    warnings = warningsThroughScene(in, built);
     const ReconstructionLayout& L = built.scene.layout;
     const RunConfig& c = in.config;
     r["voxel_size"] = voxelSizeJson(built.voxel_size);
@@ -128,10 +130,10 @@ int checkCommand(const RunOptions& o) {
     const ArrangeStage arrangement = arrangeStage(c, built.scene);
     r["sampling"] = samplingSummaryJson(samplingStage(c, built.scene, arrangement, false));
   } else {
-    in.warnings.push_back("no section found in any slice");
+    warnings.push_back("no section found in any slice");
   }
   progress.finish();
-  r["warnings"] = in.warnings;
+  r["warnings"] = warnings;
   std::cout << r.dump(2) << "\n";
   return 0;
 }

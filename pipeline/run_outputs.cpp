@@ -123,7 +123,7 @@ std::string graphDot(const RunResults& r) {
 }
 
 std::vector<std::string> runWarnings(const RunResults& r) {
-  std::vector<std::string> w = r.inputs.warnings;
+  std::vector<std::string> w = warningsThroughScene(r.inputs, r.scene_stage);
   w.insert(w.end(), r.reconstruction.warnings.begin(), r.reconstruction.warnings.end());
   if (r.smooth) w.insert(w.end(), r.smooth->warnings.begin(), r.smooth->warnings.end());
   w.insert(w.end(), r.meshes.warnings.begin(), r.meshes.warnings.end());

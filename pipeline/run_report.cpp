@@ -147,7 +147,7 @@ json reconstructionJson(const RunResults& r) {
           {"planes", nameOf(kPlaneExtents, c.planes)},
           {"planes_auto", c.planes_default},
           {"cell_tunnels", nameOf(kCellTunnels, c.cell_tunnels)},
-          {"voxel_size_mm", c.voxel_size_mm},
+          {"voxel_size_mm", r.scene_stage.scene.params.voxel_mm},
           {"voxel_size", voxelSizeJson(r.scene_stage.voxel_size)},
           {"grid_origin_mm", vecJson(rec.field.grid().origin)},
           {"grid_dims", rec.field.grid().dims},

@@ -19,7 +19,7 @@ namespace {
 /// 17: what is kept, by blocks; a coarse trial measures it only when the worst case, every block
 /// a leaf, would not fit, or `*trial` is wanted anyway: it is then kept there, measured once).
 void checkMemory(const RunConfig& c, const std::vector<CuttingPlane>& planes, const ReconstructionLayout& L,
-                 bool wanted, std::optional<SolidMemoryEstimate>* trial) {
+                 double voxel_mm, bool wanted, std::optional<SolidMemoryEstimate>* trial) {
   const double have = physicalMemoryBytes();
   const double budget = 0.8 * have;
   const double dense = denseBytesPerVoxel(c);
@@ -27,7 +27,7 @@ void checkMemory(const RunConfig& c, const std::vector<CuttingPlane>& planes, co
   const double rows = double(L.grid.dims[1]) * double(L.grid.dims[2]);
   const bool fits = !(have > 0) || worstCaseSolidBytes(blocks, rows) + double(L.grid.count()) * dense <= budget;
   if (fits && !wanted) return;
-  *trial = estimateSolidMemory(planes, reconstructionParams(c), dense);
+  *trial = estimateSolidMemory(planes, reconstructionParams(c, voxel_mm), dense);
   const SolidMemoryEstimate& e = **trial;
   if (fits || e.total() <= budget) return;
   const std::string setting = e.dense_bytes > 0.5 * e.total()
@@ -48,27 +48,27 @@ SectionCounts countSections(const std::vector<CuttingPlane>& planes) {
   return n;
 }
 
-}  // namespace
-
-ReconstructionLayout layoutOf(const std::vector<CuttingPlane>& planes, const RunConfig& c) {
+/// The grid the reconstruction will use; configuration problems become InputError.
+ReconstructionLayout layoutOf(const std::vector<CuttingPlane>& planes, const RunConfig& c, double voxel_mm) {
   try {
-    return reconstructionLayout(planes, reconstructionParams(c));
+    return reconstructionLayout(planes, reconstructionParams(c, voxel_mm));
   } catch (const std::invalid_argument& e) {
     throw InputError(c.path, "reconstruction.voxel_size_mm", e.what());
   }
 }
 
-VoxelSizeReport resolveVoxelSize(RunInputs& in, bool quiet) {
+/// The voxel size for the run (auto resolved; a too coarse explicit size is a warning printed even
+/// with --quiet).
+VoxelSizeReport resolveVoxelSize(const RunInputs& in, bool quiet) {
   VoxelSizeReport r = chooseVoxelSize(in.config, in.planes);
-  if (!r.warning.empty()) {
-    in.warnings.insert(in.warnings.begin(), r.warning);
-    std::cerr << "WARNING: " << r.warning << "\n";
-  }
+  if (!r.warning.empty()) std::cerr << "WARNING: " << r.warning << "\n";
   if (!quiet && r.automatic)
     std::cerr << "voxel size " << r.voxel_mm << " mm (auto, limited by " << voxelSizeLimitName(r.choice.limited_by)
               << "; " << r.choice.voxels << " voxels)\n";
   return r;
 }
+
+}  // namespace
 
 std::string memoryBreakdown(const SolidMemoryEstimate& e) {
   const auto mb = [](double bytes) { return std::to_string(std::int64_t(std::ceil(bytes / 1e6))) + " MB"; };
@@ -89,17 +89,26 @@ nlohmann::ordered_json voxelSizeJson(const VoxelSizeReport& r) {
           {"sections_narrower_than_two_voxels", r.sections_narrower_than_two_voxels}};
 }
 
-SceneStage sceneStage(RunInputs& in, bool quiet, double elapsed_s, bool want_memory_trial) {
+std::vector<std::string> warningsThroughScene(const RunInputs& in, const SceneStage& s) {
+  std::vector<std::string> w;
+  if (!s.voxel_size.warning.empty()) w.push_back(s.voxel_size.warning);
+  w.insert(w.end(), in.warnings.begin(), in.warnings.end());
+  w.insert(w.end(), s.warnings.begin(), s.warnings.end());
+  return w;
+}
+
+SceneStage sceneStage(const RunInputs& in, bool quiet, double elapsed_s, bool want_memory_trial) {
   SceneStage s;
   const RunConfig& c = in.config;
   s.counts = countSections(in.planes);
   if (s.counts.sections == 0)
     throw InputError(c.input_path, "", "no section found in any slice (check segmentation settings)");
   s.voxel_size = resolveVoxelSize(in, quiet);
-  const ReconstructionLayout layout = layoutOf(in.planes, c);
+  const double voxel = s.voxel_size.voxel_mm;
+  const ReconstructionLayout layout = layoutOf(in.planes, c, voxel);
   // The coarse trial is measured once: when the worst case would not fit, for `check`'s report, or
   // for the time estimate of a large grid.
-  checkMemory(c, in.planes, layout, want_memory_trial || double(layout.grid.count()) > 1e8, &s.memory_trial);
+  checkMemory(c, in.planes, layout, voxel, want_memory_trial || double(layout.grid.count()) > 1e8, &s.memory_trial);
   // The voxels the reconstruction evaluates: the grid's, or on a large grid the blocks the trial
   // finds filled (the others are decided per block).
   double voxels = double(layout.grid.count());
@@ -107,24 +116,24 @@ SceneStage sceneStage(RunInputs& in, bool quiet, double elapsed_s, bool want_mem
     const SolidMemoryEstimate& m = *s.memory_trial;
     voxels = double(m.blocks) + 512.0 * double(m.boundary_blocks + m.solid_blocks + m.plane_blocks);
   }
-  s.time_estimate = sceneOnwardSeconds(in.planes, c.voxel_size_mm, voxels, c);
+  s.time_estimate = sceneOnwardSeconds(in.planes, voxel, voxels, c);
   checkTimeBudget(s.time_estimate, elapsed_s, c);
   try {
-    s.scene = sectionScene(in.planes, reconstructionParams(c));
+    s.scene = sectionScene(in.planes, reconstructionParams(c, voxel), layout);
   } catch (const std::invalid_argument& e) {
     throw InputError(c.path, "reconstruction", e.what());
   }
   const ReconstructionLayout& L = s.scene.layout;
-  in.warnings.push_back("open ends closed by 6 virtual empty planes at " + std::to_string(L.end_margin_mm) +
-                        " mm beyond the sections' bounds" + (L.end_margin_auto ? " (automatic margin)" : ""));
+  s.warnings.push_back("open ends closed by 6 virtual empty planes at " + std::to_string(L.end_margin_mm) +
+                       " mm beyond the sections' bounds" + (L.end_margin_auto ? " (automatic margin)" : ""));
   if (s.counts.planes_with_sections == 1) {
     // One plane (a single slice, or every slice at one pose, merged in stage 3) says nothing about
     // the object across it: method 1 extends its section to the end planes on both sides.
     const auto holder = std::find_if(in.planes.begin(), in.planes.end(),
                                      [](const CuttingPlane& p) { return !p.sections.empty(); });
-    in.warnings.push_back("only one plane holds sections (slice " + std::to_string(holder->slice) +
-                          "): the shape across it is unknown, and the result is its sections extended " +
-                          std::to_string(L.end_margin_mm) + " mm to the end planes on each side");
+    s.warnings.push_back("only one plane holds sections (slice " + std::to_string(holder->slice) +
+                         "): the shape across it is unknown, and the result is its sections extended " +
+                         std::to_string(L.end_margin_mm) + " mm to the end planes on each side");
   }
   return s;
 }

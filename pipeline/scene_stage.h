@@ -29,23 +29,24 @@ struct SceneStage {
   /// The memory estimate's coarse trial (solid_memory.h), when it was measured: the worst case did
   /// not fit, the grid is over 1e8 voxels, or it was asked for.
   std::optional<SolidMemoryEstimate> memory_trial;
-  SectionScene scene;
+  SectionScene scene;  ///< scene.params: the resolved settings (voxel size, method, end margin, planes)
+  /// The scene's warnings (the end planes; a single plane holding sections); a too coarse voxel
+  /// size's is voxel_size.warning.
+  std::vector<std::string> warnings;
 };
 
-/// Reads the stage-3 planes; resolves in.config.voxel_size_mm and appends the scene's warnings
-/// (the end planes; a single plane holding sections) to in.warnings. Throws InputError when no
+/// Reads the stage-3 planes; resolves the voxel size (the configuration stays as read: later
+/// stages read the resolved settings from SceneStage::scene.params) and returns the scene with
+/// its warnings. Throws InputError when no
 /// plane holds a section, the grid would not fit in memory, or the run would take longer than
 /// run.max_seconds with the `elapsed_s` already spent. `xsect check` and `xsect run` both build
 /// their scene here, so that they refuse the same configurations; `want_memory_trial` (check)
 /// keeps the memory estimate's trial in `memory_trial` whatever the grid.
-SceneStage sceneStage(RunInputs& in, bool quiet, double elapsed_s, bool want_memory_trial = false);
+SceneStage sceneStage(const RunInputs& in, bool quiet, double elapsed_s, bool want_memory_trial = false);
 
-/// The voxel size for the run (auto resolved; a too coarse explicit size is a warning printed even
-/// with --quiet), as `xsect check` also reports it.
-VoxelSizeReport resolveVoxelSize(RunInputs& in, bool quiet);
-
-/// The grid the reconstruction will use; configuration problems become InputError.
-ReconstructionLayout layoutOf(const std::vector<CuttingPlane>& planes, const RunConfig& c);
+/// The warnings up to the scene, in the order a run reports them: a too coarse voxel size first,
+/// then the inputs', then the scene's.
+std::vector<std::string> warningsThroughScene(const RunInputs& in, const SceneStage& scene);
 
 /// The estimate's parts in words, for messages.
 std::string memoryBreakdown(const SolidMemoryEstimate& e);

@@ -78,7 +78,7 @@ SmoothStage smoothStage(const RunConfig& c, const SectionScene& scene, const Arr
   const std::vector<GraphEdge>& edges = arranged.methodEdges();
   const GraphVoxelCheck& base = reconstruction.graph_check;
   const CellConnectivityCheck& baseCells = reconstruction.cell_check;
-  const double h = c.voxel_size_mm;
+  const double h = scene.params.voxel_mm;
 
   // The grid reaches the end planes (f = the end margin > 0 there): the surface closes inside it.
   ReconstructionParams lp;

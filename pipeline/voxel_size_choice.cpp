@@ -26,8 +26,7 @@ std::string mm(double v) {
 /// 1.4e-5 (a scale whose determinant is under 3e-15), and meshes are single precision (PLY and
 /// STL store floats, OpenVDB meshes in floats): far from the origin a float cannot tell voxel
 /// corners apart. Both are input errors that say what to change, not a crash or a wrong mesh.
-void checkRepresentable(const RunConfig& c, const std::vector<CuttingPlane>& planes) {
-  const double h = c.voxel_size_mm;
+void checkRepresentable(const RunConfig& c, const std::vector<CuttingPlane>& planes, double h) {
   if (h < 2e-5)
     throw InputError(c.path, "reconstruction.voxel_size_mm",
                      "a voxel of " + mm(h) + " mm is below what OpenVDB's transforms hold (2e-5): the data are in "
@@ -35,7 +34,7 @@ void checkRepresentable(const RunConfig& c, const std::vector<CuttingPlane>& pla
   // The grid's box (end margins and outer layers included): where mesh vertices can be.
   GridSpec g;
   try {
-    g = reconstructionLayout(planes, reconstructionParams(c)).grid;
+    g = reconstructionLayout(planes, reconstructionParams(c, h)).grid;
   } catch (const std::invalid_argument& e) {  // past 2^40 voxels
     throw InputError(c.path, "reconstruction.voxel_size_mm", e.what());
   }
@@ -66,8 +65,7 @@ std::string unitsHint(double voxel_mm, double median_width_mm) {
 bool fitsInMemory(const RunConfig& c, const std::vector<CuttingPlane>& planes, double voxel_mm, double* need) {
   const double have = physicalMemoryBytes();
   if (!(have > 0)) return true;
-  ReconstructionParams p = reconstructionParams(c);
-  p.voxel_mm = voxel_mm;
+  const ReconstructionParams p = reconstructionParams(c, voxel_mm);
   GridSpec g;
   try {
     g = reconstructionLayout(planes, p).grid;
@@ -130,29 +128,28 @@ double denseBytesPerVoxel(const RunConfig& c) {
   return dense;
 }
 
-ReconstructionParams reconstructionParams(const RunConfig& c) {
+ReconstructionParams reconstructionParams(const RunConfig& c, double voxel_mm) {
   ReconstructionParams p;
-  p.voxel_mm = c.voxel_size_mm;
+  p.voxel_mm = voxel_mm;
   p.method = c.reconstruction_method;
   p.end_margin_mm = c.end_margin_mm;
   p.planes = c.planes;
   return p;
 }
 
-VoxelSizeReport chooseVoxelSize(RunConfig& c, const std::vector<CuttingPlane>& planes) {
+VoxelSizeReport chooseVoxelSize(const RunConfig& c, const std::vector<CuttingPlane>& planes) {
   VoxelSizeReport r;
   const std::vector<double> widths = sectionWidths(planes);
   r.automatic = c.voxel_size_auto;
   if (c.voxel_size_auto) {
     try {
-      r.choice = automaticVoxelSize(planes, widths, reconstructionParams(c), c.voxel_budget);
+      r.choice = automaticVoxelSize(planes, widths, reconstructionParams(c, c.voxel_size_mm), c.voxel_budget);
     } catch (const std::invalid_argument& e) {
       throw InputError(c.path, "reconstruction.voxel_size_mm", e.what());
     }
-    c.voxel_size_mm = r.choice.voxel_mm;
   }
-  r.voxel_mm = c.voxel_size_mm;
-  checkRepresentable(c, planes);
+  r.voxel_mm = c.voxel_size_auto ? r.choice.voxel_mm : c.voxel_size_mm;
+  checkRepresentable(c, planes, r.voxel_mm);
   r.sections = int(widths.size());
   r.median_section_width_mm = upperMedian(widths);
   r.min_section_width_mm = widths.empty() ? 0.0 : *std::min_element(widths.begin(), widths.end());
@@ -182,8 +179,7 @@ VoxelSizeReport chooseVoxelSize(RunConfig& c, const std::vector<CuttingPlane>& p
   if (c.voxel_size_auto) {
     // Otherwise only the budget makes the rule this coarse (h <= w/4 leaves the median section
     // four voxels wide): the size to use needs a larger budget.
-    ReconstructionParams p = reconstructionParams(c);
-    p.voxel_mm = r.suggested_voxel_mm;
+    const ReconstructionParams p = reconstructionParams(c, r.suggested_voxel_mm);
     std::string voxels = "more";
     try {
       voxels = std::to_string(reconstructionLayout(planes, p).grid.count());

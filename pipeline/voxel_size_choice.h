@@ -25,15 +25,17 @@ struct VoxelSizeReport {
   std::string warning;                  ///< explicit size too coarse: what to do; else empty
 };
 
-/// The reconstruction's parameters from the configuration (voxel size as resolved).
-ReconstructionParams reconstructionParams(const RunConfig& config);
+/// The reconstruction's parameters from the configuration, at the voxel size `voxel_mm` (the
+/// resolved one: VoxelSizeReport::voxel_mm, SectionScene::params).
+ReconstructionParams reconstructionParams(const RunConfig& config, double voxel_mm);
 
-/// Resolves config.voxel_size_mm in place when it is `auto` and checks the grid against the
+/// Resolves the voxel size (the configuration's, or the automatic one when it is `auto`; the
+/// configuration is not changed) and checks the grid against the
 /// sections' widths, and the size against what OpenVDB and single-precision meshes can hold
 /// (voxels of at least 2e-5 mm; coordinates within 2^19 voxels of the origin). Throws InputError (reconstruction.voxel_size_mm) when an automatic size
 /// leaves most sections narrower than two voxels (only the voxel budget can force that).
 /// @param planes  the real planes with their sections (at least one section).
-VoxelSizeReport chooseVoxelSize(RunConfig& config, const std::vector<CuttingPlane>& planes);
+VoxelSizeReport chooseVoxelSize(const RunConfig& config, const std::vector<CuttingPlane>& planes);
 
 /// Bytes per voxel of the configured stages that still hold whole volumes (smoothing, several
 /// materials with methods 1 and 2); 0 for a method alone.

@@ -59,9 +59,14 @@ double rasterStep(double pixel_mm, double voxel_mm) {
 }
 
 SectionScene sectionScene(const std::vector<CuttingPlane>& realPlanes, const ReconstructionParams& params) {
+  return sectionScene(realPlanes, params, reconstructionLayout(realPlanes, params));
+}
+
+SectionScene sectionScene(const std::vector<CuttingPlane>& realPlanes, const ReconstructionParams& params,
+                          const ReconstructionLayout& layout) {
   SectionScene s;
   s.params = params;
-  s.layout = reconstructionLayout(realPlanes, params);
+  s.layout = layout;
   s.planes = realPlanes;
   s.real_planes = realPlanes.size();
   const std::vector<CuttingPlane> ends =

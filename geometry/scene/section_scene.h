@@ -82,5 +82,8 @@ double rasterStep(double pixel_mm, double voxel_mm);
 /// larger of band_voxels voxels and 3 nodes of a contour). Parallel over planes; deterministic.
 /// Throws std::invalid_argument as reconstructionLayout.
 SectionScene sectionScene(const std::vector<CuttingPlane>& realPlanes, const ReconstructionParams& params);
+/// The same on the layout already computed for these planes and parameters (reconstructionLayout).
+SectionScene sectionScene(const std::vector<CuttingPlane>& realPlanes, const ReconstructionParams& params,
+                          const ReconstructionLayout& layout);
 
 }  // namespace xsect
