@@ -43,7 +43,7 @@
 #include "pipeline/eval_metrics.h"
 #include "pipeline/load_sections.h"
 #include "pipeline/progress.h"
-#include "pipeline/report_page/accuracy_block.h"
+#include "report/run/accuracy_block.h"
 
 namespace xsect {
 namespace {

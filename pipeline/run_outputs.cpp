@@ -21,7 +21,7 @@
 #include "io/text_file.h"
 #include "pipeline/library_versions.h"
 #include "pipeline/output_manifest.h"
-#include "pipeline/report_page/run_report_page.h"
+#include "report/run/run_report_page.h"
 
 namespace xsect {
 

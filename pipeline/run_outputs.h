@@ -2,7 +2,7 @@
 // output folder, which appears complete or not at all (io/staged_output.h): mesh.<fmt> (and
 // mesh_unsmoothed, mesh_label_L), level_set.vdb, labels.nrrd, graph.json and graph.dot,
 // conformity.json, sampling.json, sampling.nrrd, advice.yaml (when slices are advised),
-// report.json, report.html (pipeline/report_page/) and manifest.json.
+// report.json, report.html (report/run/) and manifest.json.
 #pragma once
 
 #include <filesystem>
@@ -14,7 +14,7 @@
 #include "pipeline/commands.h"
 #include "pipeline/input_stage.h"
 #include "pipeline/mesh_stage.h"
-#include "pipeline/report_page/section_graph.h"
+#include "report/run/section_graph.h"
 #include "pipeline/reconstruct_stage.h"
 #include "pipeline/sampling_stage.h"
 #include "pipeline/scene_stage.h"

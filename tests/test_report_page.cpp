@@ -11,11 +11,11 @@
 #include "geometry/meshing/mesh_decimation.h"
 #include "geometry/meshing/mesh_topology.h"
 #include "io/mesh_io.h"
-#include "io/report_page/report_page.h"
+#include "report/page/report_page.h"
 #include "mesh_fixtures.h"
 #include "phantom_runs.h"
-#include "pipeline/report_page/section_graph.h"
-#include "pipeline/report_page/warning_advice.h"
+#include "report/run/section_graph.h"
+#include "report/run/warning_advice.h"
 
 namespace xsect {
 namespace {

@@ -1,4 +1,4 @@
-// Per-slice SVG charts (io/svg_chart.h): the output is well-formed XML; a small chart has one
+// Per-slice SVG charts (report/charts/svg_chart.h): the output is well-formed XML; a small chart has one
 // tooltip per finite value; a 4000-frame chart stays small and keeps its spike and its dip; text
 // is escaped; gaps break the line; y ticks are 1-2-5 steps covering the data (signed, constant,
 // logarithmic); marks and the threshold are drawn; empty inputs give "no data"; invalid inputs
@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "io/svg_chart.h"
+#include "report/charts/svg_chart.h"
 
 namespace xsect {
 namespace {

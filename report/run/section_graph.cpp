@@ -1,5 +1,5 @@
 // The sections' connectivity graph for report.html (see section_graph.h).
-#include "pipeline/report_page/section_graph.h"
+#include "report/run/section_graph.h"
 
 #include <algorithm>
 #include <map>
@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "geometry/core/disjoint_sets.h"
-#include "io/graphviz_svg.h"
-#include "io/report_page/report_page.h"
-#include "pipeline/report_page/page_text.h"
+#include "report/charts/graphviz_svg.h"
+#include "report/page/report_page.h"
+#include "report/run/page_text.h"
 
 namespace xsect {
 

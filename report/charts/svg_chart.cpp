@@ -1,7 +1,7 @@
 // Per-slice SVG charts (see svg_chart.h): layout (title, legend rows, margins sized to the tick
 // labels), nice 1-2-5 (or decade) ticks, then the marks, the series (points with tooltips, or
 // min/max-per-pixel-column lines), the threshold and the axes, as text.
-#include "io/svg_chart.h"
+#include "report/charts/svg_chart.h"
 
 #include <algorithm>
 #include <charconv>

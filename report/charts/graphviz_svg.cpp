@@ -1,6 +1,6 @@
 // Runs Graphviz's dot (see graphviz_svg.h): the graph written to a temporary file, dot started
 // through coreutils' timeout with its output in another, both removed afterwards.
-#include "io/graphviz_svg.h"
+#include "report/charts/graphviz_svg.h"
 
 #include <unistd.h>
 

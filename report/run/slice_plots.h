@@ -9,7 +9,7 @@
 
 namespace xsect {
 
-/// The plots as inline SVG (io/svg_chart.h), with a short line before each saying what it shows.
+/// The plots as inline SVG (report/charts/svg_chart.h), with a short line before each saying what it shows.
 /// @param conformity  conformity.json's content.
 std::string slicePlotsHtml(const nlohmann::ordered_json& conformity);
 

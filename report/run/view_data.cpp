@@ -1,5 +1,5 @@
 // report.html's 3D view data (see view_data.h).
-#include "pipeline/report_page/view_data.h"
+#include "report/run/view_data.h"
 
 #include <algorithm>
 #include <cmath>

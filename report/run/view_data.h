@@ -1,4 +1,4 @@
-// The data of report.html's 3D view (issue 21; drawn by io/report_page/report_page.js): the mesh,
+// The data of report.html's 3D view (issue 21; drawn by report/page/report_page.js): the mesh,
 // decimated for the browser, with the sampling verdict of the cell (thesis ch. 1 §4.4-4.5, ch. 2
 // §3; report.json sampling.cells) and the material label at each vertex; the
 // slices' observed rectangles (the flagged ones marked) and their sections' contours, in world mm.

@@ -1,5 +1,5 @@
 // Frames with their contours for report.html (see frame_overlays.h).
-#include "pipeline/report_page/frame_overlays.h"
+#include "report/run/frame_overlays.h"
 
 #include <opencv2/imgproc.hpp>
 
@@ -10,8 +10,8 @@
 #include "io/base64.h"
 #include "io/image_io.h"
 #include "io/meta_image.h"
-#include "io/report_page/report_page.h"
-#include "pipeline/report_page/page_text.h"
+#include "report/page/report_page.h"
+#include "report/run/page_text.h"
 
 namespace xsect {
 

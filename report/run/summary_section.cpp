@@ -1,8 +1,8 @@
 // report.html's figures from report.json (see summary_section.h).
-#include "pipeline/report_page/summary_section.h"
+#include "report/run/summary_section.h"
 
-#include "io/report_page/report_page.h"
-#include "pipeline/report_page/page_text.h"
+#include "report/page/report_page.h"
+#include "report/run/page_text.h"
 
 namespace xsect {
 

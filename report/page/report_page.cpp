@@ -1,9 +1,9 @@
 // report.html as text (see report_page.h): the document skeleton with its inlined scripts.
-#include "io/report_page/report_page.h"
+#include "report/page/report_page.h"
 
 #include <stdexcept>
 
-#include "io/report_page/report_assets.h"
+#include "report/page/report_assets.h"
 
 namespace xsect {
 

@@ -1,13 +1,13 @@
 // Per-slice plots for report.html (see slice_plots.h).
-#include "pipeline/report_page/slice_plots.h"
+#include "report/run/slice_plots.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "io/report_page/report_page.h"
-#include "io/svg_chart.h"
-#include "pipeline/report_page/page_text.h"
+#include "report/page/report_page.h"
+#include "report/charts/svg_chart.h"
+#include "report/run/page_text.h"
 
 namespace xsect {
 

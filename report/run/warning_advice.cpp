@@ -1,8 +1,8 @@
 // Plain-word warnings (see warning_advice.h). Each rule matches a phrase of the stage that emits
 // the warning (pipeline/*_stage.cpp, conformity_report.cpp, load_sections.cpp, io readers).
-#include "pipeline/report_page/warning_advice.h"
+#include "report/run/warning_advice.h"
 
-#include "io/report_page/report_page.h"
+#include "report/page/report_page.h"
 
 namespace xsect {
 

@@ -1,6 +1,6 @@
-// The report page's scripts and style, compiled into the library (io/report_page/embed_assets.cmake)
+// The report page's scripts and style, compiled into the library (report/page/embed_assets.cmake)
 // so that report.html is self-contained and works offline: three.js and its OrbitControls from
-// Debian's libjs-three, and the page's own script and style sheet (io/report_page/report_page.js,
+// Debian's libjs-three, and the page's own script and style sheet (report/page/report_page.js,
 // report_page.css).
 #pragma once
 

@@ -1,14 +1,14 @@
 // report.html of `xsect run` (see run_report_page.h).
-#include "pipeline/report_page/run_report_page.h"
+#include "report/run/run_report_page.h"
 
 #include <filesystem>
 
-#include "pipeline/report_page/frame_overlays.h"
-#include "pipeline/report_page/section_graph.h"
-#include "pipeline/report_page/slice_plots.h"
-#include "pipeline/report_page/summary_section.h"
-#include "pipeline/report_page/view_data.h"
-#include "pipeline/report_page/warning_advice.h"
+#include "report/run/frame_overlays.h"
+#include "report/run/section_graph.h"
+#include "report/run/slice_plots.h"
+#include "report/run/summary_section.h"
+#include "report/run/view_data.h"
+#include "report/run/warning_advice.h"
 
 namespace xsect {
 

@@ -5,8 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/report_page/report_page.h"
-#include "pipeline/report_page/section_graph.h"
+#include "report/page/report_page.h"
+#include "report/run/section_graph.h"
 #include "pipeline/run_outputs.h"
 
 namespace xsect {

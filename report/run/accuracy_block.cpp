@@ -1,13 +1,13 @@
 // The accuracy block of report.html (see accuracy_block.h).
-#include "pipeline/report_page/accuracy_block.h"
+#include "report/run/accuracy_block.h"
 
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
-#include "io/report_page/report_page.h"
+#include "report/page/report_page.h"
 #include "io/text_file.h"
-#include "pipeline/report_page/page_text.h"
+#include "report/run/page_text.h"
 
 namespace xsect {
 

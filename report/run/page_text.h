@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "io/report_page/report_page.h"
+#include "report/page/report_page.h"
 
 namespace xsect {
 
