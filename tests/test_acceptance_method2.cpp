@@ -1,8 +1,7 @@
-// Acceptance of method 2 and of several materials through the command line (phantom -> run):
-// a thin vessel tree cut by sparse planes with planes passing just beside it (thesis ch. 2 §1,
-// Fig. 2.1-2.2: method 1 splits it, method 2 keeps it whole, and each graph groups the sections
-// as its voxel solid does), and a two-label phantom (each label's Betti numbers, labelled
-// volumes disjoint, their union equal to the one-material reconstruction of the union).
+// Acceptance of method 2 through the command line (phantom -> run -> eval): a thin vessel tree cut
+// by sparse planes with planes passing just beside it (thesis ch. 2 §1, Fig. 2.1-2.2: method 1
+// splits it, method 2 keeps it whole, and each graph groups the sections as its voxel solid does),
+// and the phantom families of method 1 (phantom_families.h) within Thm 20's bound.
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
@@ -11,11 +10,12 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.h"
-#include "io/label_volume_file.h"
+#include "phantom_families.h"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 using namespace xsect;
+using namespace xsect::test::families;
 
 namespace {
 
@@ -80,55 +80,17 @@ TEST(AcceptanceMethod2, SmoothVesselTreeMeetingWeakDensityKeepsTopologyWithinThe
   fs::remove_all(dir);
 }
 
-TEST(AcceptanceMaterials, TwoTouchingSolids) {
-  // A torus split through its axis into two C-shaped halves, labels 1 and 2.
-  const fs::path dir = test::freshDir("labels");
-  test::writeFile(dir / "spec.yaml", R"(seed: 3
-shape:
-  kind: torus
-  params: {major_radius: 12, minor_radius: 4}
-  rotation_deg: [20, 10, 0]
-  label_split: {normal: [1, 0, 0]}
-pattern: {kind: multiaxial, count: 10}
-image: {pixel_mm: 0.25}
-config: {reconstruction: {voxel_size_mm: 0.4}}
-)");
-  const auto r = test::runXsect("phantom " + (dir / "spec.yaml").string() + " --out " + (dir / "ph").string() + " --quiet");
-  ASSERT_EQ(r.code, 0) << r.err;
-  const YAML::Node truth = YAML::LoadFile((dir / "ph/truth.yaml").string());
-  for (const std::string method : {"nearest_plane", "section_voronoi"}) {
-    SCOPED_TRACE(method);
-    const std::string m = " --set reconstruction.method=" + method;
-    const json labels = runReport(dir / "ph/config.yaml", dir / ("l-" + method), m);
-    const json merged = runReport(dir / "ph/config.yaml", dir / ("u-" + method),
-                                  m + " --set segmentation.merge_labels=true");
-    EXPECT_EQ(labels["betti"], json(truth["betti"].as<std::vector<int>>()));
-    ASSERT_EQ(labels["materials"].size(), 2u);
-    for (const json& mat : labels["materials"]) {
-      const int L = mat["label"];
-      EXPECT_EQ(mat["betti"], json(truth["labels"][L]["betti"].as<std::vector<int>>())) << "label " << L;
-      EXPECT_TRUE(mat["watertight"].get<bool>());
-      EXPECT_TRUE(fs::exists(dir / ("l-" + method) / ("mesh_label_" + std::to_string(L) + ".ply")));
-    }
-    EXPECT_TRUE(merged["materials"].empty());
-    // One label per voxel (disjoint by the format), the union of the labels equal to the
-    // one-material solid voxel by voxel.
-    const LabelVolume a = readLabelVolumeNrrd((dir / ("l-" + method) / "labels.nrrd").string());
-    const LabelVolume b = readLabelVolumeNrrd((dir / ("u-" + method) / "labels.nrrd").string());
-    ASSERT_EQ(a.labels.size(), b.labels.size());
-    ASSERT_EQ(a.grid.dims, b.grid.dims);
-    std::int64_t n1 = 0, n2 = 0, differ = 0;
-    for (std::size_t q = 0; q < a.labels.size(); ++q) {
-      n1 += a.labels[q] == 1;
-      n2 += a.labels[q] == 2;
-      EXPECT_LE(a.labels[q], 2);
-      EXPECT_LE(b.labels[q], 1);
-      differ += (a.labels[q] != 0) != (b.labels[q] != 0);
-    }
-    EXPECT_EQ(differ, 0);
-    EXPECT_EQ(n1, labels["materials"][0]["voxels"].get<std::int64_t>());
-    EXPECT_EQ(n2, labels["materials"][1]["voxels"].get<std::int64_t>());
-    EXPECT_NEAR(double(n1) / double(n2), 1.0, 0.05);  // two halves of the same torus
+TEST(AcceptanceMethod2, Multiaxial) {
+  for (const auto& sh : shapes()) {
+    Case c{sh.name + " multiaxial, method 2", sh.yaml,
+           "{kind: multiaxial, count: " + std::to_string(sh.multiaxial) + "}", 0.3};
+    c.method = "section_voronoi";
+    runCase(c);
   }
-  fs::remove_all(dir);
+}
+
+TEST(AcceptanceMethod2, RandomPlanes) {
+  Case c{"torus random, method 2", shapes()[1].yaml, "{kind: random, count: 140}", 0.3};
+  c.method = "section_voronoi";
+  runCase(c);
 }

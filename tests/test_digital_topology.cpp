@@ -141,3 +141,12 @@ TEST(DigitalTopology, WellComposedOnBlocksEqualsTheFullScanOnDenseBytes) {
   }
   EXPECT_GT(added, 100);  // the noise made critical configurations to remove
 }
+
+TEST(DigitalTopology, ImposeSolidForcesTheSignToTheSet) {
+  ScalarField f;
+  f.grid.dims = {3, 1, 1};
+  f.values = {-1.0f, 2.0f, 0.0f};
+  const std::vector<std::uint8_t> in{0, 1, 1};
+  EXPECT_EQ(imposeSolid(f, in, 0.1f), 3);
+  EXPECT_EQ(f.values, (std::vector<float>{0.1f, -0.1f, -0.1f}));
+}

@@ -68,7 +68,7 @@ std::string failingField(const fs::path& dir, const std::string& bytes) {
 
 }  // namespace
 
-TEST(LabelVolume, RoundTripIsExact) {
+TEST(LabelVolumeFile, RoundTripIsExact) {
   const fs::path dir = test::freshDir("labelvol");
   const GridSpec g = testGrid();
   const auto labels = testLabels(g);
@@ -81,7 +81,7 @@ TEST(LabelVolume, RoundTripIsExact) {
   fs::remove_all(dir);
 }
 
-TEST(LabelVolume, HeaderCarriesTheGridInLpsAndTheSegments) {
+TEST(LabelVolumeFile, HeaderCarriesTheGridInLpsAndTheSegments) {
   const fs::path dir = test::freshDir("labelvol");
   const GridSpec g = testGrid();
   std::vector<std::uint16_t> labels(std::size_t(g.count()), 0);
@@ -107,7 +107,7 @@ TEST(LabelVolume, HeaderCarriesTheGridInLpsAndTheSegments) {
   fs::remove_all(dir);
 }
 
-TEST(LabelVolume, BytesAreReproducible) {
+TEST(LabelVolumeFile, BytesAreReproducible) {
   const fs::path dir = test::freshDir("labelvol");
   const GridSpec g = testGrid();
   const auto labels = testLabels(g);
@@ -127,7 +127,7 @@ TEST(LabelVolume, BytesAreReproducible) {
   fs::remove_all(dir);
 }
 
-TEST(LabelVolume, WriterRejectsLabelsThatDoNotFitTheGrid) {
+TEST(LabelVolumeFile, WriterRejectsLabelsThatDoNotFitTheGrid) {
   const GridSpec g = testGrid();
   std::vector<std::uint16_t> labels(std::size_t(g.count()) - 1, 0);
   EXPECT_THROW(writeLabelVolumeNrrd("/nonexistent/x.nrrd", g, labels), std::invalid_argument);
@@ -136,7 +136,7 @@ TEST(LabelVolume, WriterRejectsLabelsThatDoNotFitTheGrid) {
   EXPECT_THROW(writeLabelVolumeNrrd("/nonexistent/x.nrrd", flat, testLabels(g)), std::invalid_argument);
 }
 
-TEST(LabelVolume, ReadsRawBigEndianFiles) {
+TEST(LabelVolumeFile, ReadsRawBigEndianFiles) {
   const fs::path dir = test::freshDir("labelvol");
   std::string f =
       "NRRD0005\n# hand written\ntype: uint16\ndimension: 3\nspace: LPS\nsizes: 2 1 1\n"
@@ -153,7 +153,7 @@ TEST(LabelVolume, ReadsRawBigEndianFiles) {
   fs::remove_all(dir);
 }
 
-TEST(LabelVolume, MalformedFilesNameTheField) {
+TEST(LabelVolumeFile, MalformedFilesNameTheField) {
   const fs::path dir = test::freshDir("labelvol");
   const GridSpec g = testGrid();
   writeLabelVolumeNrrd((dir / "good.nrrd").string(), g, testLabels(g));
