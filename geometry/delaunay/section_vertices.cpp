@@ -105,54 +105,27 @@ void mergeTracePairs(SectionVertices& sv, double tolerance) {
     for (int& id : r.points) id = alias[std::size_t(id)];
 }
 
-}  // namespace
+/// Section-vertices added one by one, each merged with an earlier one that coincides up to
+/// rounding: a contour vertex on another plane's trace (which enforced conformity makes a vertex of
+/// both planes' polygons), a trace point at a corner of three planes. Measured on the jittered torus
+/// with enforced conformity: 37624 pairs of section-vertices 1e-15 to 7e-13 mm apart (sample
+/// spacing 1 mm), whose slivers left 268 contour edges that no conformity round made Delaunay and
+/// the glued boundary open (89 edges). The merge distance is a ten-millionth of the sample
+/// spacing: far below every distance the method makes (the branching points' jitter is a tenth
+/// of it; eight conformity rounds halve an edge to 1/256 of it). Of the points within it
+/// (near_points.h), the nearest (then the first) takes the new one.
+class VertexMerger {
+ public:
+  VertexMerger(SectionVertices& sv, double merge, std::size_t expected) : sv_(sv), merge_(merge), near_(merge, expected) {}
+  double distance() const { return merge_; }
 
-Vec2 planeCoordinates(const SectionVertices& sv, const std::vector<CuttingPlane>& planes, int id, int plane) {
-  return planes[std::size_t(plane)].plane.toPlane(sv.points[std::size_t(id)].x);
-}
-
-std::vector<int> edgeCells(const SectionVertices& sv, int a, int b, int plane) {
-  const SectionVertex& A = sv.points[std::size_t(a)];
-  const SectionVertex& B = sv.points[std::size_t(b)];
-  const int ia = A.slot(plane), ib = B.slot(plane);
-  std::vector<int> out;
-  for (int side : {-1, 1}) {
-    for (const PointCell& ca : A.cells) {
-      if (ca.side[std::size_t(ia)] != side) continue;
-      bool found = false;
-      for (const PointCell& cb : B.cells)
-        if (cb.cell == ca.cell && cb.side[std::size_t(ib)] == side) found = true;
-      if (found) {
-        out.push_back(ca.cell);
-        break;
-      }
-    }
-  }
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
-  return out;
-}
-
-SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const SectionArrangement& arr,
-                                const std::vector<BranchingPoint>& branching) {
-  SectionVertices sv;
-  sv.cells = arr.cells;
-  // Merge points that coincide up to rounding: a contour vertex on another plane's trace (which
-  // enforced conformity makes a vertex of both planes' polygons), a trace point at a corner of
-  // three planes. Measured on the jittered torus with enforced conformity: 37624 pairs of
-  // section-vertices 1e-15 to 7e-13 mm apart (sample spacing 1 mm), whose slivers left 268
-  // contour edges that no conformity round made Delaunay and the glued boundary open (89 edges).
-  // A ten-millionth of the sample spacing: far below every distance the method makes (the
-  // branching points' jitter is a tenth of it; eight conformity rounds halve an edge to 1/256 of
-  // it). Of the points within it (near_points.h), the nearest (then the first) takes the new one.
-  const double merge = 1e-7 * arr.sample_spacing_mm;
-  NearPoints near(merge, arr.points.size());
-  const auto planeCount = [](const std::array<int, 3>& q) { return int(q[0] >= 0) + int(q[1] >= 0) + int(q[2] >= 0); };
-  const auto idOf = [&](const Vec3& x, SectionVertex v) {
+  /// The id of the point at x: an earlier one within the merge distance (taking v's planes and
+  /// cells), else v itself, added.
+  int add(const Vec3& x, SectionVertex v) {
     int found = -1;
-    double best = merge;
-    near.forEachCandidate(x, [&](int id) {
-      const double d = (sv.points[std::size_t(id)].x - x).norm();
+    double best = merge_;
+    near_.forEachCandidate(x, [&](int id) {
+      const double d = (sv_.points[std::size_t(id)].x - x).norm();
       if (d < best || (d == best && found >= 0 && id < found)) {
         best = d;
         found = id;
@@ -162,7 +135,7 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
       // One point: it lies on the planes of both, in the cells of both, with the sides of each
       // cell re-read in the merged order, at the position of the one on more planes (a corner's
       // is solved on all three; a trace point is projected onto both planes below).
-      SectionVertex& old = sv.points[std::size_t(found)];
+      SectionVertex& old = sv_.points[std::size_t(found)];
       std::array<int, 3> planesOf = old.planes;
       if (planeCount(v.planes) > planeCount(old.planes)) old.x = x;
       for (const int p : v.planes)
@@ -198,11 +171,23 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
     }
     v.x = x;
     sortCells(v);
-    sv.points.push_back(std::move(v));
-    near.add(int(sv.points.size()) - 1, x);
-    return int(sv.points.size()) - 1;
-  };
-  // Rings: the arrangement's contour points grouped by (plane, section, ring), sorted by `along`.
+    sv_.points.push_back(std::move(v));
+    near_.add(int(sv_.points.size()) - 1, x);
+    return int(sv_.points.size()) - 1;
+  }
+
+ private:
+  static int planeCount(const std::array<int, 3>& q) { return int(q[0] >= 0) + int(q[1] >= 0) + int(q[2] >= 0); }
+
+  SectionVertices& sv_;
+  double merge_;
+  NearPoints near_;
+};
+
+/// The rings: the arrangement's contour points grouped by (plane, section, ring), sorted along the
+/// ring, each a section-vertex; rings sampled too coarsely as below.
+void addRings(const std::vector<CuttingPlane>& planes, const SectionArrangement& arr, VertexMerger& merger,
+              SectionVertices& sv) {
   std::map<std::tuple<int, int, int>, std::vector<std::pair<double, std::size_t>>> byRing;
   for (std::size_t q = 0; q < arr.points.size(); ++q) {
     const SectionPoint& sp = arr.points[q];
@@ -224,7 +209,7 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
     std::vector<Vec3> apart;
     for (const auto& [along, q] : list) {
       const Vec3 x = cp.plane.toWorld(arr.points[q].p);
-      if (std::all_of(apart.begin(), apart.end(), [&](const Vec3& y) { return (x - y).norm() >= merge; })) apart.push_back(x);
+      if (std::all_of(apart.begin(), apart.end(), [&](const Vec3& y) { return (x - y).norm() >= merger.distance(); })) apart.push_back(x);
       if (apart.size() == 3) break;
     }
     if (apart.size() < 3) {
@@ -246,7 +231,7 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
           v.section = s;
           v.kind = SectionVertex::contour;
           for (int side = 0; side < 2; ++side) addCell(v, first.cell[std::size_t(side)], side == 0 ? -1 : 1, 0);
-          const int id = idOf(cp.plane.toWorld(orig[k * orig.size() / n]), v);
+          const int id = merger.add(cp.plane.toWorld(orig[k * orig.size() / n]), v);
           if (ring.points.empty() || ring.points.back() != id) ring.points.push_back(id);
         }
       }
@@ -267,21 +252,25 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
             addCell(v, sp.cell[std::size_t(side)], side == 0 ? -1 : 1, 0);
           }
         }
-        const int id = idOf(cp.plane.toWorld(sp.p), v);
+        const int id = merger.add(cp.plane.toWorld(sp.p), v);
         if (ring.points.empty() || (ring.points.back() != id && ring.points.front() != id)) ring.points.push_back(id);
       }
     }
     if (ring.points.size() >= 3) sv.rings.push_back(std::move(ring));
   }
-  // Corners: three planes meeting inside a section of one of them. Found per section in parallel
-  // (a pure search: about k² plane pairs per section for k planes), then added in order.
-  struct CornerAt {
-    int a, b;  ///< the two other planes
-    Vec3 x;
-  };
-  std::vector<std::pair<int, int>> holders;  // (plane, section)
-  for (std::size_t i = 0; i < planes.size(); ++i)
-    for (std::size_t s = 0; s < planes[i].sections.size(); ++s) holders.push_back({int(i), int(s)});
+}
+
+/// A corner: three planes meeting inside a section of one of them (`holder` of holders, the other
+/// two planes a and b), at x.
+struct CornerAt {
+  int a, b;  ///< the two other planes
+  Vec3 x;
+};
+
+/// The corners inside each section (plane, section) of `holders`, per holder.
+std::vector<std::vector<CornerAt>> cornersInSections(const std::vector<CuttingPlane>& planes,
+                                                     const std::vector<std::pair<int, int>>& holders) {
+  // Per section in parallel: a pure search, about k² plane pairs per section for k planes.
   std::vector<std::vector<CornerAt>> found(holders.size());
   tbb::parallel_for(std::size_t(0), holders.size(), [&](std::size_t h) {
     const std::size_t i = std::size_t(holders[h].first);
@@ -339,6 +328,17 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
         found[h].push_back({crossing[a], crossing[b], x});
       }
   });
+  return found;
+}
+
+/// The corners (three planes meeting inside a section of one of them), found per section in
+/// parallel, then added in order.
+void addCorners(const std::vector<CuttingPlane>& planes, const SectionArrangement& arr, VertexMerger& merger,
+                SectionVertices& sv) {
+  std::vector<std::pair<int, int>> holders;  // (plane, section)
+  for (std::size_t i = 0; i < planes.size(); ++i)
+    for (std::size_t s = 0; s < planes[i].sections.size(); ++s) holders.push_back({int(i), int(s)});
+  const std::vector<std::vector<CornerAt>> found = cornersInSections(planes, holders);
   // Each corner once, where it was found first (inside sections of all three planes it is found
   // three times: random-800's 1 578 718 finds are 526 390 corners); the cells around each in
   // parallel (exact signs against every plane); then numbered and merged in order.
@@ -383,14 +383,16 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
     v.kind = SectionVertex::corner;
     for (std::size_t m = 0; m < cells.size(); ++m)
       addCell(v, cells[m], (m & 1) ? 1 : -1, (m & 2) ? 1 : -1, (m & 4) ? 1 : -1);
-    idOf(c.x, v);  // never without cells: every one around is numbered
+    merger.add(c.x, v);  // never without cells: every one around is numbered
     around[f] = CellsAround{};
   }
   sv.cells += int(unseen.size());
-  mergeTracePairs(sv, arr.sample_spacing_mm);
-  // Trace points onto both their planes (after the merges, which key on the computed positions).
-  for (SectionVertex& v : sv.points)
-    if (v.kind == SectionVertex::trace && !v.cells.empty()) v.x = ontoPlanes(v.x, planes, v.planes);
+}
+
+/// The branching points (thesis ch. 3), each moved off the lattice's ties, or dropped on a trace
+/// (below); their sides of their plane unknown yet (readBranchingSides).
+void addBranchingPoints(const std::vector<CuttingPlane>& planes, const SectionArrangement& arr,
+                        const std::vector<BranchingPoint>& branching, VertexMerger& merger) {
   // Branching points come on a square lattice: four of them are often cocircular, and the
   // Delaunay structure of such ties on a plane whose points are coplanar only up to rounding
   // differs between the cells. Each is moved by a fixed pseudo-random offset of at most a tenth of
@@ -444,9 +446,13 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
     // bounding that cell; a branching point in a cell no contour point of its plane bounds is
     // dropped.
     v.cells.push_back({b.cell, {0, 0}});
-    idOf(at, v);
+    merger.add(at, v);
   }
-  // Sides of branching points.
+}
+
+/// A branching point's side of its plane in each of its cells, as the other points bounding the
+/// cell on that plane give it; cells without one are dropped.
+void readBranchingSides(SectionVertices& sv) {
   const auto planeCell = [](int plane, int cell) {
     return std::uint64_t(std::uint32_t(plane)) << 32 | std::uint32_t(cell);
   };
@@ -490,10 +496,13 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
     }
     v.cells = std::move(known);
   });
-  resampleSections(sv, planes);
-  // Branching points must lie inside the sampled section, away from its contour: one between a
-  // chord and the true contour would make its triangles external, one next to a contour vertex
-  // a sliver.
+}
+
+/// Branching points must lie inside the sampled section, away from its contour: one between a
+/// chord and the true contour would make its triangles external, one next to a contour vertex
+/// a sliver. The others lose their cells.
+void keepBranchingInsideSampledSections(const std::vector<CuttingPlane>& planes, const SectionArrangement& arr,
+                                        SectionVertices& sv) {
   const double margin = 0.5 * arr.sample_spacing_mm;
   // (The section holding the point is bounded by the nearest contour: another section's contour
   // lies beyond its own. Located, not scanned: 0.25 s of multiaxial-3x40's 0.4 s here.)
@@ -507,6 +516,51 @@ SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const S
     const Vec2 q = planes[std::size_t(v.planes[0])].plane.toPlane(v.x);
     if (!(L.holding(q) >= 0 && L.nearestContour(q).d > margin)) v.cells.clear();
   });
+}
+
+}  // namespace
+
+Vec2 planeCoordinates(const SectionVertices& sv, const std::vector<CuttingPlane>& planes, int id, int plane) {
+  return planes[std::size_t(plane)].plane.toPlane(sv.points[std::size_t(id)].x);
+}
+
+std::vector<int> edgeCells(const SectionVertices& sv, int a, int b, int plane) {
+  const SectionVertex& A = sv.points[std::size_t(a)];
+  const SectionVertex& B = sv.points[std::size_t(b)];
+  const int ia = A.slot(plane), ib = B.slot(plane);
+  std::vector<int> out;
+  for (int side : {-1, 1}) {
+    for (const PointCell& ca : A.cells) {
+      if (ca.side[std::size_t(ia)] != side) continue;
+      bool found = false;
+      for (const PointCell& cb : B.cells)
+        if (cb.cell == ca.cell && cb.side[std::size_t(ib)] == side) found = true;
+      if (found) {
+        out.push_back(ca.cell);
+        break;
+      }
+    }
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+SectionVertices sectionVertices(const std::vector<CuttingPlane>& planes, const SectionArrangement& arr,
+                                const std::vector<BranchingPoint>& branching) {
+  SectionVertices sv;
+  sv.cells = arr.cells;
+  VertexMerger merger(sv, 1e-7 * arr.sample_spacing_mm, arr.points.size());
+  addRings(planes, arr, merger, sv);
+  addCorners(planes, arr, merger, sv);
+  mergeTracePairs(sv, arr.sample_spacing_mm);
+  // Trace points onto both their planes (after the merges, which key on the computed positions).
+  for (SectionVertex& v : sv.points)
+    if (v.kind == SectionVertex::trace && !v.cells.empty()) v.x = ontoPlanes(v.x, planes, v.planes);
+  addBranchingPoints(planes, arr, branching, merger);
+  readBranchingSides(sv);
+  resampleSections(sv, planes);
+  keepBranchingInsideSampledSections(planes, arr, sv);
   return sv;
 }
 
