@@ -147,31 +147,48 @@ struct BlockSolid {
   }
 };
 
-template <typename Solid>
-CellConnectivityCheck compareCells(const std::vector<GraphEdge>& edges, const SectionScene& scene,
-                                   const SectionArrangement& arr, const Solid& inside, const GridSpec& grid,
-                                   const std::vector<int>& only_cells, double seed_mm) {
-  const std::vector<CuttingPlane>& planes = scene.planes;
-  const std::vector<SectionDistanceField>& fields = scene.fields;
-  const std::size_t P = planes.size();
-  const auto wanted = [&](int cell) {
+/// What the steps of compareCells read: the scene's planes and rasters, the arrangement, the grid,
+/// the cells asked for, the seeds' depth `hs` and the sample points' reach.
+struct CellCheck {
+  const std::vector<CuttingPlane>& planes;
+  const std::vector<SectionDistanceField>& fields;
+  const SectionArrangement& arr;
+  const GridSpec& grid;
+  const std::vector<int>& only_cells;
+  double h = 0, hs = 0, reach = 0;
+  SectionIds ids;
+
+  bool wanted(int cell) const {
     return cell >= 0 && (only_cells.empty() || std::binary_search(only_cells.begin(), only_cells.end(), cell));
-  };
-  const double h = grid.voxel;
-  const double hs = seed_mm > 0 ? seed_mm : h;  // seeds: how deep, and how far off the section
-  const SectionIds ids = scene.ids();
-  const auto signOf = [&](std::size_t j, const Vec3& x) -> std::int8_t {
+  }
+  std::int8_t signOf(std::size_t j, const Vec3& x) const {
     const double s = planes[j].plane.signedDistance(x);
     return s > 0 ? 1 : (s < 0 ? -1 : 0);
-  };
-  // Around the sample points: the planes within `reach` of them (a seed's voxel centre lies at
-  // most hs + √3/2 h from its point), and every plane's side (PlaneBlocks).
-  const double reach = hs + h;
-  PlaneBlocks around(planes, grid, reach, true);
-  for (const SectionPoint& sp : arr.points)
-    if (sp.kind == SectionPoint::sample && (wanted(sp.cell[0]) || wanted(sp.cell[1])))
-      around.want(planes[std::size_t(sp.plane)].plane.toWorld(sp.p));
-  around.prepare();
+  }
+};
+
+/// Per sub-section (plane, section, cell): its deepest sample point, and every sample point at
+/// least a seed's depth deep (seeds all over it: a sub-section may touch several components).
+struct SubSectionPoints {
+  float depth = 0;
+  const SectionPoint* deepest = nullptr;
+  std::vector<const SectionPoint*> deep;
+};
+struct SubSectionHash {
+  std::size_t operator()(const std::array<int, 3>& a) const {
+    std::uint64_t k = 0x9e3779b97f4a7c15ULL;
+    for (const int v : a) k = (k ^ std::uint64_t(std::uint32_t(v))) * 0xff51afd7ed558ccdULL;
+    return std::size_t(k ^ (k >> 29));
+  }
+};
+using PointsBySubSection = std::unordered_map<std::array<int, 3>, SubSectionPoints, SubSectionHash>;
+
+PointsBySubSection subSectionPoints(const CellCheck& cc, const PlaneBlocks& around) {
+  const std::vector<CuttingPlane>& planes = cc.planes;
+  const std::vector<SectionDistanceField>& fields = cc.fields;
+  const std::size_t P = planes.size();
+  const double hs = cc.hs, reach = cc.reach;
+  const auto wanted = [&](int cell) { return cc.wanted(cell); };
   /// Depth of a section point in its sub-section: into the section and away from the other
   /// planes (whose traces bound the sub-section); negative inside, mm. Where the point's block is
   /// prepared, only its listed planes are read and values below -reach are returned as -reach (a
@@ -191,22 +208,8 @@ CellConnectivityCheck compareCells(const std::vector<GraphEdge>& edges, const Se
     return f;
   };
 
-  // Per sub-section (plane, section, cell): its deepest sample point, and every sample point at
-  // least a voxel deep (seeds all over it: a sub-section may touch several components).
-  struct Points {
-    float depth = 0;
-    const SectionPoint* deepest = nullptr;
-    std::vector<const SectionPoint*> deep;
-  };
-  struct KeyHash {
-    std::size_t operator()(const std::array<int, 3>& a) const {
-      std::uint64_t k = 0x9e3779b97f4a7c15ULL;
-      for (const int v : a) k = (k ^ std::uint64_t(std::uint32_t(v))) * 0xff51afd7ed558ccdULL;
-      return std::size_t(k ^ (k >> 29));
-    }
-  };
-  std::unordered_map<std::array<int, 3>, Points, KeyHash> points;
-  for (const SectionPoint& sp : arr.points) {
+  PointsBySubSection points;
+  for (const SectionPoint& sp : cc.arr.points) {
     if (sp.kind != SectionPoint::sample || std::size_t(sp.plane) >= fields.size()) continue;
     if (!wanted(sp.cell[0]) && !wanted(sp.cell[1])) continue;
     const float contour = fields[std::size_t(sp.plane)].sample(sp.p.x(), sp.p.y());
@@ -220,12 +223,29 @@ CellConnectivityCheck compareCells(const std::vector<GraphEdge>& edges, const Se
     const float f = depthOf(sp, contour);
     for (const int cell : sp.cell) {
       if (!wanted(cell)) continue;
-      Points& p = points[{sp.plane, sp.section, cell}];
+      SubSectionPoints& p = points[{sp.plane, sp.section, cell}];
       if (!p.deepest || f < p.depth) p.depth = f, p.deepest = &sp;
       if (f <= -hs) p.deep.push_back(&sp);
     }
   }
 
+  return points;
+}
+
+/// Per cell: the sections bounding it, its sign vector against every plane, and a seed voxel of
+/// the solid beside each of its sub-sections' deep points (or deepest); unresolved where a
+/// sub-section has no sample point, a point lies on a trace, or the solid misses the section.
+template <typename Solid>
+std::vector<CellWork> seedCells(const CellCheck& cc, const PlaneBlocks& around, const PointsBySubSection& points,
+                                const Solid& inside) {
+  const std::vector<CuttingPlane>& planes = cc.planes;
+  const std::size_t P = planes.size();
+  const GridSpec& grid = cc.grid;
+  const double h = cc.h, hs = cc.hs;
+  const SectionArrangement& arr = cc.arr;
+  const SectionIds& ids = cc.ids;
+  const auto wanted = [&](int cell) { return cc.wanted(cell); };
+  const auto signOf = [&](std::size_t j, const Vec3& x) { return cc.signOf(j, x); };
   std::vector<CellWork> cells(std::size_t(std::max(arr.cells, 0)));
   std::vector<std::int8_t> signs(P);
   for (const SubSection& ss : arr.sub_sections) {
@@ -299,6 +319,126 @@ CellConnectivityCheck compareCells(const std::vector<GraphEdge>& edges, const Se
     }
   }
 
+  return cells;
+}
+
+/// The outcome of one cell's comparison: whether it was compared, and the pairs of its sections
+/// joined by the graph only and by the solid only.
+struct CellResult {
+  bool compared = false;
+  int graphOnly = 0, voxelsOnly = 0;
+};
+
+/// Components of the solid inside cell c (6-connected), from its seeds, written into `component`
+/// (a fill only enters voxels of its own cell: a neighbour one voxel away can be on the other side
+/// only of the planes within a voxel of the current centre, with a margin for rounding, and those
+/// are tested exactly, so no two cells touch the same label); then the classes of the cell's
+/// sections, the solid's (sections touching one component together) against the graph's (its
+/// edges in the cell).
+template <typename Solid>
+CellResult compareCell(const CellCheck& cc, CellWork& c, const std::vector<const GraphEdge*>& cellEdges,
+                       const Solid& inside, const PlaneBlocks& stepping, double step, BlockGrid<int>& component) {
+  const std::vector<CuttingPlane>& planes = cc.planes;
+  const GridSpec& grid = cc.grid;
+  const SectionIds& ids = cc.ids;
+  const auto signOf = [&](std::size_t j, const Vec3& x) { return cc.signOf(j, x); };
+  std::sort(c.nodes.begin(), c.nodes.end());
+  c.nodes.erase(std::unique(c.nodes.begin(), c.nodes.end()), c.nodes.end());
+  if (c.nodes.size() < 2 || c.unresolved || c.signs.empty()) return {};
+  std::vector<std::int64_t> queue;
+  std::vector<std::size_t> near;
+  for (std::size_t s = 0; s < c.seeds.size(); ++s) {
+    const std::int64_t start = c.seeds[s].voxel;
+    const auto voxelOf = [&](std::int64_t v) {
+      return std::array<int, 3>{int(v % grid.dims[0]), int((v / grid.dims[0]) % grid.dims[1]),
+                                int(v / (std::int64_t(grid.dims[0]) * grid.dims[1]))};
+    };
+    const auto sv = voxelOf(start);
+    if (component.at(sv[0], sv[1], sv[2]) >= 0) continue;
+    component.set(sv[0], sv[1], sv[2], int(s));
+    queue.assign(1, start);
+    while (!queue.empty()) {
+      const std::int64_t v = queue.back();
+      queue.pop_back();
+      const int i = int(v % grid.dims[0]), j = int((v / grid.dims[0]) % grid.dims[1]),
+                k = int(v / (std::int64_t(grid.dims[0]) * grid.dims[1]));
+      const Vec3 x = grid.centre(i, j, k);
+      near.clear();
+      for (const std::size_t p : stepping.near(stepping.slotOfVoxel(i, j, k)))
+        if (std::abs(planes[p].plane.signedDistance(x)) <= step) near.push_back(p);
+      const std::array<std::array<int, 3>, 6> steps{{{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}}};
+      for (const auto& d : steps) {
+        const int a = i + d[0], b = j + d[1], e = k + d[2];
+        if (a < 0 || b < 0 || e < 0 || a >= grid.dims[0] || b >= grid.dims[1] || e >= grid.dims[2]) continue;
+        if (!inside.at(a, b, e)) continue;
+        const Vec3 y = grid.centre(a, b, e);
+        bool same = true;
+        for (const std::size_t p : near) same = same && signOf(p, y) == c.signs[p];
+        if (!same || component.at(a, b, e) >= 0) continue;
+        component.set(a, b, e, int(s));
+        queue.push_back(grid.index(a, b, e));
+      }
+    }
+  }
+  // The classes of the cell's sections (by their place in c.nodes, sorted and unique): the
+  // solid's, sections touching one component together; the graph's, from its edges in the cell.
+  const auto place = [&](int node) {
+    return std::size_t(std::lower_bound(c.nodes.begin(), c.nodes.end(), node) - c.nodes.begin());
+  };
+  DisjointSets solid(c.nodes.size());
+  std::map<int, int> ownerOf;  // component -> a section touching it
+  for (const Seed& s : c.seeds) {
+    const std::int64_t v = s.voxel;
+    const int cv = component.at(int(v % grid.dims[0]), int((v / grid.dims[0]) % grid.dims[1]),
+                                int(v / (std::int64_t(grid.dims[0]) * grid.dims[1])));
+    const auto [it, fresh] = ownerOf.try_emplace(cv, s.node);
+    if (!fresh) solid.unite(place(s.node), place(it->second));
+  }
+  // With observed pieces a lift can enter the cell through an unobserved part of a face: a
+  // section beyond the cell then joins two of its sections inside it (edges of the cell with an
+  // end off the cell's faces), as its region joins their components.
+  std::vector<int> foreign;
+  for (const GraphEdge* e : cellEdges)
+    for (const int s : {ids.of(e->plane_a, e->section_a), ids.of(e->plane_b, e->section_b)})
+      if (!std::binary_search(c.nodes.begin(), c.nodes.end(), s)) foreign.push_back(s);
+  std::sort(foreign.begin(), foreign.end());
+  foreign.erase(std::unique(foreign.begin(), foreign.end()), foreign.end());
+  DisjointSets graph(c.nodes.size() + foreign.size());
+  const auto anyPlace = [&](int s) {
+    const auto it = std::lower_bound(c.nodes.begin(), c.nodes.end(), s);
+    if (it != c.nodes.end() && *it == s) return std::size_t(it - c.nodes.begin());
+    return c.nodes.size() + std::size_t(std::lower_bound(foreign.begin(), foreign.end(), s) - foreign.begin());
+  };
+  for (const GraphEdge* e : cellEdges)
+    graph.unite(anyPlace(ids.of(e->plane_a, e->section_a)), anyPlace(ids.of(e->plane_b, e->section_b)));
+  CellResult r;
+  r.compared = true;
+  for (std::size_t x = 0; x < c.nodes.size(); ++x)
+    for (std::size_t y = x + 1; y < c.nodes.size(); ++y) {
+      const bool g = graph.find(x) == graph.find(y);
+      const bool v = solid.find(x) == solid.find(y);
+      r.graphOnly += g && !v;
+      r.voxelsOnly += v && !g;
+    }
+  return r;
+}
+
+template <typename Solid>
+CellConnectivityCheck compareCells(const std::vector<GraphEdge>& edges, const SectionScene& scene,
+                                   const SectionArrangement& arr, const Solid& inside, const GridSpec& grid,
+                                   const std::vector<int>& only_cells, double seed_mm) {
+  const double h = grid.voxel;
+  const double hs = seed_mm > 0 ? seed_mm : h;  // seeds: how deep, and how far off the section
+  // Around the sample points: the planes within `reach` of them (a seed's voxel centre lies at
+  // most hs + √3/2 h from its point), and every plane's side (PlaneBlocks).
+  const CellCheck cc{scene.planes, scene.fields, arr, grid, only_cells, h, hs, hs + h, scene.ids()};
+  PlaneBlocks around(cc.planes, grid, cc.reach, true);
+  for (const SectionPoint& sp : arr.points)
+    if (sp.kind == SectionPoint::sample && (cc.wanted(sp.cell[0]) || cc.wanted(sp.cell[1])))
+      around.want(cc.planes[std::size_t(sp.plane)].plane.toWorld(sp.p));
+  around.prepare();
+  std::vector<CellWork> cells = seedCells(cc, around, subSectionPoints(cc, around), inside);
+
   // Components of the solid inside each cell (6-connected), from the seeds; parallel over cells.
   // A voxel belongs to one cell, and a fill only enters voxels of its own cell: a neighbour one
   // voxel away can be on the other side only of the planes within a voxel of the current centre
@@ -308,105 +448,23 @@ CellConnectivityCheck compareCells(const std::vector<GraphEdge>& edges, const Se
   // write them from several threads.
   BlockGrid<int> component(grid, -1);
   const double step = h * (1 + 1e-6) + 1e-9;  // a neighbour's centre is h away
-  PlaneBlocks stepping(planes, grid, step, false);
+  PlaneBlocks stepping(cc.planes, grid, step, false);
   inside.forEachIn([&](int i, int j, int k) {
     stepping.want(i, j, k);
     component.leafForWriting(component.block(i >> 3, j >> 3, k >> 3));
   });
   stepping.prepare();
-  struct Result {
-    bool compared = false;
-    int graphOnly = 0, voxelsOnly = 0;
-  };
-  std::vector<Result> results(cells.size());
+  std::vector<CellResult> results(cells.size());
   std::vector<std::vector<const GraphEdge*>> edgesOf(cells.size());
   for (const GraphEdge& e : edges)
     if (e.cell >= 0 && std::size_t(e.cell) < cells.size()) edgesOf[std::size_t(e.cell)].push_back(&e);
   tbb::parallel_for(std::size_t(0), cells.size(), [&](std::size_t ci) {
-    CellWork& c = cells[ci];
-    std::sort(c.nodes.begin(), c.nodes.end());
-    c.nodes.erase(std::unique(c.nodes.begin(), c.nodes.end()), c.nodes.end());
-    if (c.nodes.size() < 2 || c.unresolved || c.signs.empty()) return;
-    std::vector<std::int64_t> queue;
-    std::vector<std::size_t> near;
-    for (std::size_t s = 0; s < c.seeds.size(); ++s) {
-      const std::int64_t start = c.seeds[s].voxel;
-      const auto voxelOf = [&](std::int64_t v) {
-        return std::array<int, 3>{int(v % grid.dims[0]), int((v / grid.dims[0]) % grid.dims[1]),
-                                  int(v / (std::int64_t(grid.dims[0]) * grid.dims[1]))};
-      };
-      const auto sv = voxelOf(start);
-      if (component.at(sv[0], sv[1], sv[2]) >= 0) continue;
-      component.set(sv[0], sv[1], sv[2], int(s));
-      queue.assign(1, start);
-      while (!queue.empty()) {
-        const std::int64_t v = queue.back();
-        queue.pop_back();
-        const int i = int(v % grid.dims[0]), j = int((v / grid.dims[0]) % grid.dims[1]),
-                  k = int(v / (std::int64_t(grid.dims[0]) * grid.dims[1]));
-        const Vec3 x = grid.centre(i, j, k);
-        near.clear();
-        for (const std::size_t p : stepping.near(stepping.slotOfVoxel(i, j, k)))
-          if (std::abs(planes[p].plane.signedDistance(x)) <= step) near.push_back(p);
-        const std::array<std::array<int, 3>, 6> steps{{{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}}};
-        for (const auto& d : steps) {
-          const int a = i + d[0], b = j + d[1], e = k + d[2];
-          if (a < 0 || b < 0 || e < 0 || a >= grid.dims[0] || b >= grid.dims[1] || e >= grid.dims[2]) continue;
-          if (!inside.at(a, b, e)) continue;
-          const Vec3 y = grid.centre(a, b, e);
-          bool same = true;
-          for (const std::size_t p : near) same = same && signOf(p, y) == c.signs[p];
-          if (!same || component.at(a, b, e) >= 0) continue;
-          component.set(a, b, e, int(s));
-          queue.push_back(grid.index(a, b, e));
-        }
-      }
-    }
-    // The classes of the cell's sections (by their place in c.nodes, sorted and unique): the
-    // solid's, sections touching one component together; the graph's, from its edges in the cell.
-    const auto place = [&](int node) {
-      return std::size_t(std::lower_bound(c.nodes.begin(), c.nodes.end(), node) - c.nodes.begin());
-    };
-    DisjointSets solid(c.nodes.size());
-    std::map<int, int> ownerOf;  // component -> a section touching it
-    for (const Seed& s : c.seeds) {
-      const std::int64_t v = s.voxel;
-      const int cv = component.at(int(v % grid.dims[0]), int((v / grid.dims[0]) % grid.dims[1]),
-                                  int(v / (std::int64_t(grid.dims[0]) * grid.dims[1])));
-      const auto [it, fresh] = ownerOf.try_emplace(cv, s.node);
-      if (!fresh) solid.unite(place(s.node), place(it->second));
-    }
-    // With observed pieces a lift can enter the cell through an unobserved part of a face: a
-    // section beyond the cell then joins two of its sections inside it (edges of the cell with an
-    // end off the cell's faces), as its region joins their components.
-    std::vector<int> foreign;
-    for (const GraphEdge* e : edgesOf[ci])
-      for (const int s : {ids.of(e->plane_a, e->section_a), ids.of(e->plane_b, e->section_b)})
-        if (!std::binary_search(c.nodes.begin(), c.nodes.end(), s)) foreign.push_back(s);
-    std::sort(foreign.begin(), foreign.end());
-    foreign.erase(std::unique(foreign.begin(), foreign.end()), foreign.end());
-    DisjointSets graph(c.nodes.size() + foreign.size());
-    const auto anyPlace = [&](int s) {
-      const auto it = std::lower_bound(c.nodes.begin(), c.nodes.end(), s);
-      if (it != c.nodes.end() && *it == s) return std::size_t(it - c.nodes.begin());
-      return c.nodes.size() + std::size_t(std::lower_bound(foreign.begin(), foreign.end(), s) - foreign.begin());
-    };
-    for (const GraphEdge* e : edgesOf[ci])
-      graph.unite(anyPlace(ids.of(e->plane_a, e->section_a)), anyPlace(ids.of(e->plane_b, e->section_b)));
-    Result& r = results[ci];
-    r.compared = true;
-    for (std::size_t x = 0; x < c.nodes.size(); ++x)
-      for (std::size_t y = x + 1; y < c.nodes.size(); ++y) {
-        const bool g = graph.find(x) == graph.find(y);
-        const bool v = solid.find(x) == solid.find(y);
-        r.graphOnly += g && !v;
-        r.voxelsOnly += v && !g;
-      }
+    results[ci] = compareCell(cc, cells[ci], edgesOf[ci], inside, stepping, step, component);
   });
   CellConnectivityCheck out;
   out.pairs_by_cell.assign(cells.size(), -1);
   for (std::size_t ci = 0; ci < cells.size(); ++ci) {
-    const Result& r = results[ci];
+    const CellResult& r = results[ci];
     if (!r.compared) {
       out.cells_unresolved += cells[ci].nodes.size() >= 2;
       continue;

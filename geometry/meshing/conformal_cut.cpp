@@ -260,7 +260,6 @@ bool cutByPlane(std::size_t p, const CuttingPlane& cp, double eps, double reach,
         }
       }
     }
-  stats.planes_cut += crosses;
   return crosses;
 }
 
