@@ -370,36 +370,18 @@ bool worse(const CellSampling& a, const CellSampling& b, int ia, int ib) {
 
 }  // namespace
 
-SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
-                                   const std::vector<SectionDistanceField>& fields, const SectionArrangement& arrangement,
-                                   ReconstructionMethod method, const SamplingPrior& prior, const Vec3& lo,
-                                   const Vec3& hi, double voxel_mm, double tolerance_mm,
-                                   const SamplingParams& params, const std::vector<ObservedPiece>* pieces) {
-  SamplingDiagnosis out;
-  out.method = method;
-  out.prior = prior;
-  std::vector<Plane> ps;
-  ps.reserve(planes.size());
-  for (const CuttingPlane& p : planes) ps.push_back(p.plane);
-  const CellKeys keys(ps);
-  out.scan = scanCells(ps, keys, lo, hi, scanSpacing(lo, hi, voxel_mm, ps.size(), params.lattice_work));
+/// The arrangement's cells keyed (sign vectors) among the scanned ones: per arrangement cell, the
+/// diagnosis' cell (cellOfArrangement, -1: none) and the point that keyed it; cells only the
+/// arrangement meets are appended to out.cells (their height only bounded by ρ).
+struct ArrangementCells {
+  std::vector<int> cell_of_arrangement;
+  std::vector<KeyPoint> key_points;
+};
+
+ArrangementCells keyArrangementCells(const std::vector<CuttingPlane>& planes, const SectionArrangement& arrangement,
+                                     const CellKeys& keys, const Vec3& lo, const Vec3& hi,
+                                     std::unordered_map<std::uint64_t, int>& cellOfKey, SamplingDiagnosis& out) {
   const CellScan& scan = out.scan;
-
-  // Scanned cells keep their scan index; cells only the arrangement meets are appended.
-  std::unordered_map<std::uint64_t, int> cellOfKey = scan.index_of_key;
-  out.cells.reserve(scan.cells.size() + std::size_t(std::max(arrangement.cells, 0)));
-  for (std::size_t i = 0; i < scan.cells.size(); ++i) {
-    const ScannedCell& s = scan.cells[i];
-    CellSampling c;
-    c.key = s.key;
-    c.scanned = int(i);
-    c.height_lo_mm = s.max_distance_mm;
-    c.height_hi_mm = scan.heightBound(s);
-    c.centre = s.farthest;
-    c.end_cell = s.on_box;
-    out.cells.push_back(c);
-  }
-
   // The arrangement's cells (those bounded by a section): the key of a point of theirs that lies on
   // no other plane, on the cell's side of its own plane.
   const int nArr = arrangement.cells;
@@ -432,7 +414,9 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
   std::vector<std::uint64_t> arrKey(candidates.size(), 0);
   std::vector<Vec3> arrPoint(candidates.size(), Vec3::Zero());
   std::vector<char> arrFound(candidates.size(), 0);
-  std::vector<KeyPoint> keyPoints(candidates.size());
+  ArrangementCells result;
+  std::vector<KeyPoint>& keyPoints = result.key_points;
+  keyPoints.resize(candidates.size());
   const double tiny = 1e-9 * (hi - lo).norm();
   tbb::parallel_for(std::size_t(0), candidates.size(), [&](std::size_t cell) {
     for (const Candidate& cand : candidates[cell]) {
@@ -448,7 +432,8 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
       if (kp.generic) break;
     }
   });
-  std::vector<int> cellOfArrangement(candidates.size(), -1);
+  std::vector<int>& cellOfArrangement = result.cell_of_arrangement;
+  cellOfArrangement.assign(candidates.size(), -1);
   for (std::size_t cell = 0; cell < candidates.size(); ++cell) {
     if (!arrFound[cell]) {  // no point of it listed (not expected): nothing is shown
       ++out.unmatched_cells;
@@ -471,7 +456,14 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
     out.cells.push_back(c);
   }
 
-  // Angles and reach bounds where contours cross, given to the four cells around each crossing.
+  return result;
+}
+
+/// Angles and reach bounds where contours cross, given to the four cells around each crossing.
+void addCrossingBounds(const std::vector<CuttingPlane>& planes, const SectionArrangement& arrangement,
+                       const CellKeys& keys, const Vec3& lo, const Vec3& hi, double tolerance_mm,
+                       const SamplingParams& params, const std::unordered_map<std::uint64_t, int>& cellOfKey,
+                       SamplingDiagnosis& out) {
   out.crossings = contourCrossings(planes, arrangement, tolerance_mm, params.crossings);
   const double eps = 1e-7 * (hi - lo).norm();
   for (const ContourCrossing& x : out.crossings) {
@@ -498,7 +490,12 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
         c.transversal_bound_mm = std::min(c.transversal_bound_mm, transversal);
       }
   }
-  // α estimated from neighbouring near-parallel slices: reported with the cells, not used.
+}
+
+/// α estimated from neighbouring near-parallel slices: reported with the cells, not used.
+void addNeighbourAngles(const std::vector<CuttingPlane>& planes, const SectionArrangement& arrangement,
+                        double tolerance_mm, const SamplingParams& params, const std::vector<int>& cellOfArrangement,
+                        SamplingDiagnosis& out) {
   for (const NeighbourAngle& e : neighbourAngles(planes, arrangement, tolerance_mm, params.neighbour_angles)) {
     out.alpha_estimates_deg.push_back(e.alpha_deg);
     for (const int cell : arrangement.points[std::size_t(e.point)].cell) {
@@ -507,7 +504,13 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
       c.alpha_estimated_deg = std::isnan(c.alpha_estimated_deg) ? e.alpha_deg : std::max(c.alpha_estimated_deg, e.alpha_deg);
     }
   }
-  // Reach bounds at contour points, given to the cells on both sides of their plane.
+}
+
+/// Reach bounds at contour points, given to the cells on both sides of their plane.
+void addContourReachBounds(const std::vector<CuttingPlane>& planes, const std::vector<SectionDistanceField>& fields,
+                           const SectionArrangement& arrangement, const Vec3& lo, const Vec3& hi, double tolerance_mm,
+                           const SamplingParams& params, const std::vector<int>& cellOfArrangement,
+                           SamplingDiagnosis& out) {
   for (const ContourReachBound& b : contourReachBounds(planes, fields, arrangement, tolerance_mm, (hi - lo).norm(),
                                                        params.reach_bounds)) {
     if (!std::isfinite(b.interior_mm) && !std::isfinite(b.exterior_mm)) continue;
@@ -521,20 +524,15 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
       c.exterior_bound_mm = std::min(c.exterior_bound_mm, b.exterior_mm);
     }
   }
-  if ((prior.reach_interior_mm && *prior.reach_interior_mm > out.reach_interior_bound_mm) ||
-      (prior.reach_exterior_mm && *prior.reach_exterior_mm > out.reach_exterior_bound_mm))
-    out.prior_contradicted = true;
+}
 
-  if (pieces && pieces->size() == ps.size() &&
-      std::any_of(pieces->begin(), pieces->end(), [](const ObservedPiece& p) { return !p.whole; })) {
-    std::vector<std::uint64_t> unscanned;  // the cells only the arrangement meets
-    for (std::size_t i = scan.cells.size(); i < out.cells.size(); ++i) unscanned.push_back(out.cells[i].key);
-    joinObservedCells(out, observedCells(scan, ps, keys, *pieces, unscanned));
-  }
-  for (CellSampling& c : out.cells) evaluate(c, method, prior);
-
-  // Exact heights (Chebyshev balls) where the lattice's bounds straddle a critical value, then for
-  // the worst cells and the largest cell without sections, within the budget.
+/// Exact heights (Chebyshev balls) where the lattice's bounds straddle a critical value, then for
+/// the worst cells and the largest cell without sections, within the budget. Returns the largest
+/// cell without sections (-1: none).
+int solveExactHeights(const std::vector<Plane>& ps, const CellKeys& keys, const std::vector<KeyPoint>& keyPoints,
+                      const Vec3& lo, const Vec3& hi, ReconstructionMethod method, const SamplingPrior& prior,
+                      const SamplingParams& params, SamplingDiagnosis& out) {
+  const CellScan& scan = out.scan;
   std::vector<int> order(out.cells.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = int(i);
   const auto worseIndex = [&](int a, int b) {
@@ -586,16 +584,13 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
   });
   for (int i : exact) out.exact_cells += out.cells[std::size_t(i)].height_exact;
   for (int i : exact) evaluate(out.cells[std::size_t(i)], method, prior);
-  if (method == ReconstructionMethod::section_voronoi) {
-    boundSectionHeights(out, ps, keys, planes, arrangement, keyPoints, lo, hi, params);
-    for (CellSampling& c : out.cells) evaluate(c, method, prior);
-  } else {
-    checkIntersection(out, ps, fields, keys, keyPoints, lo, hi, voxel_mm, params);
-    for (CellSampling& c : out.cells) evaluate(c, method, prior);
-  }
+  return largestEmpty;
+}
 
-  // Verdicts over all cells. A cell met neither by the lattice nor by a section holds no section and
-  // has h_C ≤ ρ: for the guarantee, ρ must pass a cell without sections' conditions.
+/// The verdicts over all cells. A cell met neither by the lattice nor by a section holds no section
+/// and has h_C ≤ ρ: for the guarantee, ρ must pass a cell without sections' conditions.
+void combineVerdicts(ReconstructionMethod method, const SamplingPrior& prior, SamplingDiagnosis& out) {
+  const CellScan& scan = out.scan;
   out.density = out.transversality = SamplingVerdict::satisfied;
   const bool m1 = method == ReconstructionMethod::nearest_plane;
   out.intersection = m1 ? SamplingVerdict::satisfied : SamplingVerdict::undetermined;
@@ -625,12 +620,18 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
                             intersectionEverywhere && out.unmatched_cells == 0 ? SamplingVerdict::satisfied
                                                                                : SamplingVerdict::undetermined,
                             method);
-  out.largest_empty_cell = largestEmpty;
 
+}
+
+/// The cells that decide the verdict, the worst 20, one cell per Ω-cell (its cells share its
+/// height and ratio).
+void listDecidingCells(SamplingDiagnosis& out) {
+  const auto worseIndex = [&](int a, int b) {
+    return worse(out.cells[std::size_t(a)], out.cells[std::size_t(b)], a, b);
+  };
   std::vector<int> deciding;
   for (std::size_t i = 0; i < out.cells.size(); ++i)
     if (out.verdict == SamplingVerdict::satisfied || out.cells[i].verdict == out.verdict) deciding.push_back(int(i));
-  // The worst 20, one cell per Ω-cell (its cells share its height and ratio).
   std::sort(deciding.begin(), deciding.end(), worseIndex);
   std::unordered_set<int> listed;
   for (const int i : deciding) {
@@ -638,6 +639,64 @@ SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
     const int omega = out.cells[std::size_t(i)].observed_cell;
     if (omega < 0 || listed.insert(omega).second) out.deciding.push_back(i);
   }
+}
+
+SamplingDiagnosis diagnoseSampling(const std::vector<CuttingPlane>& planes,
+                                   const std::vector<SectionDistanceField>& fields, const SectionArrangement& arrangement,
+                                   ReconstructionMethod method, const SamplingPrior& prior, const Vec3& lo,
+                                   const Vec3& hi, double voxel_mm, double tolerance_mm,
+                                   const SamplingParams& params, const std::vector<ObservedPiece>* pieces) {
+  SamplingDiagnosis out;
+  out.method = method;
+  out.prior = prior;
+  std::vector<Plane> ps;
+  ps.reserve(planes.size());
+  for (const CuttingPlane& p : planes) ps.push_back(p.plane);
+  const CellKeys keys(ps);
+  out.scan = scanCells(ps, keys, lo, hi, scanSpacing(lo, hi, voxel_mm, ps.size(), params.lattice_work));
+  const CellScan& scan = out.scan;
+
+  // Scanned cells keep their scan index; cells only the arrangement meets are appended.
+  std::unordered_map<std::uint64_t, int> cellOfKey = scan.index_of_key;
+  out.cells.reserve(scan.cells.size() + std::size_t(std::max(arrangement.cells, 0)));
+  for (std::size_t i = 0; i < scan.cells.size(); ++i) {
+    const ScannedCell& s = scan.cells[i];
+    CellSampling c;
+    c.key = s.key;
+    c.scanned = int(i);
+    c.height_lo_mm = s.max_distance_mm;
+    c.height_hi_mm = scan.heightBound(s);
+    c.centre = s.farthest;
+    c.end_cell = s.on_box;
+    out.cells.push_back(c);
+  }
+
+  const ArrangementCells arr = keyArrangementCells(planes, arrangement, keys, lo, hi, cellOfKey, out);
+  addCrossingBounds(planes, arrangement, keys, lo, hi, tolerance_mm, params, cellOfKey, out);
+  addNeighbourAngles(planes, arrangement, tolerance_mm, params, arr.cell_of_arrangement, out);
+  addContourReachBounds(planes, fields, arrangement, lo, hi, tolerance_mm, params, arr.cell_of_arrangement, out);
+  if ((prior.reach_interior_mm && *prior.reach_interior_mm > out.reach_interior_bound_mm) ||
+      (prior.reach_exterior_mm && *prior.reach_exterior_mm > out.reach_exterior_bound_mm))
+    out.prior_contradicted = true;
+
+  if (pieces && pieces->size() == ps.size() &&
+      std::any_of(pieces->begin(), pieces->end(), [](const ObservedPiece& p) { return !p.whole; })) {
+    std::vector<std::uint64_t> unscanned;  // the cells only the arrangement meets
+    for (std::size_t i = scan.cells.size(); i < out.cells.size(); ++i) unscanned.push_back(out.cells[i].key);
+    joinObservedCells(out, observedCells(scan, ps, keys, *pieces, unscanned));
+  }
+  for (CellSampling& c : out.cells) evaluate(c, method, prior);
+  const int largestEmpty = solveExactHeights(ps, keys, arr.key_points, lo, hi, method, prior, params, out);
+  if (method == ReconstructionMethod::section_voronoi) {
+    boundSectionHeights(out, ps, keys, planes, arrangement, arr.key_points, lo, hi, params);
+    for (CellSampling& c : out.cells) evaluate(c, method, prior);
+  } else {
+    checkIntersection(out, ps, fields, keys, arr.key_points, lo, hi, voxel_mm, params);
+    for (CellSampling& c : out.cells) evaluate(c, method, prior);
+  }
+  combineVerdicts(method, prior, out);
+  out.largest_empty_cell = largestEmpty;
+  listDecidingCells(out);
   return out;
 }
 
