@@ -198,26 +198,9 @@ void readSegmentation(const YAML::Node& s, const std::string& path, RunConfig& c
     c.warnings.push_back(path + ": segmentation.beam_apex_px is used only with shadows: unobserved");
 }
 
-}  // namespace
-
-RunConfig readRunConfig(const std::string& path, const std::vector<std::string>& overrides) {
-  RunConfig c;
-  c.path = fs::absolute(path).lexically_normal().string();
-  if (!isRegularFile(path)) throw InputError(path, "", "configuration file not found");
-  YAML::Node root = loadYamlFile(path);
-  if (!root.IsMap()) throw InputError(path, "", "top level must be a map");
-  for (const auto& o : overrides) applyOverride(root, o, path);
-  collectUnknown(root, "", path, c.warnings);
-  const fs::path base = fs::path(c.path).parent_path();
-  const auto section = [&](const char* name) -> YAML::Node {
-    YAML::Node n = root[name];
-    if (n && !n.IsMap()) throw InputError(path, name, "must be a map", yamlLine(n));
-    return n;
-  };
-
-  // input: exactly one source
-  const YAML::Node input = section("input");
-  if (!input) throw InputError(path, "input", "missing (input.slices, input.csl, ...)");
+/// input: exactly one source (slices, csl, contour or plus_sequence), its file, and the keys of
+/// that source.
+void readInput(const YAML::Node& input, const fs::path& base, const std::string& path, RunConfig& c) {
   int sources = 0;
   for (const NamedChoice<InputKind>& kind : kInputKinds) {
     const char* k = kind.name;
@@ -262,170 +245,208 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
       if (input[k])
         throw InputError(path, std::string("input.") + k, "only for input.plus_sequence", yamlLine(input[k]));
   }
+}
 
-  if (const YAML::Node s = section("segmentation")) readSegmentation(s, path, c);
-  if (const YAML::Node s = section("conformity")) {
-    RunConfig::Conformity& f = c.conformity;
-    if (s["enforce"]) f.enforce = yamlBool(s["enforce"], path, "conformity.enforce");
-    if (s["drop_flagged"]) f.drop_flagged = yamlBool(s["drop_flagged"], path, "conformity.drop_flagged");
-    if (s["mode"]) {
-      f.mode = yamlChoice(s["mode"], path, "conformity.mode", kConsensusModes, "mode");
+/// conformity: stage 3's settings.
+void readConformity(const YAML::Node& s, const std::string& path, RunConfig& c) {
+  RunConfig::Conformity& f = c.conformity;
+  if (s["enforce"]) f.enforce = yamlBool(s["enforce"], path, "conformity.enforce");
+  if (s["drop_flagged"]) f.drop_flagged = yamlBool(s["drop_flagged"], path, "conformity.drop_flagged");
+  if (s["mode"]) {
+    f.mode = yamlChoice(s["mode"], path, "conformity.mode", kConsensusModes, "mode");
+  }
+  const auto positive = [&](const char* k, double* out) {
+    if (!s[k]) return;
+    const double v = yamlNumber(s[k], path, std::string("conformity.") + k);
+    if (!(v > 0) || !std::isfinite(v))
+      throw InputError(path, std::string("conformity.") + k, "must be a positive number of mm",
+                       yamlLine(s[k]));
+    *out = v;
+  };
+  positive("max_correction_mm", &f.max_correction_mm);
+  positive("band_mm", &f.band_mm);
+  positive("flag_mm", &f.flag_mm);
+  if (s["pose_correction"])
+    f.pose_correction = yamlChoice(s["pose_correction"], path, "conformity.pose_correction",
+                                   kPoseCorrectionKinds, "pose correction");
+  for (const auto& [k, out] : {std::pair{"pose_sigma_mm", &f.pose_sigma_mm}, std::pair{"pose_sigma_deg", &f.pose_sigma_deg}}) {
+    const YAML::Node v = s[k];
+    if (!v || (v.IsScalar() && v.Scalar() == "auto")) continue;
+    const double x = yamlNumber(v, path, std::string("conformity.") + k);
+    if (!(x > 0) || !std::isfinite(x))
+      throw InputError(path, std::string("conformity.") + k, "must be a positive number or 'auto'", yamlLine(v));
+    *out = x;
+  }
+  if (const YAML::Node n = s["pose_smoothing_frames"]) {
+    f.pose_smoothing_frames = yamlInteger(n, path, "conformity.pose_smoothing_frames", 0, 1000);
+    if (f.pose_smoothing_frames > 0 && c.input_kind != InputKind::slices && c.input_kind != InputKind::plus_sequence)
+      throw InputError(path, "conformity.pose_smoothing_frames",
+                       std::string("smooths a tracked sweep's poses: only for input.slices, not input.") + nameOf(kInputKinds, c.input_kind),
+                       yamlLine(n));
+  }
+  if (s["min_angle_deg"]) {
+    f.min_angle_deg = yamlNumber(s["min_angle_deg"], path, "conformity.min_angle_deg");
+    if (!(f.min_angle_deg >= 0 && f.min_angle_deg < 90))
+      throw InputError(path, "conformity.min_angle_deg", "must lie in [0, 90) degrees",
+                       yamlLine(s["min_angle_deg"]));
+  }
+}
+
+/// reconstruction: the method, the voxel size, the grid's margins, the planes' extent.
+void readReconstruction(const YAML::Node& s, const std::string& path, RunConfig& c) {
+  if (s["method"]) {
+    c.reconstruction_method =
+        yamlChoice(s["method"], path, "reconstruction.method", kReconstructionMethods, "method");
+  }
+  if (const YAML::Node v = s["voxel_size_mm"]) {
+    if (!(v.IsScalar() && v.Scalar() == "auto")) {
+      c.voxel_size_mm = yamlNumber(v, path, "reconstruction.voxel_size_mm");
+      if (!(c.voxel_size_mm > 0) || !std::isfinite(c.voxel_size_mm))
+        throw InputError(path, "reconstruction.voxel_size_mm", "must be a positive size in mm or 'auto'",
+                         yamlLine(v));
+      c.voxel_size_auto = false;
     }
-    const auto positive = [&](const char* k, double* out) {
-      if (!s[k]) return;
-      const double v = yamlNumber(s[k], path, std::string("conformity.") + k);
+  }
+  if (const YAML::Node n = s["voxel_budget"])
+    c.voxel_budget = yamlInteger(n, path, "reconstruction.voxel_budget", 1000, 2000000000);
+  if (s["conformal_mesh"])
+    c.conformal_mesh = yamlBool(s["conformal_mesh"], path, "reconstruction.conformal_mesh");
+  if (s["cell_tunnels"])
+    c.cell_tunnels = yamlChoice(s["cell_tunnels"], path, "reconstruction.cell_tunnels", kCellTunnels, "cell tunnels choice");
+  if (s["planes"]) {
+    c.planes = yamlChoice(s["planes"], path, "reconstruction.planes", kPlaneExtents, "plane extent");
+    c.planes_default = false;
+    if (c.planes == PlaneExtent::observed && c.reconstruction_method == ReconstructionMethod::delaunay)
+      throw InputError(path, "reconstruction.planes",
+                       "observed pieces are available for methods 1 (nearest_plane) and 2 (section_voronoi); method 3 "
+                       "(delaunay) runs on whole planes",
+                       yamlLine(s["planes"]));
+  }
+  if (const YAML::Node m = s["end_margin_mm"]) {
+    if (!(m.IsScalar() && m.Scalar() == "auto")) {
+      const double v = yamlNumber(m, path, "reconstruction.end_margin_mm");
+      if (v <= 0)
+        throw InputError(path, "reconstruction.end_margin_mm", "must be positive or 'auto'",
+                         yamlLine(m));
+      c.end_margin_mm = v;
+    }
+  }
+}
+
+/// smoothing: the method and its parameters.
+void readSmoothing(const YAML::Node& s, const std::string& path, RunConfig& c) {
+  if (s["method"]) {
+    c.smoothing_method = yamlChoice(s["method"], path, "smoothing.method", kSmoothingMethods, "method");
+  }
+  if (s["exponent"]) {
+    const YAML::Node e = s["exponent"];
+    if (e.IsScalar() && (e.Scalar() == "inf" || e.Scalar() == ".inf"))
+      c.smoothing_exponent = std::numeric_limits<double>::infinity();
+    else
+      c.smoothing_exponent = yamlNumber(e, path, "smoothing.exponent");
+    if (!(c.smoothing_exponent > 0))
+      throw InputError(path, "smoothing.exponent", "must be positive", yamlLine(e));
+  }
+  if (const YAML::Node m = s["cap_mm"]) {
+    if (!(m.IsScalar() && m.Scalar() == "auto")) {
+      const double v = yamlNumber(m, path, "smoothing.cap_mm");
       if (!(v > 0) || !std::isfinite(v))
-        throw InputError(path, std::string("conformity.") + k, "must be a positive number of mm",
-                         yamlLine(s[k]));
-      *out = v;
-    };
-    positive("max_correction_mm", &f.max_correction_mm);
-    positive("band_mm", &f.band_mm);
-    positive("flag_mm", &f.flag_mm);
-    if (s["pose_correction"])
-      f.pose_correction = yamlChoice(s["pose_correction"], path, "conformity.pose_correction",
-                                     kPoseCorrectionKinds, "pose correction");
-    for (const auto& [k, out] : {std::pair{"pose_sigma_mm", &f.pose_sigma_mm}, std::pair{"pose_sigma_deg", &f.pose_sigma_deg}}) {
-      const YAML::Node v = s[k];
-      if (!v || (v.IsScalar() && v.Scalar() == "auto")) continue;
-      const double x = yamlNumber(v, path, std::string("conformity.") + k);
-      if (!(x > 0) || !std::isfinite(x))
-        throw InputError(path, std::string("conformity.") + k, "must be a positive number or 'auto'", yamlLine(v));
-      *out = x;
-    }
-    if (const YAML::Node n = s["pose_smoothing_frames"]) {
-      f.pose_smoothing_frames = yamlInteger(n, path, "conformity.pose_smoothing_frames", 0, 1000);
-      if (f.pose_smoothing_frames > 0 && c.input_kind != InputKind::slices && c.input_kind != InputKind::plus_sequence)
-        throw InputError(path, "conformity.pose_smoothing_frames",
-                         std::string("smooths a tracked sweep's poses: only for input.slices, not input.") + nameOf(kInputKinds, c.input_kind),
-                         yamlLine(n));
-    }
-    if (s["min_angle_deg"]) {
-      f.min_angle_deg = yamlNumber(s["min_angle_deg"], path, "conformity.min_angle_deg");
-      if (!(f.min_angle_deg >= 0 && f.min_angle_deg < 90))
-        throw InputError(path, "conformity.min_angle_deg", "must lie in [0, 90) degrees",
-                         yamlLine(s["min_angle_deg"]));
+        throw InputError(path, "smoothing.cap_mm", "must be positive or 'auto'", yamlLine(m));
+      c.smoothing_cap_mm = v;
     }
   }
+  if (const YAML::Node a = s["adaptivity"]) {
+    c.smoothing_adaptivity = yamlNumber(a, path, "smoothing.adaptivity");
+    if (!(c.smoothing_adaptivity >= 0 && c.smoothing_adaptivity <= 1))
+      throw InputError(path, "smoothing.adaptivity", "must lie in [0, 1]", yamlLine(a));
+  }
+  if (s["keep_connectivity"])
+    c.smoothing_keep_connectivity =
+        yamlBool(s["keep_connectivity"], path, "smoothing.keep_connectivity");
+  if (const YAML::Node n = s["iterations"]) {
+    c.smoothing_iterations = yamlInteger(n, path, "smoothing.iterations", 0, 1000);
+  }
+}
 
-  if (const YAML::Node s = section("reconstruction")) {
-    if (s["method"]) {
-      c.reconstruction_method =
-          yamlChoice(s["method"], path, "reconstruction.method", kReconstructionMethods, "method");
+/// sampling: what is known of the object (reach, angle) and how much advice to give.
+void readSampling(const YAML::Node& s, const std::string& path, RunConfig& c) {
+  const auto length = [&](const char* key, std::optional<double>* to) {
+    if (const YAML::Node v = s[key]) {
+      const std::string name = std::string("sampling.") + key;
+      const double x = yamlNumber(v, path, name);
+      if (!(x > 0) || !std::isfinite(x)) throw InputError(path, name, "must be a positive length", yamlLine(v));
+      *to = x;
     }
-    if (const YAML::Node v = s["voxel_size_mm"]) {
-      if (!(v.IsScalar() && v.Scalar() == "auto")) {
-        c.voxel_size_mm = yamlNumber(v, path, "reconstruction.voxel_size_mm");
-        if (!(c.voxel_size_mm > 0) || !std::isfinite(c.voxel_size_mm))
-          throw InputError(path, "reconstruction.voxel_size_mm", "must be a positive size in mm or 'auto'",
-                           yamlLine(v));
-        c.voxel_size_auto = false;
-      }
-    }
-    if (const YAML::Node n = s["voxel_budget"])
-      c.voxel_budget = yamlInteger(n, path, "reconstruction.voxel_budget", 1000, 2000000000);
-    if (s["conformal_mesh"])
-      c.conformal_mesh = yamlBool(s["conformal_mesh"], path, "reconstruction.conformal_mesh");
-    if (s["cell_tunnels"])
-      c.cell_tunnels = yamlChoice(s["cell_tunnels"], path, "reconstruction.cell_tunnels", kCellTunnels, "cell tunnels choice");
-    if (s["planes"]) {
-      c.planes = yamlChoice(s["planes"], path, "reconstruction.planes", kPlaneExtents, "plane extent");
-      c.planes_default = false;
-      if (c.planes == PlaneExtent::observed && c.reconstruction_method == ReconstructionMethod::delaunay)
-        throw InputError(path, "reconstruction.planes",
-                         "observed pieces are available for methods 1 (nearest_plane) and 2 (section_voronoi); method 3 "
-                         "(delaunay) runs on whole planes",
-                         yamlLine(s["planes"]));
-    }
-    if (const YAML::Node m = s["end_margin_mm"]) {
-      if (!(m.IsScalar() && m.Scalar() == "auto")) {
-        const double v = yamlNumber(m, path, "reconstruction.end_margin_mm");
-        if (v <= 0)
-          throw InputError(path, "reconstruction.end_margin_mm", "must be positive or 'auto'",
-                           yamlLine(m));
-        c.end_margin_mm = v;
-      }
-    }
+  };
+  length("reach_mm", &c.sampling.reach_mm);
+  length("reach_interior_mm", &c.sampling.reach_interior_mm);
+  length("reach_exterior_mm", &c.sampling.reach_exterior_mm);
+  if (const YAML::Node a = s["max_angle_deg"]) {
+    const double x = yamlNumber(a, path, "sampling.max_angle_deg");
+    if (!(x >= 0 && x < 90)) throw InputError(path, "sampling.max_angle_deg", "must lie in [0, 90) degrees", yamlLine(a));
+    c.sampling.max_angle_deg = x;
   }
-  if (const YAML::Node s = section("smoothing")) {
-    if (s["method"]) {
-      c.smoothing_method = yamlChoice(s["method"], path, "smoothing.method", kSmoothingMethods, "method");
-    }
-    if (s["exponent"]) {
-      const YAML::Node e = s["exponent"];
-      if (e.IsScalar() && (e.Scalar() == "inf" || e.Scalar() == ".inf"))
-        c.smoothing_exponent = std::numeric_limits<double>::infinity();
-      else
-        c.smoothing_exponent = yamlNumber(e, path, "smoothing.exponent");
-      if (!(c.smoothing_exponent > 0))
-        throw InputError(path, "smoothing.exponent", "must be positive", yamlLine(e));
-    }
-    if (const YAML::Node m = s["cap_mm"]) {
-      if (!(m.IsScalar() && m.Scalar() == "auto")) {
-        const double v = yamlNumber(m, path, "smoothing.cap_mm");
-        if (!(v > 0) || !std::isfinite(v))
-          throw InputError(path, "smoothing.cap_mm", "must be positive or 'auto'", yamlLine(m));
-        c.smoothing_cap_mm = v;
-      }
-    }
-    if (const YAML::Node a = s["adaptivity"]) {
-      c.smoothing_adaptivity = yamlNumber(a, path, "smoothing.adaptivity");
-      if (!(c.smoothing_adaptivity >= 0 && c.smoothing_adaptivity <= 1))
-        throw InputError(path, "smoothing.adaptivity", "must lie in [0, 1]", yamlLine(a));
-    }
-    if (s["keep_connectivity"])
-      c.smoothing_keep_connectivity =
-          yamlBool(s["keep_connectivity"], path, "smoothing.keep_connectivity");
-    if (const YAML::Node n = s["iterations"]) {
-      c.smoothing_iterations = yamlInteger(n, path, "smoothing.iterations", 0, 1000);
-    }
+  if (const YAML::Node n = s["advice_count"])
+    // Each advised slice re-measures the cells it splits (5-30 ms on the bench's scenes): a
+    // thousand is more slices than any acquisition adds, and keeps the advice within a minute.
+    c.sampling.advice_count = int(yamlInteger(n, path, "sampling.advice_count", 0, 1000));
+}
+
+/// run: the time budget.
+void readRun(const YAML::Node& s, const std::string& path, RunConfig& c) {
+  if (const YAML::Node v = s["max_seconds"]) {
+    c.max_seconds = yamlNumber(v, path, "run.max_seconds");
+    if (!(c.max_seconds > 0)) throw InputError(path, "run.max_seconds", "must be a positive number of seconds", yamlLine(v));
   }
-  if (const YAML::Node s = section("sampling")) {
-    const auto length = [&](const char* key, std::optional<double>* to) {
-      if (const YAML::Node v = s[key]) {
-        const std::string name = std::string("sampling.") + key;
-        const double x = yamlNumber(v, path, name);
-        if (!(x > 0) || !std::isfinite(x)) throw InputError(path, name, "must be a positive length", yamlLine(v));
-        *to = x;
-      }
+}
+
+/// output: the folder and the mesh formats.
+void readOutput(const YAML::Node& s, const fs::path& base, const std::string& path, RunConfig& c) {
+  if (s["dir"]) c.output_dir = resolvePath(base, yamlString(s["dir"], path, "output.dir"));
+  if (const YAML::Node m = s["mesh"]) {
+    c.mesh_formats.clear();
+    const auto add = [&](const YAML::Node& f) {
+      const std::string v = yamlString(f, path, "output.mesh");
+      if (v != "ply" && v != "stl" && v != "obj")
+        throw InputError(path, "output.mesh", "unknown mesh format '" + v + "' (ply | stl | obj)",
+                         yamlLine(f));
+      c.mesh_formats.push_back(v);
     };
-    length("reach_mm", &c.sampling.reach_mm);
-    length("reach_interior_mm", &c.sampling.reach_interior_mm);
-    length("reach_exterior_mm", &c.sampling.reach_exterior_mm);
-    if (const YAML::Node a = s["max_angle_deg"]) {
-      const double x = yamlNumber(a, path, "sampling.max_angle_deg");
-      if (!(x >= 0 && x < 90)) throw InputError(path, "sampling.max_angle_deg", "must lie in [0, 90) degrees", yamlLine(a));
-      c.sampling.max_angle_deg = x;
-    }
-    if (const YAML::Node n = s["advice_count"])
-      // Each advised slice re-measures the cells it splits (5-30 ms on the bench's scenes): a
-      // thousand is more slices than any acquisition adds, and keeps the advice within a minute.
-      c.sampling.advice_count = int(yamlInteger(n, path, "sampling.advice_count", 0, 1000));
+    if (m.IsSequence())
+      for (const auto& f : m) add(f);
+    else
+      add(m);
   }
-  if (const YAML::Node s = section("run")) {
-    if (const YAML::Node v = s["max_seconds"]) {
-      c.max_seconds = yamlNumber(v, path, "run.max_seconds");
-      if (!(c.max_seconds > 0)) throw InputError(path, "run.max_seconds", "must be a positive number of seconds", yamlLine(v));
-    }
-  }
+}
+
+}  // namespace
+
+RunConfig readRunConfig(const std::string& path, const std::vector<std::string>& overrides) {
+  RunConfig c;
+  c.path = fs::absolute(path).lexically_normal().string();
+  if (!isRegularFile(path)) throw InputError(path, "", "configuration file not found");
+  YAML::Node root = loadYamlFile(path);
+  if (!root.IsMap()) throw InputError(path, "", "top level must be a map");
+  for (const auto& o : overrides) applyOverride(root, o, path);
+  collectUnknown(root, "", path, c.warnings);
+  const fs::path base = fs::path(c.path).parent_path();
+  const auto section = [&](const char* name) -> YAML::Node {
+    YAML::Node n = root[name];
+    if (n && !n.IsMap()) throw InputError(path, name, "must be a map", yamlLine(n));
+    return n;
+  };
+
+  const YAML::Node input = section("input");
+  if (!input) throw InputError(path, "input", "missing (input.slices, input.csl, ...)");
+  readInput(input, base, path, c);
+  if (const YAML::Node s = section("segmentation")) readSegmentation(s, path, c);
+  if (const YAML::Node s = section("conformity")) readConformity(s, path, c);
+  if (const YAML::Node s = section("reconstruction")) readReconstruction(s, path, c);
+  if (const YAML::Node s = section("smoothing")) readSmoothing(s, path, c);
+  if (const YAML::Node s = section("sampling")) readSampling(s, path, c);
+  if (const YAML::Node s = section("run")) readRun(s, path, c);
   c.output_dir = resolvePath(base, "out");
-  if (const YAML::Node s = section("output")) {
-    if (s["dir"]) c.output_dir = resolvePath(base, yamlString(s["dir"], path, "output.dir"));
-    if (const YAML::Node m = s["mesh"]) {
-      c.mesh_formats.clear();
-      const auto add = [&](const YAML::Node& f) {
-        const std::string v = yamlString(f, path, "output.mesh");
-        if (v != "ply" && v != "stl" && v != "obj")
-          throw InputError(path, "output.mesh", "unknown mesh format '" + v + "' (ply | stl | obj)",
-                           yamlLine(f));
-        c.mesh_formats.push_back(v);
-      };
-      if (m.IsSequence())
-        for (const auto& f : m) add(f);
-      else
-        add(m);
-    }
-  }
+  if (const YAML::Node s = section("output")) readOutput(s, base, path, c);
   // Observed pieces by default where a slice is an image (its rectangle and field of view say where
   // it was seen); contour files give all of O ∩ P on each plane. Method 3 runs on whole planes.
   if (c.planes_default)
