@@ -211,10 +211,18 @@ int dropFlatShells(std::vector<std::array<int, 3>>& faces, const std::vector<Vec
   return int(flat.size());
 }
 
-OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Vec3>& positions, bool splitting,
-                          const std::unordered_map<std::uint64_t, FacePairs>& given,
-                          const std::map<std::uint64_t, std::array<FacePairs, 2>>& givenChoices) {
-  OpenedPinches out;
+/// Face pairs across each edge (the faces of one sheet there): `pairs` for an edge in two faces or
+/// given; at an edge in 2k > 2 faces, sorted by angle around it, two pairings alternate: across
+/// the empty wedges (`join`, preferred) and across the solid wedges (`apart`): `choices`.
+struct EdgePairing {
+  std::unordered_map<std::uint64_t, FacePairs> pairs;
+  std::map<std::uint64_t, std::array<FacePairs, 2>> choices;  ///< singular edges: {join, apart}
+  int singular = 0;                                           ///< edges in 4, 6, ... faces
+};
+
+EdgePairing pairFacesAcrossEdges(const std::vector<std::array<int, 3>>& faces, const std::vector<Vec3>& positions,
+                                 const std::unordered_map<std::uint64_t, FacePairs>& given,
+                                 const std::map<std::uint64_t, std::array<FacePairs, 2>>& givenChoices) {
   // Per undirected edge: its faces, with +1 when the face runs from the smaller id to the larger.
   std::unordered_map<std::uint64_t, std::vector<std::pair<int, int>>> around;
   for (std::size_t f = 0; f < faces.size(); ++f)
@@ -225,8 +233,9 @@ OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Ve
   // Face pairs across each edge (the faces of one sheet there). At an edge in 2k > 2 faces, sorted
   // by angle around it, two pairings alternate: across the empty wedges (`join`, preferred) and
   // across the solid wedges (`apart`).
-  std::unordered_map<std::uint64_t, FacePairs> pairs;
-  std::map<std::uint64_t, std::array<FacePairs, 2>> choices;  // singular edges
+  EdgePairing e;
+  std::unordered_map<std::uint64_t, FacePairs>& pairs = e.pairs;
+  std::map<std::uint64_t, std::array<FacePairs, 2>>& choices = e.choices;  // singular edges
   std::vector<std::uint64_t> keys;
   for (const auto& [key, list] : around) keys.push_back(key);
   std::sort(keys.begin(), keys.end());
@@ -241,7 +250,7 @@ OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Ve
       continue;
     }
     if (list.size() % 2) continue;  // an open edge: left as it is (counted by the caller)
-    ++out.edges;
+    ++e.singular;
     if (const auto g = givenChoices.find(key); g != givenChoices.end()) {
       choices[key] = g->second;
       continue;
@@ -281,37 +290,54 @@ OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Ve
       }
     }
   }
-  // The faces at each vertex, ascending (a face twice at a vertex it repeats), as offsets into
-  // one array: a map of lists per vertex, and two per vertex below, made this the slowest repair
-  // (random-400 with method 3: 1.7 s of one core).
-  std::vector<int> firstAt(positions.size() + 1, 0), facesAtAll(3 * faces.size());
-  for (const auto& f : faces)
-    for (const int v : f) ++firstAt[std::size_t(v) + 1];
-  for (std::size_t v = 0; v < positions.size(); ++v) firstAt[v + 1] += firstAt[v];
-  {
-    std::vector<int> fill(firstAt.begin(), firstAt.end() - 1);
-    for (std::size_t f = 0; f < faces.size(); ++f)
-      for (const int v : faces[f]) facesAtAll[std::size_t(fill[std::size_t(v)]++)] = int(f);
+  return e;
+}
+
+/// The faces at each vertex, ascending (a face twice at a vertex it repeats), as offsets into one
+/// array: a map of lists per vertex, and two per vertex below, made this the slowest repair
+/// (random-400 with method 3: 1.7 s of one core).
+struct VertexFaces {
+  std::vector<int> first, all;
+  std::pair<std::vector<int>::const_iterator, std::vector<int>::const_iterator> at(int v) const {
+    return {all.begin() + first[std::size_t(v)], all.begin() + first[std::size_t(v) + 1]};
   }
-  const auto facesAt = [&](int v) {
-    return std::make_pair(facesAtAll.begin() + firstAt[std::size_t(v)], facesAtAll.begin() + firstAt[std::size_t(v) + 1]);
-  };
-  std::vector<int> vertices;
-  for (std::size_t v = 0; v < positions.size(); ++v)
-    if (firstAt[v + 1] > firstAt[v]) vertices.push_back(int(v));
-  // Umbrellas: faces around each vertex joined through the pairs of the edges at the vertex.
-  std::map<std::uint64_t, int> chosen;  // singular edge -> 0 (join) or 1 (apart)
-  for (const auto& [key, two] : choices) chosen[key] = 0;
-  const auto pairsAt = [&](std::uint64_t key) -> const FacePairs* {
-    const auto c = chosen.find(key);
-    if (c != chosen.end()) return &choices.find(key)->second[std::size_t(c->second)];
-    const auto it = pairs.find(key);
-    return it == pairs.end() ? nullptr : &it->second;
-  };
-  // Per face at v (in facesAt(v)'s order), the smallest index of its umbrella; a face listed twice
-  // counts where it is listed last.
-  const auto umbrellasOf = [&](int v) {
-    const auto range = facesAt(v);  // plain locals: C++17 lambdas cannot capture structured bindings
+};
+
+VertexFaces vertexFaces(const std::vector<std::array<int, 3>>& faces, std::size_t vertices) {
+  VertexFaces vf;
+  vf.first.assign(vertices + 1, 0);
+  vf.all.resize(3 * faces.size());
+  for (const auto& f : faces)
+    for (const int v : f) ++vf.first[std::size_t(v) + 1];
+  for (std::size_t v = 0; v < vertices; ++v) vf.first[v + 1] += vf.first[v];
+  std::vector<int> fill(vf.first.begin(), vf.first.end() - 1);
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    for (const int v : faces[f]) vf.all[std::size_t(fill[std::size_t(v)]++)] = int(f);
+  return vf;
+}
+
+/// Umbrellas: the faces around each vertex joined through the pairs of the edges at the vertex
+/// (a singular edge's as chosen: join, or apart).
+class Umbrellas {
+ public:
+  Umbrellas(const std::vector<std::array<int, 3>>& faces, const VertexFaces& at, const EdgePairing& pairing)
+      : faces_(faces), at_(at), pairing_(pairing) {
+    for (const auto& [key, two] : pairing.choices) chosen_[key] = 0;
+  }
+  void choose(std::uint64_t key, int which) { chosen_[key] = which; }
+
+  /// The face pairs across edge `key` (null: none).
+  const FacePairs* pairsAt(std::uint64_t key) const {
+    const auto c = chosen_.find(key);
+    if (c != chosen_.end()) return &pairing_.choices.find(key)->second[std::size_t(c->second)];
+    const auto it = pairing_.pairs.find(key);
+    return it == pairing_.pairs.end() ? nullptr : &it->second;
+  }
+
+  /// Per face at v (in at(v)'s order), the smallest index of its umbrella; a face listed twice
+  /// counts where it is listed last.
+  std::vector<std::size_t> of(int v) const {
+    const auto range = at_.at(v);  // plain locals: C++17 lambdas cannot capture structured bindings
     const auto begin = range.first, end = range.second;
     const std::size_t n = std::size_t(end - begin);
     const auto at = [&](int f) -> std::ptrdiff_t {
@@ -320,7 +346,7 @@ OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Ve
     };
     DisjointSets umbrella(n);
     for (auto f = begin; f != end; ++f)
-      for (const int x : faces[std::size_t(*f)]) {
+      for (const int x : faces_[std::size_t(*f)]) {
         if (x == v) continue;
         const auto* ps = pairsAt(edgeKey(v, x));
         if (!ps) continue;
@@ -332,125 +358,130 @@ OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Ve
     std::vector<std::size_t> roots(n);
     for (std::size_t k = 0; k < n; ++k) roots[k] = umbrella.find(std::size_t(at(begin[std::ptrdiff_t(k)])));
     return roots;
-  };
-  // A singular edge stays singular when, at both its ends, all its faces fall in one umbrella:
-  // such an edge is split at its midpoint (see above), or, on the second pass, paired the other
-  // way (which then splits an end's umbrella).
-  std::vector<std::uint64_t> bisect;
-  for (const auto& [key, two] : choices) {
-    const int a = int(key >> 32), b = int(key & 0xffffffffu);
-    const auto split = [&](int v) {
-      const auto roots = umbrellasOf(v);
-      const auto [begin, end] = facesAt(v);
-      std::set<std::size_t> seen;
-      for (const auto& pr : *pairsAt(key)) seen.insert(roots.at(std::size_t(std::upper_bound(begin, end, pr[0]) - 1 - begin)));
-      return seen.size() > 1;
-    };
-    if (split(a) || split(b)) continue;
-    if (splitting) bisect.push_back(key);
-    else chosen[key] = 1;
   }
-  if (!bisect.empty()) {
-    const int firstMidpoint = int(positions.size());
-    std::unordered_map<std::uint64_t, int> midpoint;
-    for (const std::uint64_t key : bisect) {
-      midpoint[key] = int(positions.size());
-      positions.push_back(0.5 * (positions[std::size_t(key >> 32)] + positions[std::size_t(key & 0xffffffffu)]));
-    }
-    // Split faces, each remembering the face it came from (a face may hold two such edges).
-    std::vector<std::array<int, 3>> next;
-    std::vector<int> origin;
-    std::vector<std::pair<std::array<int, 3>, int>> todo;
-    for (std::size_t f = 0; f < faces.size(); ++f) todo.push_back({faces[f], int(f)});
-    while (!todo.empty()) {
-      std::vector<std::pair<std::array<int, 3>, int>> later;
-      for (const auto& [f, from] : todo) {
-        int e = 0;
-        while (e < 3 && !midpoint.count(edgeKey(f[std::size_t(e)], f[std::size_t((e + 1) % 3)]))) ++e;
-        if (e == 3) {
-          next.push_back(f);
-          origin.push_back(from);
-          continue;
-        }
-        const int a = f[std::size_t(e)], b = f[std::size_t((e + 1) % 3)], c = f[std::size_t((e + 2) % 3)];
-        const int m = midpoint[edgeKey(a, b)];
-        later.push_back({{a, m, c}, from});
-        later.push_back({{m, b, c}, from});
-      }
-      todo.swap(later);
-    }
-    // The new edges keep the split edge's pairing, not one by angle again (the halves' angles
-    // round differently where two faces are nearly coplanar, and the halves must agree for the
-    // midpoint to part the sheets): a half of a split edge pairs the halves of the faces its
-    // edge paired; an edge inside a split face pairs that face's parts.
-    std::unordered_map<std::uint64_t, std::vector<int>> facesOn;  // edges at a midpoint
-    for (std::size_t f = 0; f < next.size(); ++f)
-      for (int e = 0; e < 3; ++e) {
-        const int a = next[f][std::size_t(e)], b = next[f][std::size_t((e + 1) % 3)];
-        if (a >= firstMidpoint || b >= firstMidpoint) facesOn[edgeKey(a, b)].push_back(int(f));
-      }
-    // A pairing of original faces, as pairs of their parts among `list` (the faces on one edge).
-    const auto throughOrigin = [&](const FacePairs& pairing, const std::vector<int>& list) {
-      FacePairs mapped;
-      for (const auto& pr : pairing) {
-        int i = -1, j = -1;
-        for (const int f : list) {
-          if (origin[std::size_t(f)] == pr[0]) i = f;
-          if (origin[std::size_t(f)] == pr[1]) j = f;
-        }
-        if (i >= 0 && j >= 0) mapped.push_back({i, j});
-      }
-      return mapped;
-    };
-    std::unordered_map<std::uint64_t, FacePairs> inherited;
-    for (auto& [key, list] : facesOn) {
-      const int a = int(key >> 32), b = int(key & 0xffffffffu);  // a < b: b is the midpoint
-      const std::uint64_t parent = b >= firstMidpoint ? bisect[std::size_t(b - firstMidpoint)] : 0;
-      auto& given = inherited[key];
-      if (parent != 0 && (int(parent >> 32) == a || int(parent & 0xffffffffu) == a)) {
-        given = throughOrigin(*pairsAt(parent), list);
+
+ private:
+  const std::vector<std::array<int, 3>>& faces_;
+  const VertexFaces& at_;
+  const EdgePairing& pairing_;
+  std::map<std::uint64_t, int> chosen_;  ///< singular edge -> 0 (join) or 1 (apart)
+};
+
+/// Splits each edge of `bisect` at its midpoint and runs openPinches again on the split faces,
+/// the new edges keeping the split edges' pairings (see below).
+OpenedPinches bisectAndOpen(std::vector<std::array<int, 3>>& faces, std::vector<Vec3>& positions,
+                            const std::vector<std::uint64_t>& bisect, const EdgePairing& pairing,
+                            const Umbrellas& umbrellas) {
+  const std::map<std::uint64_t, std::array<FacePairs, 2>>& choices = pairing.choices;
+  const auto pairsAt = [&](std::uint64_t key) { return umbrellas.pairsAt(key); };
+  const int firstMidpoint = int(positions.size());
+  std::unordered_map<std::uint64_t, int> midpoint;
+  for (const std::uint64_t key : bisect) {
+    midpoint[key] = int(positions.size());
+    positions.push_back(0.5 * (positions[std::size_t(key >> 32)] + positions[std::size_t(key & 0xffffffffu)]));
+  }
+  // Split faces, each remembering the face it came from (a face may hold two such edges).
+  std::vector<std::array<int, 3>> next;
+  std::vector<int> origin;
+  std::vector<std::pair<std::array<int, 3>, int>> todo;
+  for (std::size_t f = 0; f < faces.size(); ++f) todo.push_back({faces[f], int(f)});
+  while (!todo.empty()) {
+    std::vector<std::pair<std::array<int, 3>, int>> later;
+    for (const auto& [f, from] : todo) {
+      int e = 0;
+      while (e < 3 && !midpoint.count(edgeKey(f[std::size_t(e)], f[std::size_t((e + 1) % 3)]))) ++e;
+      if (e == 3) {
+        next.push_back(f);
+        origin.push_back(from);
         continue;
       }
-      for (std::size_t x = 0; x < list.size(); ++x)
-        for (std::size_t y = x + 1; y < list.size(); ++y)
-          if (origin[std::size_t(list[x])] == origin[std::size_t(list[y])]) given.push_back({list[x], list[y]});
+      const int a = f[std::size_t(e)], b = f[std::size_t((e + 1) % 3)], c = f[std::size_t((e + 2) % 3)];
+      const int m = midpoint[edgeKey(a, b)];
+      later.push_back({{a, m, c}, from});
+      later.push_back({{m, b, c}, from});
     }
-    // The singular edges not split keep both their pairings too: where a face of theirs was split
-    // at another edge, its third vertex is now a midpoint, whose angle around them rounds anew.
-    std::unordered_map<std::uint64_t, std::vector<int>> subFaces;
-    for (std::size_t f = 0; f < next.size(); ++f)
-      for (int e = 0; e < 3; ++e) {
-        const std::uint64_t key = edgeKey(next[f][std::size_t(e)], next[f][std::size_t((e + 1) % 3)]);
-        if (choices.count(key) && !midpoint.count(key)) subFaces[key].push_back(int(f));
-      }
-    std::map<std::uint64_t, std::array<FacePairs, 2>> inheritedChoices;
-    for (const auto& [key, two] : choices) {
-      const auto list = subFaces.find(key);
-      if (midpoint.count(key) || list == subFaces.end()) continue;
-      inheritedChoices[key] = {throughOrigin(two[0], list->second), throughOrigin(two[1], list->second)};
-    }
-    faces.swap(next);
-    OpenedPinches again = openPinches(faces, positions, false, inherited, inheritedChoices);
-    again.edges += int(bisect.size());  // the split edges (their halves are paired as given)
-    return again;
+    todo.swap(later);
   }
+  // The new edges keep the split edge's pairing, not one by angle again (the halves' angles
+  // round differently where two faces are nearly coplanar, and the halves must agree for the
+  // midpoint to part the sheets): a half of a split edge pairs the halves of the faces its
+  // edge paired; an edge inside a split face pairs that face's parts.
+  std::unordered_map<std::uint64_t, std::vector<int>> facesOn;  // edges at a midpoint
+  for (std::size_t f = 0; f < next.size(); ++f)
+    for (int e = 0; e < 3; ++e) {
+      const int a = next[f][std::size_t(e)], b = next[f][std::size_t((e + 1) % 3)];
+      if (a >= firstMidpoint || b >= firstMidpoint) facesOn[edgeKey(a, b)].push_back(int(f));
+    }
+  // A pairing of original faces, as pairs of their parts among `list` (the faces on one edge).
+  const auto throughOrigin = [&](const FacePairs& pairing, const std::vector<int>& list) {
+    FacePairs mapped;
+    for (const auto& pr : pairing) {
+      int i = -1, j = -1;
+      for (const int f : list) {
+        if (origin[std::size_t(f)] == pr[0]) i = f;
+        if (origin[std::size_t(f)] == pr[1]) j = f;
+      }
+      if (i >= 0 && j >= 0) mapped.push_back({i, j});
+    }
+    return mapped;
+  };
+  std::unordered_map<std::uint64_t, FacePairs> inherited;
+  for (auto& [key, list] : facesOn) {
+    const int a = int(key >> 32), b = int(key & 0xffffffffu);  // a < b: b is the midpoint
+    const std::uint64_t parent = b >= firstMidpoint ? bisect[std::size_t(b - firstMidpoint)] : 0;
+    auto& given = inherited[key];
+    if (parent != 0 && (int(parent >> 32) == a || int(parent & 0xffffffffu) == a)) {
+      given = throughOrigin(*pairsAt(parent), list);
+      continue;
+    }
+    for (std::size_t x = 0; x < list.size(); ++x)
+      for (std::size_t y = x + 1; y < list.size(); ++y)
+        if (origin[std::size_t(list[x])] == origin[std::size_t(list[y])]) given.push_back({list[x], list[y]});
+  }
+  // The singular edges not split keep both their pairings too: where a face of theirs was split
+  // at another edge, its third vertex is now a midpoint, whose angle around them rounds anew.
+  std::unordered_map<std::uint64_t, std::vector<int>> subFaces;
+  for (std::size_t f = 0; f < next.size(); ++f)
+    for (int e = 0; e < 3; ++e) {
+      const std::uint64_t key = edgeKey(next[f][std::size_t(e)], next[f][std::size_t((e + 1) % 3)]);
+      if (choices.count(key) && !midpoint.count(key)) subFaces[key].push_back(int(f));
+    }
+  std::map<std::uint64_t, std::array<FacePairs, 2>> inheritedChoices;
+  for (const auto& [key, two] : choices) {
+    const auto list = subFaces.find(key);
+    if (midpoint.count(key) || list == subFaces.end()) continue;
+    inheritedChoices[key] = {throughOrigin(two[0], list->second), throughOrigin(two[1], list->second)};
+  }
+  faces.swap(next);
+  OpenedPinches again = openPinches(faces, positions, false, inherited, inheritedChoices);
+  again.edges += int(bisect.size());  // the split edges (their halves are paired as given)
+  return again;
+}
+
+/// Every pinched vertex (its faces in two umbrellas or more) given one copy per umbrella: which
+/// are pinched in parallel, then each opened in order (the copies are numbered in vertex order).
+/// Returns the vertices opened.
+int openPinchedVertices(std::vector<std::array<int, 3>>& faces, std::vector<Vec3>& positions, const VertexFaces& at,
+                        const Umbrellas& umbrellas) {
+  std::vector<int> vertices;
+  for (std::size_t v = 0; v < positions.size(); ++v)
+    if (at.first[v + 1] > at.first[v]) vertices.push_back(int(v));
+  int opened = 0;
   std::vector<std::array<int, 3>> result = faces;
-  // Which vertices are pinched (their faces in two umbrellas or more), in parallel; then each
-  // opened in order (the copies are numbered in vertex order).
   std::vector<std::uint8_t> pinched(vertices.size(), 0);
   tbb::parallel_for(std::size_t(0), vertices.size(), [&](std::size_t k) {
-    const std::vector<std::size_t> roots = umbrellasOf(vertices[k]);
+    const std::vector<std::size_t> roots = umbrellas.of(vertices[k]);
     pinched[k] = std::any_of(roots.begin(), roots.end(), [&](std::size_t r) { return r != roots.front(); });
   });
   for (std::size_t k = 0; k < vertices.size(); ++k) {
     if (!pinched[k]) continue;
     const int v = vertices[k];
-    const auto roots = umbrellasOf(v);
-    const auto [begin, end] = facesAt(v);
+    const auto roots = umbrellas.of(v);
+    const auto [begin, end] = at.at(v);
     std::map<std::size_t, int> copyOf;
     for (const std::size_t r : roots) copyOf.emplace(r, 0);
     if (copyOf.size() < 2) continue;
-    ++out.vertices;
+    ++opened;
     bool first = true;
     for (auto& [root, id] : copyOf) {
       if (first) {
@@ -467,6 +498,36 @@ OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Ve
           result[std::size_t(*f)][std::size_t(slot)] = copyOf[roots[std::size_t(std::upper_bound(begin, end, *f) - 1 - begin)]];
   }
   faces.swap(result);
+  return opened;
+}
+
+OpenedPinches openPinches(std::vector<std::array<int, 3>>& faces, std::vector<Vec3>& positions, bool splitting,
+                          const std::unordered_map<std::uint64_t, FacePairs>& given,
+                          const std::map<std::uint64_t, std::array<FacePairs, 2>>& givenChoices) {
+  OpenedPinches out;
+  const EdgePairing pairing = pairFacesAcrossEdges(faces, positions, given, givenChoices);
+  out.edges = pairing.singular;
+  const VertexFaces at = vertexFaces(faces, positions.size());
+  Umbrellas umbrellas(faces, at, pairing);
+  // A singular edge stays singular when, at both its ends, all its faces fall in one umbrella:
+  // such an edge is split at its midpoint (see above), or, on the second pass, paired the other
+  // way (which then splits an end's umbrella).
+  std::vector<std::uint64_t> bisect;
+  for (const auto& [key, two] : pairing.choices) {
+    const int a = int(key >> 32), b = int(key & 0xffffffffu);
+    const auto split = [&](int v) {
+      const auto roots = umbrellas.of(v);
+      const auto [begin, end] = at.at(v);
+      std::set<std::size_t> seen;
+      for (const auto& pr : *umbrellas.pairsAt(key)) seen.insert(roots.at(std::size_t(std::upper_bound(begin, end, pr[0]) - 1 - begin)));
+      return seen.size() > 1;
+    };
+    if (split(a) || split(b)) continue;
+    if (splitting) bisect.push_back(key);
+    else umbrellas.choose(key, 1);
+  }
+  if (!bisect.empty()) return bisectAndOpen(faces, positions, bisect, pairing, umbrellas);
+  out.vertices = openPinchedVertices(faces, positions, at, umbrellas);
   return out;
 }
 
