@@ -65,135 +65,135 @@ std::int64_t voxelsDecidedByPieces(const SectionScene& scene, const SampledRecon
   return changed.load();
 }
 
-}  // namespace
 
-SmoothStage smoothStage(const RunConfig& c, const SectionScene& scene, const ArrangeStage& arranged,
-                        const ReconstructStage& reconstruction,
-                        const std::function<void(std::int64_t, std::int64_t)>& progress) {
-  SmoothStage out;
-  const std::vector<CuttingPlane>& planes = scene.planes;
-  const std::vector<SectionDistanceField>& fields = scene.fields;
-  const SampledReconstruction& rec = reconstruction.solid;
-  const SectionArrangement& arrangement = arranged.arrangement;
-  const std::vector<GraphEdge>& edges = arranged.methodEdges();
-  const GraphVoxelCheck& base = reconstruction.graph_check;
-  const CellConnectivityCheck& baseCells = reconstruction.cell_check;
+/// The smoothing's grid: the scene's, reaching the end planes (f = the end margin > 0 there: the
+/// surface closes inside it), on the method's voxel lattice (a whole number of voxels beyond its
+/// grid), so that the per-cell comparison with the method's own solid reads the same voxel centres
+/// in both: on shifted lattices a thin cell holds different voxels in each, and lattice
+/// differences counted as connectivity differences.
+GridSpec smoothingGrid(const SectionScene& scene, const SampledReconstruction& rec) {
   const double h = scene.params.voxel_mm;
-
-  // The grid reaches the end planes (f = the end margin > 0 there): the surface closes inside it.
   ReconstructionParams lp;
   lp.method = ReconstructionMethod::section_voronoi;
   lp.voxel_mm = h;
   lp.end_margin_mm = scene.layout.end_margin_mm;
-  // On the method's voxel lattice (a whole number of voxels beyond its grid), so that the per-cell
-  // comparison with the method's own solid reads the same voxel centres in both: on shifted
-  // lattices a thin cell holds different voxels in each, and lattice differences counted as
-  // connectivity differences.
-  GridSpec grid = reconstructionLayout(planes, lp).grid;
+  GridSpec grid = reconstructionLayout(scene.planes, lp).grid;
   for (int a = 0; a < 3; ++a) {
     const int shift = std::max(0, int(std::ceil((rec.field.grid().origin[a] - grid.origin[a]) / h - 1e-9)));
     const double lower = rec.field.grid().origin[a] - shift * h;
     grid.dims[a] += grid.origin[a] - lower > 1e-9 * h ? 1 : 0;
     grid.origin[a] = lower;
   }
+  return grid;
+}
 
-  out.exponent = c.smoothing_exponent;
-  out.cap_auto = !c.smoothing_cap_mm;
-  out.cap_mm = c.smoothing_cap_mm ? *c.smoothing_cap_mm : defaultDistanceCap(planes, 10 * h);
-  // A plane without sections says "outside" everywhere; its value is the end margin, the distance
-  // at which the virtual planes close the scene: large enough to close the solid beyond the
-  // outermost sections, small enough that far empty planes (each end plane is seen from most of
-  // the grid) do not bias the surface between sections. With the largest section's radius as the
-  // value instead, a sphere cut by 16 parallel planes shrank by 0.1 mm between its planes.
-  out.empty_value_mm = scene.layout.end_margin_mm;
-  // Shepard's interpolant on the observed pieces (shepard_interpolant.h: the thesis' definition
-  // when every piece is whole).
-  if (c.smoothing_method == SmoothingMethod::shepard)
-    out.voxels_decided_by_pieces = voxelsDecidedByPieces(scene, rec);
-  if (c.smoothing_method == SmoothingMethod::shepard) {
-    std::vector<PlaneDistanceFunction> f(planes.size());
-    tbb::parallel_for(std::size_t(0), planes.size(), [&](std::size_t i) {
-      f[i] = planeDistanceFunction(fields[i], planes[i].plane, grid,
-                                   planes[i].sections.empty() ? out.empty_value_mm : out.cap_mm);
-    });
-    const std::vector<double> factor = endPlaneWeightFactors(planes, scene.real_planes);
-    const ShepardData data{&planes, &fields, &f, &factor, &scene.pieces};
-    const auto t0 = std::chrono::steady_clock::now();
-    ShepardField sf = shepardInterpolant(data, grid, out.exponent, progress);
-    out.evaluate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    out.mean_visible_planes = double(sf.visible_planes) / double(std::max<std::int64_t>(1, grid.count()));
-    out.max_visible_planes = sf.max_visible_planes;
-    out.field = std::move(sf.value);
-    out.end_plane_weights.assign(factor.begin() + std::ptrdiff_t(scene.real_planes), factor.end());
-    // The zero set of f meets every plane in its sections (Property 3); on the grid, where the
-    // solid bulges past a contour by more than a quarter voxel, the voxels around it take f_i
-    // (not where it misses the contour, nor between planes closer than a voxel, nor beyond the
-    // observed piece, where a contour follows the image's edge: contour_pinning.h).
-    out.pinning = pinSectionContours(
-        out.field, planes,
-        [&](std::size_t i, double a, double b) { return double(planeDistanceValue(fields[i], f[i], a, b)); },
-        0.25 * h, [&](std::size_t i, double a, double b) { return scene.pieces[i].holds(a, b); });
-    // Its solid repaired before anything reads it, so that the mesh, the level set, the
-    // connectivity checks and the Betti numbers all see one solid: with p = 1 on 120 random
-    // planes through the genus-2 solid, f has two voxel-sized positive pockets inside the solid
-    // that no plane shows.
-    std::vector<std::uint8_t> solid = solidOf(out.field);
-    out.repair = repairSolid(solid, evidenceOn(scene, grid), grid);
-    imposeSolid(out.field, solid, float(0.05 * h));
-    out.shepard_check = compareWithVoxels(edges, scene, arrangement, solid, grid);
-    out.shepard_cells = compareCellsWithVoxels(edges, scene, arrangement, solid, grid);
-    // Cells where Shepard's voxel solid joins the sections differently from the method's own:
-    // re-decided on finer lattices around them, with f evaluated there (cell_refinement.h), so
-    // that a passage narrower than a voxel counts as what f does, not as what the lattice shows.
-    // An empty solid joins nothing (the graph may have no edge to contradict: one section).
-    const bool empty = std::none_of(solid.begin(), solid.end(), [](std::uint8_t v) { return v != 0; });
-    if (out.shepard_check.same_partition && !empty) {
-      out.refined_cells = refineCellComparison(
-          cellsDifferingMore(out.shepard_cells, baseCells), out.shepard_cells, baseCells, edges, scene,
-          arrangement, grid, [&](const GridSpec& fine) {
-            return solidOf(shepardInterpolant(data, fine, out.exponent, {}).value);
-          });
-      out.shepard_keeps_connectivity = std::all_of(out.refined_cells.begin(), out.refined_cells.end(),
-                                                   [](const CellRefinement& r) { return r.accepted; });
-    }
-    out.method = SmoothingMethod::shepard;
-    out.final_check = out.shepard_check;
-    out.final_cells = out.shepard_cells;
+/// Shepard's interpolant on `grid` (on the observed pieces: shepard_interpolant.h, the thesis'
+/// definition when every piece is whole), its contours pinned, its solid repaired and checked
+/// against the method's graph, globally and per cell (cells differing re-decided on finer
+/// lattices).
+void shepardSmoothing(const SectionScene& scene, const ArrangeStage& arranged, const ReconstructStage& reconstruction,
+                      const GridSpec& grid, const std::function<void(std::int64_t, std::int64_t)>& progress,
+                      SmoothStage& out) {
+  const std::vector<CuttingPlane>& planes = scene.planes;
+  const std::vector<SectionDistanceField>& fields = scene.fields;
+  const SectionArrangement& arrangement = arranged.arrangement;
+  const std::vector<GraphEdge>& edges = arranged.methodEdges();
+  const double h = scene.params.voxel_mm;
+  const CellConnectivityCheck& baseCells = reconstruction.cell_check;
+  std::vector<PlaneDistanceFunction> f(planes.size());
+  tbb::parallel_for(std::size_t(0), planes.size(), [&](std::size_t i) {
+    f[i] = planeDistanceFunction(fields[i], planes[i].plane, grid,
+                                 planes[i].sections.empty() ? out.empty_value_mm : out.cap_mm);
+  });
+  const std::vector<double> factor = endPlaneWeightFactors(planes, scene.real_planes);
+  const ShepardData data{&planes, &fields, &f, &factor, &scene.pieces};
+  const auto t0 = std::chrono::steady_clock::now();
+  ShepardField sf = shepardInterpolant(data, grid, out.exponent, progress);
+  out.evaluate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  out.mean_visible_planes = double(sf.visible_planes) / double(std::max<std::int64_t>(1, grid.count()));
+  out.max_visible_planes = sf.max_visible_planes;
+  out.field = std::move(sf.value);
+  out.end_plane_weights.assign(factor.begin() + std::ptrdiff_t(scene.real_planes), factor.end());
+  // The zero set of f meets every plane in its sections (Property 3); on the grid, where the
+  // solid bulges past a contour by more than a quarter voxel, the voxels around it take f_i
+  // (not where it misses the contour, nor between planes closer than a voxel, nor beyond the
+  // observed piece, where a contour follows the image's edge: contour_pinning.h).
+  out.pinning = pinSectionContours(
+      out.field, planes,
+      [&](std::size_t i, double a, double b) { return double(planeDistanceValue(fields[i], f[i], a, b)); },
+      0.25 * h, [&](std::size_t i, double a, double b) { return scene.pieces[i].holds(a, b); });
+  // Its solid repaired before anything reads it, so that the mesh, the level set, the
+  // connectivity checks and the Betti numbers all see one solid: with p = 1 on 120 random
+  // planes through the genus-2 solid, f has two voxel-sized positive pockets inside the solid
+  // that no plane shows.
+  std::vector<std::uint8_t> solid = solidOf(out.field);
+  out.repair = repairSolid(solid, evidenceOn(scene, grid), grid);
+  imposeSolid(out.field, solid, float(0.05 * h));
+  out.shepard_check = compareWithVoxels(edges, scene, arrangement, solid, grid);
+  out.shepard_cells = compareCellsWithVoxels(edges, scene, arrangement, solid, grid);
+  // Cells where Shepard's voxel solid joins the sections differently from the method's own:
+  // re-decided on finer lattices around them, with f evaluated there (cell_refinement.h), so
+  // that a passage narrower than a voxel counts as what f does, not as what the lattice shows.
+  // An empty solid joins nothing (the graph may have no edge to contradict: one section).
+  const bool empty = std::none_of(solid.begin(), solid.end(), [](std::uint8_t v) { return v != 0; });
+  if (out.shepard_check.same_partition && !empty) {
+    out.refined_cells = refineCellComparison(
+        cellsDifferingMore(out.shepard_cells, baseCells), out.shepard_cells, baseCells, edges, scene,
+        arrangement, grid, [&](const GridSpec& fine) {
+          return solidOf(shepardInterpolant(data, fine, out.exponent, {}).value);
+        });
+    out.shepard_keeps_connectivity = std::all_of(out.refined_cells.begin(), out.refined_cells.end(),
+                                                 [](const CellRefinement& r) { return r.accepted; });
   }
+  out.method = SmoothingMethod::shepard;
+  out.final_check = out.shepard_check;
+  out.final_cells = out.shepard_cells;
+}
 
-  // The level-set smoothing of the method's solid (asked for, or in place of a Shepard surface
-  // that joins the sections differently): curvature flow with the planes' values held, stopped
-  // before it changes how the sections are joined.
-  if (c.smoothing_method == SmoothingMethod::level_set ||
-      (c.smoothing_keep_connectivity && !out.shepard_keeps_connectivity)) {
-    const PlaneEvidence evidence = evidenceOn(scene, rec.field.grid());
-    const auto keeps = [&](std::vector<std::uint8_t> inside) {
-      repairSolid(inside, evidence, rec.field.grid());  // the solid that would be meshed
-      const GraphVoxelCheck k =
-          compareWithVoxels(edges, scene, arrangement, inside, rec.field.grid());
-      return k.pairs_joined_by_graph_only == base.pairs_joined_by_graph_only &&
-             k.pairs_joined_by_voxels_only == base.pairs_joined_by_voxels_only &&
-             k.voxel_components == base.voxel_components &&
-             keepsCellConnectivity(compareCellsWithVoxels(edges, scene, arrangement, inside, rec.field.grid()),
-                                   baseCells);
-    };
-    LevelSetSmoothingParams sp;
-    sp.iterations = c.smoothing_iterations;
-    LevelSetSmoothing ls = smoothSolidLevelSet(denseField(rec.field), planes, fields, sp, keeps);
-    out.fell_back = c.smoothing_method == SmoothingMethod::shepard;
-    out.method = SmoothingMethod::level_set;
-    out.iterations_applied = ls.iterations_applied;
-    out.field = std::move(ls.field);
-    std::vector<std::uint8_t> solid = solidOf(out.field);
-    out.repair = repairSolid(solid, evidence, out.field.grid);
-    imposeSolid(out.field, solid, float(0.05 * h));
-    out.final_check = compareWithVoxels(edges, scene, arrangement, solid, out.field.grid);
-    out.final_cells = compareCellsWithVoxels(edges, scene, arrangement, solid, out.field.grid);
-  }
+/// The level-set smoothing of the method's solid (asked for, or in place of a Shepard surface
+/// that joins the sections differently): curvature flow with the planes' values held, stopped
+/// before it changes how the sections are joined.
+void levelSetSmoothing(const RunConfig& c, const SectionScene& scene, const ArrangeStage& arranged,
+                       const ReconstructStage& reconstruction, SmoothStage& out) {
+  const std::vector<CuttingPlane>& planes = scene.planes;
+  const std::vector<SectionDistanceField>& fields = scene.fields;
+  const SampledReconstruction& rec = reconstruction.solid;
+  const SectionArrangement& arrangement = arranged.arrangement;
+  const std::vector<GraphEdge>& edges = arranged.methodEdges();
+  const double h = scene.params.voxel_mm;
+  const GraphVoxelCheck& base = reconstruction.graph_check;
+  const CellConnectivityCheck& baseCells = reconstruction.cell_check;
+  const PlaneEvidence evidence = evidenceOn(scene, rec.field.grid());
+  const auto keeps = [&](std::vector<std::uint8_t> inside) {
+    repairSolid(inside, evidence, rec.field.grid());  // the solid that would be meshed
+    const GraphVoxelCheck k =
+        compareWithVoxels(edges, scene, arrangement, inside, rec.field.grid());
+    return k.pairs_joined_by_graph_only == base.pairs_joined_by_graph_only &&
+           k.pairs_joined_by_voxels_only == base.pairs_joined_by_voxels_only &&
+           k.voxel_components == base.voxel_components &&
+           keepsCellConnectivity(compareCellsWithVoxels(edges, scene, arrangement, inside, rec.field.grid()),
+                                 baseCells);
+  };
+  LevelSetSmoothingParams sp;
+  sp.iterations = c.smoothing_iterations;
+  LevelSetSmoothing ls = smoothSolidLevelSet(denseField(rec.field), planes, fields, sp, keeps);
+  out.fell_back = c.smoothing_method == SmoothingMethod::shepard;
+  out.method = SmoothingMethod::level_set;
+  out.iterations_applied = ls.iterations_applied;
+  out.field = std::move(ls.field);
+  std::vector<std::uint8_t> solid = solidOf(out.field);
+  out.repair = repairSolid(solid, evidence, out.field.grid);
+  imposeSolid(out.field, solid, float(0.05 * h));
+  out.final_check = compareWithVoxels(edges, scene, arrangement, solid, out.field.grid);
+  out.final_cells = compareCellsWithVoxels(edges, scene, arrangement, solid, out.field.grid);
+}
+
+/// The smooth solid's Betti numbers and its surface (meshed again without adaptivity where
+/// OpenVDB's adaptive meshing changed its topology or opened it).
+void smoothSurface(const RunConfig& c, SmoothStage& out) {
   out.voxel_betti = voxelBetti(solidOf(out.field), out.field.grid);
   out.surface = levelSetSurface(out.field, 3.0, c.smoothing_adaptivity);
-  // OpenVDB's adaptive meshing merges vertices across the surface's thin parts; where that changes
-  // the topology or opens the surface, it is meshed again without adaptivity.
+  // OpenVDB's adaptive meshing merges vertices across the surface's thin parts.
   const auto bounds = [&](const TriangleMesh& m) {
     const MeshTopology t = meshTopology(m);
     return t.watertight && t.betti == out.voxel_betti;
@@ -202,6 +202,32 @@ SmoothStage smoothStage(const RunConfig& c, const SectionScene& scene, const Arr
     out.surface = levelSetSurface(out.field, 3.0, 0.0);
     out.adaptivity_dropped = true;
   }
+}
+
+}  // namespace
+
+SmoothStage smoothStage(const RunConfig& c, const SectionScene& scene, const ArrangeStage& arranged,
+                        const ReconstructStage& reconstruction,
+                        const std::function<void(std::int64_t, std::int64_t)>& progress) {
+  SmoothStage out;
+  const GridSpec grid = smoothingGrid(scene, reconstruction.solid);
+  out.exponent = c.smoothing_exponent;
+  out.cap_auto = !c.smoothing_cap_mm;
+  out.cap_mm = c.smoothing_cap_mm ? *c.smoothing_cap_mm : defaultDistanceCap(scene.planes, 10 * scene.params.voxel_mm);
+  // A plane without sections says "outside" everywhere; its value is the end margin, the distance
+  // at which the virtual planes close the scene: large enough to close the solid beyond the
+  // outermost sections, small enough that far empty planes (each end plane is seen from most of
+  // the grid) do not bias the surface between sections. With the largest section's radius as the
+  // value instead, a sphere cut by 16 parallel planes shrank by 0.1 mm between its planes.
+  out.empty_value_mm = scene.layout.end_margin_mm;
+  if (c.smoothing_method == SmoothingMethod::shepard) {
+    out.voxels_decided_by_pieces = voxelsDecidedByPieces(scene, reconstruction.solid);
+    shepardSmoothing(scene, arranged, reconstruction, grid, progress, out);
+  }
+  // In place of a Shepard surface that joins the sections differently, or asked for.
+  if (c.smoothing_method == SmoothingMethod::level_set || (c.smoothing_keep_connectivity && !out.shepard_keeps_connectivity))
+    levelSetSmoothing(c, scene, arranged, reconstruction, out);
+  smoothSurface(c, out);
   if (std::string w = shepardConnectivityWarning(c, out); !w.empty()) out.warnings.push_back(std::move(w));
   return out;
 }
