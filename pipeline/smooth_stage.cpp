@@ -65,7 +65,6 @@ std::int64_t voxelsDecidedByPieces(const SectionScene& scene, const SampledRecon
   return changed.load();
 }
 
-
 /// The smoothing's grid: the scene's, reaching the end planes (f = the end margin > 0 there: the
 /// surface closes inside it), on the method's voxel lattice (a whole number of voxels beyond its
 /// grid), so that the per-cell comparison with the method's own solid reads the same voxel centres
