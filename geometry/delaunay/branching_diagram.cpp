@@ -391,73 +391,82 @@ struct Witness {
   auto key() const { return std::make_tuple(cell, plane, section, side, p.x(), p.y()); }
 };
 
-}  // namespace
+/// What the labelling steps share: the arrangement, the labeller (Φ along rays), each section's
+/// (plane, section) by flat id, and the threads' scratch.
+struct Labelling {
+  const SectionArrangement& arr;
+  const Labeller& labeller;
+  const std::vector<std::pair<int, int>>& sectionOf;
+  tbb::enumerable_thread_specific<Scratch>& scratch;
+};
 
-BranchingDiagram branchingDiagram(const SectionScene& scene, const SectionArrangement& arr,
-                                  bool withCellExits) {
-  const std::vector<CuttingPlane>& planes = scene.planes;
-  const double spacing = arr.sample_spacing_mm;
-  const SectionIds ids = scene.ids();
-  std::vector<PlaneSections> info;
-  info.reserve(planes.size());
-  for (std::size_t i = 0; i < planes.size(); ++i) info.emplace_back(planes[i], scene.fields[i]);
-  std::vector<std::pair<int, int>> sectionOf(std::size_t(ids.count()));  // flat id -> (plane, section)
-  for (std::size_t i = 0; i < planes.size(); ++i)
-    for (std::size_t s = 0; s < planes[i].sections.size(); ++s)
-      sectionOf[std::size_t(ids.of(int(i), int(s)))] = {int(i), int(s)};
-  const Labeller labeller(scene, info);
+/// A label tied with a point's nearest one (point q, its side).
+struct Tie {
+  std::size_t q;
+  int side, label;
+  bool operator<(const Tie& o) const { return std::tie(q, side, label) < std::tie(o.q, o.side, o.label); }
+};
 
-  BranchingDiagram out;
-  out.label.assign(arr.points.size(), {-1, -1});
-  tbb::enumerable_thread_specific<Scratch> scratch;
-  // Φ at the points: the nearest label per side, and the labels tied with it.
-  struct Tie {
-    std::size_t q;
-    int side, label;
-    bool operator<(const Tie& o) const { return std::tie(q, side, label) < std::tie(o.q, o.side, o.label); }
-  };
+/// Φ at the points: the nearest label per side (into out.label), and the labels tied with it.
+std::vector<Tie> labelPoints(const Labelling& k, BranchingDiagram& out) {
+  const SectionArrangement& arr = k.arr;
   tbb::enumerable_thread_specific<std::vector<Tie>> tiesLocal;
   tbb::parallel_for(std::size_t(0), arr.points.size(), [&](std::size_t q) {
     const SectionPoint& sp = arr.points[q];
     if (sp.kind == SectionPoint::trace) return;
-    Scratch& w = scratch.local();
+    Scratch& w = k.scratch.local();
     for (int side = 0; side < 2; ++side)
       if (sp.cell[std::size_t(side)] >= 0) {
-        const RayLabel r = labeller.label(sp.plane, sp.section, sp.p, side, w);
+        const RayLabel r = k.labeller.label(sp.plane, sp.section, sp.p, side, w);
         ++w.rays;
         w.labelled += r.count > 0;
         out.label[q][std::size_t(side)] = r.label();
-        for (int k = 1; k < r.count; ++k)
-          tiesLocal.local().push_back({q, side, r.hits[std::size_t(k)].label});
+        for (int h = 1; h < r.count; ++h) tiesLocal.local().push_back({q, side, r.hits[std::size_t(h)].label});
       }
   });
   std::vector<Tie> ties;
   for (const auto& l : tiesLocal) ties.insert(ties.end(), l.begin(), l.end());
   std::sort(ties.begin(), ties.end());
+  return ties;
+}
 
-  // Directed labels (cell, A) -> Φ.
+/// Directed label (cell, A) -> Φ: appended.
+void addDirected(const Labelling& k, std::vector<Directed>& directed, int cell, int plane, int section, int label) {
+  const auto& [lp, ls] = k.sectionOf[std::size_t(label)];
+  directed.emplace_back(cell, plane, section, lp, ls);
+}
+
+/// The directed labels of the points and their ties, sorted and unique.
+std::vector<Directed> directedLabels(const Labelling& k, const BranchingDiagram& out, const std::vector<Tie>& ties) {
+  const SectionArrangement& arr = k.arr;
   std::vector<Directed> directed;
-  const auto addDirected = [&](int cell, int plane, int section, int label) {
-    const auto& [lp, ls] = sectionOf[std::size_t(label)];
-    directed.emplace_back(cell, plane, section, lp, ls);
-  };
   for (std::size_t q = 0; q < arr.points.size(); ++q)
     for (int side = 0; side < 2; ++side)
       if (out.label[q][std::size_t(side)] >= 0) {
         const SectionPoint& sp = arr.points[q];
-        addDirected(sp.cell[std::size_t(side)], sp.plane, sp.section, out.label[q][std::size_t(side)]);
+        addDirected(k, directed, sp.cell[std::size_t(side)], sp.plane, sp.section, out.label[q][std::size_t(side)]);
       }
   for (const Tie& t : ties) {
     const SectionPoint& sp = arr.points[t.q];
-    addDirected(sp.cell[std::size_t(t.side)], sp.plane, sp.section, t.label);
+    addDirected(k, directed, sp.cell[std::size_t(t.side)], sp.plane, sp.section, t.label);
   }
   tbb::parallel_sort(directed.begin(), directed.end());
   directed.erase(std::unique(directed.begin(), directed.end()), directed.end());
-  // Where A -> B has no B -> A among the samples, B is labelled again at the feet of the lifts
-  // that reached B's Voronoi cell from A inside B: a region of B thinner than the lattice (a
-  // small sub-section, a narrow Voronoi face) is seen there. Then lift'(a) = lift'(b) in theory,
-  // and Φ(b) = A unless a third section is as near (evaluated, not assumed). The rays of A's
-  // points labelled B are followed again for their feet (not kept for every point).
+  return directed;
+}
+
+/// Where A -> B has no B -> A among the samples, B is labelled again at the feet of the lifts
+/// that reached B's Voronoi cell from A inside B: a region of B thinner than the lattice (a
+/// small sub-section, a narrow Voronoi face) is seen there. Then lift'(a) = lift'(b) in theory,
+/// and Φ(b) = A unless a third section is as near (evaluated, not assumed). The rays of A's
+/// points labelled B are followed again for their feet (not kept for every point).
+/// Returns the witnesses labelled; their labels are added to `directed`.
+std::int64_t labelWitnesses(const Labelling& lab, const BranchingDiagram& out, const std::vector<Tie>& ties,
+                            std::vector<Directed>& directed) {
+  const SectionArrangement& arr = lab.arr;
+  const auto& sectionOf = lab.sectionOf;
+  const Labeller& labeller = lab.labeller;
+  auto& scratch = lab.scratch;
   const auto unresolved = [&](int cell, int plane, int section, int label) {
     const auto& [lp, ls] = sectionOf[std::size_t(label)];
     return !std::binary_search(directed.begin(), directed.end(), Directed{cell, lp, ls, plane, section});
@@ -505,27 +514,29 @@ BranchingDiagram branchingDiagram(const SectionScene& scene, const SectionArrang
   for (std::size_t k = 0; k < witnesses.size(); ++k) {
     const Witness& v = witnesses[k];
     for (int h = 0; h < witnessLabel[k].count; ++h)
-      addDirected(v.cell, v.plane, v.section, witnessLabel[k].hits[std::size_t(h)].label);
+      addDirected(lab, directed, v.cell, v.plane, v.section, witnessLabel[k].hits[std::size_t(h)].label);
   }
-  out.witnesses = std::int64_t(witnesses.size());
-  for (const Scratch& w : scratch) {
-    out.rays += w.rays;
-    out.labelled += w.labelled;
-    out.hidden_roots += w.hidden;
-    out.polygon_distances += w.polygon;
-  }
+  return std::int64_t(witnesses.size());
+}
 
-  // G'': directed labels kept where the reverse exists too.
+/// G'': the directed labels kept where the reverse exists too.
+std::vector<GraphEdge> symmetricLabels(std::vector<Directed>& directed) {
+  std::vector<GraphEdge> g;
   tbb::parallel_sort(directed.begin(), directed.end());
   directed.erase(std::unique(directed.begin(), directed.end()), directed.end());
   for (const auto& [cell, pa, sa, pb, sb] : directed)
     if (std::tie(pa, sa) < std::tie(pb, sb) &&
         std::binary_search(directed.begin(), directed.end(), Directed{cell, pb, sb, pa, sa}))
-      out.g_double_prime.push_back(GraphEdge{pa, sa, pb, sb, cell});
-  std::sort(out.g_double_prime.begin(), out.g_double_prime.end());
+      g.push_back(GraphEdge{pa, sa, pb, sb, cell});
+  std::sort(g.begin(), g.end());
+  return g;
+}
 
-  // Branching points: lattice samples of one section and cell side, 4-neighbours, labelled with
-  // two different sections. Lattice index: samples lie at (k + ½)·spacing.
+/// Branching points: lattice samples of one section and cell side, 4-neighbours, labelled with
+/// two different sections. Lattice index: samples lie at (k + ½)·spacing.
+std::vector<BranchingPoint> branchingPoints(const SectionArrangement& arr, const BranchingDiagram& out, bool withCellExits) {
+  const double spacing = arr.sample_spacing_mm;
+  std::vector<BranchingPoint> points;
   struct Sample {
     int plane, section, cell;
     std::int64_t j, i;
@@ -575,15 +586,48 @@ BranchingDiagram branchingDiagram(const SectionScene& scene, const SectionArrang
     for (const std::int64_t o : neighbour[k]) {
       if (o < 0) continue;
       const Sample& s = samples[k];
-      out.points.push_back(BranchingPoint{s.cell, s.plane, s.section, 0.5 * (s.p + samples[std::size_t(o)].p)});
+      points.push_back(BranchingPoint{s.cell, s.plane, s.section, 0.5 * (s.p + samples[std::size_t(o)].p)});
     }
   const auto pointKey = [](const BranchingPoint& b) {
     return std::make_tuple(b.cell, b.plane, b.section, b.p.x(), b.p.y());
   };
-  tbb::parallel_sort(out.points.begin(), out.points.end(),
+  tbb::parallel_sort(points.begin(), points.end(),
                      [&](const BranchingPoint& l, const BranchingPoint& r) { return pointKey(l) < pointKey(r); });
   const auto same = [&](const BranchingPoint& l, const BranchingPoint& r) { return pointKey(l) == pointKey(r); };
-  out.points.erase(std::unique(out.points.begin(), out.points.end(), same), out.points.end());
+  points.erase(std::unique(points.begin(), points.end(), same), points.end());
+  return points;
+}
+
+}  // namespace
+
+BranchingDiagram branchingDiagram(const SectionScene& scene, const SectionArrangement& arr,
+                                  bool withCellExits) {
+  const std::vector<CuttingPlane>& planes = scene.planes;
+  const SectionIds ids = scene.ids();
+  std::vector<PlaneSections> info;
+  info.reserve(planes.size());
+  for (std::size_t i = 0; i < planes.size(); ++i) info.emplace_back(planes[i], scene.fields[i]);
+  std::vector<std::pair<int, int>> sectionOf(std::size_t(ids.count()));  // flat id -> (plane, section)
+  for (std::size_t i = 0; i < planes.size(); ++i)
+    for (std::size_t s = 0; s < planes[i].sections.size(); ++s)
+      sectionOf[std::size_t(ids.of(int(i), int(s)))] = {int(i), int(s)};
+  const Labeller labeller(scene, info);
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  const Labelling k{arr, labeller, sectionOf, scratch};
+
+  BranchingDiagram out;
+  out.label.assign(arr.points.size(), {-1, -1});
+  const std::vector<Tie> ties = labelPoints(k, out);
+  std::vector<Directed> directed = directedLabels(k, out, ties);
+  out.witnesses = labelWitnesses(k, out, ties, directed);
+  for (const Scratch& w : scratch) {
+    out.rays += w.rays;
+    out.labelled += w.labelled;
+    out.hidden_roots += w.hidden;
+    out.polygon_distances += w.polygon;
+  }
+  out.g_double_prime = symmetricLabels(directed);
+  out.points = branchingPoints(arr, out, withCellExits);
   return out;
 }
 
