@@ -98,152 +98,158 @@ struct CellKeys {
   std::vector<Key> keyOf;  // by cell id
 };
 
-SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, double spacing) {
-  if (!(spacing > 0)) throw std::invalid_argument("arrangement: sample spacing must be positive");
-  const std::size_t k = planes.size();
-  std::vector<K::Plane_3> eq(k);
-  for (std::size_t i = 0; i < k; ++i) {
-    const Vec3 n = planes[i].plane.normal;
-    eq[i] = K::Plane_3(n.x(), n.y(), n.z(), -n.dot(planes[i].plane.origin));
-  }
-  auto cellKeys = std::make_shared<CellKeys>(k);
-  cellKeys->eq = eq;
-  const Zobrist& z = cellKeys->z;
+/// A section's place among the other planes: those that may cross it (nearer to its bounding
+/// disk's centre than its radius, with a margin far above rounding), and the key over all the
+/// others, whose sign is the same at every point of the section (the sign at the centre). Each
+/// point then tests only the crossing planes: the cost follows the sub-sections' boundaries, not
+/// points x planes.
+struct SectionSpan {
+  std::vector<std::size_t> crossing;
+  Key base{0, 0};
+  double radius = 0;
+  Vec2 lo, hi;  ///< bounds of every ring (a hole is not trusted to lie inside its outer ring: .csl)
+};
 
-  // Points of each plane's sections, and their keys, computed per plane in parallel.
-  std::vector<std::vector<SectionPoint>> pts(k);
-  std::vector<std::vector<PointKeys>> keys(k);
-  std::vector<PencilCrossings> pencils(k);
-  tbb::parallel_for(std::size_t(0), k, [&](std::size_t i) {
-    const CuttingPlane& cp = planes[i];
-    auto& P = pts[i];
-    // Per section: the planes that may cross it, and the key over all the others, whose sign is
-    // the same at every point of the section (the sign at its bounding disk's centre). Each point
-    // then tests only the crossing planes: the cost follows the sub-sections' boundaries, not
-    // points x planes.
-    std::vector<std::vector<std::size_t>> crossingOf(cp.sections.size());
-    std::vector<Key> baseOf(cp.sections.size(), Key{0, 0});
-    std::vector<double> sectionRadius(cp.sections.size(), 0.0);
-    for (std::size_t s = 0; s < cp.sections.size(); ++s) {
-      const Section& sec = cp.sections[s];
-      // Planes that may cross the section: those nearer to its bounding disk's centre than its
-      // radius (with a margin far above rounding).
-      // Bounds of every ring (a hole is not trusted to lie inside its outer ring: .csl input).
-      Eigen::AlignedBox2d box = ringBounds(sec.outer);
-      for (const Ring& hole : sec.holes) box.extend(ringBounds(hole));
-      const Vec2 lo = box.min(), hi = box.max();
-      const Vec3 centre = cp.plane.toWorld(box.center());
-      const double radius = 0.5 * box.diagonal().norm() * (1 + 1e-9) + 1e-9;
-      sectionRadius[s] = radius;
-      std::vector<std::size_t>& crossing = crossingOf[s];
-      Key& base = baseOf[s];
-      for (std::size_t j = 0; j < k; ++j) {
-        if (j == i) continue;
-        if (std::abs(planes[j].plane.signedDistance(centre)) <= radius) {
-          crossing.push_back(j);
+SectionSpan spanOf(const std::vector<CuttingPlane>& planes, const std::vector<K::Plane_3>& eq, const Zobrist& z,
+                   std::size_t i, const Section& sec) {
+  const CuttingPlane& cp = planes[i];
+  SectionSpan span;
+  Eigen::AlignedBox2d box = ringBounds(sec.outer);
+  for (const Ring& hole : sec.holes) box.extend(ringBounds(hole));
+  span.lo = box.min(), span.hi = box.max();
+  const Vec3 centre = cp.plane.toWorld(box.center());
+  span.radius = 0.5 * box.diagonal().norm() * (1 + 1e-9) + 1e-9;
+  for (std::size_t j = 0; j < planes.size(); ++j) {
+    if (j == i) continue;
+    if (std::abs(planes[j].plane.signedDistance(centre)) <= span.radius) {
+      span.crossing.push_back(j);
+      continue;
+    }
+    const int sj = sign(eq[j], centre);
+    span.base.first ^= z.a[j][std::size_t(sj + 1)];
+    span.base.second ^= z.b[j][std::size_t(sj + 1)];
+  }
+  return span;
+}
+
+/// Ring r (ringId: 0 the outer ring, h + 1 hole h) of section s of plane i: its vertices about one
+/// spacing apart, and its crossings with the traces of the planes that cross the section.
+void addContourPoints(const std::vector<CuttingPlane>& planes, const std::vector<K::Plane_3>& eq, std::size_t i,
+                      std::size_t s, const Ring& r, int ringId, const std::vector<std::size_t>& crossing,
+                      double spacing, std::vector<SectionPoint>& P) {
+  const CuttingPlane& cp = planes[i];
+    double run = spacing;  // contour vertices kept about one spacing apart
+    for (std::size_t v = 0; v < r.size(); ++v) {
+      if (run >= spacing) {
+        P.push_back({int(i), int(s), r[v], SectionPoint::vertex, {-1, -1}});
+        P.back().ring = ringId;
+        P.back().along = double(v);
+        run = 0;
+      }
+      run += (r[(v + 1) % r.size()] - r[v]).norm();
+      // Contour points on the traces of other planes crossed by edge (v, v+1).
+      const Vec3 a = cp.plane.toWorld(r[v]), b = cp.plane.toWorld(r[(v + 1) % r.size()]);
+      const auto addTrace = [&](std::size_t j, double t) {  // at r[v] + t (r[v + 1] - r[v])
+        P.push_back({int(i), int(s), t == 0 ? r[v] : Vec2(r[v] + t * (r[(v + 1) % r.size()] - r[v])),
+                     SectionPoint::trace, {-1, -1}, int(j)});
+        P.back().ring = ringId;
+        P.back().along = double(v) + t;
+      };
+      for (const std::size_t j : crossing) {
+        const int sa = sign(eq[j], a), sb = sign(eq[j], b);
+        if (sa == 0) {
+          // The contour meets plane j at vertex v itself (pixel contours and planes on the
+          // pixel grid): the crossing is that vertex, a trace point like any other, bounding
+          // the cells on both sides of j. Otherwise no point would mark the crossing (the
+          // edges on either side have sign products 0) and the vertex, if sampled, would bound
+          // the cells on j's positive side only.
+          addTrace(j, 0.0);
           continue;
         }
-        const int sj = sign(eq[j], centre);
-        base.first ^= z.a[j][std::size_t(sj + 1)];
-        base.second ^= z.b[j][std::size_t(sj + 1)];
-      }
-      const auto addRing = [&](const Ring& r, int ringId) {
-        double run = spacing;  // contour vertices kept about one spacing apart
-        for (std::size_t v = 0; v < r.size(); ++v) {
-          if (run >= spacing) {
-            P.push_back({int(i), int(s), r[v], SectionPoint::vertex, {-1, -1}});
-            P.back().ring = ringId;
-            P.back().along = double(v);
-            run = 0;
-          }
-          run += (r[(v + 1) % r.size()] - r[v]).norm();
-          // Contour points on the traces of other planes crossed by edge (v, v+1).
-          const Vec3 a = cp.plane.toWorld(r[v]), b = cp.plane.toWorld(r[(v + 1) % r.size()]);
-          const auto addTrace = [&](std::size_t j, double t) {  // at r[v] + t (r[v + 1] - r[v])
-            P.push_back({int(i), int(s), t == 0 ? r[v] : Vec2(r[v] + t * (r[(v + 1) % r.size()] - r[v])),
-                         SectionPoint::trace, {-1, -1}, int(j)});
-            P.back().ring = ringId;
-            P.back().along = double(v) + t;
-          };
-          for (const std::size_t j : crossing) {
-            const int sa = sign(eq[j], a), sb = sign(eq[j], b);
-            if (sa == 0) {
-              // The contour meets plane j at vertex v itself (pixel contours and planes on the
-              // pixel grid): the crossing is that vertex, a trace point like any other, bounding
-              // the cells on both sides of j. Otherwise no point would mark the crossing (the
-              // edges on either side have sign products 0) and the vertex, if sampled, would bound
-              // the cells on j's positive side only.
-              addTrace(j, 0.0);
-              continue;
-            }
-            if (sa * sb >= 0) continue;
-            // The exact signs say the edge crosses plane j; the rounded distances may not (both
-            // about 0 when the planes nearly coincide, e.g. a frame listed twice): the crossing is
-            // then taken at the edge's midpoint, never at 0/0.
-            const double da = planes[j].plane.signedDistance(a), db = planes[j].plane.signedDistance(b);
-            const double q = da / (da - db);
-            const double t = std::isfinite(q) ? std::clamp(q, 0.0, 1.0) : 0.5;
-            addTrace(j, t);
-          }
-        }
-      };
-      addRing(sec.outer, 0);
-      for (std::size_t h = 0; h < sec.holes.size(); ++h) addRing(sec.holes[h], int(h) + 1);
-      // Lattice points inside the section, row by row: between pairs of sorted crossings of the
-      // row with the rings (even-odd rule, half-open in y as in ringContains).
-      std::vector<double> xs;
-      for (double y = std::floor(lo.y() / spacing) * spacing + 0.5 * spacing; y < hi.y(); y += spacing) {
-        xs.clear();
-        const auto cross = [&](const Ring& r) {
-          for (std::size_t v = 0; v < r.size(); ++v) {
-            const Vec2& a = r[v];
-            const Vec2& b = r[(v + 1) % r.size()];
-            if ((a.y() > y) != (b.y() > y)) xs.push_back(a.x() + (y - a.y()) / (b.y() - a.y()) * (b.x() - a.x()));
-          }
-        };
-        cross(sec.outer);
-        for (const Ring& h : sec.holes) cross(h);
-        std::sort(xs.begin(), xs.end());
-        const double x0 = std::floor(lo.x() / spacing) * spacing + 0.5 * spacing;
-        for (std::size_t q = 0; q + 1 < xs.size(); q += 2) {
-          const double first = x0 + std::ceil((xs[q] - x0) / spacing) * spacing;
-          for (double x = first; x < xs[q + 1]; x += spacing)
-            if (x > xs[q]) P.push_back({int(i), int(s), Vec2(x, y), SectionPoint::sample, {-1, -1}});
-        }
+        if (sa * sb >= 0) continue;
+        // The exact signs say the edge crosses plane j; the rounded distances may not (both
+        // about 0 when the planes nearly coincide, e.g. a frame listed twice): the crossing is
+        // then taken at the edge's midpoint, never at 0/0.
+        const double da = planes[j].plane.signedDistance(a), db = planes[j].plane.signedDistance(b);
+        const double q = da / (da - db);
+        const double t = std::isfinite(q) ? std::clamp(q, 0.0, 1.0) : 0.5;
+        addTrace(j, t);
       }
     }
-    auto& KK = keys[i];
-    KK.resize(P.size());
-    for (std::size_t q = 0; q < P.size(); ++q) {
-      const Vec3 w = cp.plane.toWorld(P[q].p);
-      const std::size_t sec = std::size_t(P[q].section);
-      std::uint64_t ha = baseOf[sec].first, hb = baseOf[sec].second;
-      if (P[q].trace_plane >= 0)
-        notePencilCrossing(planes, i, std::size_t(P[q].trace_plane), crossingOf[sec], w, sectionRadius[sec],
-                           pencils[i]);
-      for (const std::size_t j : crossingOf[sec]) {
-        // On another plane (trace points by construction, or vertices lying exactly on it): the
-        // point bounds the cells on both sides; keys are made for the positive side (and, for a
-        // trace point, below for the negative one too).
-        int sj = int(j) == P[q].trace_plane ? 1 : sign(eq[j], w);
-        if (sj == 0) sj = 1;
-        ha ^= z.a[j][std::size_t(sj + 1)];
-        hb ^= z.b[j][std::size_t(sj + 1)];
-      }
-      KK[q].minus = {ha ^ z.a[i][0], hb ^ z.b[i][0]};
-      KK[q].plus = {ha ^ z.a[i][2], hb ^ z.b[i][2]};
-      if (P[q].trace_plane >= 0) {  // swap the trace plane's sign from + to -
-        const std::size_t t = std::size_t(P[q].trace_plane);
-        const std::uint64_t da = z.a[t][2] ^ z.a[t][0], db = z.b[t][2] ^ z.b[t][0];
-        KK[q].minusAlt = {KK[q].minus.first ^ da, KK[q].minus.second ^ db};
-        KK[q].plusAlt = {KK[q].plus.first ^ da, KK[q].plus.second ^ db};
-      }
-    }
-  });
+}
 
+/// Lattice points inside the section, row by row: between pairs of sorted crossings of the
+/// row with the rings (even-odd rule, half-open in y as in ringContains).
+void addLatticeSamples(std::size_t i, std::size_t s, const Section& sec, const SectionSpan& span, double spacing,
+                       std::vector<SectionPoint>& P) {
+  const Vec2 lo = span.lo, hi = span.hi;
+  std::vector<double> xs;
+  for (double y = std::floor(lo.y() / spacing) * spacing + 0.5 * spacing; y < hi.y(); y += spacing) {
+    xs.clear();
+    const auto cross = [&](const Ring& r) {
+      for (std::size_t v = 0; v < r.size(); ++v) {
+        const Vec2& a = r[v];
+        const Vec2& b = r[(v + 1) % r.size()];
+        if ((a.y() > y) != (b.y() > y)) xs.push_back(a.x() + (y - a.y()) / (b.y() - a.y()) * (b.x() - a.x()));
+      }
+    };
+    cross(sec.outer);
+    for (const Ring& h : sec.holes) cross(h);
+    std::sort(xs.begin(), xs.end());
+    const double x0 = std::floor(lo.x() / spacing) * spacing + 0.5 * spacing;
+    for (std::size_t q = 0; q + 1 < xs.size(); q += 2) {
+      const double first = x0 + std::ceil((xs[q] - x0) / spacing) * spacing;
+      for (double x = first; x < xs[q + 1]; x += spacing)
+        if (x > xs[q]) P.push_back({int(i), int(s), Vec2(x, y), SectionPoint::sample, {-1, -1}});
+    }
+  }
+}
+
+/// Each point's keys: the sign vector of the cell on each side of its plane (and, for a trace
+/// point, on each side of the trace's plane), hashed (Zobrist) from its section's base key and its
+/// signs against the crossing planes.
+std::vector<PointKeys> pointKeys(const std::vector<CuttingPlane>& planes, const std::vector<K::Plane_3>& eq,
+                                 const Zobrist& z, std::size_t i, const std::vector<SectionPoint>& P,
+                                 const std::vector<SectionSpan>& spans, PencilCrossings& pencil) {
+  const CuttingPlane& cp = planes[i];
+  std::vector<PointKeys> KK;
+  KK.resize(P.size());
+  for (std::size_t q = 0; q < P.size(); ++q) {
+    const Vec3 w = cp.plane.toWorld(P[q].p);
+    const std::size_t sec = std::size_t(P[q].section);
+    std::uint64_t ha = spans[sec].base.first, hb = spans[sec].base.second;
+    if (P[q].trace_plane >= 0)
+      notePencilCrossing(planes, i, std::size_t(P[q].trace_plane), spans[sec].crossing, w, spans[sec].radius,
+                         pencil);
+    for (const std::size_t j : spans[sec].crossing) {
+      // On another plane (trace points by construction, or vertices lying exactly on it): the
+      // point bounds the cells on both sides; keys are made for the positive side (and, for a
+      // trace point, below for the negative one too).
+      int sj = int(j) == P[q].trace_plane ? 1 : sign(eq[j], w);
+      if (sj == 0) sj = 1;
+      ha ^= z.a[j][std::size_t(sj + 1)];
+      hb ^= z.b[j][std::size_t(sj + 1)];
+    }
+    KK[q].minus = {ha ^ z.a[i][0], hb ^ z.b[i][0]};
+    KK[q].plus = {ha ^ z.a[i][2], hb ^ z.b[i][2]};
+    if (P[q].trace_plane >= 0) {  // swap the trace plane's sign from + to -
+      const std::size_t t = std::size_t(P[q].trace_plane);
+      const std::uint64_t da = z.a[t][2] ^ z.a[t][0], db = z.b[t][2] ^ z.b[t][0];
+      KK[q].minusAlt = {KK[q].minus.first ^ da, KK[q].minus.second ^ db};
+      KK[q].plusAlt = {KK[q].plus.first ^ da, KK[q].plus.second ^ db};
+    }
+  }
+  return KK;
+}
+
+/// The cells numbered in the order the points meet them (hash maps: lookups do not grow with the
+/// cells met), the points given their cells, and the sub-sections counted.
+SectionArrangement numberCells(const std::vector<std::vector<SectionPoint>>& pts,
+                               const std::vector<std::vector<PointKeys>>& keys, const std::vector<PencilCrossings>& pencils,
+                               std::shared_ptr<CellKeys> cellKeys, double spacing) {
+  const std::size_t k = pts.size();
   SectionArrangement out;
   out.sample_spacing_mm = spacing;
-  // Ids in the order points meet them (hash maps: lookups do not grow with the cells met).
   struct SubHash {
     std::size_t operator()(const std::array<int, 4>& a) const {
       std::uint64_t h = 0x9e3779b97f4a7c15ULL;
@@ -283,6 +289,39 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
   for (const auto& [key, id] : cellOf) cellKeys->keyOf[std::size_t(id)] = key;
   out.keys = std::move(cellKeys);
   return out;
+}
+
+SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, double spacing) {
+  if (!(spacing > 0)) throw std::invalid_argument("arrangement: sample spacing must be positive");
+  const std::size_t k = planes.size();
+  std::vector<K::Plane_3> eq(k);
+  for (std::size_t i = 0; i < k; ++i) {
+    const Vec3 n = planes[i].plane.normal;
+    eq[i] = K::Plane_3(n.x(), n.y(), n.z(), -n.dot(planes[i].plane.origin));
+  }
+  auto cellKeys = std::make_shared<CellKeys>(k);
+  cellKeys->eq = eq;
+  const Zobrist& z = cellKeys->z;
+
+  // Points of each plane's sections, and their keys, computed per plane in parallel.
+  std::vector<std::vector<SectionPoint>> pts(k);
+  std::vector<std::vector<PointKeys>> keys(k);
+  std::vector<PencilCrossings> pencils(k);
+  tbb::parallel_for(std::size_t(0), k, [&](std::size_t i) {
+    const CuttingPlane& cp = planes[i];
+    std::vector<SectionSpan> spans;
+    spans.reserve(cp.sections.size());
+    for (std::size_t s = 0; s < cp.sections.size(); ++s) {
+      const Section& sec = cp.sections[s];
+      spans.push_back(spanOf(planes, eq, z, i, sec));
+      addContourPoints(planes, eq, i, s, sec.outer, 0, spans.back().crossing, spacing, pts[i]);
+      for (std::size_t h = 0; h < sec.holes.size(); ++h)
+        addContourPoints(planes, eq, i, s, sec.holes[h], int(h) + 1, spans.back().crossing, spacing, pts[i]);
+      addLatticeSamples(i, s, sec, spans.back(), spacing, pts[i]);
+    }
+    keys[i] = pointKeys(planes, eq, z, i, pts[i], spans, pencils[i]);
+  });
+  return numberCells(pts, keys, pencils, std::move(cellKeys), spacing);
 }
 
 CellKey cellKey(const SectionArrangement& arr, int cell) {
