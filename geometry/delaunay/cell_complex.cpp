@@ -272,121 +272,136 @@ void markUnjoined(CellComplex& c, const std::vector<int>& partOf) {
   }
 }
 
-void pruneCell(CellComplex& c) {
-  const std::size_t n = c.v.size();
-  c.kept.assign(n, 0);
-  c.d1 = 0;
-  for (std::size_t t = 0; t < n; ++t) {
-    if (c.type[t] == TetType::flat || c.external[t] || c.unjoined[t] || (!c.cycle_cut.empty() && c.cycle_cut[t])) continue;
-    ++c.d1;
-    c.kept[t] = 1;
-  }
-  // Work list of edges; an edge is re-examined when a tetrahedron of its shell is removed.
-  std::vector<int> shell, scratch, run;  // room for shells and their runs, reused
-  // The grounded edges numbered once, (key, 6 t + e) sorted (only grounded edges have shells
-  // Def. 50 constrains), so that the work list's membership is a flag per edge, not a hash set:
-  // on multiaxial-3x40 the hashing was a third of the pruning's time.
-  std::vector<std::pair<std::uint64_t, int>> slots;
-  for (std::size_t t = 0; t < n; ++t)
-    for (int e = 0; e < 6; ++e)
-      if (c.grounded_edges[t] >> e & 1)
-        slots.push_back({edgeKey(c.v[t][std::size_t(kEdges[e][0])], c.v[t][std::size_t(kEdges[e][1])]), int(6 * t) + e});
-  std::sort(slots.begin(), slots.end());
-  std::vector<int> edgeOf(6 * n, -1);
-  std::vector<std::uint64_t> edgeKeys;
-  for (std::size_t q = 0; q < slots.size(); ++q) {
-    if (q == 0 || slots[q].first != slots[q - 1].first) edgeKeys.push_back(slots[q].first);
-    edgeOf[std::size_t(slots[q].second)] = int(edgeKeys.size()) - 1;
-  }
-  std::vector<std::pair<std::uint64_t, int>>().swap(slots);
-  std::deque<std::pair<int, int>> work;  // (edge, a tetrahedron of its shell)
-  std::vector<std::uint8_t> queued(edgeKeys.size(), 0);
-  const auto push = [&](std::size_t t) {
-    for (int e = 0; e < 6; ++e) {
-      const int edge = edgeOf[6 * t + std::size_t(e)];
-      if (edge < 0 || queued[std::size_t(edge)]) continue;
-      queued[std::size_t(edge)] = 1;
-      work.push_back({edge, int(t)});
-    }
-  };
-  for (std::size_t t = 0; t < n; ++t)
-    if (c.kept[t]) push(t);
-  // Every grounded edge of a removed tetrahedron is re-examined.
-  while (true) {
-    while (!work.empty()) {
-      const auto [edge, t0] = work.front();
-      work.pop_front();
-      queued[std::size_t(edge)] = 0;
-      const std::uint64_t key = edgeKeys[std::size_t(edge)];
-      const int a = int(key >> 32), b = int(key & 0xffffffffu);
-      bool closed = false;
-      shellOf(c, t0, a, b, shell, scratch, &closed);
-      forEachRun(shell, closed, c.kept, run, [&](const std::vector<int>& r) {
-        bool grounded = false;
-        // Def. 50: reaching a tetrahedron with a grounded triangle through e.
-        for (const int t : r)
-          for (int i = 0; i < 4; ++i) {
-            const int x = c.v[std::size_t(t)][std::size_t(i)];
-            if (x != a && x != b && (c.grounded_faces[std::size_t(t)] >> i & 1)) grounded = true;
-          }
-        if (grounded) return;
-        for (const int t : r) {
-          c.kept[std::size_t(t)] = 0;
-          push(std::size_t(t));
-        }
-      });
-    }
-    // Solidity at section-vertices (Def. 50; Property 2): around each vertex p, the kept
-    // tetrahedra containing p, grouped by the faces through p they share, must each reach a
-    // tetrahedron with a grounded triangle through p. (The thesis removes the T_vf fans that share
-    // no face with a kept T_ee; where two planes meet, a fan also reaches p's ground through T_vf
-    // tetrahedra grounded on the other plane, which this form of the condition keeps.)
-    // Stars as (vertex, tetrahedron) pairs sorted: each vertex's kept tetrahedra, ascending.
-    std::vector<std::pair<int, int>> stars;
-    stars.reserve(4 * n);
+namespace {
+
+/// Room for shells and their runs, reused.
+struct ShellRoom {
+  std::vector<int> shell, scratch, run;
+};
+
+/// The work list of grounded edges: an edge is re-examined when a tetrahedron of its shell is
+/// removed. The grounded edges are numbered once, (key, 6 t + e) sorted (only grounded edges have
+/// shells Def. 50 constrains), so that the list's membership is a flag per edge, not a hash set:
+/// on multiaxial-3x40 the hashing was a third of the pruning's time.
+class EdgeWork {
+ public:
+  explicit EdgeWork(const CellComplex& c) : edgeOf_(6 * c.v.size(), -1) {
+    const std::size_t n = c.v.size();
+    std::vector<std::pair<std::uint64_t, int>> slots;
     for (std::size_t t = 0; t < n; ++t)
-      if (c.kept[t])
-        for (const int p : c.v[t]) stars.emplace_back(p, int(t));
-    std::sort(stars.begin(), stars.end());
-    std::vector<int> remove, list;
-    std::vector<std::uint8_t> grounded;
-    DisjointSets groups(0);
-    std::vector<int> where(n, -1);  // a tetrahedron's place in the current star's list
-    for (std::size_t first = 0, last = 0; first < stars.size(); first = last) {
-      const int p = stars[first].first;
-      list.clear();
-      for (last = first; last < stars.size() && stars[last].first == p; ++last) list.push_back(stars[last].second);
-      groups.reset(list.size());
-      for (std::size_t k = 0; k < list.size(); ++k) where[std::size_t(list[k])] = int(k);
-      for (std::size_t k = 0; k < list.size(); ++k) {
-        const std::size_t t = std::size_t(list[k]);
-        for (int i = 0; i < 4; ++i) {
-          const int o = c.nb[t][std::size_t(i)];  // through a face holding p: in p's star when kept
-          if (c.v[t][std::size_t(i)] != p && o >= 0 && where[std::size_t(o)] >= 0)
-            groups.unite(k, std::size_t(where[std::size_t(o)]));
-        }
-      }
-      for (const int t : list) where[std::size_t(t)] = -1;
-      grounded.assign(list.size(), 0);
-      for (std::size_t k = 0; k < list.size(); ++k) {
-        const std::size_t t = std::size_t(list[k]);
-        for (int i = 0; i < 4; ++i)
-          if (c.v[t][std::size_t(i)] != p && (c.grounded_faces[t] >> i & 1)) grounded[groups.find(k)] = 1;
-      }
-      for (std::size_t k = 0; k < list.size(); ++k)
-        if (!grounded[groups.find(k)]) remove.push_back(list[k]);
+      for (int e = 0; e < 6; ++e)
+        if (c.grounded_edges[t] >> e & 1)
+          slots.push_back({edgeKey(c.v[t][std::size_t(kEdges[e][0])], c.v[t][std::size_t(kEdges[e][1])]), int(6 * t) + e});
+    std::sort(slots.begin(), slots.end());
+    for (std::size_t q = 0; q < slots.size(); ++q) {
+      if (q == 0 || slots[q].first != slots[q - 1].first) keys_.push_back(slots[q].first);
+      edgeOf_[std::size_t(slots[q].second)] = int(keys_.size()) - 1;
     }
-    bool removed = false;
-    for (const int t : remove)
-      if (c.kept[std::size_t(t)]) {
-        c.kept[std::size_t(t)] = 0;
-        push(std::size_t(t));
-        removed = true;
-      }
-    if (!removed) break;
+    queued_.assign(keys_.size(), 0);
   }
-  c.d2 = std::count(c.kept.begin(), c.kept.end(), std::uint8_t(1));
-  // Step 3.
+  /// Queues tetrahedron t's grounded edges not queued yet.
+  void push(std::size_t t) {
+    for (int e = 0; e < 6; ++e) {
+      const int edge = edgeOf_[6 * t + std::size_t(e)];
+      if (edge < 0 || queued_[std::size_t(edge)]) continue;
+      queued_[std::size_t(edge)] = 1;
+      work_.push_back({edge, int(t)});
+    }
+  }
+  bool empty() const { return work_.empty(); }
+  /// The next (edge, a tetrahedron of its shell).
+  std::pair<int, int> pop() {
+    const std::pair<int, int> w = work_.front();
+    work_.pop_front();
+    queued_[std::size_t(w.first)] = 0;
+    return w;
+  }
+  std::uint64_t key(int edge) const { return keys_[std::size_t(edge)]; }
+
+ private:
+  std::vector<int> edgeOf_;
+  std::vector<std::uint64_t> keys_;
+  std::deque<std::pair<int, int>> work_;
+  std::vector<std::uint8_t> queued_;
+};
+
+/// Def. 50 at the queued edges: a run of kept tetrahedra around an edge that reaches no
+/// tetrahedron with a grounded triangle through it is removed (its edges queued again).
+void pruneAtEdges(CellComplex& c, EdgeWork& work, ShellRoom& room) {
+  while (!work.empty()) {
+    const auto [edge, t0] = work.pop();
+    const std::uint64_t key = work.key(edge);
+    const int a = int(key >> 32), b = int(key & 0xffffffffu);
+    bool closed = false;
+    shellOf(c, t0, a, b, room.shell, room.scratch, &closed);
+    forEachRun(room.shell, closed, c.kept, room.run, [&](const std::vector<int>& r) {
+      bool grounded = false;
+      // Def. 50: reaching a tetrahedron with a grounded triangle through e.
+      for (const int t : r)
+        for (int i = 0; i < 4; ++i) {
+          const int x = c.v[std::size_t(t)][std::size_t(i)];
+          if (x != a && x != b && (c.grounded_faces[std::size_t(t)] >> i & 1)) grounded = true;
+        }
+      if (grounded) return;
+      for (const int t : r) {
+        c.kept[std::size_t(t)] = 0;
+        work.push(std::size_t(t));
+      }
+    });
+  }
+}
+
+/// Solidity at section-vertices (Def. 50; Property 2): around each vertex p, the kept
+/// tetrahedra containing p, grouped by the faces through p they share, must each reach a
+/// tetrahedron with a grounded triangle through p. (The thesis removes the T_vf fans that share
+/// no face with a kept T_ee; where two planes meet, a fan also reaches p's ground through T_vf
+/// tetrahedra grounded on the other plane, which this form of the condition keeps.)
+/// Stars as (vertex, tetrahedron) pairs sorted: each vertex's kept tetrahedra, ascending.
+/// Returns the tetrahedra to remove.
+std::vector<int> ungroundedAtVertices(const CellComplex& c) {
+  const std::size_t n = c.v.size();
+  std::vector<std::pair<int, int>> stars;
+  stars.reserve(4 * n);
+  for (std::size_t t = 0; t < n; ++t)
+    if (c.kept[t])
+      for (const int p : c.v[t]) stars.emplace_back(p, int(t));
+  std::sort(stars.begin(), stars.end());
+  std::vector<int> remove, list;
+  std::vector<std::uint8_t> grounded;
+  DisjointSets groups(0);
+  std::vector<int> where(n, -1);  // a tetrahedron's place in the current star's list
+  for (std::size_t first = 0, last = 0; first < stars.size(); first = last) {
+    const int p = stars[first].first;
+    list.clear();
+    for (last = first; last < stars.size() && stars[last].first == p; ++last) list.push_back(stars[last].second);
+    groups.reset(list.size());
+    for (std::size_t k = 0; k < list.size(); ++k) where[std::size_t(list[k])] = int(k);
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      const std::size_t t = std::size_t(list[k]);
+      for (int i = 0; i < 4; ++i) {
+        const int o = c.nb[t][std::size_t(i)];  // through a face holding p: in p's star when kept
+        if (c.v[t][std::size_t(i)] != p && o >= 0 && where[std::size_t(o)] >= 0)
+          groups.unite(k, std::size_t(where[std::size_t(o)]));
+      }
+    }
+    for (const int t : list) where[std::size_t(t)] = -1;
+    grounded.assign(list.size(), 0);
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      const std::size_t t = std::size_t(list[k]);
+      for (int i = 0; i < 4; ++i)
+        if (c.v[t][std::size_t(i)] != p && (c.grounded_faces[t] >> i & 1)) grounded[groups.find(k)] = 1;
+    }
+    for (std::size_t k = 0; k < list.size(); ++k)
+      if (!grounded[groups.find(k)]) remove.push_back(list[k]);
+  }
+  return remove;
+}
+
+/// Step 3: tetrahedra not kept that share at least two faces with kept ones are added back (two
+/// faces: only when their other edge is not in the solid yet), where they stay solid at their
+/// grounded edges.
+void growBack(CellComplex& c, ShellRoom& room) {
+  const std::size_t n = c.v.size();
   const auto candidate = [&](std::size_t t) {
     return !c.kept[t] && !c.external[t] && !c.unjoined[t] && c.type[t] != TetType::flat &&
            (c.cycle_cut.empty() || !c.cycle_cut[t]);
@@ -419,8 +434,8 @@ void pruneCell(CellComplex& c) {
         if (x != i && x != j) kl[q++] = x;
       // The tetrahedra holding an edge are its shell (t is not kept yet).
       bool closed = false;
-      shellOf(c, int(t), c.v[t][std::size_t(kl[0])], c.v[t][std::size_t(kl[1])], shell, scratch, &closed);
-      if (std::any_of(shell.begin(), shell.end(), [&](int u) { return c.kept[std::size_t(u)] != 0; })) continue;
+      shellOf(c, int(t), c.v[t][std::size_t(kl[0])], c.v[t][std::size_t(kl[1])], room.shell, room.scratch, &closed);
+      if (std::any_of(room.shell.begin(), room.shell.end(), [&](int u) { return c.kept[std::size_t(u)] != 0; })) continue;
     }
     // Solidity at its grounded edges: around each, the tetrahedron must join a run that reaches a
     // grounded triangle through the edge, or it would hang there by an edge.
@@ -430,8 +445,8 @@ void pruneCell(CellComplex& c) {
       const int a = c.v[t][std::size_t(kEdges[e][0])], b = c.v[t][std::size_t(kEdges[e][1])];
       if (!solid || !(c.grounded_edges[t] >> e & 1)) continue;
       bool closed = false;
-      shellOf(c, int(t), a, b, shell, scratch, &closed);
-      forEachRun(shell, closed, c.kept, run, [&](const std::vector<int>& r) {
+      shellOf(c, int(t), a, b, room.shell, room.scratch, &closed);
+      forEachRun(room.shell, closed, c.kept, room.run, [&](const std::vector<int>& r) {
         if (std::find(r.begin(), r.end(), int(t)) == r.end()) return;
         bool grounded = false;
         for (const int u : r)
@@ -452,6 +467,37 @@ void pruneCell(CellComplex& c) {
         inQueue[std::size_t(o)] = 1;
       }
   }
+}
+
+}  // namespace
+
+void pruneCell(CellComplex& c) {
+  const std::size_t n = c.v.size();
+  c.kept.assign(n, 0);
+  c.d1 = 0;
+  for (std::size_t t = 0; t < n; ++t) {
+    if (c.type[t] == TetType::flat || c.external[t] || c.unjoined[t] || (!c.cycle_cut.empty() && c.cycle_cut[t])) continue;
+    ++c.d1;
+    c.kept[t] = 1;
+  }
+  ShellRoom room;
+  EdgeWork work(c);
+  for (std::size_t t = 0; t < n; ++t)
+    if (c.kept[t]) work.push(t);
+  // Every grounded edge of a removed tetrahedron is re-examined.
+  while (true) {
+    pruneAtEdges(c, work, room);
+    bool removed = false;
+    for (const int t : ungroundedAtVertices(c))
+      if (c.kept[std::size_t(t)]) {
+        c.kept[std::size_t(t)] = 0;
+        work.push(std::size_t(t));
+        removed = true;
+      }
+    if (!removed) break;
+  }
+  c.d2 = std::count(c.kept.begin(), c.kept.end(), std::uint8_t(1));
+  growBack(c, room);
   c.d3 = std::count(c.kept.begin(), c.kept.end(), std::uint8_t(1));
 }
 
