@@ -279,70 +279,118 @@ double shepardValue(const ShepardData& data, const Vec3& x, double exponent, int
   return combine(idx.data(), t.data(), fv.data(), int(idx.size()), exponent, data.weight_factor);
 }
 
-ShepardField shepardInterpolant(const ShepardData& data, const GridSpec& grid, double exponent,
-                                const std::function<void(std::int64_t, std::int64_t)>& progress) {
-  const auto& planes = *data.planes;
-  if (planes.empty()) throw std::invalid_argument("Shepard: no cutting plane");
-  checkData(data);
-  if (!(exponent > 0)) throw std::invalid_argument("Shepard: the exponent must be positive");
-  if (!(grid.voxel > 0)) throw std::invalid_argument("Shepard: voxel size must be positive");
-  const std::vector<Row> rows = planeRows(planes);
-  std::vector<Entry> all;  // an empty piece neither sees nor hides
-  for (std::size_t i = 0; i < planes.size(); ++i)
-    if (!data.pieces || !(*data.pieces)[i].empty) all.push_back({int(i), true});
-  if (all.empty()) throw std::invalid_argument("Shepard: every observed piece is empty");
+namespace {
 
-  ShepardField out;
-  out.value.grid = grid;
-  out.value.values.resize(std::size_t(grid.count()));
-  std::atomic<std::int64_t> visibleTotal{0};
-  std::atomic<int> visibleMax{0};
+/// Shepard's interpolant on a grid, block by block: the planes each 32³ super-box may see, culled
+/// again down an octree of boxes inside each 8³ block, then per voxel the planes it sees (their
+/// pieces) and their values combined.
+class ShepardScan {
+ public:
+  static constexpr int kSuper = 32, kBlock = 8;
 
-  constexpr int kSuper = 32, kBlock = 8;
-  const auto& D = grid.dims;
-  const int sx = (D[0] + kSuper - 1) / kSuper, sy = (D[1] + kSuper - 1) / kSuper,
-            sz = (D[2] + kSuper - 1) / kSuper;
-  const double h = grid.voxel;
-  const auto box = [&](int i0, int j0, int k0, int i1, int j1, int k1, Vec3* c, Vec3* e) {
-    const Vec3 a = grid.centre(i0, j0, k0), b = grid.centre(i1 - 1, j1 - 1, k1 - 1);
+  ShepardScan(const ShepardData& data, const GridSpec& grid, double exponent, const std::vector<Entry>& all,
+              ShepardField& out)
+      : data_(data), planes_(*data.planes), grid_(grid), exponent_(exponent), rows_(planeRows(*data.planes)),
+        h_(grid.voxel), out_(out) {
+    const auto& D = grid.dims;
+    sx_ = (D[0] + kSuper - 1) / kSuper, sy_ = (D[1] + kSuper - 1) / kSuper;
+    const int sz = (D[2] + kSuper - 1) / kSuper;
+    superList_.resize(std::size_t(sx_) * sy_ * sz);
+    tbb::parallel_for(0, int(superList_.size()), [&](int s) {
+      const int i0 = (s % sx_) * kSuper, j0 = ((s / sx_) % sy_) * kSuper, k0 = (s / (sx_ * sy_)) * kSuper;
+      Vec3 c, e;
+      box(i0, j0, k0, std::min(D[0], i0 + kSuper), std::min(D[1], j0 + kSuper), std::min(D[2], k0 + kSuper), &c, &e);
+      Scratch w;
+      cullBox(data_, rows_, all, c, e, superList_[std::size_t(s)], w);
+    });
+  }
+
+  /// Every block, in chunks (progress after each); the visible planes counted into out.
+  void run(const std::function<void(std::int64_t, std::int64_t)>& progress) {
+    const auto& D = grid_.dims;
+    std::atomic<std::int64_t> visibleTotal{0};
+    std::atomic<int> visibleMax{0};
+    const int bx = (D[0] + kBlock - 1) / kBlock, by = (D[1] + kBlock - 1) / kBlock,
+              bz = (D[2] + kBlock - 1) / kBlock;
+    const int blocks = bx * by * bz;
+    const int chunk = std::max(256, blocks / 16);
+    for (int first = 0; first < blocks; first += chunk) {
+      const int last = std::min(blocks, first + chunk);
+      tbb::parallel_for(tbb::blocked_range<int>(first, last, 16), [&](const tbb::blocked_range<int>& r) {
+        Scratch w;
+        std::int64_t vis = 0;
+        int vmax = 0;
+        for (int b = r.begin(); b != r.end(); ++b) {
+          const int ib = (b % bx) * kBlock, jb = ((b / bx) % by) * kBlock, kb = (b / (bx * by)) * kBlock;
+          const int s = (ib / kSuper) + sx_ * ((jb / kSuper) + sy_ * (kb / kSuper));
+          visit(ib, jb, kb, kBlock, 0, superList_[std::size_t(s)], w, vis, vmax);
+        }
+        visibleTotal += vis;
+        int prev = visibleMax.load();
+        while (vmax > prev && !visibleMax.compare_exchange_weak(prev, vmax)) {
+        }
+      });
+      if (progress) progress(last, blocks);
+    }
+    out_.visible_planes = visibleTotal.load();
+    out_.max_visible_planes = visibleMax.load();
+  }
+
+ private:
+  void box(int i0, int j0, int k0, int i1, int j1, int k1, Vec3* c, Vec3* e) const {
+    const Vec3 a = grid_.centre(i0, j0, k0), b = grid_.centre(i1 - 1, j1 - 1, k1 - 1);
     *c = 0.5 * (a + b);
     *e = 0.5 * (b - a);
-  };
-  std::vector<std::vector<Entry>> superList(std::size_t(sx) * sy * sz);
-  tbb::parallel_for(0, int(superList.size()), [&](int s) {
-    const int i0 = (s % sx) * kSuper, j0 = ((s / sx) % sy) * kSuper, k0 = (s / (sx * sy)) * kSuper;
-    Vec3 c, e;
-    box(i0, j0, k0, std::min(D[0], i0 + kSuper), std::min(D[1], j0 + kSuper),
-        std::min(D[2], k0 + kSuper), &c, &e);
-    Scratch w;
-    cullBox(data, rows, all, c, e, superList[std::size_t(s)], w);
-  });
+  }
 
-  const auto evalVoxels = [&](int i0, int j0, int k0, int i1, int j1, int k1,
-                              const std::vector<Entry>& list, Scratch& w, std::int64_t& vis,
-                              int& vmax) {
+  /// Box of `size` voxels at (i0, j0, k0), entries `from`; level 0 = 8³.
+  void visit(int i0, int j0, int k0, int size, int level, const std::vector<Entry>& from, Scratch& w,
+             std::int64_t& vis, int& vmax) const {
+    const auto& D = grid_.dims;
+    const int i1 = std::min(D[0], i0 + size), j1 = std::min(D[1], j0 + size),
+              k1 = std::min(D[2], k0 + size);
+    if (i0 >= i1 || j0 >= j1 || k0 >= k1) return;
+    Vec3 c, e;
+    box(i0, j0, k0, i1, j1, k1, &c, &e);
+    std::vector<Entry>& list = w.lists[level];
+    cullBox(data_, rows_, from, c, e, list, w);
+    if (size <= 2 || list.size() <= 3) {
+      evalVoxels(i0, j0, k0, i1, j1, k1, list, w, vis, vmax);
+      return;
+    }
+    const int half = size / 2;
+    for (int dz = 0; dz < 2; ++dz)
+      for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx)
+          visit(i0 + dx * half, j0 + dy * half, k0 + dz * half, half, level + 1, list, w, vis, vmax);
+  }
+
+  /// The voxels of a box from its entries `list`: the entries' distances and products prepared
+  /// once, then each voxel's visible planes and value.
+  void evalVoxels(int i0, int j0, int k0, int i1, int j1, int k1, const std::vector<Entry>& list, Scratch& w,
+                  std::int64_t& vis, int& vmax) const {
     const std::size_t m = list.size();
-    const Vec3 x0 = grid.centre(i0, j0, k0);
+    const Vec3 x0 = grid_.centre(i0, j0, k0);
     w.s0.resize(m);
     w.dsx.resize(m);
     w.dsy.resize(m);
     w.dsz.resize(m);
     w.cand.clear();
     for (std::size_t q = 0; q < m; ++q) {
-      const Row& r = rows[list[q].plane];
+      const Row& r = rows_[list[q].plane];
       w.s0[q] = r.s(x0);
-      w.dsx[q] = r.nx * h;
-      w.dsy[q] = r.ny * h;
-      w.dsz[q] = r.nz * h;
+      w.dsx[q] = r.nx * h_;
+      w.dsy[q] = r.ny * h_;
+      w.dsz[q] = r.nz * h_;
       if (list[q].candidate) w.cand.push_back(int(q));
     }
     const std::size_t nc = w.cand.size();
     w.cm.resize(m * nc);  // n_q . n_i for every entry q and candidate i
     for (std::size_t q = 0; q < m; ++q)
       for (std::size_t a = 0; a < nc; ++a)
-        w.cm[q * nc + a] = rows[list[q].plane].dot(rows[list[std::size_t(w.cand[a])].plane]);
+        w.cm[q * nc + a] = rows_[list[q].plane].dot(rows_[list[std::size_t(w.cand[a])].plane]);
     w.piece.resize(m);
-    for (std::size_t q = 0; q < m; ++q) w.piece[q] = partialPiece(data, list[q].plane);
+    for (std::size_t q = 0; q < m; ++q) w.piece[q] = partialPiece(data_, list[q].plane);
     w.sv.resize(m);
     w.tv.resize(nc);
     w.fv.resize(nc);
@@ -352,102 +400,95 @@ ShepardField shepardInterpolant(const ShepardData& data, const GridSpec& grid, d
         for (int i = i0; i < i1; ++i) {
           const double di = i - i0, dj = j - j0, dk = k - k0;
           for (std::size_t q = 0; q < m; ++q) w.sv[q] = w.s0[q] + w.dsx[q] * di + w.dsy[q] * dj + w.dsz[q] * dk;
-          const Vec3 x = x0 + h * Vec3(di, dj, dk);
-          int nv = 0;
-          for (std::size_t a = 0; a < nc; ++a) {
-            const std::size_t ia = std::size_t(w.cand[a]);
-            const int p = list[ia].plane;
-            const Row& r = rows[p];
-            const double si = w.sv[ia];
-            double t = std::abs(si);
-            double ua = r.ux * x.x() + r.uy * x.y() + r.uz * x.z() - r.uo;
-            double vb = r.vx * x.x() + r.vy * x.y() + r.vz * x.z() - r.vo;
-            // x_i: the piece's nearest point when the projection is off the piece (`moved`); the
-            // projection is formed only where a partial piece's crossing must be located.
-            Vec3 xi;
-            bool moved = false;
-            if (const ObservedPiece* piece = list[ia].covered ? nullptr : w.piece[ia]) {
-              double na, nb;
-              const double o = piece->distance(ua, vb, &na, &nb);
-              if (o > 0) {
-                moved = true;
-                ua = na;
-                vb = nb;
-                xi = planes[std::size_t(p)].plane.toWorld(Vec2(na, nb));
-                t = std::sqrt(si * si + o * o);
-              }
-            }
-            bool seen = true;
-            for (std::size_t q = 0; q < m && seen; ++q) {
-              if (q == ia) continue;
-              const double sq = w.sv[q];
-              if (!(std::abs(sq) < t)) continue;
-              const double sqi = moved ? rows[list[q].plane].s(xi) : sq - w.cm[q * nc + a] * si;
-              if (!(sq * sqi < 0)) continue;
-              if (!w.piece[q]) {
-                seen = false;
-              } else {
-                const Vec3 end = moved ? xi : Vec3(x - si * Vec3(r.nx, r.ny, r.nz));
-                seen = !crossesInPiece(w.piece[q], planes[std::size_t(list[q].plane)].plane, x, end, sq, sqi);
-              }
-            }
-            if (!seen) continue;
-            w.vp[nv] = p;
-            w.tv[nv] = t;
-            w.fv[nv] = planeDistanceValue((*data.near)[p], (*data.f)[p], ua, vb);
-            ++nv;
-          }
+          const int nv = visiblePlanes(list, w, x0 + h_ * Vec3(di, dj, dk));
           vis += nv;
           vmax = std::max(vmax, nv);
-          out.value.values[std::size_t(grid.index(i, j, k))] =
-              float(combine(w.vp.data(), w.tv.data(), w.fv.data(), nv, exponent, data.weight_factor));
+          out_.value.values[std::size_t(grid_.index(i, j, k))] =
+              float(combine(w.vp.data(), w.tv.data(), w.fv.data(), nv, exponent_, data_.weight_factor));
         }
-  };
-  const std::function<void(int, int, int, int, int, const std::vector<Entry>&, Scratch&,
-                           std::int64_t&, int&)>
-      visit = [&](int i0, int j0, int k0, int size, int level, const std::vector<Entry>& from,
-                  Scratch& w, std::int64_t& vis, int& vmax) {
-        const int i1 = std::min(D[0], i0 + size), j1 = std::min(D[1], j0 + size),
-                  k1 = std::min(D[2], k0 + size);
-        if (i0 >= i1 || j0 >= j1 || k0 >= k1) return;
-        Vec3 c, e;
-        box(i0, j0, k0, i1, j1, k1, &c, &e);
-        std::vector<Entry>& list = w.lists[level];
-        cullBox(data, rows, from, c, e, list, w);
-        if (size <= 2 || list.size() <= 3) {
-          evalVoxels(i0, j0, k0, i1, j1, k1, list, w, vis, vmax);
-          return;
-        }
-        const int half = size / 2;
-        for (int dz = 0; dz < 2; ++dz)
-          for (int dy = 0; dy < 2; ++dy)
-            for (int dx = 0; dx < 2; ++dx)
-              visit(i0 + dx * half, j0 + dy * half, k0 + dz * half, half, level + 1, list, w, vis, vmax);
-      };
-  const int bx = (D[0] + kBlock - 1) / kBlock, by = (D[1] + kBlock - 1) / kBlock,
-            bz = (D[2] + kBlock - 1) / kBlock;
-  const int blocks = bx * by * bz;
-  const int chunk = std::max(256, blocks / 16);
-  for (int first = 0; first < blocks; first += chunk) {
-    const int last = std::min(blocks, first + chunk);
-    tbb::parallel_for(tbb::blocked_range<int>(first, last, 16), [&](const tbb::blocked_range<int>& r) {
-      Scratch w;
-      std::int64_t vis = 0;
-      int vmax = 0;
-      for (int b = r.begin(); b != r.end(); ++b) {
-        const int ib = (b % bx) * kBlock, jb = ((b / bx) % by) * kBlock, kb = (b / (bx * by)) * kBlock;
-        const int s = (ib / kSuper) + sx * ((jb / kSuper) + sy * (kb / kSuper));
-        visit(ib, jb, kb, kBlock, 0, superList[std::size_t(s)], w, vis, vmax);
-      }
-      visibleTotal += vis;
-      int prev = visibleMax.load();
-      while (vmax > prev && !visibleMax.compare_exchange_weak(prev, vmax)) {
-      }
-    });
-    if (progress) progress(last, blocks);
   }
-  out.visible_planes = visibleTotal.load();
-  out.max_visible_planes = visibleMax.load();
+
+  /// The candidate planes voxel x sees (no other plane crosses the segment to its plane's nearest
+  /// observed point, within that plane's piece): their planes, distances and values in w.vp, w.tv,
+  /// w.fv; returns how many. w.sv holds the entries' signed distances at x.
+  int visiblePlanes(const std::vector<Entry>& list, Scratch& w, const Vec3& x) const {
+    const std::size_t m = list.size(), nc = w.cand.size();
+    int nv = 0;
+    for (std::size_t a = 0; a < nc; ++a) {
+      const std::size_t ia = std::size_t(w.cand[a]);
+      const int p = list[ia].plane;
+      const Row& r = rows_[p];
+      const double si = w.sv[ia];
+      double t = std::abs(si);
+      double ua = r.ux * x.x() + r.uy * x.y() + r.uz * x.z() - r.uo;
+      double vb = r.vx * x.x() + r.vy * x.y() + r.vz * x.z() - r.vo;
+      // x_i: the piece's nearest point when the projection is off the piece (`moved`); the
+      // projection is formed only where a partial piece's crossing must be located.
+      Vec3 xi;
+      bool moved = false;
+      if (const ObservedPiece* piece = list[ia].covered ? nullptr : w.piece[ia]) {
+        double na, nb;
+        const double o = piece->distance(ua, vb, &na, &nb);
+        if (o > 0) {
+          moved = true;
+          ua = na;
+          vb = nb;
+          xi = planes_[std::size_t(p)].plane.toWorld(Vec2(na, nb));
+          t = std::sqrt(si * si + o * o);
+        }
+      }
+      bool seen = true;
+      for (std::size_t q = 0; q < m && seen; ++q) {
+        if (q == ia) continue;
+        const double sq = w.sv[q];
+        if (!(std::abs(sq) < t)) continue;
+        const double sqi = moved ? rows_[list[q].plane].s(xi) : sq - w.cm[q * nc + a] * si;
+        if (!(sq * sqi < 0)) continue;
+        if (!w.piece[q]) {
+          seen = false;
+        } else {
+          const Vec3 end = moved ? xi : Vec3(x - si * Vec3(r.nx, r.ny, r.nz));
+          seen = !crossesInPiece(w.piece[q], planes_[std::size_t(list[q].plane)].plane, x, end, sq, sqi);
+        }
+      }
+      if (!seen) continue;
+      w.vp[nv] = p;
+      w.tv[nv] = t;
+      w.fv[nv] = planeDistanceValue((*data_.near)[p], (*data_.f)[p], ua, vb);
+      ++nv;
+    }
+    return nv;
+  }
+
+  const ShepardData& data_;
+  const std::vector<CuttingPlane>& planes_;
+  const GridSpec& grid_;
+  const double exponent_;
+  const std::vector<Row> rows_;
+  const double h_;
+  ShepardField& out_;
+  int sx_ = 0, sy_ = 0;  ///< super-boxes along x and y
+  std::vector<std::vector<Entry>> superList_;
+};
+
+}  // namespace
+
+ShepardField shepardInterpolant(const ShepardData& data, const GridSpec& grid, double exponent,
+                                const std::function<void(std::int64_t, std::int64_t)>& progress) {
+  const auto& planes = *data.planes;
+  if (planes.empty()) throw std::invalid_argument("Shepard: no cutting plane");
+  checkData(data);
+  if (!(exponent > 0)) throw std::invalid_argument("Shepard: the exponent must be positive");
+  if (!(grid.voxel > 0)) throw std::invalid_argument("Shepard: voxel size must be positive");
+  std::vector<Entry> all;  // an empty piece neither sees nor hides
+  for (std::size_t i = 0; i < planes.size(); ++i)
+    if (!data.pieces || !(*data.pieces)[i].empty) all.push_back({int(i), true});
+  if (all.empty()) throw std::invalid_argument("Shepard: every observed piece is empty");
+
+  ShepardField out;
+  out.value.grid = grid;
+  out.value.values.resize(std::size_t(grid.count()));
+  ShepardScan(data, grid, exponent, all, out).run(progress);
   return out;
 }
 
