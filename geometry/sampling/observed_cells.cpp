@@ -173,15 +173,21 @@ std::vector<Vec2> beyondFieldOfView(const FieldOfViewRaster& f, double spacing) 
   return out;
 }
 
-}  // namespace
 
-ObservedCells observedCells(const CellScan& scan, const std::vector<Plane>& planes, const CellKeys& keys,
-                            const std::vector<ObservedPiece>& pieces, const std::vector<std::uint64_t>& extra) {
-  if (pieces.size() != planes.size()) throw std::invalid_argument("observedCells: one piece per plane");
+/// Per lattice point, its distance to the union of the pieces (D_Ω, and a lower bound), and per
+/// lattice row the pairs of scanned cells a lattice edge from the row joins outside every piece
+/// (sorted, unique), with how many edges did.
+struct LatticeJoins {
+  std::vector<double> distance, lower_distance;
+  std::vector<std::vector<std::pair<int, int>>> joins;
+  std::vector<std::int64_t> crossings;
+};
+
+LatticeJoins latticeJoins(const CellScan& scan, const std::vector<Plane>& planes, const CellKeys& keys,
+                          const std::vector<ObservedPiece>& pieces) {
   const GridSpec& L = scan.lattice;
   const int nx = L.dims[0], ny = L.dims[1], nz = L.dims[2];
   const std::size_t n = std::size_t(L.count());
-  if (scan.cell_of_point.size() != n) throw std::invalid_argument("observedCells: the scan's lattice and cells differ");
   const double spacing = L.voxel * (1 + 1e-9);  // D_Ω is 1-Lipschitz: a row's neighbour bounds it
   // Two cells whose keys differ by one plane's key lie on either side of that plane alone (but for
   // a collision of 64-bit keys, which the fallback to every plane covers).
@@ -191,12 +197,17 @@ ObservedCells observedCells(const CellScan& scan, const std::vector<Plane>& plan
   std::array<std::vector<double>, 3> steps;
   for (int axis = 0; axis < 3; ++axis)
     for (const Plane& plane : planes) steps[std::size_t(axis)].push_back(plane.normal[axis] * L.voxel);
-  std::vector<double> distance(n, -1.0);  // moved into the result at the end
-  std::vector<double> lowerDistance(n, 0.0);
+  LatticeJoins r;
+  std::vector<double>& distance = r.distance;
+  std::vector<double>& lowerDistance = r.lower_distance;
+  distance.assign(n, -1.0);
+  lowerDistance.assign(n, 0.0);
   // Per row: the pairs of scanned cells that a lattice edge from the row joins (sorted, unique),
   // and how many edges did.
-  std::vector<std::vector<std::pair<int, int>>> joins(std::size_t(ny) * std::size_t(nz));
-  std::vector<std::int64_t> crossings(joins.size(), 0);
+  std::vector<std::vector<std::pair<int, int>>>& joins = r.joins;
+  joins.resize(std::size_t(ny) * std::size_t(nz));
+  std::vector<std::int64_t>& crossings = r.crossings;
+  crossings.assign(joins.size(), 0);
   tbb::parallel_for(0, ny * nz, [&](int row) {
     const int j = row % ny, k = row / ny;
     const RowDistances distances(planes, L.centre(0, j, k), L.voxel, nx);
@@ -232,13 +243,21 @@ ObservedCells observedCells(const CellScan& scan, const std::vector<Plane>& plan
     std::sort(found.begin(), found.end());
     found.erase(std::unique(found.begin(), found.end()), found.end());
   });
+  return r;
+}
 
-  // Passages narrower than the lattice run along a piece's edge (between it and a plane that
-  // crosses its plane nearby): the two cells at each point just beyond the edge are joined through
-  // it (the segment across P there crosses P alone, outside Ω_P), sampled at a quarter spacing.
-  // The cells there are kept by their keys: a cell the lattice does not meet may join two that it
-  // does.
-  // A field of view's samples once for the planes that share its raster (a probe's sector).
+/// Passages narrower than the lattice run along a piece's edge (between it and a plane that
+/// crosses its plane nearby): the two cells at each point just beyond the edge are joined through
+/// it (the segment across P there crosses P alone, outside Ω_P), sampled at a quarter spacing.
+/// The cells there are kept by their keys: a cell the lattice does not meet may join two that it
+/// does.
+/// A field of view's samples once for the planes that share its raster (a probe's sector).
+/// Per plane, the pairs of cell keys joined there.
+std::vector<std::vector<std::pair<std::uint64_t, std::uint64_t>>> edgeJoins(const CellScan& scan,
+                                                                            const std::vector<Plane>& planes,
+                                                                            const CellKeys& keys,
+                                                                            const std::vector<ObservedPiece>& pieces) {
+  const GridSpec& L = scan.lattice;
   const double along = 0.25 * L.voxel;
   std::vector<const FieldOfViewRaster*> rasters;
   for (const ObservedPiece& piece : pieces)
@@ -246,11 +265,11 @@ ObservedCells observedCells(const CellScan& scan, const std::vector<Plane>& plan
       rasters.push_back(piece.fov.get());
   std::vector<std::vector<Vec2>> rasterSamples(rasters.size());
   tbb::parallel_for(std::size_t(0), rasters.size(), [&](std::size_t r) { rasterSamples[r] = beyondFieldOfView(*rasters[r], along); });
-  std::vector<std::vector<std::pair<std::uint64_t, std::uint64_t>>> edgeJoins(planes.size());
+  std::vector<std::vector<std::pair<std::uint64_t, std::uint64_t>>> joined(planes.size());
   tbb::parallel_for(std::size_t(0), planes.size(), [&](std::size_t j) {
     const ObservedPiece& piece = pieces[j];
     if (piece.whole || piece.empty) return;
-    auto& found = edgeJoins[j];
+    auto& found = joined[j];
     std::vector<Vec2> samples = beyondRectangle(piece.rect, along);
     if (piece.fov) {
       const auto& more = rasterSamples[std::size_t(std::find(rasters.begin(), rasters.end(), piece.fov.get()) - rasters.begin())];
@@ -266,6 +285,24 @@ ObservedCells observedCells(const CellScan& scan, const std::vector<Plane>& plan
     std::sort(found.begin(), found.end());
     found.erase(std::unique(found.begin(), found.end()), found.end());
   });
+  return joined;
+}
+
+}  // namespace
+
+ObservedCells observedCells(const CellScan& scan, const std::vector<Plane>& planes, const CellKeys& keys,
+                            const std::vector<ObservedPiece>& pieces, const std::vector<std::uint64_t>& extra) {
+  if (pieces.size() != planes.size()) throw std::invalid_argument("observedCells: one piece per plane");
+  const GridSpec& L = scan.lattice;
+  const int nx = L.dims[0], ny = L.dims[1], nz = L.dims[2];
+  const std::size_t n = std::size_t(L.count());
+  if (scan.cell_of_point.size() != n) throw std::invalid_argument("observedCells: the scan's lattice and cells differ");
+  LatticeJoins lattice = latticeJoins(scan, planes, keys, pieces);
+  const auto& joins = lattice.joins;
+  const auto& crossings = lattice.crossings;
+  const std::vector<double>& lowerDistance = lattice.lower_distance;
+  std::vector<double>& distance = lattice.distance;  // moved into the result at the end
+  const auto edgeJoined = edgeJoins(scan, planes, keys, pieces);
   // Ids of the cells met only there, after the scanned cells' (in plane, then key order).
   // The cells given (`extra`) first, so that they are numbered after the scanned ones.
   std::unordered_map<std::uint64_t, std::size_t> unscanned;
@@ -277,7 +314,7 @@ ObservedCells observedCells(const CellScan& scan, const std::vector<Plane>& plan
   std::vector<std::size_t> extraIds;
   for (const std::uint64_t key : extra) extraIds.push_back(idOf(key));
   std::vector<std::pair<std::size_t, std::size_t>> edgePairs;
-  for (const auto& found : edgeJoins)
+  for (const auto& found : edgeJoined)
     for (const auto& [a, b] : found) edgePairs.emplace_back(idOf(a), idOf(b));
 
   ObservedCells out;
