@@ -170,30 +170,30 @@ MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const Recons
   // R'' itself, the union of its tetrahedra, is whole: its voxelisation is meshed instead.
   // Or the grid holds no voxel set with its topology (reconstruct_stage.cpp): the solid is then the
   // voxels, made well-composed there, and the mesh is theirs (one solid, issue 49).
-  m.method3_from_voxels = method3 && reconstruction.mesh_from_voxels;
+  m.method3_from_voxels = method3 && reconstruction.delaunay->mesh_from_voxels;
   if (m.method3_from_voxels) {
-    m.voxel_mesh_critical_added = reconstruction.voxels_added_well_composed;
+    m.voxel_mesh_critical_added = reconstruction.delaunay->voxels_added_well_composed;
     m.voxel_mesh_betti = rec.voxel_betti;
     m.method_mesh = meshZeroLevel(rec.field);
     if (c.conformal_mesh) methodCut = cutAlongSections(m.method_mesh, scene.planes, scene.fields, voxel);
     const std::string what = (smooth ? "the unsmoothed mesh" : "the mesh") + std::string(" is the voxelisation of R'' at ") +
                              std::to_string(voxel) + " mm made well-composed, not its boundary through the "
                              "contours (report.json reconstruction.delaunay.mesh_source: voxels, mesh_voxel_betti)";
-    if (reconstruction.delaunay->stats.open_edges > 0)
+    if (reconstruction.delaunay->result.stats.open_edges > 0)
       m.warnings.push_back("method 3's boundary could not be glued closed (" +
-                          std::to_string(reconstruction.delaunay->stats.open_edges) + " open edges): " + what);
+                          std::to_string(reconstruction.delaunay->result.stats.open_edges) + " open edges): " + what);
     else
       m.warnings.push_back("R'' is thinner than the voxel in places: its boundary has Betti numbers " +
-                          bettiText(reconstruction.boundary_betti) + " but no voxel set on this grid (by centres or by "
+                          bettiText(reconstruction.delaunay->boundary_betti) + " but no voxel set on this grid (by centres or by "
                           "cubes) has them; so that the mesh, labels.nrrd and report.json describe one solid, " + what +
                           "; a smaller reconstruction.voxel_size_mm may hold the boundary's topology");
   } else if (method3) {
-    m.method_mesh = reconstruction.delaunay->mesh;  // ∂R'': conformal by construction, no cut
+    m.method_mesh = reconstruction.delaunay->result.mesh;  // ∂R'': conformal by construction, no cut
     // Pieces touching at a vertex are kept apart by copies of the vertex at one position: STL
     // stores no vertex indices, so a reader merges them back into a pinched surface.
     const bool stl = std::find(c.mesh_formats.begin(), c.mesh_formats.end(), "stl") != c.mesh_formats.end();
-    if (stl && !smooth && reconstruction.delaunay->stats.singular_vertices > 0)
-      m.warnings.push_back(std::to_string(reconstruction.delaunay->stats.singular_vertices) +
+    if (stl && !smooth && reconstruction.delaunay->result.stats.singular_vertices > 0)
+      m.warnings.push_back(std::to_string(reconstruction.delaunay->result.stats.singular_vertices) +
                           " vertices of method 3's mesh are copied where pieces touch at a point; mesh.stl keeps no "
                           "vertex indices, so readers merge the copies (the surface is then pinched there): use "
                           "mesh.ply or mesh.obj for the Betti numbers report.json states");
@@ -246,7 +246,7 @@ DiagnoseStage diagnoseStage(const ReconstructStage& reconstruction, const Smooth
     if (meshes.method3_from_voxels)
       requireMeshBoundsSolid(t, meshes.voxel_mesh_betti, what);
     else if (method3)
-      requireMeshBoundsTetrahedra(t, reconstruction.delaunay_components, reconstruction.delaunay_opened_copies, what);
+      requireMeshBoundsTetrahedra(t, reconstruction.delaunay->components, reconstruction.delaunay->opened_copies, what);
     else requireMeshBoundsSolid(t, methodBetti, what);
   };
   DiagnoseStage d;

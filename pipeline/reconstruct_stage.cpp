@@ -29,10 +29,11 @@ void delaunayOnGrid(const RunInputs& in, const SceneStage& built, const ArrangeS
   const RunConfig& c = in.config;
   const SectionScene& scene = built.scene;
   auto t0 = std::chrono::steady_clock::now();
-  r.delaunay = delaunayReconstruction(scene.planes, a.arrangement, a.branching, progress.counter(),
-                                      &a.graphs.g_double_prime, c.cell_tunnels);
-  r.delaunay_s = secondsSince(t0);
-  const DelaunayReconstruction& d = *r.delaunay;
+  DelaunayStage& m3 = r.delaunay.emplace();
+  m3.result = delaunayReconstruction(scene.planes, a.arrangement, a.branching, progress.counter(),
+                                     &a.graphs.g_double_prime, c.cell_tunnels);
+  m3.delaunay_s = secondsSince(t0);
+  const DelaunayReconstruction& d = m3.result;
   if (d.tetrahedra.empty())
     throw InputError(c.path, "reconstruction.method",
                      built.counts.planes_with_sections <= 1
@@ -48,10 +49,10 @@ void delaunayOnGrid(const RunInputs& in, const SceneStage& built, const ArrangeS
   tbb::parallel_invoke(
       [&] {
         // What the mesh's b0 is checked against (mesh_stage.h; tetrahedra_components.h).
-        r.delaunay_components = tetrahedraComponents(d.tetrahedra, d.tolerances);
-        r.delaunay_opened_copies = repeatedVertexCopies(d.mesh);
-        r.connections_not_in_graph = edgesMissing(d.connections, a.graphs.g_double_prime);
-        r.graph_edges_not_realised = edgesMissing(a.graphs.g_double_prime, d.connections);
+        m3.components = tetrahedraComponents(d.tetrahedra, d.tolerances);
+        m3.opened_copies = repeatedVertexCopies(d.mesh);
+        m3.connections_not_in_graph = edgesMissing(d.connections, a.graphs.g_double_prime);
+        m3.graph_edges_not_realised = edgesMissing(a.graphs.g_double_prime, d.connections);
       },
       [&] {
         // One solid (issue 49): the voxels as the boundary is, by centres or by cubes; the glued
@@ -62,22 +63,22 @@ void delaunayOnGrid(const RunInputs& in, const SceneStage& built, const ArrangeS
         } else {
           // Refined grids (the voxel halved up to twice, sparse: the blocks the boundary and the
           // solid fill) only without smoothing: the smoothing works on the scene's lattice.
-          r.boundary_betti = meshTopology(d.mesh).betti;
+          m3.boundary_betti = meshTopology(d.mesh).betti;
           // Nor with several materials: their solids are made from dense copies of the grid.
           const int refinements =
               c.smoothing_method == SmoothingMethod::none && materialLabels(in).size() < 2 ? 2 : 0;
           r.solid = tetrahedraOnGridLike(d.tetrahedra, scene.planes, scene.real_planes, scene.grid(), band,
-                                         r.boundary_betti, refinements, &r.voxels);
+                                         m3.boundary_betti, refinements, &m3.voxels);
         }
-        r.voxelise_s = secondsSince(tv);
+        m3.voxelise_s = secondsSince(tv);
       });
-  r.solid.evaluate_seconds = r.delaunay_s + r.voxelise_s;
+  r.solid.evaluate_seconds = m3.delaunay_s + m3.voxelise_s;
   // Where the grid cannot hold the topology of R'' by either rule (or its boundary has open edges),
   // the voxels, made well-composed, are the solid and the mesh is theirs: mesh, labels.nrrd and the
   // Betti numbers describe one object (mesh_stage.cpp).
-  if (r.solid.voxels_inside > 0 && (d.stats.open_edges > 0 || r.solid.voxel_betti != r.boundary_betti)) {
-    r.mesh_from_voxels = true;
-    r.voxels_added_well_composed = makeWellComposed(r.solid.inside);
+  if (r.solid.voxels_inside > 0 && (d.stats.open_edges > 0 || r.solid.voxel_betti != m3.boundary_betti)) {
+    m3.mesh_from_voxels = true;
+    m3.voxels_added_well_composed = makeWellComposed(r.solid.inside);
     imposeSolid(r.solid.field, r.solid.inside, float(0.05 * r.solid.inside.grid().voxel));
     r.solid.raw_inside = r.solid.inside;
     r.solid.voxels_inside = r.solid.inside.count(1);

@@ -22,27 +22,31 @@
 
 namespace xsect {
 
-struct ReconstructStage {
-  SampledReconstruction solid;       ///< the method's solid on the grid (method 3: R'' sampled)
-  GraphVoxelCheck graph_check;       ///< the method's graph against the solid's components
-  CellConnectivityCheck cell_check;  ///< the same, cell by cell
-  /// Method 3: R'' itself (its boundary mesh, conformal by construction, its tetrahedra, the
-  /// section pairs they join and the pruning's statistics); `solid` is its voxelisation.
-  std::optional<DelaunayReconstruction> delaunay;
-  int delaunay_components = 0;           ///< method 3: components of the tetrahedra's union
-  std::int64_t delaunay_opened_copies = 0;  ///< method 3: vertex copies the mesh's opened pinches added
-  int connections_not_in_graph = 0;      ///< method 3: realised connections missing from G''
-  int graph_edges_not_realised = 0;      ///< method 3: edges of G'' that no tetrahedron realises
-  double delaunay_s = 0;                 ///< method 3: delaunayReconstruction, s (per material too)
-  double voxelise_s = 0;                 ///< method 3: sampling the tetrahedra on the grid, s
-  /// Method 3: the Betti numbers of the glued boundary of R'' (zeros when it has open edges), the
-  /// voxel rule and refinement that matched them (tetrahedra_voxels.h: `solid` is then on the
-  /// refined grid), and whether none did, so that the solid is the voxels made well-composed
+/// Method 3: R'' itself (its boundary mesh, conformal by construction, its tetrahedra, the section
+/// pairs they join and the pruning's statistics), and what its solid and checks read.
+struct DelaunayStage {
+  DelaunayReconstruction result;
+  int components = 0;                    ///< components of the tetrahedra's union
+  std::int64_t opened_copies = 0;        ///< vertex copies the mesh's opened pinches added
+  int connections_not_in_graph = 0;      ///< realised connections missing from G''
+  int graph_edges_not_realised = 0;      ///< edges of G'' that no tetrahedron realises
+  double delaunay_s = 0;                 ///< delaunayReconstruction, s
+  double voxelise_s = 0;                 ///< sampling the tetrahedra on the grid, s
+  /// The Betti numbers of the glued boundary of R'' (zeros when it has open edges), the voxel rule
+  /// and refinement that matched them (tetrahedra_voxels.h: the solid is then on the refined grid),
+  /// and whether none did, so that the solid is the voxels made well-composed
   /// (`voxels_added_well_composed` added), the mesh theirs.
   Betti boundary_betti{0, 0, 0};
   VoxelLikeness voxels;
   bool mesh_from_voxels = false;
   int voxels_added_well_composed = 0;
+};
+
+struct ReconstructStage {
+  SampledReconstruction solid;       ///< the method's solid on the grid (method 3: R'' sampled)
+  GraphVoxelCheck graph_check;       ///< the method's graph against the solid's components
+  CellConnectivityCheck cell_check;  ///< the same, cell by cell
+  std::optional<DelaunayStage> delaunay;  ///< method 3 (`solid` is its voxelisation)
   std::vector<std::string> warnings;  ///< what the stage found worth a warning (report.json's warnings)
 };
 

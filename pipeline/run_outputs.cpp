@@ -91,7 +91,7 @@ std::string graphJsonText(const RunResults& r, const json& nodes) {
     graph["delaunay_connections"] = json::array();
     const SectionIds ids = r.scene_stage.scene.ids();
     lists.push_back({"delaunay_connections", {}});
-    for (const GraphEdge& e : delaunay->connections)
+    for (const GraphEdge& e : delaunay->result.connections)
       lists.back().second.push_back({ids.of(e.plane_a, e.section_a), ids.of(e.plane_b, e.section_b), e.cell, nullptr});
   }
   return jsonWithEdgeLists(graph, lists);

@@ -107,29 +107,30 @@ json delaunayStatsJson(const DelaunayStats& s) {
 /// and Betti numbers (mesh and voxels), and the connections R'' realises against G'' and G'.
 json delaunayJson(const RunResults& r) {
   const ReconstructStage& rs = r.reconstruction;
-  const DelaunayReconstruction& d = *rs.delaunay;
+  const DelaunayStage& m3 = *rs.delaunay;
+  const DelaunayReconstruction& d = m3.result;
   const ArrangeStage& a = r.arrangement;
   const Betti& mesh = r.diagnosis.method_topology.betti;
   json j = delaunayStatsJson(d.stats);
   j.update(json{{"mesh_source", r.meshes.method3_from_voxels ? "voxels" : "boundary"},
                 {"tetrahedra", d.tetrahedra.size()},
-                {"tetrahedra_components", rs.delaunay_components},
-                {"opened_vertex_copies", rs.delaunay_opened_copies},
+                {"tetrahedra_components", m3.components},
+                {"opened_vertex_copies", m3.opened_copies},
                 {"mesh_betti", mesh},
                 {"mesh_triangles", r.smooth ? r.meshes.method_mesh.triangles.size() : r.meshes.mesh.triangles.size()},
                 {"voxel_betti", rs.solid.voxel_betti},
                 {"voxel_betti_matches_mesh", rs.solid.voxel_betti == mesh},
                 // One solid (issue 49): the rule whose voxels have the boundary's Betti numbers
-                {"voxel_rule", rs.voxels.rule == VoxelRule::cube ? "cube" : "centre"},
+                {"voxel_rule", m3.voxels.rule == VoxelRule::cube ? "cube" : "centre"},
                 {"voxel_mm", rs.solid.inside.grid().voxel},  // the scene's, halved `refinement` times
-                {"voxel_refinement", rs.voxels.refinement},
-                {"boundary_betti", rs.delaunay->stats.open_edges > 0 ? json(nullptr) : json(rs.boundary_betti)},
+                {"voxel_refinement", m3.voxels.refinement},
+                {"boundary_betti", d.stats.open_edges > 0 ? json(nullptr) : json(m3.boundary_betti)},
                 // mesh_source voxels: the mesh bounds the voxelisation made well-composed
                 {"mesh_voxel_betti", r.meshes.method3_from_voxels ? json(r.meshes.voxel_mesh_betti) : json(nullptr)},
                 {"mesh_voxels_added", r.meshes.voxel_mesh_critical_added},
                 {"connections", d.connections.size()},
-                {"connections_not_in_g_double_prime", rs.connections_not_in_graph},
-                {"g_double_prime_edges_not_realised", rs.graph_edges_not_realised},
+                {"connections_not_in_g_double_prime", m3.connections_not_in_graph},
+                {"g_double_prime_edges_not_realised", m3.graph_edges_not_realised},
                 {"edges_g_double_prime", a.graphs.g_double_prime.size()},
                 {"g_not_in_g_prime", a.g_not_in_g_prime},
                 {"g_prime_not_in_g_double_prime", a.g_prime_not_in_g_double_prime},
@@ -276,8 +277,8 @@ json throughputJson(const RunResults& r) {
           {"method1_evaluate_s", method == ReconstructionMethod::nearest_plane ? json(rec.evaluate_seconds) : json(nullptr)},
           {"method2_evaluate_s", method == ReconstructionMethod::section_voronoi ? json(rec.evaluate_seconds) : json(nullptr)},
           {"method3_evaluate_s", method == ReconstructionMethod::delaunay ? json(rec.evaluate_seconds) : json(nullptr)},
-          {"method3_delaunay_s", method == ReconstructionMethod::delaunay ? json(r.reconstruction.delaunay_s) : json(nullptr)},
-          {"method3_voxelise_s", method == ReconstructionMethod::delaunay ? json(r.reconstruction.voxelise_s) : json(nullptr)}};
+          {"method3_delaunay_s", method == ReconstructionMethod::delaunay ? json(r.reconstruction.delaunay->delaunay_s) : json(nullptr)},
+          {"method3_voxelise_s", method == ReconstructionMethod::delaunay ? json(r.reconstruction.delaunay->voxelise_s) : json(nullptr)}};
 }
 
 }  // namespace
