@@ -22,6 +22,8 @@ import argparse, json, os, random, shutil, subprocess, sys
 
 import yaml
 
+from ultrasound_family import seeds_of
+
 SHAPES = [
     ("torus-c", "{kind: torus, params: {major_radius: 7, minor_radius: 2.5}, rotation_deg: %s, "
                 "label_split: {normal: [1, 0.4, 0], point: [2, 0, 0]}}"),
@@ -37,11 +39,6 @@ SHAPES = [
                     "label_split: {normal: [1, 0, 0]}}"),
 ]
 METHODS = ["nearest_plane", "section_voronoi", "delaunay"]
-
-
-def seeds_of(text):
-    first, _, last = text.partition("-")
-    return range(int(first), int(last or first) + 1)
 
 
 def main():

@@ -309,15 +309,19 @@ class PlyValueReader {
   TokenReader tokens_;
 };
 
-TriangleMesh readPly(const std::string& path, const std::string& data) {
-  LineReader lines(data);
-  std::string_view line;
-  if (!lines.next(&line) || splitWords(line).size() != 1 || splitWords(line)[0] != "ply")
-    throw InputError(path, "header", "missing 'ply' magic", 1);
-
+/// The PLY header after the magic line: its format and elements with their properties; `lines`
+/// is left after end_header.
+struct PlyHeader {
   PlyFormat format = PlyFormat::Ascii;
-  bool haveFormat = false, haveEnd = false;
   std::vector<PlyElement> elements;
+};
+
+PlyHeader readPlyHeader(const std::string& path, LineReader& lines) {
+  std::string_view line;
+  PlyHeader h;
+  PlyFormat& format = h.format;
+  bool haveFormat = false, haveEnd = false;
+  std::vector<PlyElement>& elements = h.elements;
   while (lines.next(&line)) {
     const auto w = splitWords(line);
     if (w.empty()) continue;
@@ -364,6 +368,17 @@ TriangleMesh readPly(const std::string& path, const std::string& data) {
   }
   if (!haveFormat) throw InputError(path, "format", "missing format line");
   if (!haveEnd) throw InputError(path, "end_header", "header not terminated (truncated?)");
+  return h;
+}
+
+TriangleMesh readPly(const std::string& path, const std::string& data) {
+  LineReader lines(data);
+  std::string_view line;
+  if (!lines.next(&line) || splitWords(line).size() != 1 || splitWords(line)[0] != "ply")
+    throw InputError(path, "header", "missing 'ply' magic", 1);
+  const PlyHeader header = readPlyHeader(path, lines);
+  const PlyFormat format = header.format;
+  const std::vector<PlyElement>& elements = header.elements;
 
   TriangleMesh mesh;
   bool haveVertex = false, haveFace = false;

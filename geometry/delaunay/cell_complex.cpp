@@ -50,21 +50,11 @@ int commonPlane(const SectionVertices& sv, const int* ids, int n) {
   return -1;
 }
 
-CellComplex cellDelaunay(int cell, const std::vector<int>& ids, const SectionVertices& sv,
-                         const std::vector<SectionLocator>& sampled, const std::vector<CuttingPlane>& planes,
-                         const std::unordered_set<std::uint64_t>& contour,
-                         const std::vector<std::uint64_t>& cellContourEdges, std::vector<std::uint64_t>* missing) {
-  CellComplex c;
-  c.cell = cell;
-  std::vector<std::pair<K::Point_3, int>> pts;
-  pts.reserve(ids.size());
-  for (const int id : ids) {
-    const Vec3& x = sv.points[std::size_t(id)].x;
-    pts.push_back({K::Point_3(x.x(), x.y(), x.z()), id});
-  }
-  DT dt(pts.begin(), pts.end());
-  if (dt.dimension() < 3) return c;
-  // Canonical order of the finite cells: by sorted vertex ids.
+namespace {
+
+/// The finite tetrahedra of dt in a canonical order (by sorted vertex ids): their vertices and
+/// neighbours (-1: the infinite cell) into c, each cell's info its index.
+void canonicalTetrahedra(DT& dt, CellComplex& c) {
   std::vector<DT::Cell_handle> cells;
   for (auto it = dt.finite_cells_begin(); it != dt.finite_cells_end(); ++it) cells.push_back(it);
   std::vector<std::array<int, 4>> sortedIds(cells.size());
@@ -87,18 +77,28 @@ CellComplex cellDelaunay(int cell, const std::vector<int>& ids, const SectionVer
       c.nb[t][std::size_t(i)] = dt.is_infinite(o) ? -1 : o->info();
     }
   }
-  if (missing) {
-    missing->clear();
-    std::unordered_map<int, DT::Vertex_handle> vertexOf;
-    for (auto it = dt.finite_vertices_begin(); it != dt.finite_vertices_end(); ++it) vertexOf[it->info()] = it;
-    for (const std::uint64_t e : cellContourEdges) {
-      const auto a = vertexOf.find(int(e >> 32)), b = vertexOf.find(int(e & 0xffffffffu));
-      DT::Cell_handle ch;
-      int i = 0, j = 0;
-      if (a == vertexOf.end() || b == vertexOf.end() || !dt.is_edge(a->second, b->second, ch, i, j)) missing->push_back(e);
-    }
+}
+
+/// The contour edges of the cell that are not edges of dt, into `missing`.
+void missingContourEdges(const DT& dt, const std::vector<std::uint64_t>& cellContourEdges,
+                         std::vector<std::uint64_t>* missing) {
+  missing->clear();
+  std::unordered_map<int, DT::Vertex_handle> vertexOf;
+  for (auto it = dt.finite_vertices_begin(); it != dt.finite_vertices_end(); ++it) vertexOf[it->info()] = it;
+  for (const std::uint64_t e : cellContourEdges) {
+    const auto a = vertexOf.find(int(e >> 32)), b = vertexOf.find(int(e & 0xffffffffu));
+    DT::Cell_handle ch;
+    int i = 0, j = 0;
+    if (a == vertexOf.end() || b == vertexOf.end() || !dt.is_edge(a->second, b->second, ch, i, j)) missing->push_back(e);
   }
-  // Types and step 1.
+}
+
+/// Types and step 1: each tetrahedron's grounded faces and edges, whether it is external (a
+/// grounded face or edge outside the sampled sections), and its type (flat, vf, ee, evv, vvvv).
+void classifyTetrahedra(const SectionVertices& sv, const std::vector<SectionLocator>& sampled,
+                        const std::vector<CuttingPlane>& planes, const std::unordered_set<std::uint64_t>& contour,
+                        CellComplex& c) {
+  const std::size_t n = c.v.size();
   c.type.resize(n);
   c.external.assign(n, 0);
   c.kept.assign(n, 0);
@@ -177,6 +177,27 @@ CellComplex cellDelaunay(int cell, const std::vector<int>& ids, const SectionVer
     else
       c.type[t] = TetType::vvvv;
   }
+}
+
+}  // namespace
+
+CellComplex cellDelaunay(int cell, const std::vector<int>& ids, const SectionVertices& sv,
+                         const std::vector<SectionLocator>& sampled, const std::vector<CuttingPlane>& planes,
+                         const std::unordered_set<std::uint64_t>& contour,
+                         const std::vector<std::uint64_t>& cellContourEdges, std::vector<std::uint64_t>* missing) {
+  CellComplex c;
+  c.cell = cell;
+  std::vector<std::pair<K::Point_3, int>> pts;
+  pts.reserve(ids.size());
+  for (const int id : ids) {
+    const Vec3& x = sv.points[std::size_t(id)].x;
+    pts.push_back({K::Point_3(x.x(), x.y(), x.z()), id});
+  }
+  DT dt(pts.begin(), pts.end());
+  if (dt.dimension() < 3) return c;
+  canonicalTetrahedra(dt, c);
+  if (missing) missingContourEdges(dt, cellContourEdges, missing);
+  classifyTetrahedra(sv, sampled, planes, contour, c);
   return c;
 }
 

@@ -764,6 +764,73 @@ class BlockCells {
   ClippedBox box_;
 };
 
+/// Method 2 on the voxels of one 4³ block: the planes that may be nearest to its voxels, and each
+/// voxel decided by the thickened nearest plane, by the sections' boxes, or by the facets of its
+/// cell of the arrangement.
+struct SectionVoronoiBlockScan {
+  const std::vector<PlaneInfo>& info;
+  const Evaluator& ev;
+  const CellGeometry& cells;
+  float band = 0;
+
+  struct Work {
+    Scratch w;
+    BlockCells cells;
+    SectionVoronoiBlock out;
+  };
+
+  /// Planes whose sections' bounding boxes the block's projection reaches, found when a voxel off
+  /// the thickened planes first needs them. Without any, no voxel of the block has an in-section
+  /// projection: every such voxel lies outside R' (and R), and, as no plane's sections can reach
+  /// it, is outside evidence for the repair (nearest plane -1, sampled_reconstruction.cpp).
+  void listPlanesReached(const Vec3& c, const Vec3& e, Scratch& w) const {
+    w.inList.clear();
+    for (std::size_t q = 0; q < info.size(); ++q) {
+      const PlaneInfo& I = info[q];
+      if (!I.has_sections) continue;
+      const Vec3 dc = c - I.row.o;
+      const Vec2 pa(dc.dot(I.row.u), dc.dot(I.row.v));
+      const Vec2 pr(I.row.u.cwiseAbs().dot(e), I.row.v.cwiseAbs().dot(e));
+      const auto meets = [&](const Vec2& blo, const Vec2& bhi) {
+        return (pa + pr).x() >= blo.x() && (pa - pr).x() <= bhi.x() && (pa + pr).y() >= blo.y() &&
+               (pa - pr).y() <= bhi.y();
+      };
+      if (!meets(I.lo, I.hi)) continue;
+      for (const auto& bb : I.boxes)
+        if (meets(bb[0], bb[1])) {
+          w.inList.push_back(int(q));
+          break;
+        }
+    }
+  }
+
+  /// Voxel x's decision; `listed` says whether w.inList holds the planes the block reaches yet.
+  Decision decideVoxel(const Vec3& x, const Vec3& c, const Vec3& e, bool& listed, Work& work) const {
+    Scratch& w = work.w;
+    // Within the thickened nearest plane R' = R; elsewhere the facets of the voxel's cell
+    // hold every plane that can hide a section point or give x a visible projection.
+    Decision dcs;
+    const int nearest = ev.nearestPlane(x, w.cand);
+    if (!ev.decideByNearest(x, nearest, &dcs)) {
+      if (!listed) {
+        listPlanesReached(c, e, w);
+        listed = true;
+      }
+      if (w.inList.empty()) {
+        dcs = Decision{};
+        dcs.value = band;  // outside every section's reach
+      } else if (!ev.outsideEveryBox(x, w.inList, nearest, &dcs)) {
+        const CellFacets& cf = work.cells.of(x, cells);
+        w.facets.assign(cf.facets.begin(), cf.facets.end());
+        if (!std::binary_search(w.facets.begin(), w.facets.end(), nearest))
+          w.facets.insert(std::upper_bound(w.facets.begin(), w.facets.end(), nearest), nearest);
+        dcs = ev.decide(x, w.facets, cf.with_sections, cf.radiusFrom(x), w);
+      }
+    }
+    return dcs;
+  }
+};
+
 }  // namespace
 
 void forEachSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
@@ -795,11 +862,8 @@ void forEachSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
   const std::int64_t blocks = bx * by * bz;
   std::atomic<std::int64_t> exact{0}, cellsClipped{0};
 
-  struct Work {
-    Scratch w;
-    BlockCells cells;
-    SectionVoronoiBlock out;
-  };
+  const SectionVoronoiBlockScan scan{info, ev, cells, band};
+  using Work = SectionVoronoiBlockScan::Work;
   const auto doBlock = [&](int i0, int j0, int k0, Work& work) {
     Scratch& w = work.w;
     SectionVoronoiBlock& out = work.out;
@@ -814,55 +878,12 @@ void forEachSectionVoronoiBlock(const std::vector<CuttingPlane>& planes,
     w.cand.clear();
     for (std::size_t q = 0; q < info.size(); ++q)
       if (std::abs(info[q].row.s(c)) - info[q].row.an.dot(e) <= minHi + 1e-9 * (1 + minHi)) w.cand.push_back(int(q));
-    const auto offsetOf = [](int i, int j, int k) { return BlockGrid<float>::offset(i, j, k); };
-    // Planes whose sections' bounding boxes the block's projection reaches, found when a voxel off
-    // the thickened planes first needs them. Without any, no voxel of the block has an in-section
-    // projection: every such voxel lies outside R' (and R), and, as no plane's sections can reach
-    // it, is outside evidence for the repair (nearest plane -1, sampled_reconstruction.cpp).
     bool listed = false;
-    const auto listPlanesReached = [&] {
-      w.inList.clear();
-      for (std::size_t q = 0; q < info.size(); ++q) {
-        const PlaneInfo& I = info[q];
-        if (!I.has_sections) continue;
-        const Vec3 dc = c - I.row.o;
-        const Vec2 pa(dc.dot(I.row.u), dc.dot(I.row.v));
-        const Vec2 pr(I.row.u.cwiseAbs().dot(e), I.row.v.cwiseAbs().dot(e));
-        const auto meets = [&](const Vec2& blo, const Vec2& bhi) {
-          return (pa + pr).x() >= blo.x() && (pa - pr).x() <= bhi.x() && (pa + pr).y() >= blo.y() &&
-                 (pa - pr).y() <= bhi.y();
-        };
-        if (!meets(I.lo, I.hi)) continue;
-        for (const auto& bb : I.boxes)
-          if (meets(bb[0], bb[1])) {
-            w.inList.push_back(int(q));
-            break;
-          }
-      }
-      listed = true;
-    };
     for (int k = k0; k < k1; ++k)
       for (int j = j0; j < j1; ++j)
         for (int i = i0; i < i1; ++i) {
-          // Within the thickened nearest plane R' = R; elsewhere the facets of the voxel's cell
-          // hold every plane that can hide a section point or give x a visible projection.
-          const Vec3 x = grid.centre(i, j, k);
-          Decision dcs;
-          const int nearest = ev.nearestPlane(x, w.cand);
-          if (!ev.decideByNearest(x, nearest, &dcs)) {
-            if (!listed) listPlanesReached();
-            if (w.inList.empty()) {
-              dcs = Decision{};
-              dcs.value = band;  // outside every section's reach
-            } else if (!ev.outsideEveryBox(x, w.inList, nearest, &dcs)) {
-              const CellFacets& cf = work.cells.of(x, cells);
-              w.facets.assign(cf.facets.begin(), cf.facets.end());
-              if (!std::binary_search(w.facets.begin(), w.facets.end(), nearest))
-                w.facets.insert(std::upper_bound(w.facets.begin(), w.facets.end(), nearest), nearest);
-              dcs = ev.decide(x, w.facets, cf.with_sections, cf.radiusFrom(x), w);
-            }
-          }
-          const int o = offsetOf(i, j, k);
+          const Decision dcs = scan.decideVoxel(grid.centre(i, j, k), c, e, listed, work);
+          const int o = BlockGrid<float>::offset(i, j, k);
           out.value[std::size_t(o)] = std::clamp(dcs.value, -band, band);
           out.plane_distance[std::size_t(o)] = dcs.plane_distance;
           out.nearest_plane[std::size_t(o)] = dcs.nearest_plane;

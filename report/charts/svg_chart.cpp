@@ -324,296 +324,265 @@ struct ChartContext {
   bool points = false;
   std::string xWord, unit;
   double right = 0;  ///< the plot's right edge, px
-};
 
-/// The legend's entries (series, then marks), `titleHeight` px from the top.
-std::string legendSvg(const ChartContext& k, const std::vector<LegendEntry>& legend, double titleHeight) {
-  const SliceChart& c = k.c;
-  const bool points = k.points;
-  std::string out;
-  out += "<g class=\"legend\">\n";
-  for (const LegendEntry& e : legend) {
-    const double y = titleHeight + 12 + 16.0 * e.row;
-    if (e.isMark) {
-      out += "<rect x=\"" + px(e.x + 2) + "\" y=\"" + px(y - 9) +
-             "\" width=\"10\" height=\"10\" fill=\"" + markColour(c.marks[e.index], e.index) +
-             "\" fill-opacity=\"0.35\"/>\n";
-    } else {
-      const std::string col = seriesColour(c.series[e.index], e.index);
-      out += "<path d=\"M" + px(e.x) + ',' + px(y - 4) + "h14\" stroke=\"" + col +
-             "\" stroke-width=\"2\"/>\n";
-      if (points)
-        out += "<circle cx=\"" + px(e.x + 7) + "\" cy=\"" + px(y - 4) + "\" r=\"2.5\" fill=\"" +
-               col + "\"/>\n";
+  /// The legend's entries (series, then marks), `titleHeight` px from the top.
+  std::string legendSvg(const std::vector<LegendEntry>& legend, double titleHeight) const {
+    std::string out;
+    out += "<g class=\"legend\">\n";
+    for (const LegendEntry& e : legend) {
+      const double y = titleHeight + 12 + 16.0 * e.row;
+      if (e.isMark) {
+        out += "<rect x=\"" + px(e.x + 2) + "\" y=\"" + px(y - 9) +
+               "\" width=\"10\" height=\"10\" fill=\"" + markColour(c.marks[e.index], e.index) +
+               "\" fill-opacity=\"0.35\"/>\n";
+      } else {
+        const std::string col = seriesColour(c.series[e.index], e.index);
+        out += "<path d=\"M" + px(e.x) + ',' + px(y - 4) + "h14\" stroke=\"" + col +
+               "\" stroke-width=\"2\"/>\n";
+        if (points)
+          out += "<circle cx=\"" + px(e.x + 7) + "\" cy=\"" + px(y - 4) + "\" r=\"2.5\" fill=\"" +
+                 col + "\"/>\n";
+      }
+      const std::string& name = e.isMark ? c.marks[e.index].name : c.series[e.index].name;
+      out +=
+          "<text x=\"" + px(e.x + 18) + "\" y=\"" + px(y) + "\">" + xmlEscaped(name) + "</text>\n";
     }
-    const std::string& name = e.isMark ? c.marks[e.index].name : c.series[e.index].name;
-    out +=
-        "<text x=\"" + px(e.x + 18) + "\" y=\"" + px(y) + "\">" + xmlEscaped(name) + "</text>\n";
+    out += "</g>\n";
+    return out;
   }
-  out += "</g>\n";
-  return out;
-}
 
-/// Horizontal grid lines at the y ticks.
-std::string gridSvg(const ChartContext& k) {
-  const Frame& f = k.f;
-  const double right = k.right;
-  std::string out;
-  {
+  /// Horizontal grid lines at the y ticks.
+  std::string gridSvg() const {
     std::string d;
     for (double t : f.y.ticks) d += "M" + px(f.left) + ',' + px(f.yPx(t)) + "H" + px(right);
-    out += "<path class=\"grid\" d=\"" + d + "\" stroke=\"#e8e8e8\" fill=\"none\"/>\n";
+    return "<path class=\"grid\" d=\"" + d + "\" stroke=\"#e8e8e8\" fill=\"none\"/>\n";
   }
 
-  return out;
-}
-
-/// Marks: thin vertical bands behind the data. With points, a rectangle with a tooltip per
-/// slice; with lines, one path whose bands merge where neighbouring slices' bands touch.
-std::string marksSvg(const ChartContext& k) {
-  const SliceChart& c = k.c;
-  const Frame& f = k.f;
-  const bool points = k.points;
-  const std::string& xWord = k.xWord;
-  std::string out;
-  const double markWidth = std::clamp(0.6 * k.slotPx, 1.0, 12.0);
-  for (std::size_t m = 0; m < c.marks.size(); ++m) {
-    std::vector<int> idx = c.marks[m].x_index;
-    std::sort(idx.begin(), idx.end());
-    idx.erase(std::unique(idx.begin(), idx.end()), idx.end());
-    if (idx.empty()) continue;
-    out += "<g class=\"mark\" fill=\"" + markColour(c.marks[m], m) + "\" fill-opacity=\"0.25\">\n";
-    if (points) {
-      for (int i : idx) {
-        out += "<rect x=\"" + px(f.xPx(c.x[i]) - markWidth / 2) + "\" y=\"" + px(f.top) +
-               "\" width=\"" + px(markWidth) + "\" height=\"" + px(f.height) + "\"><title>" +
-               xWord + " " + std::to_string(c.x[i]) +
-               (c.marks[m].name.empty() ? "" : ": " + xmlEscaped(c.marks[m].name)) +
-               "</title></rect>\n";
-      }
-    } else {
-      std::string d;
-      const std::string vertical = "V" + px(f.top + f.height);
-      auto band = [&](double a, double b) {
-        d += "M" + px(a) + ',' + px(f.top) + "h" + px(b - a) + vertical + "H" + px(a) + "Z";
-      };
-      double a = 0, b = -1;
-      for (int i : idx) {
-        const double x = f.xPx(c.x[i]);
-        if (b >= a && x - markWidth / 2 <= b + 0.5) {
-          b = x + markWidth / 2;
-          continue;
+  /// Marks: thin vertical bands behind the data. With points, a rectangle with a tooltip per
+  /// slice; with lines, one path whose bands merge where neighbouring slices' bands touch.
+  std::string marksSvg() const {
+    std::string out;
+    const double markWidth = std::clamp(0.6 * slotPx, 1.0, 12.0);
+    for (std::size_t m = 0; m < c.marks.size(); ++m) {
+      std::vector<int> idx = c.marks[m].x_index;
+      std::sort(idx.begin(), idx.end());
+      idx.erase(std::unique(idx.begin(), idx.end()), idx.end());
+      if (idx.empty()) continue;
+      out += "<g class=\"mark\" fill=\"" + markColour(c.marks[m], m) + "\" fill-opacity=\"0.25\">\n";
+      if (points) {
+        for (int i : idx) {
+          out += "<rect x=\"" + px(f.xPx(c.x[i]) - markWidth / 2) + "\" y=\"" + px(f.top) +
+                 "\" width=\"" + px(markWidth) + "\" height=\"" + px(f.height) + "\"><title>" +
+                 xWord + " " + std::to_string(c.x[i]) +
+                 (c.marks[m].name.empty() ? "" : ": " + xmlEscaped(c.marks[m].name)) +
+                 "</title></rect>\n";
         }
-        if (b >= a) band(a, b);
-        a = x - markWidth / 2, b = x + markWidth / 2;
-      }
-      band(a, b);
-      out += "<path class=\"bands\" d=\"" + d + "\"/>\n";
-    }
-    out += "</g>\n";
-  }
-
-  return out;
-}
-
-/// Series s with few slices: a dot per slice with its tooltip (and error whiskers), joined by a
-/// line; `dodgeStep` px between the series at one slice.
-std::string seriesPointsSvg(const ChartContext& k, std::size_t s, double dodgeStep, double radius) {
-  const SliceChart& c = k.c;
-  const Frame& f = k.f;
-  const std::size_t n = k.n;
-  const double slotPx = k.slotPx;
-  const std::string& xWord = k.xWord;
-  const std::string& unit = k.unit;
-  const ChartSeries& cs = c.series[s];
-  const std::string col = seriesColour(cs, s);
-  const bool hasError = !cs.error.empty();
-  auto ok = [&](std::size_t i) { return usable(cs.values[i], c.log_y); };
-  auto errorOk = [&](std::size_t i) { return ok(i) && hasError && std::isfinite(cs.error[i]); };
-  std::vector<std::vector<Point>> runs;
-  std::string out;
-  const double dx = (double(s) - (c.series.size() - 1) / 2.0) * dodgeStep;
-  std::string whiskers, dots;
-  const double cap = std::clamp(0.4 * slotPx, 2.0, 6.0);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!ok(i)) {
-      if (!runs.empty() && !runs.back().empty()) runs.emplace_back();
-      continue;
-    }
-    if (runs.empty()) runs.emplace_back();
-    const Point p{f.xPx(c.x[i]) + dx, f.yPx(cs.values[i])};
-    runs.back().push_back(p);
-    std::string tip = (cs.name.empty() ? "" : xmlEscaped(cs.name) + ", ") + xWord + " " +
-                      std::to_string(c.x[i]) + ": " + valueText(cs.values[i]) + unit;
-    if (errorOk(i)) {
-      const double y0 = f.yPx(cs.values[i] - cs.error[i]),
-                   y1 = f.yPx(cs.values[i] + cs.error[i]);
-      const std::string l = px(p.x - cap / 2), r = "h" + px(cap);
-      whiskers += "M" + px(p.x) + ',' + px(y0) + "V" + px(y1) + "M" + l + ',' + px(y0) + r +
-                  "M" + l + ',' + px(y1) + r;
-      tip += " \xC2\xB1 " + valueText(cs.error[i]) + unit;
-    }
-    dots += "<circle cx=\"" + px(p.x) + "\" cy=\"" + px(p.y) + "\" r=\"" + px(radius) +
-            "\"><title>" + tip + "</title></circle>\n";
-  }
-  for (auto& run : runs)
-    if (run.size() < 2) run.clear();  // a lone point is its dot
-  const std::string line = polylinePath(runs, 2);
-  if (!line.empty())
-    out += "<path class=\"line\" d=\"" + line + "\" fill=\"none\" stroke=\"" + col +
-           "\" stroke-width=\"1.5\" stroke-opacity=\"0.7\" stroke-linejoin=\"round\"/>\n";
-  if (!whiskers.empty())
-    out += "<path class=\"error\" d=\"" + whiskers + "\" fill=\"none\" stroke=\"" + col +
-           "\" stroke-width=\"1\"/>\n";
-  out += dots;
-  return out;
-}
-
-/// Series s with many slices: per pixel column of a run, its lowest and highest values in slice
-/// order (a spike keeps its extreme), at the column's centre; and the band from the lowest value
-/// - error to the highest value + error. y to 0.1 pixel: a few kB less per series.
-std::string seriesLinesSvg(const ChartContext& k, std::size_t s) {
-  const SliceChart& c = k.c;
-  const Frame& f = k.f;
-  const std::size_t n = k.n;
-  const ChartSeries& cs = c.series[s];
-  const std::string col = seriesColour(cs, s);
-  const bool hasError = !cs.error.empty();
-  auto ok = [&](std::size_t i) { return usable(cs.values[i], c.log_y); };
-  auto errorOk = [&](std::size_t i) { return ok(i) && hasError && std::isfinite(cs.error[i]); };
-  std::vector<std::vector<Point>> runs;
-  std::string out;
-  std::string band;
-  std::vector<Point> upper, lower;
-  auto flushBand = [&] {
-    if (upper.size() == 1) {  // one column: half a pixel either side
-      upper = {{upper[0].x - 0.5, upper[0].y}, {upper[0].x + 0.5, upper[0].y}};
-      lower = {{lower[0].x - 0.5, lower[0].y}, {lower[0].x + 0.5, lower[0].y}};
-    }
-    if (!upper.empty()) {
-      band += 'M';
-      for (std::size_t k = 0; k < upper.size(); ++k)
-        band += (k ? " " : "") + px(upper[k].x) + ',' + px(upper[k].y, 1);
-      for (std::size_t k = lower.size(); k-- > 0;)
-        band += ' ' + px(lower[k].x) + ',' + px(lower[k].y, 1);
-      band += 'Z';
-    }
-    upper.clear(), lower.clear();
-  };
-  long column = -1, bandColumn = -1;
-  std::size_t iMin = 0, iMax = 0;
-  auto flushColumn = [&] {
-    if (column < 0) return;
-    const double x = f.left + column + 0.5;
-    const std::size_t a = std::min(iMin, iMax), b = std::max(iMin, iMax);
-    runs.back().push_back({x, f.yPx(cs.values[a])});
-    if (cs.values[a] != cs.values[b]) runs.back().push_back({x, f.yPx(cs.values[b])});
-    column = -1;
-  };
-  const long lastColumn = std::max(0L, static_cast<long>(std::ceil(f.width)) - 1);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!errorOk(i)) flushBand(), bandColumn = -1;
-    if (!ok(i)) {
-      flushColumn();
-      if (!runs.empty() && !runs.back().empty()) runs.emplace_back();
-      continue;
-    }
-    if (runs.empty()) runs.emplace_back();
-    const long col =
-        std::clamp(static_cast<long>(std::floor(f.xPx(c.x[i]) - f.left)), 0L, lastColumn);
-    const double v = cs.values[i];
-    if (col != column) {
-      flushColumn();
-      column = col, iMin = iMax = i;
-    } else {
-      if (v < cs.values[iMin]) iMin = i;
-      if (v > cs.values[iMax]) iMax = i;
-    }
-    if (errorOk(i)) {
-      const double yHi = f.yPx(v + cs.error[i]), yLo = f.yPx(v - cs.error[i]);
-      if (col != bandColumn) {
-        upper.push_back({f.left + col + 0.5, yHi});
-        lower.push_back({f.left + col + 0.5, yLo});
-        bandColumn = col;
       } else {
-        upper.back().y = std::min(upper.back().y, yHi);
-        lower.back().y = std::max(lower.back().y, yLo);
+        std::string d;
+        const std::string vertical = "V" + px(f.top + f.height);
+        auto band = [&](double a, double b) {
+          d += "M" + px(a) + ',' + px(f.top) + "h" + px(b - a) + vertical + "H" + px(a) + "Z";
+        };
+        double a = 0, b = -1;
+        for (int i : idx) {
+          const double x = f.xPx(c.x[i]);
+          if (b >= a && x - markWidth / 2 <= b + 0.5) {
+            b = x + markWidth / 2;
+            continue;
+          }
+          if (b >= a) band(a, b);
+          a = x - markWidth / 2, b = x + markWidth / 2;
+        }
+        band(a, b);
+        out += "<path class=\"bands\" d=\"" + d + "\"/>\n";
+      }
+      out += "</g>\n";
+    }
+    return out;
+  }
+
+  /// Series s with few slices: a dot per slice with its tooltip (and error whiskers), joined by a
+  /// line; `dodgeStep` px between the series at one slice.
+  std::string seriesPointsSvg(std::size_t s, double dodgeStep, double radius) const {
+    const ChartSeries& cs = c.series[s];
+    const std::string col = seriesColour(cs, s);
+    const bool hasError = !cs.error.empty();
+    auto ok = [&](std::size_t i) { return usable(cs.values[i], c.log_y); };
+    auto errorOk = [&](std::size_t i) { return ok(i) && hasError && std::isfinite(cs.error[i]); };
+    std::vector<std::vector<Point>> runs;
+    std::string out;
+    const double dx = (double(s) - (c.series.size() - 1) / 2.0) * dodgeStep;
+    std::string whiskers, dots;
+    const double cap = std::clamp(0.4 * slotPx, 2.0, 6.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!ok(i)) {
+        if (!runs.empty() && !runs.back().empty()) runs.emplace_back();
+        continue;
+      }
+      if (runs.empty()) runs.emplace_back();
+      const Point p{f.xPx(c.x[i]) + dx, f.yPx(cs.values[i])};
+      runs.back().push_back(p);
+      std::string tip = (cs.name.empty() ? "" : xmlEscaped(cs.name) + ", ") + xWord + " " +
+                        std::to_string(c.x[i]) + ": " + valueText(cs.values[i]) + unit;
+      if (errorOk(i)) {
+        const double y0 = f.yPx(cs.values[i] - cs.error[i]),
+                     y1 = f.yPx(cs.values[i] + cs.error[i]);
+        const std::string l = px(p.x - cap / 2), r = "h" + px(cap);
+        whiskers += "M" + px(p.x) + ',' + px(y0) + "V" + px(y1) + "M" + l + ',' + px(y0) + r +
+                    "M" + l + ',' + px(y1) + r;
+        tip += " \xC2\xB1 " + valueText(cs.error[i]) + unit;
+      }
+      dots += "<circle cx=\"" + px(p.x) + "\" cy=\"" + px(p.y) + "\" r=\"" + px(radius) +
+              "\"><title>" + tip + "</title></circle>\n";
+    }
+    for (auto& run : runs)
+      if (run.size() < 2) run.clear();  // a lone point is its dot
+    const std::string line = polylinePath(runs, 2);
+    if (!line.empty())
+      out += "<path class=\"line\" d=\"" + line + "\" fill=\"none\" stroke=\"" + col +
+             "\" stroke-width=\"1.5\" stroke-opacity=\"0.7\" stroke-linejoin=\"round\"/>\n";
+    if (!whiskers.empty())
+      out += "<path class=\"error\" d=\"" + whiskers + "\" fill=\"none\" stroke=\"" + col +
+             "\" stroke-width=\"1\"/>\n";
+    out += dots;
+    return out;
+  }
+
+  /// Series s with many slices: per pixel column of a run, its lowest and highest values in slice
+  /// order (a spike keeps its extreme), at the column's centre; and the band from the lowest value
+  /// - error to the highest value + error. y to 0.1 pixel: a few kB less per series.
+  std::string seriesLinesSvg(std::size_t s) const {
+    const ChartSeries& cs = c.series[s];
+    const std::string col = seriesColour(cs, s);
+    const bool hasError = !cs.error.empty();
+    auto ok = [&](std::size_t i) { return usable(cs.values[i], c.log_y); };
+    auto errorOk = [&](std::size_t i) { return ok(i) && hasError && std::isfinite(cs.error[i]); };
+    std::vector<std::vector<Point>> runs;
+    std::string out;
+    std::string band;
+    std::vector<Point> upper, lower;
+    auto flushBand = [&] {
+      if (upper.size() == 1) {  // one column: half a pixel either side
+        upper = {{upper[0].x - 0.5, upper[0].y}, {upper[0].x + 0.5, upper[0].y}};
+        lower = {{lower[0].x - 0.5, lower[0].y}, {lower[0].x + 0.5, lower[0].y}};
+      }
+      if (!upper.empty()) {
+        band += 'M';
+        for (std::size_t k = 0; k < upper.size(); ++k)
+          band += (k ? " " : "") + px(upper[k].x) + ',' + px(upper[k].y, 1);
+        for (std::size_t k = lower.size(); k-- > 0;)
+          band += ' ' + px(lower[k].x) + ',' + px(lower[k].y, 1);
+        band += 'Z';
+      }
+      upper.clear(), lower.clear();
+    };
+    long column = -1, bandColumn = -1;
+    std::size_t iMin = 0, iMax = 0;
+    auto flushColumn = [&] {
+      if (column < 0) return;
+      const double x = f.left + column + 0.5;
+      const std::size_t a = std::min(iMin, iMax), b = std::max(iMin, iMax);
+      runs.back().push_back({x, f.yPx(cs.values[a])});
+      if (cs.values[a] != cs.values[b]) runs.back().push_back({x, f.yPx(cs.values[b])});
+      column = -1;
+    };
+    const long lastColumn = std::max(0L, static_cast<long>(std::ceil(f.width)) - 1);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!errorOk(i)) flushBand(), bandColumn = -1;
+      if (!ok(i)) {
+        flushColumn();
+        if (!runs.empty() && !runs.back().empty()) runs.emplace_back();
+        continue;
+      }
+      if (runs.empty()) runs.emplace_back();
+      const long col =
+          std::clamp(static_cast<long>(std::floor(f.xPx(c.x[i]) - f.left)), 0L, lastColumn);
+      const double v = cs.values[i];
+      if (col != column) {
+        flushColumn();
+        column = col, iMin = iMax = i;
+      } else {
+        if (v < cs.values[iMin]) iMin = i;
+        if (v > cs.values[iMax]) iMax = i;
+      }
+      if (errorOk(i)) {
+        const double yHi = f.yPx(v + cs.error[i]), yLo = f.yPx(v - cs.error[i]);
+        if (col != bandColumn) {
+          upper.push_back({f.left + col + 0.5, yHi});
+          lower.push_back({f.left + col + 0.5, yLo});
+          bandColumn = col;
+        } else {
+          upper.back().y = std::min(upper.back().y, yHi);
+          lower.back().y = std::max(lower.back().y, yLo);
+        }
       }
     }
-  }
-  flushColumn();
-  flushBand();
-  if (!band.empty())
-    out += "<path class=\"band\" d=\"" + band + "\" fill-opacity=\"0.2\" stroke=\"none\"/>\n";
-  const std::string line = polylinePath(runs, 1);
-  if (!line.empty())
-    out += "<path class=\"line\" d=\"" + line + "\" fill=\"none\" stroke=\"" + col +
-           "\" stroke-width=\"1.25\" stroke-linejoin=\"round\" stroke-linecap=\"round\"/>\n";
-  return out;
-}
-
-/// The threshold: a dashed line, its label at the right end above it.
-std::string thresholdSvg(const ChartContext& k) {
-  const SliceChart& c = k.c;
-  const Frame& f = k.f;
-  const double right = k.right;
-  std::string out;
-  if (usable(c.threshold, c.log_y)) {
-    const std::string y = px(f.yPx(c.threshold));
-    out += "<g class=\"threshold\">\n<path d=\"M" + px(f.left) + ',' + y + "H" + px(right) +
-           "\" stroke=\"#555\" stroke-width=\"1\" stroke-dasharray=\"5,4\" fill=\"none\"/>\n";
-    if (!c.threshold_label.empty())
-      out += "<text x=\"" + px(right - 4) + "\" y=\"" + px(f.yPx(c.threshold) - 4) +
-             "\" text-anchor=\"end\" fill=\"#555\" stroke=\"#fff\" stroke-width=\"3\" "
-             "paint-order=\"stroke\">" +
-             xmlEscaped(c.threshold_label) + "</text>\n";
-    out += "</g>\n";
+    flushColumn();
+    flushBand();
+    if (!band.empty())
+      out += "<path class=\"band\" d=\"" + band + "\" fill-opacity=\"0.2\" stroke=\"none\"/>\n";
+    const std::string line = polylinePath(runs, 1);
+    if (!line.empty())
+      out += "<path class=\"line\" d=\"" + line + "\" fill=\"none\" stroke=\"" + col +
+             "\" stroke-width=\"1.25\" stroke-linejoin=\"round\" stroke-linecap=\"round\"/>\n";
+    return out;
   }
 
-  return out;
-}
-
-/// Axes: frame lines, ticks, tick labels, axis labels.
-std::string axesSvg(const ChartContext& k) {
-  const SliceChart& c = k.c;
-  const Frame& f = k.f;
-  const double right = k.right;
-  const std::string& xWord = k.xWord;
-  std::string out;
-  {
-    const double bottom = f.top + f.height;
-    std::string d = "M" + px(f.left) + ',' + px(f.top) + "V" + px(bottom) + "H" + px(right);
-    std::string labels;
-    for (std::size_t k = 0; k < f.y.ticks.size(); ++k) {
-      const std::string y = px(f.yPx(f.y.ticks[k]));
-      d += "M" + px(f.left - 4) + ',' + y + "h4";
-      labels += "<text class=\"ytick\" x=\"" + px(f.left - 6) + "\" y=\"" + y +
-                "\" text-anchor=\"end\" dominant-baseline=\"middle\">" + f.y.labels[k] +
-                "</text>\n";
+  /// The threshold: a dashed line, its label at the right end above it.
+  std::string thresholdSvg() const {
+    std::string out;
+    if (usable(c.threshold, c.log_y)) {
+      const std::string y = px(f.yPx(c.threshold));
+      out += "<g class=\"threshold\">\n<path d=\"M" + px(f.left) + ',' + y + "H" + px(right) +
+             "\" stroke=\"#555\" stroke-width=\"1\" stroke-dasharray=\"5,4\" fill=\"none\"/>\n";
+      if (!c.threshold_label.empty())
+        out += "<text x=\"" + px(right - 4) + "\" y=\"" + px(f.yPx(c.threshold) - 4) +
+               "\" text-anchor=\"end\" fill=\"#555\" stroke=\"#fff\" stroke-width=\"3\" "
+               "paint-order=\"stroke\">" +
+               xmlEscaped(c.threshold_label) + "</text>\n";
+      out += "</g>\n";
     }
-    // x ticks: integer multiples of a 1-2-5 step of slice numbers, inside the padded range.
-    const double span = std::max(1.0, double(c.x.back()) - c.x.front());
-    const double step = std::max(1.0, niceStep(span / std::max(2.0, std::floor(f.width / 70))));
-    const double k0 = std::ceil(f.x0 / step), k1 = std::floor(f.x1 / step);
-    for (double k = k0; k <= k1 && k - k0 <= 1000; ++k) {
-      const double v = k * step;
-      const std::string x = px(f.xPx(v));
-      d += "M" + x + ',' + px(bottom) + "v4";
-      labels += "<text class=\"xtick\" x=\"" + x + "\" y=\"" + px(bottom + 15) +
-                "\" text-anchor=\"middle\">" + fixedText(v, 0) + "</text>\n";
-    }
-    out += "<g class=\"axes\" fill=\"#333\">\n<path d=\"" + d +
-           "\" stroke=\"#333\" stroke-width=\"1\" fill=\"none\"/>\n" + labels;
-    if (!c.x_label.empty())
-      out += "<text class=\"x-label\" x=\"" + px(f.left + f.width / 2) + "\" y=\"" +
-             px(bottom + 31) + "\" text-anchor=\"middle\">" + xWord + "</text>\n";
-    if (!c.y_label.empty())
-      out += "<text class=\"y-label\" transform=\"translate(14," + px(f.top + f.height / 2) +
-             ") rotate(-90)\" text-anchor=\"middle\">" + xmlEscaped(c.y_label) + "</text>\n";
-    out += "</g>\n";
+    return out;
   }
-  return out;
-}
+
+  /// Axes: frame lines, ticks, tick labels, axis labels.
+  std::string axesSvg() const {
+    std::string out;
+    {
+      const double bottom = f.top + f.height;
+      std::string d = "M" + px(f.left) + ',' + px(f.top) + "V" + px(bottom) + "H" + px(right);
+      std::string labels;
+      for (std::size_t k = 0; k < f.y.ticks.size(); ++k) {
+        const std::string y = px(f.yPx(f.y.ticks[k]));
+        d += "M" + px(f.left - 4) + ',' + y + "h4";
+        labels += "<text class=\"ytick\" x=\"" + px(f.left - 6) + "\" y=\"" + y +
+                  "\" text-anchor=\"end\" dominant-baseline=\"middle\">" + f.y.labels[k] +
+                  "</text>\n";
+      }
+      // x ticks: integer multiples of a 1-2-5 step of slice numbers, inside the padded range.
+      const double span = std::max(1.0, double(c.x.back()) - c.x.front());
+      const double step = std::max(1.0, niceStep(span / std::max(2.0, std::floor(f.width / 70))));
+      const double k0 = std::ceil(f.x0 / step), k1 = std::floor(f.x1 / step);
+      for (double k = k0; k <= k1 && k - k0 <= 1000; ++k) {
+        const double v = k * step;
+        const std::string x = px(f.xPx(v));
+        d += "M" + x + ',' + px(bottom) + "v4";
+        labels += "<text class=\"xtick\" x=\"" + x + "\" y=\"" + px(bottom + 15) +
+                  "\" text-anchor=\"middle\">" + fixedText(v, 0) + "</text>\n";
+      }
+      out += "<g class=\"axes\" fill=\"#333\">\n<path d=\"" + d +
+             "\" stroke=\"#333\" stroke-width=\"1\" fill=\"none\"/>\n" + labels;
+      if (!c.x_label.empty())
+        out += "<text class=\"x-label\" x=\"" + px(f.left + f.width / 2) + "\" y=\"" +
+               px(bottom + 31) + "\" text-anchor=\"middle\">" + xWord + "</text>\n";
+      if (!c.y_label.empty())
+        out += "<text class=\"y-label\" transform=\"translate(14," + px(f.top + f.height / 2) +
+               ") rotate(-90)\" text-anchor=\"middle\">" + xmlEscaped(c.y_label) + "</text>\n";
+      out += "</g>\n";
+    }
+    return out;
+  }
+};
 
 }  // namespace
 
@@ -688,20 +657,20 @@ std::string svgSliceChart(const SliceChart& c, int width, int height) {
                        f.left + f.width};
 
   open(height);
-  if (!legend.empty()) out += legendSvg(k, legend, titleHeight);
-  out += gridSvg(k);
-  out += marksSvg(k);
+  if (!legend.empty()) out += k.legendSvg(legend, titleHeight);
+  out += k.gridSvg();
+  out += k.marksSvg();
   // Series.
   const double dodgeStep =
       c.series.size() > 1 ? std::min(4.0, 0.5 * k.slotPx / double(c.series.size())) : 0.0;
   const double radius = std::clamp(0.3 * k.slotPx, 1.5, 2.5);
   for (std::size_t s = 0; s < c.series.size(); ++s) {
     out += "<g class=\"series\" fill=\"" + seriesColour(c.series[s], s) + "\">\n";
-    out += k.points ? seriesPointsSvg(k, s, dodgeStep, radius) : seriesLinesSvg(k, s);
+    out += k.points ? k.seriesPointsSvg(s, dodgeStep, radius) : k.seriesLinesSvg(s);
     out += "</g>\n";
   }
-  out += thresholdSvg(k);
-  out += axesSvg(k);
+  out += k.thresholdSvg();
+  out += k.axesSvg();
   out += "</svg>\n";
   return out;
 }
