@@ -401,21 +401,24 @@ struct ChartContext {
     return out;
   }
 
+  /// Whether series cs has a usable value at slice i (on a log axis: positive), and an error too.
+  bool ok(const ChartSeries& cs, std::size_t i) const { return usable(cs.values[i], c.log_y); }
+  bool errorOk(const ChartSeries& cs, std::size_t i) const {
+    return ok(cs, i) && !cs.error.empty() && std::isfinite(cs.error[i]);
+  }
+
   /// Series s with few slices: a dot per slice with its tooltip (and error whiskers), joined by a
   /// line; `dodgeStep` px between the series at one slice.
   std::string seriesPointsSvg(std::size_t s, double dodgeStep, double radius) const {
     const ChartSeries& cs = c.series[s];
     const std::string col = seriesColour(cs, s);
-    const bool hasError = !cs.error.empty();
-    auto ok = [&](std::size_t i) { return usable(cs.values[i], c.log_y); };
-    auto errorOk = [&](std::size_t i) { return ok(i) && hasError && std::isfinite(cs.error[i]); };
     std::vector<std::vector<Point>> runs;
     std::string out;
     const double dx = (double(s) - (c.series.size() - 1) / 2.0) * dodgeStep;
     std::string whiskers, dots;
     const double cap = std::clamp(0.4 * slotPx, 2.0, 6.0);
     for (std::size_t i = 0; i < n; ++i) {
-      if (!ok(i)) {
+      if (!ok(cs, i)) {
         if (!runs.empty() && !runs.back().empty()) runs.emplace_back();
         continue;
       }
@@ -424,7 +427,7 @@ struct ChartContext {
       runs.back().push_back(p);
       std::string tip = (cs.name.empty() ? "" : xmlEscaped(cs.name) + ", ") + xWord + " " +
                         std::to_string(c.x[i]) + ": " + valueText(cs.values[i]) + unit;
-      if (errorOk(i)) {
+      if (errorOk(cs, i)) {
         const double y0 = f.yPx(cs.values[i] - cs.error[i]),
                      y1 = f.yPx(cs.values[i] + cs.error[i]);
         const std::string l = px(p.x - cap / 2), r = "h" + px(cap);
@@ -454,9 +457,6 @@ struct ChartContext {
   std::string seriesLinesSvg(std::size_t s) const {
     const ChartSeries& cs = c.series[s];
     const std::string col = seriesColour(cs, s);
-    const bool hasError = !cs.error.empty();
-    auto ok = [&](std::size_t i) { return usable(cs.values[i], c.log_y); };
-    auto errorOk = [&](std::size_t i) { return ok(i) && hasError && std::isfinite(cs.error[i]); };
     std::vector<std::vector<Point>> runs;
     std::string out;
     std::string band;
@@ -488,8 +488,8 @@ struct ChartContext {
     };
     const long lastColumn = std::max(0L, static_cast<long>(std::ceil(f.width)) - 1);
     for (std::size_t i = 0; i < n; ++i) {
-      if (!errorOk(i)) flushBand(), bandColumn = -1;
-      if (!ok(i)) {
+      if (!errorOk(cs, i)) flushBand(), bandColumn = -1;
+      if (!ok(cs, i)) {
         flushColumn();
         if (!runs.empty() && !runs.back().empty()) runs.emplace_back();
         continue;
@@ -505,7 +505,7 @@ struct ChartContext {
         if (v < cs.values[iMin]) iMin = i;
         if (v > cs.values[iMax]) iMax = i;
       }
-      if (errorOk(i)) {
+      if (errorOk(cs, i)) {
         const double yHi = f.yPx(v + cs.error[i]), yLo = f.yPx(v - cs.error[i]);
         if (col != bandColumn) {
           upper.push_back({f.left + col + 0.5, yHi});
