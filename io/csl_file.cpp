@@ -16,25 +16,25 @@
 namespace xsect {
 
 
-std::vector<CuttingPlane> readCslFile(const std::string& path, std::vector<std::string>* warnings, bool repair) {
-  Tokens tk = readTokens(path);
-  if (tk.next("header").first != "CSLC") throw InputError(path, "header", "expected 'CSLC'", 1);
-  const long nPlanes = tk.count("plane count", 1, 7);  // index, counts, A B C D
-  tk.integer("label count", 0);
+namespace {
 
-  struct Raw {
-    Vec3 n;
-    double d;
-    std::vector<Vec3> pts;
-    std::vector<Ring> outers, holes;
-    std::vector<long> outerComponent, holeComponent;  // component numbers, for messages
-    int line;
-  };
-  std::vector<Raw> raw(nPlanes);
-  Vec3 lo = Vec3::Constant(1e300), hi = -lo;
+/// A plane of the file as read: its equation, vertices and rings (of vertex indices until the
+/// plane's frame exists), with their component numbers for messages.
+struct RawPlane {
+  Vec3 n;
+  double d;
+  std::vector<Vec3> pts;
+  std::vector<Ring> outers, holes;
+  std::vector<long> outerComponent, holeComponent;  // component numbers, for messages
+  int line;
+};
+
+/// The planes of the file after its header, and the bounds of their vertices.
+std::vector<RawPlane> readRawPlanes(Tokens& tk, const std::string& path, long nPlanes, Vec3& lo, Vec3& hi) {
+  std::vector<RawPlane> raw(static_cast<std::size_t>(nPlanes));
   for (long p = 0; p < nPlanes; ++p) {
     const std::string key = "plane " + std::to_string(p + 1);
-    Raw& r = raw[p];
+    RawPlane& r = raw[std::size_t(p)];
     r.line = tk.line();
     tk.integer(key + " index", 0);
     const long nv = tk.count(key + " vertex count", 0, 3);
@@ -76,48 +76,62 @@ std::vector<CuttingPlane> readCslFile(const std::string& path, std::vector<std::
   }
   if (tk.at != tk.items.size())
     throw InputError(path, "", "unexpected content after the last plane", tk.items[tk.at].second);
+  return raw;
+}
+
+/// The rings of plane `cp` (of RawPlane r) in the plane's coordinates, cleaned: without area
+/// (tolerance: 1e-12 of the data's extent squared) dropped, with a warning; crossing themselves:
+/// refused without repair (even when their lobes net no area), else measured by the area of their
+/// lobes (a symmetric figure eight nets zero).
+std::vector<Ring> cleanRings(std::vector<Ring> rings, const std::vector<long>& components, const RawPlane& r,
+                             const CuttingPlane& cp, double tinyArea, bool repair, const std::string& path,
+                             std::vector<std::string>* warnings) {
+  for (Ring& ring : rings)
+    for (auto& q : ring) q = cp.plane.toPlane(r.pts[std::size_t(q.x())]);
+  std::vector<Ring> kept;
+  for (std::size_t k = 0; k < rings.size(); ++k) {
+    Ring ring = withoutRepeatedVertices(rings[k]);
+    const std::string where = cp.name + " component " + std::to_string(components[k]);
+    const bool simple = ring.size() >= 3 && ringIsSimple(ring);
+    if (!repair && ring.size() >= 3 && !simple)
+      throw InputError(path, where,
+                       "the contour crosses itself (a self-intersecting ring); input.repair_contours: true "
+                       "makes it simple",
+                       r.line);
+    const double area = simple || !repair || ring.size() < 3 ? std::abs(signedArea(ring))
+                                                              : repairedOrRefused({ring}, {}, path, where, r.line).area_after;
+    if (ring.size() < 3 || area <= tinyArea) {
+      if (warnings)
+        warnings->push_back(path + ": " + where + " has no area (a point or a segment): dropped");
+      continue;
+    }
+    kept.push_back(std::move(ring));
+  }
+  return kept;
+}
+
+}  // namespace
+
+std::vector<CuttingPlane> readCslFile(const std::string& path, std::vector<std::string>* warnings, bool repair) {
+  Tokens tk = readTokens(path);
+  if (tk.next("header").first != "CSLC") throw InputError(path, "header", "expected 'CSLC'", 1);
+  const long nPlanes = tk.count("plane count", 1, 7);  // index, counts, A B C D
+  tk.integer("label count", 0);
+  Vec3 lo = Vec3::Constant(1e300), hi = -lo;
+  std::vector<RawPlane> raw = readRawPlanes(tk, path, nPlanes, lo, hi);
+  if (tk.at != tk.items.size())
+    throw InputError(path, "", "unexpected content after the last plane", tk.items[tk.at].second);
 
   std::vector<CuttingPlane> planes(nPlanes);
+  const double tinyArea = 1e-12 * std::max((hi - lo).squaredNorm(), 1e-300);
   for (long p = 0; p < nPlanes; ++p) {
-    Raw& r = raw[p];
+    RawPlane& r = raw[std::size_t(p)];
     CuttingPlane& cp = planes[p];
     cp.slice = int(p);
     cp.name = "plane " + std::to_string(p + 1);
     cp.plane = contourPlane(r.n, r.d, r.pts, lo, hi, path, cp.name, r.line);
-    const Plane& pl = cp.plane;
-    const auto toPlane = [&](Ring& ring) {
-      for (auto& q : ring) q = pl.toPlane(r.pts[std::size_t(q.x())]);
-    };
-    // Rings in the plane, cleaned: without area (tolerance: 1e-12 of the data's extent squared)
-    // dropped, self-intersecting refused.
-    const double tinyArea = 1e-12 * std::max((hi - lo).squaredNorm(), 1e-300);
-    const auto clean = [&](std::vector<Ring>& rings, const std::vector<long>& components) {
-      std::vector<Ring> kept;
-      for (std::size_t k = 0; k < rings.size(); ++k) {
-        toPlane(rings[k]);
-        Ring ring = withoutRepeatedVertices(rings[k]);
-        const std::string where = cp.name + " component " + std::to_string(components[k]);
-        // A ring crossing itself: refused without repair (even when its lobes net no area), else
-        // measured by the area of its lobes (a symmetric figure eight nets zero).
-        const bool simple = ring.size() >= 3 && ringIsSimple(ring);
-        if (!repair && ring.size() >= 3 && !simple)
-          throw InputError(path, where,
-                           "the contour crosses itself (a self-intersecting ring); input.repair_contours: true "
-                           "makes it simple",
-                           r.line);
-        const double area = simple || !repair || ring.size() < 3 ? std::abs(signedArea(ring))
-                                                                  : repairedOrRefused({ring}, {}, path, where, r.line).area_after;
-        if (ring.size() < 3 || area <= tinyArea) {
-          if (warnings)
-            warnings->push_back(path + ": " + where + " has no area (a point or a segment): dropped");
-          continue;
-        }
-        kept.push_back(std::move(ring));
-      }
-      rings = std::move(kept);
-    };
-    clean(r.outers, r.outerComponent);
-    clean(r.holes, r.holeComponent);
+    r.outers = cleanRings(std::move(r.outers), r.outerComponent, r, cp, tinyArea, repair, path, warnings);
+    r.holes = cleanRings(std::move(r.holes), r.holeComponent, r, cp, tinyArea, repair, path, warnings);
     if (repair) {
       RingRepair fixed = repairedOrRefused(r.outers, r.holes, path, cp.name, r.line);
       if (fixed.changed && warnings) warnings->push_back(repairWarning(path + ": " + cp.name, fixed));
