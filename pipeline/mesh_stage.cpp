@@ -71,7 +71,6 @@ std::string bettiText(const Betti& b) {
   return "(" + std::to_string(b[0]) + ", " + std::to_string(b[1]) + ", " + std::to_string(b[2]) + ")";
 }
 
-
 /// Several materials, from dense copies of the labels and the field (not yet by blocks): where two
 /// voxels of a label meet at an edge or a vertex only, labels change until every label's voxels
 /// are well-composed at once (well_composed_labels.h), so that the materials stay a partition of
