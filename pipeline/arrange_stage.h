@@ -15,6 +15,7 @@
 #include "geometry/delaunay/delaunay_reconstruction.h"
 #include "geometry/scene/section_scene.h"
 #include "io/run_config.h"
+#include "pipeline/methods/method.h"
 
 namespace xsect {
 
@@ -42,7 +43,9 @@ struct ArrangeStage {
 /// sections' area would hold more than 250 000 points.
 double arrangementSpacing(double voxel_mm, const std::vector<CuttingPlane>& planes, std::size_t realPlanes);
 
-ArrangeStage arrangeStage(const RunConfig& config, const SectionScene& scene);
+/// Builds what `method` joins sections by (Method::graphs); throws what Method::requireArrangement
+/// throws for planes it cannot take.
+ArrangeStage arrangeStage(const RunConfig& config, const SectionScene& scene, const Method& method);
 
 /// How many edges of `sub` (sorted) are not in `super` (sorted), cell included.
 int edgesMissing(const std::vector<GraphEdge>& sub, const std::vector<GraphEdge>& super);

@@ -8,6 +8,7 @@
 #include "geometry/reconstruction/voxel_labels.h"
 #include "geometry/reconstruction/well_composed_labels.h"
 #include "pipeline/material_sections.h"
+#include "pipeline/mesh_bounds.h"
 
 namespace xsect {
 
@@ -31,44 +32,6 @@ Material materialOf(std::uint16_t L, const std::vector<std::uint16_t>& voxelLabe
   m.voxel_betti = voxelBetti(in_L, field.grid);
   m.mesh = meshZeroLevel(f);
   return m;
-}
-
-/// The mesh written must bound the solid report.json describes (issue 14): a difference is a
-/// defect of this program, an error (exit 1, nothing written), never a warning.
-void requireMeshBoundsSolid(const MeshTopology& mesh, const Betti& solid, const std::string& what) {
-  if (solid[0] == 0 || mesh.betti[0] == 0)
-    throw std::runtime_error(what + " is empty although the sections are not (the solid has " +
-                             std::to_string(solid[0]) + " components): nothing written");
-  if (mesh.watertight && mesh.betti == solid) return;
-  const auto betti = [](const Betti& b) {
-    return "(" + std::to_string(b[0]) + ", " + std::to_string(b[1]) + ", " + std::to_string(b[2]) + ")";
-  };
-  throw std::runtime_error(what + " has Betti numbers " + betti(mesh.betti) +
-                           (mesh.watertight ? "" : " and is not watertight") + " while the voxel solid it was made from has " +
-                           betti(solid) + "; nothing written (a defect of xsect: please report it with the configuration)");
-}
-
-/// Method 3: the mesh is ∂R'' itself, so it must be closed and have one outer surface per
-/// component of the union of the tetrahedra it bounds (issue 14, as requireMeshBoundsSolid); where
-/// it opened pinches, each vertex copy may split one more piece off (tetrahedra_components.h).
-void requireMeshBoundsTetrahedra(const MeshTopology& mesh, int components, std::int64_t copies,
-                                 const std::string& what) {
-  if (components == 0 || mesh.betti[0] == 0)
-    throw std::runtime_error(what + " is empty although the sections are not (method 3's tetrahedra form " +
-                             std::to_string(components) + " components): nothing written");
-  if (mesh.watertight && mesh.betti[0] >= components && mesh.betti[0] <= components + copies) return;
-  throw std::runtime_error(what + " has " + std::to_string(mesh.betti[0]) + " outer surfaces" +
-                           (mesh.watertight ? "" : " and is not watertight") +
-                           " while the union of method 3's tetrahedra it bounds has " + std::to_string(components) +
-                           " components" +
-                           (copies > 0 ? " (" + std::to_string(copies) + " vertex copies at opened pinches allow up to " +
-                                             std::to_string(components + copies) + ")"
-                                       : std::string()) +
-                           "; nothing written (a defect of xsect: please report it with the configuration)");
-}
-
-std::string bettiText(const Betti& b) {
-  return "(" + std::to_string(b[0]) + ", " + std::to_string(b[1]) + ", " + std::to_string(b[2]) + ")";
 }
 
 /// Several materials, from dense copies of the labels and the field (not yet by blocks): where two
@@ -156,51 +119,17 @@ BlockGrid<std::uint16_t> labelsOfSmoothSolid(const ScalarField& field, const Blo
 
 }  // namespace
 
-MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const ReconstructStage& reconstruction,
-                    const SmoothStage* smooth) {
+MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const Method& method,
+                    const ReconstructStage& reconstruction, const SmoothStage* smooth) {
   const RunConfig& c = in.config;
   const SampledReconstruction& rec = reconstruction.solid;
-  const bool method3 = reconstruction.delaunay.has_value();
-  const double voxel = rec.inside.grid().voxel;  // method 3 may refine the scene's (reconstruct_stage.h)
+  const double voxel = rec.inside.grid().voxel;  // method 3 may refine the scene's (delaunay_method.h)
   MeshStage m;
-  ConformalCutStats methodCut;
-  // ∂R'' with open edges: its gluing failed on some plane (the jittered torus with enforced
-  // conformity, seed 2: five edges where faces of two cells nearly parallel to a plane meet it).
-  // R'' itself, the union of its tetrahedra, is whole: its voxelisation is meshed instead.
-  // Or the grid holds no voxel set with its topology (reconstruct_stage.cpp): the solid is then the
-  // voxels, made well-composed there, and the mesh is theirs (one solid, issue 49).
-  m.method3_from_voxels = method3 && reconstruction.delaunay->mesh_from_voxels;
-  if (m.method3_from_voxels) {
-    m.voxel_mesh_critical_added = reconstruction.delaunay->voxels_added_well_composed;
-    m.voxel_mesh_betti = rec.voxel_betti;
-    m.method_mesh = meshZeroLevel(rec.field);
-    if (c.conformal_mesh) methodCut = cutAlongSections(m.method_mesh, scene.planes, scene.fields, voxel);
-    const std::string what = (smooth ? "the unsmoothed mesh" : "the mesh") + std::string(" is the voxelisation of R'' at ") +
-                             std::to_string(voxel) + " mm made well-composed, not its boundary through the "
-                             "contours (report.json reconstruction.delaunay.mesh_source: voxels, mesh_voxel_betti)";
-    if (reconstruction.delaunay->result.stats.open_edges > 0)
-      m.warnings.push_back("method 3's boundary could not be glued closed (" +
-                          std::to_string(reconstruction.delaunay->result.stats.open_edges) + " open edges): " + what);
-    else
-      m.warnings.push_back("R'' is thinner than the voxel in places: its boundary has Betti numbers " +
-                          bettiText(reconstruction.delaunay->boundary_betti) + " but no voxel set on this grid (by centres or by "
-                          "cubes) has them; so that the mesh, labels.nrrd and report.json describe one solid, " + what +
-                          "; a smaller reconstruction.voxel_size_mm may hold the boundary's topology");
-  } else if (method3) {
-    m.method_mesh = reconstruction.delaunay->result.mesh;  // ∂R'': conformal by construction, no cut
-    // Pieces touching at a vertex are kept apart by copies of the vertex at one position: STL
-    // stores no vertex indices, so a reader merges them back into a pinched surface.
-    const bool stl = std::find(c.mesh_formats.begin(), c.mesh_formats.end(), "stl") != c.mesh_formats.end();
-    if (stl && !smooth && reconstruction.delaunay->result.stats.singular_vertices > 0)
-      m.warnings.push_back(std::to_string(reconstruction.delaunay->result.stats.singular_vertices) +
-                          " vertices of method 3's mesh are copied where pieces touch at a point; mesh.stl keeps no "
-                          "vertex indices, so readers merge the copies (the surface is then pinched there): use "
-                          "mesh.ply or mesh.obj for the Betti numbers report.json states");
-  } else {
-    m.method_mesh = meshZeroLevel(rec.field);
-    if (c.conformal_mesh) methodCut = cutAlongSections(m.method_mesh, scene.planes, scene.fields, scene.params.voxel_mm);
-  }
-  m.conformal_by_construction = method3 && !m.method3_from_voxels && !smooth;
+  MethodMesh own = method.mesh(c, scene, reconstruction, smooth != nullptr);
+  m.method_mesh = std::move(own.mesh);
+  m.warnings = std::move(own.warnings);
+  const ConformalCutStats methodCut = own.cut;
+  m.conformal_by_construction = own.conformal_by_construction && !smooth;
   if (smooth) m.mesh = smooth->surface.mesh;
   else m.mesh = std::move(m.method_mesh);  // one copy of a mesh of millions of triangles
   m.cut = !smooth ? methodCut
@@ -237,31 +166,17 @@ MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const Recons
   return m;
 }
 
-DiagnoseStage diagnoseStage(const ReconstructStage& reconstruction, const SmoothStage* smooth, const MeshStage& meshes) {
-  const Betti& methodBetti = reconstruction.solid.voxel_betti;
-  const bool method3 = reconstruction.delaunay.has_value();
-  // The method's own mesh: bounds the repaired voxel solid (methods 1 and 2), or the tetrahedra (method 3).
-  const auto requireMethodMesh = [&](const MeshTopology& t, const std::string& what) {
-    if (meshes.method3_from_voxels)
-      requireMeshBoundsSolid(t, meshes.voxel_mesh_betti, what);
-    else if (method3)
-      requireMeshBoundsTetrahedra(t, reconstruction.delaunay->components, reconstruction.delaunay->opened_copies, what);
-    else requireMeshBoundsSolid(t, methodBetti, what);
-  };
+DiagnoseStage diagnoseStage(const Method& method, const ReconstructStage& reconstruction, const SmoothStage* smooth,
+                            const MeshStage& meshes) {
   DiagnoseStage d;
   d.topology = meshTopology(meshes.mesh);
   if (smooth)
     requireMeshBoundsSolid(d.topology, smooth->voxel_betti,
                            std::string("the smoothed mesh (") + nameOf(kSmoothingMethods, smooth->method) + ")");
-  else
-    requireMethodMesh(d.topology, "the mesh");
+  // The method's own mesh bounds its solid (methods 1 and 2: the repaired voxels; method 3: its
+  // tetrahedra, or its voxels where the mesh is theirs).
   d.method_topology = smooth ? meshTopology(meshes.method_mesh) : d.topology;
-  if (smooth) requireMethodMesh(d.method_topology, "the unsmoothed mesh");
-  // Method 3's boundary and its voxels: one solid by construction (reconstruct_stage.cpp), checked.
-  if (method3 && !meshes.method3_from_voxels && d.method_topology.betti != methodBetti)
-    throw std::runtime_error("method 3's mesh has Betti numbers " + bettiText(d.method_topology.betti) +
-                             " while its voxels have " + bettiText(methodBetti) +
-                             "; nothing written (a defect of xsect: please report it with the configuration)");
+  method.requireMeshBoundsSolid(d.method_topology, reconstruction, smooth ? "the unsmoothed mesh" : "the mesh");
   for (const Material& m : meshes.materials) {
     d.material_topology.push_back(meshTopology(m.mesh));
     requireMeshBoundsSolid(d.material_topology.back(), m.voxel_betti, "the mesh of label " + std::to_string(m.label));

@@ -1,13 +1,10 @@
-// Stage 7 of `xsect run` (GUIDE.md): the meshes and their check. The method's solid (or the smooth
-// surface, stage 6) meshed and cut along the planes onto the section contours (conformal cut); per
-// material, each voxel labelled with the section its lift comes from (thesis remark after Def. 17)
-// and one mesh per label; then every mesh's topology (Betti numbers, watertight) required to be the
-// one of the voxel solid it bounds (issue 14: a difference is a defect, exit 1, nothing written).
-// Method 3 (thesis ch. 3) gives its mesh itself, ∂R'', conformal to the contours by construction
-// (no marching, no cut), sampled on the grid by a rule whose voxels have its Betti numbers
-// (reconstruct_stage.cpp, tetrahedra_voxels.h). Where no rule's voxels do, or ∂R'' could not be
-// glued closed, the mesh is the voxels of R'' made well-composed, meshed and checked as methods 1 and 2
-// do, with a warning and report.json reconstruction.delaunay.mesh_source "voxels": mesh.*,
+// Stage 7 of `xsect run` (GUIDE.md): the meshes and their check. The method's own mesh
+// (pipeline/methods/: methods 1 and 2 mesh their solid and cut it along the planes onto the section
+// contours; method 3 gives ∂R'' itself, conformal to the contours by construction, or its voxels'
+// mesh where no voxel set has its topology) or the smooth surface (stage 6); per material, each
+// voxel labelled with the section its lift comes from (thesis remark after Def. 17) and one mesh
+// per label; then every mesh's topology (Betti numbers, watertight) required to be the one of the
+// solid it bounds (issue 14: a difference is a defect, exit 1, nothing written): mesh.*,
 // labels.nrrd and the Betti numbers always describe one solid (issue 49). With several materials,
 // every method's materials are the label partition of the union's voxels. With smoothing,
 // labels.nrrd is the smooth solid (one material).
@@ -40,25 +37,19 @@ struct MeshStage {
                                     ///< asked (empty without smoothing: `mesh` is that solid)
   TriangleMesh mesh;                ///< what mesh.<fmt> holds: the smooth surface, or the method's
   ConformalCutStats cut;            ///< of `mesh`
-  bool conformal_by_construction = false;  ///< `mesh` is method 3's ∂R'' (no cut applies)
-  /// Method 3 whose glued boundary ∂R'' is not closed (open edges on the cutting planes): the
-  /// method's mesh is then its voxelisation made well-composed and meshed as methods 1 and 2 do
-  /// (conformally cut when asked), checked against `voxel_mesh_betti`, not ∂R'' itself.
-  bool method3_from_voxels = false;
-  Betti voxel_mesh_betti{0, 0, 0};      ///< of that well-composed voxel set
-  int voxel_mesh_critical_added = 0;    ///< voxels added to make it well-composed
+  bool conformal_by_construction = false;  ///< `mesh` is the method's, through the contours without a cut
   BlockGrid<std::uint16_t> voxel_label;  ///< labels.nrrd
   /// Several materials: the labels changed so that each is well-composed (well_composed_labels.h).
   LabelComposition label_composition;
   std::vector<Material> materials;
-  std::vector<std::string> warnings;  ///< labels without voxels, suspiciously many labels, method 3's boundary
+  std::vector<std::string> warnings;  ///< the method's mesh's (MethodMesh), labels without voxels, many labels
 };
 
 /// @param smooth  stage 6's result, or nullptr without smoothing.
-/// Warns (MeshStage::warnings) of labels without voxels, suspiciously many labels and method 3's
-/// boundary where it could not be used.
-MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const ReconstructStage& reconstruction,
-                    const SmoothStage* smooth);
+/// Warns (MeshStage::warnings) of what the method's mesh is where it is not what the method
+/// promises (method.h), labels without voxels and suspiciously many labels.
+MeshStage meshStage(const RunInputs& in, const SectionScene& scene, const Method& method,
+                    const ReconstructStage& reconstruction, const SmoothStage* smooth);
 
 struct DiagnoseStage {
   MeshTopology topology;         ///< of mesh.<fmt>
@@ -67,6 +58,7 @@ struct DiagnoseStage {
 };
 
 /// Every mesh's topology against its solid; throws std::runtime_error naming the mesh otherwise.
-DiagnoseStage diagnoseStage(const ReconstructStage& reconstruction, const SmoothStage* smooth, const MeshStage& meshes);
+DiagnoseStage diagnoseStage(const Method& method, const ReconstructStage& reconstruction, const SmoothStage* smooth,
+                            const MeshStage& meshes);
 
 }  // namespace xsect

@@ -1,10 +1,8 @@
-// Stage 5 of `xsect run` (GUIDE.md): method 1 (thesis ch. 1, Def. 16) or method 2 (ch. 2, Def. 28)
-// sampled on the scene's grid, its sampled topology repaired
-// (geometry/reconstruction/sampled_reconstruction.h), or method 3 (ch. 3: R'', the pruned Delaunay
-// triangulation of the section-vertices and branching points, geometry/delaunay/) with its
-// tetrahedra sampled on that grid (geometry/delaunay/tetrahedra_voxels.h); and the solid's
-// components checked against the method's connectivity graph from stage 4, globally and cell by
-// cell (the thesis: R_C's components are the classes of S_C that the lifts join).
+// Stage 5 of `xsect run` (GUIDE.md): the run's method reconstructs its solid on the scene's grid
+// (pipeline/methods/: methods 1 and 2 sampled and repaired, method 3's R'' with its tetrahedra
+// sampled), and the solid's components are checked against the method's connectivity graph from
+// stage 4, globally and cell by cell (the thesis: R_C's components are the classes of S_C that the
+// lifts join).
 #pragma once
 
 #include <optional>
@@ -17,6 +15,7 @@
 #include "geometry/reconstruction/sampled_reconstruction.h"
 #include "pipeline/arrange_stage.h"
 #include "pipeline/input_stage.h"
+#include "pipeline/methods/method.h"
 #include "pipeline/progress.h"
 #include "pipeline/scene_stage.h"
 
@@ -46,16 +45,20 @@ struct ReconstructStage {
   SampledReconstruction solid;       ///< the method's solid on the grid (method 3: R'' sampled)
   GraphVoxelCheck graph_check;       ///< the method's graph against the solid's components
   CellConnectivityCheck cell_check;  ///< the same, cell by cell
-  std::optional<DelaunayStage> delaunay;  ///< method 3 (`solid` is its voxelisation)
+  std::optional<DelaunayStage> delaunay;  ///< method 3's own results (`solid` is its voxelisation)
+  /// Voxels that the observed pieces decide, when the method counted them as it evaluated (method
+  /// 2's R'_Ω); the smoothing's report measures them otherwise (smooth_stage.cpp).
+  std::optional<std::int64_t> voxels_decided_by_pieces;
   std::vector<std::string> warnings;  ///< what the stage found worth a warning (report.json's warnings)
 };
 
 /// Reads the scene (stage 4's input) and the method's graph (stage 4); warns (ReconstructStage::
-/// warnings) when the graph and the solid group the sections differently. Throws InputError when the solid is empty
-/// at a size the voxel budget forced, std::runtime_error when it is empty at another size; for
-/// method 3, InputError naming reconstruction.method when R'' has no tetrahedron (no two planes'
-/// sections face each other in a cell), a warning when its voxelisation is empty.
+/// warnings) when the graph and the solid group the sections differently. Throws what the method's
+/// reconstruction throws: for methods 1 and 2 InputError naming the voxel size or budget when the
+/// solid is empty; for method 3 InputError naming reconstruction.method when R'' has no
+/// tetrahedron (no two planes' sections face each other in a cell), a warning when its
+/// voxelisation is empty.
 ReconstructStage reconstructStage(const RunInputs& inputs, const SceneStage& scene, const ArrangeStage& arrangement,
-                                  Progress& progress);
+                                  const Method& method, Progress& progress);
 
 }  // namespace xsect

@@ -9,6 +9,7 @@
 //   sampling                     (sampling_stage.h, stage 7: the sampling conditions, verdict, advice)
 //   write                        (run_outputs.h, stage 8)
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <nlohmann/json.hpp>
 
@@ -42,13 +43,15 @@ int runCommand(const RunOptions& o) {
   const SectionScene& scene = built.scene;
   clock.end("scene");
 
+  // The method the configuration names (pipeline/methods/): no stage asks which it is.
+  const std::unique_ptr<const Method> method = methodFor(c.reconstruction_method);
+
   progress.stage("arrange");
-  const ArrangeStage arrangement = arrangeStage(c, scene);
+  const ArrangeStage arrangement = arrangeStage(c, scene, *method);
   clock.end("arrange");
 
-  // Methods 1 and 2 count blocks of the grid, method 3 the cells it triangulates.
-  progress.stage("reconstruct", c.reconstruction_method == ReconstructionMethod::delaunay ? "cells" : "blocks");
-  const ReconstructStage reconstruction = reconstructStage(in, built, arrangement, progress);
+  progress.stage("reconstruct", method->progressUnit());
+  const ReconstructStage reconstruction = reconstructStage(in, built, arrangement, *method, progress);
   clock.end("reconstruct");
 
   std::optional<SmoothStage> smooth;
@@ -60,19 +63,19 @@ int runCommand(const RunOptions& o) {
   const SmoothStage* smoothed = smooth ? &*smooth : nullptr;
 
   progress.stage("mesh");
-  const MeshStage meshes = meshStage(in, scene, reconstruction, smoothed);
+  const MeshStage meshes = meshStage(in, scene, *method, reconstruction, smoothed);
   clock.end("mesh");
 
   progress.stage("diagnose");
-  const DiagnoseStage diagnosis = diagnoseStage(reconstruction, smoothed, meshes);
+  const DiagnoseStage diagnosis = diagnoseStage(*method, reconstruction, smoothed, meshes);
   clock.end("diagnose");
 
   progress.stage("sampling");
-  const SamplingStage sampling = samplingStage(c, scene, arrangement, true);
+  const SamplingStage sampling = samplingStage(c, *method, scene, arrangement, true);
   clock.end("sampling");
 
   progress.stage("write");
-  const RunResults results{in, built, arrangement, reconstruction, smoothed, meshes, diagnosis, sampling};
+  const RunResults results{in, *method, built, arrangement, reconstruction, smoothed, meshes, diagnosis, sampling};
   writeRunOutputs(results, o, clock);
   progress.finish();
   for (const auto& w : runWarnings(results)) progress.note("warning: " + w);
@@ -127,8 +130,9 @@ int checkCommand(const RunOptions& o) {
                              {"arrange_and_diagnose", t.arrange_s},
                              {"reconstruct", t.reconstruct_s},
                              {"max_seconds", c.max_seconds}};
-    const ArrangeStage arrangement = arrangeStage(c, built.scene);
-    r["sampling"] = samplingSummaryJson(samplingStage(c, built.scene, arrangement, false));
+    const std::unique_ptr<const Method> method = methodFor(c.reconstruction_method);
+    const ArrangeStage arrangement = arrangeStage(c, built.scene, *method);
+    r["sampling"] = samplingSummaryJson(samplingStage(c, *method, built.scene, arrangement, false));
   } else {
     warnings.push_back("no section found in any slice");
   }

@@ -69,7 +69,7 @@ SectionGraph sectionGraph(const RunResults& r) {
                              {"area_mm2", sectionArea(sec)},
                              {"centroid_mm", vecJson(p.plane.toWorld(sectionCentroid(sec)))}});
     }
-  graph.method = nameOf(kReconstructionMethods, r.inputs.config.reconstruction_method);
+  graph.method = nameOf(kReconstructionMethods, r.method.id());
   forEachEdge(r, [&](int a, int b, int cell, const char* method, const char*) {
     if (graph.method == method) graph.edges.push_back({a, b, cell});
   });
@@ -77,7 +77,7 @@ SectionGraph sectionGraph(const RunResults& r) {
 }
 
 std::string graphJsonText(const RunResults& r, const json& nodes) {
-  json graph = {{"method", nameOf(kReconstructionMethods, r.inputs.config.reconstruction_method)},
+  json graph = {{"method", nameOf(kReconstructionMethods, r.method.id())},
                 {"cells", r.arrangement.arrangement.cells},
                 {"sample_spacing_mm", r.arrangement.arrangement.sample_spacing_mm},
                 {"nodes", nodes},
@@ -87,11 +87,12 @@ std::string graphJsonText(const RunResults& r, const json& nodes) {
   forEachEdge(r, [&](int a, int b, int cell, const char* method, const char*) {
     lists[0].second.push_back({a, b, cell, method});
   });
-  if (const auto& delaunay = r.reconstruction.delaunay) {  // the pairs joined by a tetrahedron of R''
-    graph["delaunay_connections"] = json::array();
+  if (const std::vector<GraphEdge>* joins = r.method.joinsRealised(r.reconstruction)) {  // method 3: by R''
+    const std::string key = std::string(nameOf(kReconstructionMethods, r.method.id())) + "_connections";
+    graph[key] = json::array();
     const SectionIds ids = r.scene_stage.scene.ids();
-    lists.push_back({"delaunay_connections", {}});
-    for (const GraphEdge& e : delaunay->result.connections)
+    lists.push_back({key, {}});
+    for (const GraphEdge& e : *joins)
       lists.back().second.push_back({ids.of(e.plane_a, e.section_a), ids.of(e.plane_b, e.section_b), e.cell, nullptr});
   }
   return jsonWithEdgeLists(graph, lists);

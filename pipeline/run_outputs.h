@@ -14,6 +14,7 @@
 #include "pipeline/commands.h"
 #include "pipeline/input_stage.h"
 #include "pipeline/mesh_stage.h"
+#include "pipeline/methods/method.h"
 #include "report/run/section_graph.h"
 #include "pipeline/reconstruct_stage.h"
 #include "pipeline/sampling_stage.h"
@@ -26,6 +27,7 @@ namespace xsect {
 /// Everything the stages produced, read by the writer.
 struct RunResults {
   const RunInputs& inputs;
+  const Method& method;  ///< the method the configuration names
   const SceneStage& scene_stage;
   const ArrangeStage& arrangement;
   const ReconstructStage& reconstruction;

@@ -75,76 +75,11 @@ json countsJson(const RunResults& r) {
           {"mesh_triangles", r.meshes.mesh.triangles.size()}};
 }
 
-/// Method 3's pruning (thesis ch. 3, Def. 47-50), as DelaunayStats counts it.
-json delaunayStatsJson(const DelaunayStats& s) {
-  return {{"cells", s.cells},
-          {"section_vertices", s.section_vertices},
-          {"branching_points", s.branching_points},
-          {"conformity_points", s.conformity_points},
-          {"contour_edges_not_delaunay", s.contour_edges_not_delaunay},
-          {"d0", {{"vf", s.d0.vf}, {"ee", s.d0.ee}, {"evv", s.d0.evv}, {"vvvv", s.d0.vvvv}, {"flat", s.d0.flat}}},
-          {"external", s.external},
-          {"unjoined", s.unjoined},
-          {"d1", s.d1},
-          {"d2", s.d2},
-          {"d3", s.d3},
-          {"flat_faces", s.flat_faces},
-          {"constraint_crossings", s.constraint_crossings},
-          {"singular_edges", s.singular_edges},
-          {"singular_vertices", s.singular_vertices},
-          {"open_edges", s.open_edges},
-          {"welded_vertices", s.welded_vertices},
-          {"holes_closed", s.holes_closed},
-          {"flat_shells_dropped", s.flat_shells_dropped},
-          {"cells_unseen", s.cells_unseen},
-          {"rings_below_spacing_dropped", s.rings_dropped},
-          {"cell_pairs_cut", s.cell_pairs_cut},
-          {"cell_tunnels_cut", s.cell_tunnels_cut},
-          {"cell_tetrahedra_cut", s.cell_tetrahedra_cut}};
-}
-
-/// report.json `reconstruction.delaunay` (method 3): the pruning's counts, the solid's components
-/// and Betti numbers (mesh and voxels), and the connections R'' realises against G'' and G'.
-json delaunayJson(const RunResults& r) {
-  const ReconstructStage& rs = r.reconstruction;
-  const DelaunayStage& m3 = *rs.delaunay;
-  const DelaunayReconstruction& d = m3.result;
-  const ArrangeStage& a = r.arrangement;
-  const Betti& mesh = r.diagnosis.method_topology.betti;
-  json j = delaunayStatsJson(d.stats);
-  j.update(json{{"mesh_source", r.meshes.method3_from_voxels ? "voxels" : "boundary"},
-                {"tetrahedra", d.tetrahedra.size()},
-                {"tetrahedra_components", m3.components},
-                {"opened_vertex_copies", m3.opened_copies},
-                {"mesh_betti", mesh},
-                {"mesh_triangles", r.smooth ? r.meshes.method_mesh.triangles.size() : r.meshes.mesh.triangles.size()},
-                {"voxel_betti", rs.solid.voxel_betti},
-                {"voxel_betti_matches_mesh", rs.solid.voxel_betti == mesh},
-                // One solid (issue 49): the rule whose voxels have the boundary's Betti numbers
-                {"voxel_rule", m3.voxels.rule == VoxelRule::cube ? "cube" : "centre"},
-                {"voxel_mm", rs.solid.inside.grid().voxel},  // the scene's, halved `refinement` times
-                {"voxel_refinement", m3.voxels.refinement},
-                {"boundary_betti", d.stats.open_edges > 0 ? json(nullptr) : json(m3.boundary_betti)},
-                // mesh_source voxels: the mesh bounds the voxelisation made well-composed
-                {"mesh_voxel_betti", r.meshes.method3_from_voxels ? json(r.meshes.voxel_mesh_betti) : json(nullptr)},
-                {"mesh_voxels_added", r.meshes.voxel_mesh_critical_added},
-                {"connections", d.connections.size()},
-                {"connections_not_in_g_double_prime", m3.connections_not_in_graph},
-                {"g_double_prime_edges_not_realised", m3.graph_edges_not_realised},
-                {"edges_g_double_prime", a.graphs.g_double_prime.size()},
-                {"g_not_in_g_prime", a.g_not_in_g_prime},
-                {"g_prime_not_in_g_double_prime", a.g_prime_not_in_g_double_prime},
-                {"branching_diagram", {{"points", a.branching.size()},
-                                       {"rays", a.branching_rays},
-                                       {"rays_labelled", a.branching_labelled}}}});
-  return j;
-}
-
 json reconstructionJson(const RunResults& r) {
   const SampledReconstruction& rec = r.reconstruction.solid;
   const ReconstructionLayout& layout = r.scene_stage.scene.layout;
   const RunConfig& c = r.inputs.config;
-  json j = {{"method", nameOf(kReconstructionMethods, c.reconstruction_method)},
+  json j = {{"method", nameOf(kReconstructionMethods, r.method.id())},
           {"planes", nameOf(kPlaneExtents, c.planes)},
           {"planes_auto", c.planes_default},
           {"cell_tunnels", nameOf(kCellTunnels, c.cell_tunnels)},
@@ -163,12 +98,7 @@ json reconstructionJson(const RunResults& r) {
           {"exact_face_tests", rec.exact_face_tests},
           {"cells_clipped", rec.cells_clipped},
           {"volume_mm3", r.diagnosis.topology.volume_mm3}};
-  if (r.reconstruction.delaunay) j["delaunay"] = delaunayJson(r);
-  if (c.reconstruction_method == ReconstructionMethod::section_voronoi && c.planes == PlaneExtent::observed)
-    j["observed_pieces"] = {{"lift_voxels_kept", rec.observed_lift_voxels_kept},
-                            {"lift_voxels_dropped", rec.observed_lift_voxels_dropped},
-                            {"voxels_added_by_method_1", rec.observed_pieces_voxels_added}};
-  return j;
+  return j;  // the method adds its own keys (Method::addToReport)
 }
 
 json materialsJson(const RunResults& r) {
@@ -263,22 +193,19 @@ json conformityJson(const RunResults& r) {
                 {"cut_vertices_short_of_contour", cut.vertices_shortened},
                 {"cut_vertices_off_contour", cut.vertices_unsnapped},
                 {"cut_max_move_mm", cut.max_move_mm}});
-  // Method 3 without smoothing: the mesh is ∂R'', conformal to the contours by construction; no
-  // cut applies (its counts are zero).
-  if (r.reconstruction.delaunay) j["conformal_by_construction"] = r.meshes.conformal_by_construction;
   return j;
 }
 
 json throughputJson(const RunResults& r) {
   const SampledReconstruction& rec = r.reconstruction.solid;
-  const ReconstructionMethod method = r.scene_stage.scene.params.method;
+  // Each method's own times, filled by the method that ran (Method::addToReport).
   return {{"reconstruct_voxels_per_s", rec.evaluate_seconds > 0 ? double(rec.field.grid().count()) / rec.evaluate_seconds : 0.0},
           {"evaluate_s", rec.evaluate_seconds},
-          {"method1_evaluate_s", method == ReconstructionMethod::nearest_plane ? json(rec.evaluate_seconds) : json(nullptr)},
-          {"method2_evaluate_s", method == ReconstructionMethod::section_voronoi ? json(rec.evaluate_seconds) : json(nullptr)},
-          {"method3_evaluate_s", method == ReconstructionMethod::delaunay ? json(rec.evaluate_seconds) : json(nullptr)},
-          {"method3_delaunay_s", method == ReconstructionMethod::delaunay ? json(r.reconstruction.delaunay->delaunay_s) : json(nullptr)},
-          {"method3_voxelise_s", method == ReconstructionMethod::delaunay ? json(r.reconstruction.delaunay->voxelise_s) : json(nullptr)}};
+          {"method1_evaluate_s", nullptr},
+          {"method2_evaluate_s", nullptr},
+          {"method3_evaluate_s", nullptr},
+          {"method3_delaunay_s", nullptr},
+          {"method3_voxelise_s", nullptr}};
 }
 
 }  // namespace
@@ -320,6 +247,7 @@ json reportJson(const RunResults& r, const StageClock& clock) {
   report["peak_memory_mb"] = clock.memory;
   report["throughput"] = throughputJson(r);
   report["warnings"] = runWarnings(r);
+  r.method.addToReport(r, report);
   return report;
 }
 

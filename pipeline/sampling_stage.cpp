@@ -98,8 +98,8 @@ SamplingPrior samplingPrior(const RunConfig& c) {
   return p;
 }
 
-SamplingStage samplingStage(const RunConfig& c, const SectionScene& scene, const ArrangeStage& arrangement,
-                            bool advise) {
+SamplingStage samplingStage(const RunConfig& c, const Method& method, const SectionScene& scene,
+                            const ArrangeStage& arrangement, bool advise) {
   SamplingStage s;
   const ReconstructionLayout& L = scene.layout;
   s.lo = L.sections_min - Vec3::Constant(L.end_margin_mm);
@@ -110,11 +110,8 @@ SamplingStage samplingStage(const RunConfig& c, const SectionScene& scene, const
   const auto since = [](std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   };
-  s.run_method = c.reconstruction_method;
-  const ReconstructionMethod conditions =  // method 3: method 2's conditions (see sampling_stage.h)
-      c.reconstruction_method == ReconstructionMethod::delaunay ? ReconstructionMethod::section_voronoi
-                                                                : c.reconstruction_method;
-  s.diagnosis = diagnoseSampling(scene.planes, scene.fields, arrangement.arrangement, conditions,
+  s.run_method = method.id();
+  s.diagnosis = diagnoseSampling(scene.planes, scene.fields, arrangement.arrangement, method.samplingConditions(),
                                  samplingPrior(c), s.lo, s.hi, scene.params.voxel_mm, tolerance, {}, &scene.pieces);
   s.diagnosis_s = since(start);
   if (!advise || s.diagnosis.verdict == SamplingVerdict::satisfied) return s;

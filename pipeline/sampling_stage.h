@@ -35,8 +35,9 @@ struct SamplingStage {
 SamplingPrior samplingPrior(const RunConfig& c);
 
 /// @param advise  propose slices when the verdict is not `satisfied`.
-SamplingStage samplingStage(const RunConfig& c, const SectionScene& scene, const ArrangeStage& arrangement,
-                            bool advise);
+/// @param method  the run's: its sampling conditions (Method::samplingConditions) are diagnosed.
+SamplingStage samplingStage(const RunConfig& c, const Method& method, const SectionScene& scene,
+                            const ArrangeStage& arrangement, bool advise);
 
 /// report.json `sampling` (and `xsect check`'s): the verdict, its conditions and consequences, the
 /// prior, what the data bound, the deciding cells.

@@ -46,13 +46,14 @@ TopologyRepair repairSolid(std::vector<std::uint8_t>& inside, const PlaneEvidenc
 /// Voxels of the method's solid that the observed pieces decide (issue 20), reported to say how much
 /// the images' extent matters: the method on whole planes against the run's, on the pieces (their
 /// raw solids, before repair); zero when every piece is whole, or the images cover the object.
-/// Method 2 counted them as it evaluated R'_Ω (the voxels where it differs from R': lifts not
-/// followed, and method 1's voxels on the pieces added). Cost: one method-1 pass on whole planes.
-std::int64_t voxelsDecidedByPieces(const SectionScene& scene, const SampledReconstruction& rec) {
+/// A method that counted them as it evaluated gives its count (method 2's R'_Ω: the voxels where it
+/// differs from R', lifts not followed and method 1's voxels on the pieces added); otherwise the
+/// cost is one method-1 pass on whole planes.
+std::int64_t voxelsDecidedByPieces(const SectionScene& scene, const ReconstructStage& reconstruction) {
   if (std::all_of(scene.pieces.begin(), scene.pieces.end(), [](const ObservedPiece& p) { return p.whole; }))
     return 0;
-  if (scene.params.method == ReconstructionMethod::section_voronoi)
-    return rec.observed_lift_voxels_dropped + rec.observed_pieces_voxels_added;
+  if (reconstruction.voxels_decided_by_pieces) return *reconstruction.voxels_decided_by_pieces;
+  const SampledReconstruction& rec = reconstruction.solid;
   const GridSpec& grid = rec.raw_inside.grid();
   std::atomic<std::int64_t> changed{0};
   forEachNearestPlaneBlock(scene.planes, scene.fields, grid, [&](std::int64_t b, const NearestPlaneBlock& v) {
@@ -220,7 +221,7 @@ SmoothStage smoothStage(const RunConfig& c, const SectionScene& scene, const Arr
   // value instead, a sphere cut by 16 parallel planes shrank by 0.1 mm between its planes.
   out.empty_value_mm = scene.layout.end_margin_mm;
   if (c.smoothing_method == SmoothingMethod::shepard) {
-    out.voxels_decided_by_pieces = voxelsDecidedByPieces(scene, reconstruction.solid);
+    out.voxels_decided_by_pieces = voxelsDecidedByPieces(scene, reconstruction);
     shepardSmoothing(scene, arranged, reconstruction, grid, progress, out);
   }
   // In place of a Shepard surface that joins the sections differently, or asked for.
