@@ -156,7 +156,7 @@ int run(const Options& o) {
   std::vector<xsect::CuttingPlane> planes;
   if (c.input_kind == xsect::InputKind::slices) {
     const auto slices = xsect::readSlicesFile(c.input_path);
-    planes = xsect::sectionsFromSlices(slices, c.input_path, c.segmentation, c.path, {}, nullptr);
+    planes = xsect::sectionsFromSlices(slices, c.input_path, c.segmentation, c.path, {}).planes;
   } else if (c.input_kind == xsect::InputKind::csl) {
     planes = xsect::readCslFile(c.input_path);
   } else {

@@ -68,7 +68,7 @@ std::vector<CuttingPlane> loadSections(const std::string& slicesPath, double thr
   params.method = SegmentationMethod::threshold;
   params.threshold = threshold;
   progress->stage("eval: segmenting " + std::to_string(slices.size()) + " slices");
-  return sectionsFromSlices(slices, slicesPath, params, "command line", {}, nullptr);
+  return sectionsFromSlices(slices, slicesPath, params, "command line", {}).planes;
 }
 
 /// Conformity of the mesh with the sections of each input slice: IoU of mesh ∩ plane with the

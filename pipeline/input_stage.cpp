@@ -76,12 +76,16 @@ RunInputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress)
   checkTimeBudget(segment, 0.0, c);
   clock.end("load");
   progress.stage("segment", "frames");
-  if (c.input_kind == InputKind::slices)
-    in.planes = sectionsFromSlices(slices, c.input_path, c.segmentation, c.path, headers, &in.warnings, &in.segmentation,
-                                   &in.labelled, progress.counter());
-  else if (c.input_kind == InputKind::plus_sequence)
-    in.planes = sectionsFromPlusSequence(*in.plus, c.segmentation, c.path, &in.warnings, &in.segmentation, &in.labelled,
-                                         progress.counter());
+  if (c.input_kind == InputKind::slices || c.input_kind == InputKind::plus_sequence) {
+    SegmentedSeries series =
+        c.input_kind == InputKind::slices
+            ? sectionsFromSlices(slices, c.input_path, c.segmentation, c.path, headers, progress.counter())
+            : sectionsFromPlusSequence(*in.plus, c.segmentation, c.path, progress.counter());
+    in.planes = std::move(series.planes);
+    in.labelled = std::move(series.labelled);
+    in.segmentation = series.applied;
+    in.warnings.insert(in.warnings.end(), series.warnings.begin(), series.warnings.end());
+  }
   in.slices = int(in.planes.size());
   clock.end("segment");
   in.slice_records = std::move(slices);

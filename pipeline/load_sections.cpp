@@ -321,10 +321,9 @@ CuttingPlane planeOfFrame(int slice, const std::string& name, const Mat4& pose, 
 /// from the same reading (the border histogram, insideOfBorder), once for the series.
 /// @param bits        the series' sample depth (8 or 16), from its first frame
 /// @param readFrames  runs its argument on every frame (i, frame), in any order
-/// @param applied     receives the settings applied to every frame (threshold, inside resolved)
 SegmentationParams seriesParamsOfFrames(const SegmentationParams& params, int bits,
                                 const std::function<void(const std::function<void(int, const Frame&)>&)>& readFrames,
-                                int n, SegmentationParams* applied) {
+                                int n) {
   SegmentationParams perSlice = params;
   const double scale = seriesGreyScale(bits);
   perSlice.grey_to_8bit = scale;
@@ -377,7 +376,6 @@ SegmentationParams seriesParamsOfFrames(const SegmentationParams& params, int bi
       perSlice.core_threshold = coreThresholdOfClasses(minimumErrorClassesAt(pooled.observed, perSlice.threshold * scale), perSlice.inside) / scale;
   }
   if (perSlice.inside == InsideSide::automatic) perSlice.inside = InsideSide::above;  // no frame
-  if (applied) *applied = perSlice;
   return perSlice;
 }
 
@@ -385,9 +383,9 @@ SegmentationParams seriesParamsOfFrames(const SegmentationParams& params, int bi
 /// filter larger than a frame, a beam apex beyond any image) an input error naming the settings.
 SegmentationParams seriesParams(const SegmentationParams& params, int bits,
                                 const std::function<void(const std::function<void(int, const Frame&)>&)>& readFrames,
-                                int n, SegmentationParams* applied, const std::string& settings_file) {
+                                int n, const std::string& settings_file) {
   try {
-    return seriesParamsOfFrames(params, bits, readFrames, n, applied);
+    return seriesParamsOfFrames(params, bits, readFrames, n);
   } catch (const cv::Exception& e) {
     throw InputError(settings_file, "segmentation", "OpenCV cannot read the series with these settings: " + e.err);
   }
@@ -395,7 +393,7 @@ SegmentationParams seriesParams(const SegmentationParams& params, int bits,
 
 /// "N slice(s) have a section touching the edge..." and "N slice(s) had contours that
 /// segmentation.simplify_mm made cross...", each when any frame's flags (kTouches, kRepaired) say so.
-void touchingWarning(const std::vector<char>& flags, std::vector<std::string>* warnings) {
+void touchingWarning(const std::vector<char>& flags, std::vector<std::string>& warnings) {
   for (const char flag : {kTouches, kRepaired}) {
     int count = 0;
     std::string first;
@@ -404,7 +402,7 @@ void touchingWarning(const std::vector<char>& flags, std::vector<std::string>* w
         if (count++ < 5) first += (first.empty() ? "" : ", ") + std::to_string(i);
       }
     if (!count) continue;
-    warnings->push_back(std::to_string(count) + (flag == kTouches
+    warnings.push_back(std::to_string(count) + (flag == kTouches
                                                      ? " slice(s) have a section touching the edge of the image or field "
                                                        "of view (the object is not fully in view), e.g. slice "
                                                      : " slice(s) had contours that segmentation.simplify_mm made "
@@ -426,17 +424,14 @@ std::vector<ImageHeader> sliceImageHeaders(const std::vector<SliceRecord>& slice
   return headers;
 }
 
-std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& slices,
-                                             const std::string& listing_file,
-                                             const SegmentationParams& params,
-                                             const std::string& settings_file,
-                                             std::vector<ImageHeader> headers,
-                                             std::vector<std::string>* warnings,
-                                             SegmentationParams* applied,
-                                             std::vector<std::vector<Section>>* labelled,
-                                             const std::function<void(std::int64_t, std::int64_t)>& progress) {
+SegmentedSeries sectionsFromSlices(const std::vector<SliceRecord>& slices, const std::string& listing_file,
+                                   const SegmentationParams& params, const std::string& settings_file,
+                                   std::vector<ImageHeader> headers,
+                                   const std::function<void(std::int64_t, std::int64_t)>& progress) {
   const int n = int(slices.size());
-  std::vector<CuttingPlane> planes(n);
+  SegmentedSeries out;
+  std::vector<CuttingPlane>& planes = out.planes;
+  planes.resize(std::size_t(n));
   std::vector<char> touches(n, 0);
   // Every header is read before any image is decoded (sliceImageHeaders), and the settings are
   // checked against each image's size then (issue 48), before any work. The frames are then read
@@ -452,22 +447,23 @@ std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& sli
                   "slice " + std::to_string(i) + ", " + slices[i].image);
   }
   const SeriesDepth depth = seriesDepth(bits, params);
-  if (warnings && !depth.warning.empty()) warnings->push_back(depth.warning);
+  if (!depth.warning.empty()) out.warnings.push_back(depth.warning);
   const SharedFieldsOfView shared = sharedFieldsOfView(slices, listing_file);
   FrameCount count(progress, n, readingsOf(params));
   SegmentationParams perSlice = seriesParams(params, depth.bits,
                                              [&](const std::function<void(int, const Frame&)>& each) {
                                                forEachFrame(slices, listing_file, shared, depth, count, each);
                                              },
-                                             n, applied, settings_file);
-  if (labelled) labelled->assign(std::size_t(n), {});
+                                             n, settings_file);
+  out.applied = perSlice;
+  out.labelled.assign(std::size_t(n), {});
   forEachFrame(slices, listing_file, shared, depth, count, [&](int i, const Frame& frame) {
     planes[std::size_t(i)] = planeOfFrame(i, slices[std::size_t(i)].image, slices[std::size_t(i)].image_to_world, frame,
                                           shared.ringsOfSlice[std::size_t(i)], perSlice, settings_file,
-                                          labelled ? &(*labelled)[std::size_t(i)] : nullptr, &touches[std::size_t(i)]);
+                                          &out.labelled[std::size_t(i)], &touches[std::size_t(i)]);
   });
-  if (warnings) touchingWarning(touches, warnings);
-  return planes;
+  touchingWarning(touches, out.warnings);
+  return out;
 }
 
 namespace {
@@ -516,12 +512,11 @@ void forEachSequenceFrame(const PlusSequence& seq, bool labels, FrameCount& coun
 
 }  // namespace
 
-std::vector<CuttingPlane> sectionsFromPlusSequence(const PlusSequence& seq, const SegmentationParams& settings,
-                                                   const std::string& settings_file,
-                                                   std::vector<std::string>* warnings, SegmentationParams* applied,
-                                                   std::vector<std::vector<Section>>* labelled,
-                                                   const std::function<void(std::int64_t, std::int64_t)>& progress) {
+SegmentedSeries sectionsFromPlusSequence(const PlusSequence& seq, const SegmentationParams& settings,
+                                         const std::string& settings_file,
+                                         const std::function<void(std::int64_t, std::int64_t)>& progress) {
   const int n = int(seq.frames.size());
+  SegmentedSeries out;
   // The beams start at the device set's fan apex, unless the configuration says where.
   SegmentationParams params = settings;
   if (!params.beam_apex_px && seq.device_set.fan)
@@ -536,10 +531,10 @@ std::vector<CuttingPlane> sectionsFromPlusSequence(const PlusSequence& seq, cons
     if (settings.inside != InsideSide::above) unused.push_back("inside");
     if (settings.shadows != ShadowRule::keep) unused.push_back("shadows");
     if (settings.speckle_filter_mm > 0 || settings.speckle_filter_px > 0) unused.push_back("speckle_filter_mm");
-    if (warnings && !unused.empty()) {
+    if (!unused.empty()) {
       std::string keys;
       for (const std::string& k : unused) keys += (keys.empty() ? "segmentation." : ", segmentation.") + k;
-      warnings->push_back("input.plus_masks: the masks are segmented as masks (non-zero inside, at half their "
+      out.warnings.push_back("input.plus_masks: the masks are segmented as masks (non-zero inside, at half their "
                           "range); " + keys + " apply to grey frames and were not used (report.json's "
                           "segmentation block shows them as configured)");
     }
@@ -550,7 +545,8 @@ std::vector<CuttingPlane> sectionsFromPlusSequence(const PlusSequence& seq, cons
     params.speckle_filter_mm = 0;
     params.speckle_filter_px = 0;
   }
-  std::vector<CuttingPlane> planes(static_cast<std::size_t>(n));
+  std::vector<CuttingPlane>& planes = out.planes;
+  planes.resize(std::size_t(n));
   std::vector<char> touches(static_cast<std::size_t>(n), 0);
   if (n > 0) {
     Vec2 spacing;
@@ -564,7 +560,8 @@ std::vector<CuttingPlane> sectionsFromPlusSequence(const PlusSequence& seq, cons
   const SegmentationParams perSlice = seriesParams(
       params, seq.header.pixel == MetaPixelType::uint8 ? 8 : 16,
       [&](const std::function<void(int, const Frame&)>& each) { forEachSequenceFrame(seq, labels, count, each); }, n,
-      applied, settings_file);
+      settings_file);
+  out.applied = perSlice;
   // The field of view is the device set's, one for the recording: traced once per pixel spacing.
   std::map<std::pair<double, double>, std::vector<Ring>> rings;
   std::vector<const std::vector<Ring>*> ringsOf(static_cast<std::size_t>(n), nullptr);
@@ -577,15 +574,15 @@ std::vector<CuttingPlane> sectionsFromPlusSequence(const PlusSequence& seq, cons
         r = rings.emplace(std::make_pair(spacing.x(), spacing.y()), fieldOfViewRings(seq.field_of_view, spacing)).first;
       ringsOf[std::size_t(k)] = &r->second;
     }
-  if (labelled) labelled->assign(std::size_t(n), {});
+  out.labelled.assign(std::size_t(n), {});
   forEachSequenceFrame(seq, labels, count, [&](int k, const Frame& frame) {
     planes[std::size_t(k)] =
         planeOfFrame(k, "frame " + std::to_string(seq.frames[std::size_t(k)]), seq.image_to_reference[std::size_t(k)],
-                     frame, ringsOf[std::size_t(k)], perSlice, settings_file, labelled ? &(*labelled)[std::size_t(k)] : nullptr,
+                     frame, ringsOf[std::size_t(k)], perSlice, settings_file, &out.labelled[std::size_t(k)],
                      &touches[std::size_t(k)]);
   });
-  if (warnings) touchingWarning(touches, warnings);
-  return planes;
+  touchingWarning(touches, out.warnings);
+  return out;
 }
 
 }  // namespace xsect

@@ -28,6 +28,21 @@ std::vector<SliceRecord> mergeRepeatedSlices(std::vector<SliceRecord> slices, st
 /// first slice that has one (issue 15, item 3).
 std::vector<ImageHeader> sliceImageHeaders(const std::vector<SliceRecord>& slices, const std::string& listing_file);
 
+/// The sections of a series of frames (stage 2) and what segmenting them found.
+struct SegmentedSeries {
+  std::vector<CuttingPlane> planes;
+  /// Method labels (several materials, thesis remark after Def. 17): per plane, the sections of
+  /// each label value; the planes then hold the union of all labels (one section per connected
+  /// region, label 1), the geometry the reconstruction runs on. Per plane empty with merge_labels
+  /// or another method.
+  std::vector<std::vector<Section>> labelled;
+  /// The settings applied to every frame: the grey threshold (method otsu: one threshold for the
+  /// whole series, Otsu's on the pooled histogram, series_threshold.h), the inside side (auto
+  /// resolved for the series).
+  SegmentationParams applied;
+  std::vector<std::string> warnings;  ///< "slice N touches the edge of its field of view" and the like
+};
+
 /// @param listing_file  the slices.yaml the records came from (for error messages).
 /// @param headers       sliceImageHeaders(slices, listing_file) when the caller has them; empty: read here.
 /// @param settings_file where `params` came from (the run configuration, or "command line"): a
@@ -37,35 +52,20 @@ std::vector<ImageHeader> sliceImageHeaders(const std::vector<SliceRecord>& slice
 ///                      A series mixing 8- and 16-bit images is brought to the depth most frames
 ///                      have (the first frame's on a tie), full range to full range, with a warning:
 ///                      the threshold is in that depth's grey units.
-/// @param warnings      receives "slice N touches the edge of its field of view" and the like.
-/// @param applied       receives the settings applied to every frame: the grey threshold (method
-///                      otsu: one threshold for the whole series, Otsu's on the pooled histogram,
-///                      series_threshold.h), the inside side (auto resolved for the series).
-/// @param labelled      method labels (several materials, thesis remark after Def. 17): receives,
-///                      per plane, the sections of each label value; the planes returned then hold
-///                      the union of all labels (one section per connected region, label 1), the
-///                      geometry the reconstruction runs on. Left empty with merge_labels.
 /// @param progress      optional, called with the frames done and the frames in all, from the
 ///                      threads that segment them, concurrently (with Otsu's method the series is
 ///                      read twice: a frame counts when both its readings are done, on average).
-std::vector<CuttingPlane> sectionsFromSlices(const std::vector<SliceRecord>& slices,
-                                             const std::string& listing_file,
-                                             const SegmentationParams& params,
-                                             const std::string& settings_file,
-                                             std::vector<ImageHeader> headers,
-                                             std::vector<std::string>* warnings,
-                                             SegmentationParams* applied = nullptr,
-                                             std::vector<std::vector<Section>>* labelled = nullptr,
-                                             const std::function<void(std::int64_t, std::int64_t)>& progress = {});
+SegmentedSeries sectionsFromSlices(const std::vector<SliceRecord>& slices, const std::string& listing_file,
+                                   const SegmentationParams& params, const std::string& settings_file,
+                                   std::vector<ImageHeader> headers,
+                                   const std::function<void(std::int64_t, std::int64_t)>& progress = {});
 
 /// The same for the kept frames of a PLUS recording (io/plus_sequence.h), in their order: plane k
 /// is seq.frames[k], named "frame N", its pose seq.image_to_reference[k], its field of view the
 /// device set's. The frames are streamed from the sequence file (one batch held at a time);
 /// `progress` counts the kept frames as sectionsFromSlices' does.
-std::vector<CuttingPlane> sectionsFromPlusSequence(
-    const PlusSequence& seq, const SegmentationParams& params, const std::string& settings_file,
-    std::vector<std::string>* warnings,
-    SegmentationParams* applied = nullptr, std::vector<std::vector<Section>>* labelled = nullptr,
-    const std::function<void(std::int64_t, std::int64_t)>& progress = {});
+SegmentedSeries sectionsFromPlusSequence(const PlusSequence& seq, const SegmentationParams& params,
+                                         const std::string& settings_file,
+                                         const std::function<void(std::int64_t, std::int64_t)>& progress = {});
 
 }  // namespace xsect

@@ -48,8 +48,7 @@ inline nlohmann::json run(const std::filesystem::path& dir, const std::string& o
 /// The sections `xsect run` reconstructs from, for the configuration.
 inline std::vector<CuttingPlane> sectionsOf(const std::filesystem::path& config) {
   const RunConfig c = readRunConfig(config.string());
-  std::vector<std::string> warnings;
-  return sectionsFromSlices(readSlicesFile(c.input_path, &warnings), c.input_path, c.segmentation, c.path, {}, &warnings);
+  return sectionsFromSlices(readSlicesFile(c.input_path), c.input_path, c.segmentation, c.path, {}).planes;
 }
 
 /// `xsect run` of the phantom in dir with `--set <bad>` must exit 2, name the key, and write nothing.

@@ -385,8 +385,8 @@ TEST(UltrasoundSegmentation, AFrameAllInShadowIsObservedNowhere) {
   std::vector<ImageHeader> headers;
   for (const SliceRecord& s : slices) headers.push_back(readImageHeader(s.image_resolved));
   const std::vector<CuttingPlane> planes =
-      sectionsFromSlices(slices, (ph / "slices.yaml").string(), c.segmentation, (ph / "config.yaml").string(), headers,
-                         nullptr, nullptr, nullptr, nullptr);
+      sectionsFromSlices(slices, (ph / "slices.yaml").string(), c.segmentation, (ph / "config.yaml").string(), headers)
+          .planes;
   ASSERT_EQ(planes.size(), 8u);
   EXPECT_TRUE(planes[4].sections.empty());
   EXPECT_EQ(planes[4].extent.min, planes[4].extent.max);  // observed nowhere
