@@ -280,6 +280,44 @@ bool onBoundaryOf(const Trace& c, double t) {
   return false;
 }
 
+/// `ring` moved by the bumps: its edges through a bump subdivided to a twelfth of its radius (only
+/// the points that move are added: the rest of the edge stays as it was), then every point shifted
+/// along its bump's line by the bump's weight; a bump's centre goes to its target exactly.
+Ring deformRing(const Ring& ring, const std::vector<Bump>& chosen) {
+  Ring dense;
+  const std::size_t n = ring.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec2 a = ring[k], c = ring[(k + 1) % n];
+    dense.push_back(a);
+    double step = kInf;
+    for (const Bump& b : chosen) {
+      const Vec2 ac = c - a;
+      const double u = ac.squaredNorm() > 0 ? std::clamp((b.centre - a).dot(ac) / ac.squaredNorm(), 0.0, 1.0) : 0.0;
+      if ((a + u * ac - b.centre).norm() < b.radius) step = std::min(step, b.radius / 12);
+    }
+    if (std::isfinite(step)) {
+      const int pieces = int(std::ceil((c - a).norm() / step));
+      for (int i = 1; i < pieces; ++i) {
+        const Vec2 q = a + (c - a) * (double(i) / pieces);
+        bool inside = false;
+        for (const Bump& b : chosen) inside = inside || (q - b.centre).norm() < b.radius;
+        if (inside) dense.push_back(q);
+      }
+    }
+  }
+  for (Vec2& p : dense) {
+    for (const Bump& b : chosen) {
+      const double r = (p - b.centre).norm();
+      if (r < 1e-12) {
+        p = b.target;  // the consensus endpoint itself, the world point both planes share
+        break;
+      }
+      p += b.shift * bumpWeight(r / b.radius) * b.d;
+    }
+  }
+  return dense;
+}
+
 /// Matched endpoint moves become bumps: where the consensus and the current trace have
 /// corresponding intervals, each endpoint moves to its counterpart by deforming the plane around
 /// it. A bump must stay clear of every other line of the plane, every other crossing of the
@@ -350,44 +388,9 @@ std::vector<Section> deformAlongLines(const CuttingPlane& cp, const std::vector<
         placeVertex(&out, q, 1e-6);
         break;
       }
-  const auto deformRing = [&](const Ring& ring) {
-    Ring dense;
-    const std::size_t n = ring.size();
-    for (std::size_t k = 0; k < n; ++k) {
-      const Vec2 a = ring[k], c = ring[(k + 1) % n];
-      dense.push_back(a);
-      // subdivide edges that pass through a bump, to a twelfth of its radius
-      double step = kInf;
-      for (const Bump& b : chosen) {
-        const Vec2 ac = c - a;
-        const double u = ac.squaredNorm() > 0 ? std::clamp((b.centre - a).dot(ac) / ac.squaredNorm(), 0.0, 1.0) : 0.0;
-        if ((a + u * ac - b.centre).norm() < b.radius) step = std::min(step, b.radius / 12);
-      }
-      if (std::isfinite(step)) {
-        const int pieces = int(std::ceil((c - a).norm() / step));
-        for (int i = 1; i < pieces; ++i) {
-          const Vec2 q = a + (c - a) * (double(i) / pieces);
-          bool inside = false;  // only points that move: the rest of the edge stays as it was
-          for (const Bump& b : chosen) inside = inside || (q - b.centre).norm() < b.radius;
-          if (inside) dense.push_back(q);
-        }
-      }
-    }
-    for (Vec2& p : dense) {
-      for (const Bump& b : chosen) {
-        const double r = (p - b.centre).norm();
-        if (r < 1e-12) {
-          p = b.target;  // the consensus endpoint itself, the world point both planes share
-          break;
-        }
-        p += b.shift * bumpWeight(r / b.radius) * b.d;
-      }
-    }
-    return dense;
-  };
   for (Section& s : out) {
-    s.outer = deformRing(s.outer);
-    for (Ring& h : s.holes) h = deformRing(h);
+    s.outer = deformRing(s.outer, chosen);
+    for (Ring& h : s.holes) h = deformRing(h, chosen);
     if (!toPolygon(s.outer).is_simple()) return cp.sections;
     for (const Ring& h : s.holes)
       if (!toPolygon(h).is_simple()) return cp.sections;
@@ -395,6 +398,33 @@ std::vector<Section> deformAlongLines(const CuttingPlane& cp, const std::vector<
   *bumps = int(chosen.size());
   for (const Bump& b : chosen) *maxRadius = std::max(*maxRadius, b.radius);
   return out;
+}
+
+/// The bounded polygons of a Boolean result as sections (rings of at least three vertices), each
+/// with the label of the section of `touched` nearest inside: the one with the most negative
+/// distance at the new outline's centroid (one label per plane in the usual single-material case).
+std::vector<Section> sectionsOfPolygons(const std::vector<PolygonWithHoles>& result, const std::vector<Section>& touched) {
+  std::vector<Section> edited;
+  for (const PolygonWithHoles& p : result) {
+    if (p.is_unbounded()) continue;
+    Section s;
+    s.outer = toRing(p.outer_boundary());
+    if (s.outer.size() < 3) continue;
+    for (auto h = p.holes_begin(); h != p.holes_end(); ++h) {
+      Ring hr = toRing(*h);
+      if (hr.size() >= 3) s.holes.push_back(std::move(hr));
+    }
+    if (!touched.empty()) {
+      const Vec2 c = sectionCentroid(s);
+      double best = kInf;
+      for (const Section& t : touched) {
+        const double d = signedDistanceToSections({t}, c);
+        if (d < best) best = d, s.label = t.label;
+      }
+    }
+    edited.push_back(std::move(s));
+  }
+  return edited;
 }
 
 /// All lines' edits of one plane in one Boolean operation.
@@ -479,28 +509,7 @@ PlaneEditResult editPlane(const CuttingPlane& cp, std::vector<LineEdit> edits,
     set.difference(protectedEdit(removeRings[k], lineInPlane(cp.plane, edits[removeLine[k]].line), guards[removeLine[k]], false));
   std::vector<PolygonWithHoles> result;
   set.polygons_with_holes(std::back_inserter(result));
-  std::vector<Section> edited;
-  for (const PolygonWithHoles& p : result) {
-    if (p.is_unbounded()) continue;
-    Section s;
-    s.outer = toRing(p.outer_boundary());
-    if (s.outer.size() < 3) continue;
-    for (auto h = p.holes_begin(); h != p.holes_end(); ++h) {
-      Ring hr = toRing(*h);
-      if (hr.size() >= 3) s.holes.push_back(std::move(hr));
-    }
-    // The label of the touched section nearest inside: the one with the most negative distance
-    // at the new outline's centroid (one label per plane in the usual single-material case).
-    if (!touched.empty()) {
-      const Vec2 c = sectionCentroid(s);
-      double best = kInf;
-      for (const Section& t : touched) {
-        const double d = signedDistanceToSections({t}, c);
-        if (d < best) best = d, s.label = t.label;
-      }
-    }
-    edited.push_back(std::move(s));
-  }
+  std::vector<Section> edited = sectionsOfPolygons(result, touched);
   std::sort(edited.begin(), edited.end(), [](const Section& x, const Section& y) {
     const Vec2 a = smallestVertex(x.outer), b = smallestVertex(y.outer);
     return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
@@ -509,6 +518,34 @@ PlaneEditResult editPlane(const CuttingPlane& cp, std::vector<LineEdit> edits,
   r.sections.insert(r.sections.end(), edited.begin(), edited.end());
   r.changed = true;
   return r;
+}
+
+/// Shared vertices: every endpoint of an enforced pair's (now common) trace inside its common
+/// region becomes a vertex of both polygons, at the same world point of the line. Marks each pair's
+/// `agrees`; returns the vertices inserted per plane.
+std::vector<int> shareTraceEndpoints(const std::vector<PlanePairTraces>& pairs, const ConformityParams& params,
+                                     ConformityEnforcement& out) {
+  const std::vector<PlanePairTraces> now = retrace(pairs, out.planes);
+  std::vector<std::vector<Vec3>> points(out.planes.size());
+  for (std::size_t k = 0; k < now.size(); ++k) {
+    out.corrections[k].agrees = now[k].disagreement.symmetric_difference_mm <= params.tolerance_mm;
+    if (!out.corrections[k].applied || !out.corrections[k].agrees) continue;
+    const PlanePairTraces& p = now[k];
+    for (const Interval& c : p.common)
+      for (const Interval& i : p.trace_a)
+        for (const double t : {i.t0, i.t1})
+          if (t > c.t0 && t < c.t1) {
+            points[std::size_t(p.a)].push_back(p.line.at(t));
+            points[std::size_t(p.b)].push_back(p.line.at(t));
+          }
+  }
+  std::vector<int> inserted(out.planes.size(), 0);
+  tbb::parallel_for(std::size_t(0), out.planes.size(), [&](std::size_t i) {
+    const double tol = 1e-6;
+    for (const Vec3& x : points[i])
+      inserted[i] += placeVertex(&out.planes[i].sections, out.planes[i].plane.toPlane(x), tol) == 2;
+  });
+  return inserted;
 }
 
 }  // namespace
@@ -606,28 +643,7 @@ ConformityEnforcement enforceConformity(const std::vector<CuttingPlane>& planes,
   for (std::size_t i = 0; i < planes.size(); ++i)
     if (notEditable[i]) out.planes_not_editable.push_back(int(i));
 
-  // Shared vertices: every endpoint of an enforced pair's (now common) trace inside its common
-  // region becomes a vertex of both polygons, at the same world point of the line.
-  const std::vector<PlanePairTraces> now = retrace(pairs, out.planes);
-  std::vector<std::vector<Vec3>> points(planes.size());
-  for (std::size_t k = 0; k < now.size(); ++k) {
-    out.corrections[k].agrees = now[k].disagreement.symmetric_difference_mm <= params.tolerance_mm;
-    if (!out.corrections[k].applied || !out.corrections[k].agrees) continue;
-    const PlanePairTraces& p = now[k];
-    for (const Interval& c : p.common)
-      for (const Interval& i : p.trace_a)
-        for (const double t : {i.t0, i.t1})
-          if (t > c.t0 && t < c.t1) {
-            points[std::size_t(p.a)].push_back(p.line.at(t));
-            points[std::size_t(p.b)].push_back(p.line.at(t));
-          }
-  }
-  std::vector<int> inserted(planes.size(), 0);
-  tbb::parallel_for(std::size_t(0), planes.size(), [&](std::size_t i) {
-    const double tol = 1e-6;
-    for (const Vec3& x : points[i])
-      inserted[i] += placeVertex(&out.planes[i].sections, out.planes[i].plane.toPlane(x), tol) == 2;
-  });
+  const std::vector<int> inserted = shareTraceEndpoints(pairs, params, out);
   for (std::size_t i = 0; i < planes.size(); ++i) {
     out.vertices_shared += inserted[i];
     const auto& a = out.planes[i].sections;

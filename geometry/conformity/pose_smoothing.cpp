@@ -29,23 +29,10 @@ Eigen::Matrix3d rotationOf(const Plane& p) {
 }
 
 
-}  // namespace
-
-PoseSmoothing smoothPoseTrajectory(const std::vector<Plane>& planes, const std::vector<Vec2>& reference,
-                                   int half_window) {
-  if (reference.size() != planes.size())
-    throw std::invalid_argument("smoothPoseTrajectory: one reference point per plane");
-  if (half_window < 1) throw std::invalid_argument("smoothPoseTrajectory: half_window must be >= 1");
+/// Each frame's sweep (0, 1, ...): a new one starts where consecutive frames turn by more than
+/// kMaxTurnDeg or their reference points jump by more than kMaxJumpSteps times the median step.
+std::vector<int> sweepOfFrames(const std::vector<Plane>& planes, const std::vector<Vec2>& reference) {
   const int n = int(planes.size());
-  PoseSmoothing out;
-  out.planes = planes;
-  out.shift_mm.assign(planes.size(), 0.0);
-  out.rotation_deg.assign(planes.size(), 0.0);
-  out.robustness.assign(planes.size(), 1.0);
-  if (n < 3) return out;
-
-  // Sweeps: a new one starts where consecutive frames turn by more than kMaxTurnDeg or their
-  // reference points jump by more than kMaxJumpSteps times the median step.
   // Steps between frames i - 1 and i, of frame i's reference point (one point of the image).
   std::vector<double> step(std::size_t(n), 0.0);
   for (int i = 1; i < n; ++i)
@@ -74,6 +61,25 @@ PoseSmoothing smoothPoseTrajectory(const std::vector<Plane>& planes, const std::
   }
   std::vector<int> sweep(std::size_t(n), 0);
   for (int i = 1; i < n; ++i) sweep[std::size_t(i)] = sweep[std::size_t(i - 1)] + breaks[std::size_t(i)];
+  return sweep;
+}
+
+}  // namespace
+
+PoseSmoothing smoothPoseTrajectory(const std::vector<Plane>& planes, const std::vector<Vec2>& reference,
+                                   int half_window) {
+  if (reference.size() != planes.size())
+    throw std::invalid_argument("smoothPoseTrajectory: one reference point per plane");
+  if (half_window < 1) throw std::invalid_argument("smoothPoseTrajectory: half_window must be >= 1");
+  const int n = int(planes.size());
+  PoseSmoothing out;
+  out.planes = planes;
+  out.shift_mm.assign(planes.size(), 0.0);
+  out.rotation_deg.assign(planes.size(), 0.0);
+  out.robustness.assign(planes.size(), 1.0);
+  if (n < 3) return out;
+
+  const std::vector<int> sweep = sweepOfFrames(planes, reference);
   out.sweeps = sweep.back() + 1;
 
   // Lever arm turning a rotation residual into mm: the reference points' typical distance from

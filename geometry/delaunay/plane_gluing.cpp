@@ -75,6 +75,57 @@ class TriangleIndex {
   std::vector<std::vector<int>> buckets_;
 };
 
+/// The edges the plane's triangulation must keep: the footprint's rims, and the boundary of each
+/// side's covered region (its triangles' edges used once): where one cell's footprint ends at a
+/// trace line and the neighbouring cell's does not continue it, no rim marks the change, and a
+/// triangle of the plane straddling it would be misjudged. Sorted, unique.
+std::vector<std::array<int, 2>> footprintRims(const PlaneFootprint& fp) {
+  std::vector<std::array<int, 2>> rims = fp.rims;
+  for (const auto& side : fp.covered) {
+    std::unordered_map<std::uint64_t, int> uses;
+    for (const auto& t : side)
+      for (int e = 0; e < 3; ++e) ++uses[edgeKey(t[std::size_t(e)], t[std::size_t((e + 1) % 3)])];
+    for (const auto& [key, n] : uses)
+      if (n == 1) rims.push_back({int(key >> 32), int(key & 0xffffffffu)});
+  }
+  std::sort(rims.begin(), rims.end());
+  rims.erase(std::unique(rims.begin(), rims.end()), rims.end());
+  return rims;
+}
+
+/// A sliver's state (state[f->info()], planeBoundary) is the state of the face across its longest
+/// edge that is not constrained: across a constrained edge (a contour, a rim, an outline) the state
+/// is meant to change. Up to four passes, as neighbours get judged.
+void judgeSlivers(const CDT& cdt, std::vector<CDT::Face_handle> slivers, std::vector<int>& state) {
+  for (int pass = 0; pass < 4 && !slivers.empty(); ++pass) {
+    std::vector<CDT::Face_handle> left;
+    for (const CDT::Face_handle f : slivers) {
+      int longest = -1;
+      double best = -1;
+      for (int i = 0; i < 3; ++i) {
+        if (f->is_constrained(i)) continue;
+        const auto& a = f->vertex(cdt.ccw(i))->point();
+        const auto& b = f->vertex(cdt.cw(i))->point();
+        const double d = CGAL::squared_distance(a, b);
+        if (d > best) {
+          best = d;
+          longest = i;
+        }
+      }
+      if (longest < 0) continue;  // all three constrained: no boundary face
+      const CDT::Face_handle across = f->neighbor(longest);
+      const int known = cdt.is_infinite(across) ? -1 : state[std::size_t(across->info())];
+      if (known < 0) {
+        left.push_back(f);
+        continue;
+      }
+      state[std::size_t(f->info())] = known;
+    }
+    if (left.size() == slivers.size()) break;
+    slivers.swap(left);
+  }
+}
+
 }  // namespace
 
 PlaneBoundary planeBoundary(int plane, const std::vector<int>& ids, const PlaneFootprint& fp, const SectionVertices& sv,
@@ -101,20 +152,7 @@ PlaneBoundary planeBoundary(int plane, const std::vector<int>& ids, const PlaneF
     if (r.plane != plane) continue;
     for (std::size_t k = 0; k < r.points.size(); ++k) constrain(r.points[k], r.points[(k + 1) % r.points.size()]);
   }
-  // The boundary of each side's covered region (its triangles' edges used once): where one cell's
-  // footprint ends at a trace line and the neighbouring cell's does not continue it, no rim
-  // marks the change, and a triangle of the plane straddling it would be misjudged.
-  std::vector<std::array<int, 2>> rims = fp.rims;
-  for (const auto& side : fp.covered) {
-    std::unordered_map<std::uint64_t, int> uses;
-    for (const auto& t : side)
-      for (int e = 0; e < 3; ++e) ++uses[edgeKey(t[std::size_t(e)], t[std::size_t((e + 1) % 3)])];
-    for (const auto& [key, n] : uses)
-      if (n == 1) rims.push_back({int(key >> 32), int(key & 0xffffffffu)});
-  }
-  std::sort(rims.begin(), rims.end());
-  rims.erase(std::unique(rims.begin(), rims.end()), rims.end());
-  for (const auto& e : rims) constrain(e[0], e[1]);
+  for (const auto& e : footprintRims(fp)) constrain(e[0], e[1]);
   // New vertices where constraints crossed.
   for (auto it = cdt.finite_vertices_begin(); it != cdt.finite_vertices_end(); ++it)
     if (it->info().value == 0) {
@@ -154,35 +192,7 @@ PlaneBoundary planeBoundary(int plane, const std::vector<int>& ids, const PlaneF
     const bool m = minus.covers(c), p = plus.covers(c);
     state[std::size_t(f->info())] = m == p ? 3 : (m ? 1 : 2);
   }
-  for (int pass = 0; pass < 4 && !slivers.empty(); ++pass) {
-    std::vector<CDT::Face_handle> left;
-    for (const CDT::Face_handle f : slivers) {
-      // Across a constrained edge (a contour, a rim, an outline) the state is meant to change:
-      // the longest edge that is not one decides.
-      int longest = -1;
-      double best = -1;
-      for (int i = 0; i < 3; ++i) {
-        if (f->is_constrained(i)) continue;
-        const auto& a = f->vertex(cdt.ccw(i))->point();
-        const auto& b = f->vertex(cdt.cw(i))->point();
-        const double d = CGAL::squared_distance(a, b);
-        if (d > best) {
-          best = d;
-          longest = i;
-        }
-      }
-      if (longest < 0) continue;  // all three constrained: no boundary face
-      const CDT::Face_handle across = f->neighbor(longest);
-      const int known = cdt.is_infinite(across) ? -1 : state[std::size_t(across->info())];
-      if (known < 0) {
-        left.push_back(f);
-        continue;
-      }
-      state[std::size_t(f->info())] = known;
-    }
-    if (left.size() == slivers.size()) break;
-    slivers.swap(left);
-  }
+  judgeSlivers(cdt, std::move(slivers), state);
   for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
     const int st = state[std::size_t(f->info())];
     if (st < 0 || st == 0 || st == 3) continue;

@@ -33,22 +33,36 @@ struct EdgeUse {
   bool operator<(const EdgeUse& o) const { return hi != o.hi ? hi < o.hi : word < o.word; }
 };
 
-}  // namespace
+/// Every directed edge use of a mesh in (lo, hi, forward, triangle) order: counted into buckets by
+/// lo (linear in the mesh; a comparison sort of all uses took most of the diagnose stage on large
+/// meshes, issue 17), each bucket (the few edges at one vertex) then sorted.
+struct EdgeUses {
+  std::vector<std::uint32_t> start;  ///< bucket of vertex v: uses [start[v], start[v + 1])
+  std::vector<EdgeUse> uses;
+  bool degenerate_triangles = false;  ///< a triangle repeats a vertex
 
-MeshTopology meshTopology(const TriangleMesh& mesh) {
-  MeshTopology result;
+  /// Calls f(i, j) for each undirected edge: uses [i, j) of one bucket with one hi.
+  template <typename F>
+  void forEachEdge(const F& f) const {
+    for (std::size_t v = 0; v + 1 < start.size(); ++v)
+      for (std::size_t i = start[v]; i < start[v + 1];) {
+        std::size_t j = i;
+        while (j < start[v + 1] && uses[j].hi == uses[i].hi) ++j;
+        f(i, j);
+        i = j;
+      }
+  }
+};
+
+EdgeUses edgeUses(const TriangleMesh& mesh) {
+  EdgeUses e;
   const std::size_t nt = mesh.triangles.size();
-  if (nt == 0) return result;
-
-  bool watertight = true;
-  // The uses in (lo, hi, forward, triangle) order: counted into buckets by lo (linear in the mesh;
-  // a comparison sort of all uses took most of the diagnose stage on large meshes, issue 17), each
-  // bucket (the few edges at one vertex) then sorted.
   const std::size_t nv = mesh.vertices.size();
-  std::vector<std::uint32_t> start(nv + 1, 0);
+  std::vector<std::uint32_t>& start = e.start;
+  start.assign(nv + 1, 0);
   for (std::uint32_t t = 0; t < nt; ++t) {
     const auto& tri = mesh.triangles[t];
-    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0]) watertight = false;
+    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0]) e.degenerate_triangles = true;
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t a = tri[k], b = tri[(k + 1) % 3];
       if (a != b) ++start[std::min(a, b) + 1];
@@ -56,34 +70,58 @@ MeshTopology meshTopology(const TriangleMesh& mesh) {
   }
   for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
   if (nt >= EdgeUse::kForward) throw std::length_error("meshTopology: more than 2^31 triangles");
-  std::vector<EdgeUse> uses(start[nv]);
-  {
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::uint32_t t = 0; t < nt; ++t) {
-      const auto& tri = mesh.triangles[t];
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t a = tri[k], b = tri[(k + 1) % 3];
-        if (a != b) uses[fill[std::min(a, b)]++] = {std::max(a, b), (a < b ? EdgeUse::kForward : 0u) | t};
-      }
+  std::vector<EdgeUse>& uses = e.uses;
+  uses.resize(start[nv]);
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  for (std::uint32_t t = 0; t < nt; ++t) {
+    const auto& tri = mesh.triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = tri[k], b = tri[(k + 1) % 3];
+      if (a != b) uses[fill[std::min(a, b)]++] = {std::max(a, b), (a < b ? EdgeUse::kForward : 0u) | t};
     }
   }
   tbb::parallel_for(std::size_t(0), nv, [&](std::size_t v) {
     std::sort(uses.begin() + start[v], uses.begin() + start[v + 1]);
   });
-  // Calls f(i, j) for each undirected edge: uses [i, j) of one bucket with one hi.
-  const auto forEachEdge = [&](const auto& f) {
-    for (std::size_t v = 0; v < nv; ++v)
-      for (std::size_t i = start[v]; i < start[v + 1];) {
-        std::size_t j = i;
-        while (j < start[v + 1] && uses[j].hi == uses[i].hi) ++j;
-        f(i, j);
-        i = j;
+  return e;
+}
+
+/// Vertices per surface: a vertex shared by two surfaces (touching shells) counts in both. The
+/// first surface met at each vertex, and the (rare) further (vertex, surface) pairs apart.
+std::vector<long long> verticesPerSurface(const TriangleMesh& mesh, const std::vector<int>& surfaceOf, int surfaces) {
+  std::vector<long long> verts(std::size_t(surfaces), 0);
+  std::vector<int> firstSurface(mesh.vertices.size(), -1);
+  std::vector<std::pair<std::uint32_t, int>> further;
+  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
+    for (const std::uint32_t v : mesh.triangles[t]) {
+      const int s = surfaceOf[t];
+      if (firstSurface[v] < 0) {
+        firstSurface[v] = s;
+        ++verts[std::size_t(s)];
+      } else if (firstSurface[v] != s) {
+        further.emplace_back(v, s);
       }
-  };
+    }
+  std::sort(further.begin(), further.end());
+  further.erase(std::unique(further.begin(), further.end()), further.end());
+  for (const auto& vs : further) ++verts[std::size_t(vs.second)];
+  return verts;
+}
+
+}  // namespace
+
+MeshTopology meshTopology(const TriangleMesh& mesh) {
+  MeshTopology result;
+  const std::size_t nt = mesh.triangles.size();
+  if (nt == 0) return result;
+
+  const EdgeUses e = edgeUses(mesh);
+  const std::vector<EdgeUse>& uses = e.uses;
+  bool watertight = !e.degenerate_triangles;
 
   // Group uses by undirected edge: connectivity and the closedness test.
   DisjointSets sets(nt);
-  forEachEdge([&](std::size_t i, std::size_t j) {
+  e.forEachEdge([&](std::size_t i, std::size_t j) {
     if (j - i != 2 || uses[i].forward() == uses[i + 1].forward()) watertight = false;
     for (std::size_t k = i + 1; k < j; ++k) sets.unite(uses[i].triangle(), uses[k].triangle());
   });
@@ -100,7 +138,7 @@ MeshTopology meshTopology(const TriangleMesh& mesh) {
   }
   result.surfaces = surfaces;
 
-  std::vector<long long> faces(surfaces, 0), edges(surfaces, 0), verts(surfaces, 0);
+  std::vector<long long> faces(surfaces, 0), edges(surfaces, 0);
   std::vector<double> volume(surfaces, 0.0);
   // Volumes are translation invariant for closed surfaces: measure from a mesh vertex to keep
   // the products small when the mesh lies far from the origin.
@@ -114,24 +152,8 @@ MeshTopology meshTopology(const TriangleMesh& mesh) {
     const Eigen::Vector3d c = mesh.vertices[tri[2]].cast<double>() - ref;
     volume[s] += a.dot(b.cross(c)) / 6.0;
   }
-  forEachEdge([&](std::size_t i, std::size_t) { ++edges[surfaceOf[uses[i].triangle()]]; });
-  // Vertices per surface: a vertex shared by two surfaces (touching shells) counts in both. The
-  // first surface met at each vertex, and the (rare) further (vertex, surface) pairs apart.
-  std::vector<int> firstSurface(nv, -1);
-  std::vector<std::pair<std::uint32_t, int>> further;
-  for (std::uint32_t t = 0; t < nt; ++t)
-    for (const std::uint32_t v : mesh.triangles[t]) {
-      const int s = surfaceOf[t];
-      if (firstSurface[v] < 0) {
-        firstSurface[v] = s;
-        ++verts[std::size_t(s)];
-      } else if (firstSurface[v] != s) {
-        further.emplace_back(v, s);
-      }
-    }
-  std::sort(further.begin(), further.end());
-  further.erase(std::unique(further.begin(), further.end()), further.end());
-  for (const auto& vs : further) ++verts[std::size_t(vs.second)];
+  e.forEachEdge([&](std::size_t i, std::size_t) { ++edges[surfaceOf[uses[i].triangle()]]; });
+  const std::vector<long long> verts = verticesPerSurface(mesh, surfaceOf, surfaces);
 
   Betti betti{0, 0, 0};
   double total = 0.0;

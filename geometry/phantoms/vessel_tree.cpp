@@ -258,6 +258,40 @@ double refineCurvatureMax(const TreeField& F, Vec3 p, int side, double h, const 
   return best;
 }
 
+/// A tube meeting at a junction point c: its direction away from c, its length from c, its
+/// radius, and how far along it the blends can act (sampleJunctionCurvature).
+struct JunctionMember {
+  int tube;
+  Vec3 e;
+  double length, radius, extent;
+};
+
+/// Where the junction's surface is sampled from: rings around each member up to its extent, on
+/// its tube and dJ beyond, a step h apart, and a sphere of radius rmax + dJ / 2 around c
+/// (Fibonacci lattice).
+std::vector<Vec3> junctionSampleStarts(const std::vector<JunctionMember>& members, const Vec3& c, double dJ,
+                                       double rmax, double h) {
+  std::vector<Vec3> starts;
+  for (const auto& u : members) {
+    const Vec3 f1 = anyOrthogonal(u.e), f2 = u.e.cross(f1);
+    const int nTheta = std::max(16, int(std::ceil(2 * M_PI * (u.radius + dJ) / h)));
+    for (double sa = 0.0; sa <= u.extent + 1e-12; sa += h)
+      for (int a = 0; a < nTheta; ++a) {
+        const double th = 2 * M_PI * a / nTheta;
+        const Vec3 radial = std::cos(th) * f1 + std::sin(th) * f2;
+        for (const double o : {0.0, dJ}) starts.push_back(c + sa * u.e + (u.radius + o) * radial);
+      }
+  }
+  const double rs = rmax + 0.5 * dJ;
+  const int nSphere = std::max(64, int(std::ceil(4 * M_PI * rs * rs / (h * h))));
+  const double golden = M_PI * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < nSphere; ++i) {
+    const double z = 1.0 - 2.0 * (i + 0.5) / nSphere, rr = std::sqrt(1.0 - z * z);
+    starts.push_back(c + rs * Vec3(rr * std::cos(golden * i), rr * std::sin(golden * i), z));
+  }
+  return starts;
+}
+
 /// The largest convex and concave principal curvatures of the boundary around junction ji:
 /// a coarse pass over the projections onto f = 0 of start points (rings around every member
 /// tube, and offset outwards by the blend offset, along the stretch where a blend can be active;
@@ -268,12 +302,7 @@ CurvatureMax sampleJunctionCurvature(const PhantomShape& s, int ji, double h) {
   const Junction& J = s.junctions[ji];
   const Vec3 c = s.tubes[J.parent].b;
   const double dJ = junctionOffset(J, k);
-  struct Member {
-    int tube;
-    Vec3 e;
-    double length, radius, extent;
-  };
-  std::vector<Member> members;
+  std::vector<JunctionMember> members;
   auto addMember = [&](int ti, const Vec3& far) {
     const Tube& t = s.tubes[ti];
     const double L = (far - c).norm();
@@ -320,25 +349,7 @@ CurvatureMax sampleJunctionCurvature(const PhantomShape& s, int ji, double h) {
   }
   const TreeField F(s, use);
 
-  std::vector<Vec3> starts;
-  for (const auto& u : members) {
-    const Vec3 f1 = anyOrthogonal(u.e), f2 = u.e.cross(f1);
-    const int nTheta = std::max(16, int(std::ceil(2 * M_PI * (u.radius + dJ) / h)));
-    for (double sa = 0.0; sa <= u.extent + 1e-12; sa += h)
-      for (int a = 0; a < nTheta; ++a) {
-        const double th = 2 * M_PI * a / nTheta;
-        const Vec3 radial = std::cos(th) * f1 + std::sin(th) * f2;
-        for (const double o : {0.0, dJ}) starts.push_back(c + sa * u.e + (u.radius + o) * radial);
-      }
-  }
-  // A sphere around the junction point (Fibonacci lattice).
-  const double rs = rmax + 0.5 * dJ;
-  const int nSphere = std::max(64, int(std::ceil(4 * M_PI * rs * rs / (h * h))));
-  const double golden = M_PI * (3.0 - std::sqrt(5.0));
-  for (int i = 0; i < nSphere; ++i) {
-    const double z = 1.0 - 2.0 * (i + 0.5) / nSphere, rr = std::sqrt(1.0 - z * z);
-    starts.push_back(c + rs * Vec3(rr * std::cos(golden * i), rr * std::sin(golden * i), z));
-  }
+  const std::vector<Vec3> starts = junctionSampleStarts(members, c, dJ, rmax, h);
   std::vector<Vec3> points(starts.size());
   std::vector<char> ok(starts.size(), 0);
   std::vector<double> curv[2] = {std::vector<double>(starts.size(), -1.0),

@@ -384,44 +384,22 @@ class Evaluator {
     return true;
   }
 
-  /// Decides x from the planes `cand`: the facets of x's cell of the arrangement (every plane that
-  /// can hide a section point from x or give x a visible projection) and x's nearest plane.
-  /// `inList`: those of them with sections; `cellRadius`: no point of the cell lies farther from x
-  /// (mm), so no visible section point does either.
-  Decision decide(const Vec3& x, const std::vector<int>& cand, const std::vector<int>& inList,
-                  double cellRadius, Scratch& w) const {
-    Decision out;
-    // Distances to the candidate planes; the nearest one first (ties: lower index).
+  /// What walking the candidate planes by distance found (decide()).
+  struct PlaneWalk {
+    int in_index = -1;  ///< in w.order: the first plane with a visible in-section projection; -1: none
+    float in_value = 0;  ///< its raster's value there (< 0)
+    double U = kInf;     ///< a visible section point's distance, an upper bound of d(x, S_C), mm
+    float u_value = 0;   ///< its in-plane distance to the contour, mm
+  };
+
+  /// Walks the planes of w.pool (candidates, the nearest c0 at w.pool's front once popped) by
+  /// distance: the first visible in-section projection gives H_in. A visible section point found
+  /// on the way (the exact nearest contour point to a projection, checked for visibility) bounds
+  /// d(x, S_C) from above by U: no plane farther than U can give x to R'. Planes are popped lazily
+  /// from a heap (most voxels stop after a few); those walked past are left in w.pend.
+  PlaneWalk walkPlanes(const Vec3& x, double cellRadius, Scratch& w) const {
     auto& order = w.order;
     auto& pool = w.pool;
-    order.clear();
-    pool.clear();
-    std::size_t nearest = 0;
-    for (const int q : cand) {
-      const double s = P_[q].row.s(x), a = std::abs(s);
-      pool.push_back({q, s, a});
-      const Candidate& n = pool[nearest];
-      if (a < n.a || (a == n.a && q < n.plane)) nearest = pool.size() - 1;
-    }
-    if (pool.empty()) return out;
-    const Candidate c0 = pool[nearest];
-    const PlaneInfo& P0 = P_[c0.plane];
-    out.nearest_plane = c0.plane;
-    out.plane_distance = float(c0.a);
-    const Vec3 d0 = x - P0.row.o;
-    const float f0 = P0.field->sample(d0.dot(P0.row.u), d0.dot(P0.row.v));
-    if (c0.a < slab_) {  // thickened plane: R' = R here
-      out.verdict = f0 < 0 ? Verdict::inside : Verdict::outside;
-      out.value = f0;
-      if (f0 < 0) {
-        out.section_plane = c0.plane;
-        out.lift = float(c0.a);
-      }
-      return out;
-    }
-    // No facet with sections: S_C is empty and so is R' in this cell.
-    if (inList.empty()) return outsideWith(out, std::max(double(f0), 0.0));
-    // Planes in order of distance, popped lazily from a heap: most voxels stop after a few.
     const auto farther = [](const Candidate& l, const Candidate& r) {
       return l.a > r.a || (l.a == r.a && l.plane > r.plane);
     };
@@ -434,15 +412,13 @@ class Evaluator {
       return true;
     };
     popNext();  // the nearest plane, c0
-    // Walk the planes by distance: the first visible in-section projection gives H_in. A visible
-    // section point found on the way (the exact nearest contour point to a projection, checked
-    // for visibility) bounds d(x, S_C) from above by U: no plane farther than U can give x to R'.
     auto& pend = w.pend;
     pend.clear();
-    int inIdx = -1;
-    float inValue = 0;
-    double U = kInf;
-    float uValue = 0;
+    PlaneWalk walk;
+    int& inIdx = walk.in_index;
+    float& inValue = walk.in_value;
+    double& U = walk.U;
+    float& uValue = walk.u_value;
     // Tried on the first few planes whose sections may lie nearer than the current U.
     int tries = 0, farTries = 0;
     // near: the projection lies within the raster's band of a contour (a short query); far: any
@@ -491,13 +467,55 @@ class Evaluator {
       if (f > 0 && lb < U) tryBound(t, p, f < P.field->band);
       pend.push_back({int(t), f, lb, vis, p});
     }
+    return walk;
+  }
+
+  /// Decides x from the planes `cand`: the facets of x's cell of the arrangement (every plane that
+  /// can hide a section point from x or give x a visible projection) and x's nearest plane.
+  /// `inList`: those of them with sections; `cellRadius`: no point of the cell lies farther from x
+  /// (mm), so no visible section point does either.
+  Decision decide(const Vec3& x, const std::vector<int>& cand, const std::vector<int>& inList,
+                  double cellRadius, Scratch& w) const {
+    Decision out;
+    // Distances to the candidate planes; the nearest one first (ties: lower index).
+    auto& order = w.order;
+    auto& pool = w.pool;
+    order.clear();
+    pool.clear();
+    std::size_t nearest = 0;
+    for (const int q : cand) {
+      const double s = P_[q].row.s(x), a = std::abs(s);
+      pool.push_back({q, s, a});
+      const Candidate& n = pool[nearest];
+      if (a < n.a || (a == n.a && q < n.plane)) nearest = pool.size() - 1;
+    }
+    if (pool.empty()) return out;
+    const Candidate c0 = pool[nearest];
+    const PlaneInfo& P0 = P_[c0.plane];
+    out.nearest_plane = c0.plane;
+    out.plane_distance = float(c0.a);
+    const Vec3 d0 = x - P0.row.o;
+    const float f0 = P0.field->sample(d0.dot(P0.row.u), d0.dot(P0.row.v));
+    if (c0.a < slab_) {  // thickened plane: R' = R here
+      out.verdict = f0 < 0 ? Verdict::inside : Verdict::outside;
+      out.value = f0;
+      if (f0 < 0) {
+        out.section_plane = c0.plane;
+        out.lift = float(c0.a);
+      }
+      return out;
+    }
+    // No facet with sections: S_C is empty and so is R' in this cell.
+    if (inList.empty()) return outsideWith(out, std::max(double(f0), 0.0));
+    const PlaneWalk walk = walkPlanes(x, cellRadius, w);
+    const int inIdx = walk.in_index;
     // Every facet nearer than U walked without a visible in-section projection: x is not in R'.
-    if (inIdx < 0) return outsideWith(out, U < kInf ? double(uValue) : std::max(double(f0), 0.0));
+    if (inIdx < 0) return outsideWith(out, walk.U < kInf ? double(walk.u_value) : std::max(double(f0), 0.0));
     const double T = order[std::size_t(inIdx)].a;
     const double v = anyHit(order, std::size_t(inIdx), T, w);
     if (v < kInf) return outsideWith(out, v);
     out.verdict = Verdict::inside;
-    out.value = inValue;
+    out.value = walk.in_value;
     out.section_plane = order[std::size_t(inIdx)].plane;
     out.lift = float(T);
     return out;

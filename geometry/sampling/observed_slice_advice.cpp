@@ -12,20 +12,26 @@
 
 namespace xsect {
 
-std::vector<AdvisedSlice> adviseObservedSlices(const SamplingDiagnosis& d, const AdviceParams& params) {
-  std::vector<AdvisedSlice> out;
-  const CellScan& scan = d.scan;
-  const std::size_t n = scan.cell_of_point.size();
-  if (d.observed_distance_mm.size() != n) throw std::invalid_argument("adviseObservedSlices: no distances to the pieces");
-  if (params.count <= 0 || d.observed_cells <= 0) return out;
-  const double rho = scan.half_diagonal_mm;
+namespace {
 
-  // The Ω-cells followed: those with a cell not shown satisfied, holding sections first (where
-  // the object is known to be), and each one's critical value.
+/// The Ω-cells followed by the advice (observed_slice_advice.h), indexed by Ω-cell.
+struct FollowedOmegaCells {
+  std::vector<double> critical;                  ///< the least critical value of its cells, mm; NaN: none known
+  std::vector<std::vector<std::size_t>> points;  ///< its lattice points, in scan order (open Ω-cells only)
+  std::vector<std::vector<Vec3>> where;          ///< where they are, mm
+  std::vector<char> followed;
+};
+
+/// The Ω-cells with a cell not shown satisfied that the lattice meets, those holding sections if
+/// any does (where the object is known to be), and each one's critical value.
+FollowedOmegaCells followedOmegaCells(const SamplingDiagnosis& d) {
   const bool densityFirst = d.density == SamplingVerdict::violated ||
                             (d.transversality != SamplingVerdict::violated && d.density != SamplingVerdict::satisfied);
+  const CellScan& scan = d.scan;
   const std::size_t omegas = std::size_t(d.observed_cells);
-  std::vector<double> critical(omegas, std::numeric_limits<double>::quiet_NaN());
+  FollowedOmegaCells f;
+  std::vector<double>& critical = f.critical;
+  critical.assign(omegas, std::numeric_limits<double>::quiet_NaN());
   std::vector<char> open(omegas, 0), sections(omegas, 0);
   for (std::size_t i = 0; i < d.cells.size(); ++i) {
     const CellSampling& c = d.cells[i];
@@ -39,8 +45,10 @@ std::vector<AdvisedSlice> adviseObservedSlices(const SamplingDiagnosis& d, const
   }
   // The lattice points of each open Ω-cell, in scan order, and where they are.
   const GridSpec& L = scan.lattice;
-  std::vector<std::vector<std::size_t>> points(omegas);
-  std::vector<std::vector<Vec3>> where(omegas);
+  std::vector<std::vector<std::size_t>>& points = f.points;
+  std::vector<std::vector<Vec3>>& where = f.where;
+  points.resize(omegas);
+  where.resize(omegas);
   for (int k = 0; k < L.dims[2]; ++k)
     for (int j = 0; j < L.dims[1]; ++j)
       for (int i = 0; i < L.dims[0]; ++i) {
@@ -58,9 +66,29 @@ std::vector<AdvisedSlice> adviseObservedSlices(const SamplingDiagnosis& d, const
       if (open[o] && sections[o] && !points[o].empty()) return true;
     return false;
   }();
-  std::vector<char> followed(omegas, 0);
+  std::vector<char>& followed = f.followed;
+  followed.assign(omegas, 0);
   for (std::size_t o = 0; o < omegas; ++o)
     followed[o] = open[o] && !points[o].empty() && (sections[o] || !anySections);
+  return f;
+}
+
+}  // namespace
+
+std::vector<AdvisedSlice> adviseObservedSlices(const SamplingDiagnosis& d, const AdviceParams& params) {
+  std::vector<AdvisedSlice> out;
+  const CellScan& scan = d.scan;
+  const std::size_t n = scan.cell_of_point.size();
+  if (d.observed_distance_mm.size() != n) throw std::invalid_argument("adviseObservedSlices: no distances to the pieces");
+  if (params.count <= 0 || d.observed_cells <= 0) return out;
+  const double rho = scan.half_diagonal_mm;
+
+  const FollowedOmegaCells f = followedOmegaCells(d);
+  const std::vector<double>& critical = f.critical;
+  const std::vector<std::vector<std::size_t>>& points = f.points;
+  const std::vector<std::vector<Vec3>>& where = f.where;
+  const std::vector<char>& followed = f.followed;
+  const std::size_t omegas = critical.size();
   bool anyCritical = false;
   double minCritical = std::numeric_limits<double>::infinity();
   for (std::size_t o = 0; o < omegas; ++o)

@@ -20,6 +20,72 @@ struct Followed {
   int cell = -1;
 };
 
+/// The cells followed: the worst that are not shown satisfied, at most `followed`, each with its
+/// critical value and its height (the diagnosis' where exact, else measured in the box lo..hi).
+/// Density first (the sections' connectivity, Thm 3): the cells are ranked by their density ratio
+/// while the Density Condition is violated somewhere, or undetermined with nothing violated; else
+/// by their transversality ratio. Cells holding sections first: where the object is known to be,
+/// the connectivity of its sections is at stake; cells without sections only matter for what the
+/// planes miss (Prop. 2).
+std::vector<Followed> followedCells(const std::vector<Plane>& ps, const CellKeys& keys, const SamplingDiagnosis& d,
+                                    const Vec3& lo, const Vec3& hi, int followed) {
+  const bool densityFirst = d.density == SamplingVerdict::violated ||
+                            (d.transversality != SamplingVerdict::violated && d.density != SamplingVerdict::satisfied);
+  std::vector<int> order;
+  for (int pass = 0; pass < 2 && order.empty(); ++pass)
+    for (std::size_t i = 0; i < d.cells.size(); ++i)
+      if (d.cells[i].verdict != SamplingVerdict::satisfied && (pass == 1 || holdsSections(d.cells[i])) &&
+          (d.cells[i].scanned >= 0 || d.cells[i].height_exact))  // else its centre lies on a plane
+        order.push_back(int(i));
+  const auto score0 = [&](const CellSampling& c) {
+    const double crit = densityFirst ? c.density.critical_mm : c.transversality.critical_mm;
+    return std::isfinite(crit) && crit > 0 ? c.height_hi_mm / crit : -1.0;
+  };
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    const CellSampling &ca = d.cells[std::size_t(a)], &cb = d.cells[std::size_t(b)];
+    if (score0(ca) != score0(cb)) return score0(ca) > score0(cb);
+    return ca.height_hi_mm > cb.height_hi_mm;
+  });
+  if (int(order.size()) > followed) order.resize(std::size_t(followed));
+  std::vector<Followed> cells(order.size());
+  tbb::parallel_for(std::size_t(0), order.size(), [&](std::size_t k) {
+    const CellSampling& c = d.cells[std::size_t(order[k])];
+    Followed& f = cells[k];
+    f.cell = order[k];
+    const double crit = densityFirst || !std::isfinite(c.transversality.critical_mm) ? c.density.critical_mm
+                                                                                     : c.transversality.critical_mm;
+    f.critical = std::isfinite(crit) && crit > 0 ? crit : std::nan("");
+    f.sides = keys.sides(c.centre);
+    if (!c.height_exact || c.scanned < 0) {
+      f.height = cellHeight(ps, f.sides, lo, hi, false);
+    } else {
+      f.height.height = c.height_hi_mm;
+      f.height.centre = c.centre;
+    }
+  });
+  return cells;
+}
+
+/// Of the planes through the target's centre along `dirs`, the one whose larger half of the cell
+/// (the heights on either side, in the box lo..hi) is the smallest.
+Plane halvingPlane(const std::vector<Plane>& ps, const Followed& target, const std::vector<Vec3>& dirs, const Vec3& lo,
+                   const Vec3& hi) {
+  const Vec3 c = target.height.centre;
+  std::vector<double> halves(dirs.size() * 2, 0);
+  tbb::parallel_for(std::size_t(0), halves.size(), [&](std::size_t h) {
+    std::vector<Plane> local = ps;
+    local.push_back(planeThrough(c, dirs[h / 2]));
+    std::vector<int> sides = target.sides;
+    sides.push_back(h % 2 ? 1 : -1);
+    halves[h] = cellHeight(local, sides, lo, hi, false).height;
+  });
+  std::size_t best = 0;
+  for (std::size_t k = 0; k < dirs.size(); ++k)
+    if (std::max(halves[2 * k], halves[2 * k + 1]) < std::max(halves[2 * best], halves[2 * best + 1]) - 1e-12)
+      best = k;
+  return planeThrough(c, dirs[best]);
+}
+
 }  // namespace
 
 std::vector<Vec3> adviceDirections() {
@@ -44,46 +110,7 @@ std::vector<AdvisedSlice> adviseSlices(const std::vector<CuttingPlane>& planes, 
   const CellKeys keys(ps);
   const Vec3 pad = Vec3::Constant(1e-6 * (hi - lo).norm());
 
-  // Density first (the sections' connectivity, Thm 3): the cells are ranked by their density ratio
-  // while the Density Condition is violated somewhere, or undetermined with nothing violated; else
-  // by their transversality ratio.
-  const bool densityFirst = d.density == SamplingVerdict::violated ||
-                            (d.transversality != SamplingVerdict::violated && d.density != SamplingVerdict::satisfied);
-  // The cells followed: the worst that are not shown satisfied.
-  // Cells holding sections first: where the object is known to be, the connectivity of its
-  // sections is at stake; cells without sections only matter for what the planes miss (Prop. 2).
-  std::vector<int> order;
-  for (int pass = 0; pass < 2 && order.empty(); ++pass)
-    for (std::size_t i = 0; i < d.cells.size(); ++i)
-      if (d.cells[i].verdict != SamplingVerdict::satisfied && (pass == 1 || holdsSections(d.cells[i])) &&
-          (d.cells[i].scanned >= 0 || d.cells[i].height_exact))  // else its centre lies on a plane
-        order.push_back(int(i));
-  const auto score0 = [&](const CellSampling& c) {
-    const double crit = densityFirst ? c.density.critical_mm : c.transversality.critical_mm;
-    return std::isfinite(crit) && crit > 0 ? c.height_hi_mm / crit : -1.0;
-  };
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-    const CellSampling &ca = d.cells[std::size_t(a)], &cb = d.cells[std::size_t(b)];
-    if (score0(ca) != score0(cb)) return score0(ca) > score0(cb);
-    return ca.height_hi_mm > cb.height_hi_mm;
-  });
-  if (int(order.size()) > params.followed_cells) order.resize(std::size_t(params.followed_cells));
-  std::vector<Followed> cells(order.size());
-  tbb::parallel_for(std::size_t(0), order.size(), [&](std::size_t k) {
-    const CellSampling& c = d.cells[std::size_t(order[k])];
-    Followed& f = cells[k];
-    f.cell = order[k];
-    const double crit = densityFirst || !std::isfinite(c.transversality.critical_mm) ? c.density.critical_mm
-                                                                                     : c.transversality.critical_mm;
-    f.critical = std::isfinite(crit) && crit > 0 ? crit : std::nan("");
-    f.sides = keys.sides(c.centre);
-    if (!c.height_exact || c.scanned < 0) {
-      f.height = cellHeight(ps, f.sides, lo - pad, hi + pad, false);
-    } else {
-      f.height.height = c.height_hi_mm;
-      f.height.centre = c.centre;
-    }
-  });
+  std::vector<Followed> cells = followedCells(ps, keys, d, lo - pad, hi + pad, params.followed_cells);
   bool anyCritical = false;
   for (const Followed& f : cells) anyCritical = anyCritical || !std::isnan(f.critical);
   double minCritical = INFINITY;
@@ -109,21 +136,7 @@ std::vector<AdvisedSlice> adviseSlices(const std::vector<CuttingPlane>& planes, 
     const double before = score(target);
     if (params.until_resolved && anyCritical && before < 1) break;
     if (target.height.height <= 0) break;
-    const Vec3 c = target.height.centre;
-    // The direction whose plane leaves the smaller of the two halves' heights.
-    std::vector<double> halves(dirs.size() * 2, 0);
-    tbb::parallel_for(std::size_t(0), halves.size(), [&](std::size_t h) {
-      std::vector<Plane> local = ps;
-      local.push_back(planeThrough(c, dirs[h / 2]));
-      std::vector<int> sides = target.sides;
-      sides.push_back(h % 2 ? 1 : -1);
-      halves[h] = cellHeight(local, sides, lo - pad, hi + pad, false).height;
-    });
-    std::size_t best = 0;
-    for (std::size_t k = 0; k < dirs.size(); ++k)
-      if (std::max(halves[2 * k], halves[2 * k + 1]) < std::max(halves[2 * best], halves[2 * best + 1]) - 1e-12)
-        best = k;
-    const Plane added = planeThrough(c, dirs[best]);
+    const Plane added = halvingPlane(ps, target, dirs, lo - pad, hi + pad);
     ps.push_back(added);
     // Every followed cell the new plane crosses is re-measured on the side of its ball's centre; the
     // other side becomes a followed cell of its own.

@@ -9,15 +9,11 @@
 
 namespace xsect {
 
-SectionDistanceField sectionDistanceField(const std::vector<Section>& sections, double step,
-                                          double band) {
-  if (!(step > 0)) throw std::invalid_argument("section distance raster: step must be positive");
-  if (!(band > step)) throw std::invalid_argument("section distance raster: band must exceed step");
-  SectionDistanceField f;
-  f.step = step;
-  f.band = float(band);
+namespace {
+
+/// The edges of every ring of the sections, their bounds grown into lo..hi.
+std::vector<std::pair<Vec2, Vec2>> sectionEdges(const std::vector<Section>& sections, Vec2& lo, Vec2& hi) {
   std::vector<std::pair<Vec2, Vec2>> edges;
-  Vec2 lo = Vec2::Constant(1e300), hi = Vec2::Constant(-1e300);
   const auto addRing = [&](const Ring& r) {
     for (std::size_t i = 0, n = r.size(); i < n; ++i) {
       edges.emplace_back(r[i], r[(i + 1) % n]);
@@ -29,6 +25,40 @@ SectionDistanceField sectionDistanceField(const std::vector<Section>& sections, 
     addRing(s.outer);
     for (const auto& h : s.holes) addRing(h);
   }
+  return edges;
+}
+
+/// Per raster row j (0..rows-1, at origin.y + j step), where the edges cross it, in node units
+/// along the row (unsorted); an edge counts when the row's y is in [its lower y, its upper y).
+std::vector<std::vector<double>> rowCrossings(const std::vector<std::pair<Vec2, Vec2>>& edges, const Vec2& origin,
+                                              double step, int rows) {
+  std::vector<std::vector<double>> crossings(static_cast<std::size_t>(rows));
+  for (const auto& [a, b] : edges) {
+    if (a.y() == b.y()) continue;
+    const double ya = (a.y() - origin.y()) / step, yb = (b.y() - origin.y()) / step;
+    const int j0 = std::max(0, int(std::ceil(std::min(ya, yb))));
+    const int j1 = std::min(rows - 1, int(std::floor(std::max(ya, yb))));
+    for (int j = j0; j <= j1; ++j) {
+      const double y = double(j);
+      if (!((ya <= y && y < yb) || (yb <= y && y < ya))) continue;
+      const double t = (y - ya) / (yb - ya);
+      crossings[std::size_t(j)].push_back((a.x() - origin.x()) / step + t * (b.x() - a.x()) / step);
+    }
+  }
+  return crossings;
+}
+
+}  // namespace
+
+SectionDistanceField sectionDistanceField(const std::vector<Section>& sections, double step,
+                                          double band) {
+  if (!(step > 0)) throw std::invalid_argument("section distance raster: step must be positive");
+  if (!(band > step)) throw std::invalid_argument("section distance raster: band must exceed step");
+  SectionDistanceField f;
+  f.step = step;
+  f.band = float(band);
+  Vec2 lo = Vec2::Constant(1e300), hi = Vec2::Constant(-1e300);
+  const std::vector<std::pair<Vec2, Vec2>> edges = sectionEdges(sections, lo, hi);
   if (edges.empty()) return f;
   // Raster covers the sections' bounds grown by the band, nodes on a lattice of `step`.
   f.origin = Vec2(std::floor((lo.x() - band) / step) * step, std::floor((lo.y() - band) / step) * step);
@@ -77,20 +107,7 @@ SectionDistanceField sectionDistanceField(const std::vector<Section>& sections, 
       }
   }
   // Sign by even-odd crossings along each row.
-  std::vector<std::vector<double>> crossings(f.nv);
-  for (const auto& [a, b] : edges) {
-    if (a.y() == b.y()) continue;
-    const double ya = (a.y() - f.origin.y()) / step, yb = (b.y() - f.origin.y()) / step;
-    const int j0 = std::max(0, int(std::ceil(std::min(ya, yb))));
-    const int j1 = std::min(f.nv - 1, int(std::floor(std::max(ya, yb))));
-    for (int j = j0; j <= j1; ++j) {
-      const double y = double(j);
-      // half-open rule: count the edge when y in [min, max)
-      if (!((ya <= y && y < yb) || (yb <= y && y < ya))) continue;
-      const double t = (y - ya) / (yb - ya);
-      crossings[j].push_back((a.x() - f.origin.x()) / step + t * (b.x() - a.x()) / step);
-    }
-  }
+  std::vector<std::vector<double>> crossings = rowCrossings(edges, f.origin, step, f.nv);
   for (int j = 0; j < f.nv; ++j) {
     auto& c = crossings[j];
     std::sort(c.begin(), c.end());

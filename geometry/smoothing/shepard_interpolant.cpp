@@ -111,11 +111,14 @@ struct Scratch {
 
 constexpr double kEps = 1e-9;  // mm: slack on the box-level sign bounds (kept conservative)
 
-/// Planes of `from` that may be seen from a voxel of the box [c - e, c + e], and the planes that
-/// may hide one of them there (see the file comment of shepard_interpolant.h), sorted by lower
-/// distance bound.
-void cullBox(const ShepardData& data, const std::vector<Row>& rows, const std::vector<Entry>& from, const Vec3& c,
-             const Vec3& e, std::vector<Entry>& out, Scratch& w) {
+/// Per plane of `from` over the box of centre c and half-extents e: its signed distance at c
+/// (w.sc) and its reach over the box (w.r), the least and greatest distance from the box to its
+/// foot point x_i (w.lo, w.hi; on a partial piece not covering the box's projection, x_i may lie
+/// off the projection: t_i <= sqrt(s² + o²) over the box), whether the piece covers that
+/// projection (w.covered: x_i is then the projection, t_i = |s_i| as on a whole plane), and the
+/// planes that do not cross the box (w.order).
+void boxBounds(const ShepardData& data, const std::vector<Row>& rows, const std::vector<Entry>& from, const Vec3& c,
+               const Vec3& e, Scratch& w) {
   const std::size_t m = from.size();
   const double rho = e.norm();
   w.covered.assign(m, 1);
@@ -130,11 +133,11 @@ void cullBox(const ShepardData& data, const std::vector<Row>& rows, const std::v
     w.r[k] = p.ax * e.x() + p.ay * e.y() + p.az * e.z();
     w.lo[k] = std::max(0.0, std::abs(w.sc[k]) - w.r[k]);
     w.hi[k] = std::abs(w.sc[k]) + w.r[k];
-    if (const ObservedPiece* piece = partialPiece(data, from[k].plane)) {  // t_i <= sqrt(s² + o²) over the box
+    if (const ObservedPiece* piece = partialPiece(data, from[k].plane)) {
       const double a = p.ux * c.x() + p.uy * c.y() + p.uz * c.z() - p.uo;
       const double b = p.vx * c.x() + p.vy * c.y() + p.vz * c.z() - p.vo;
       w.covered[k] = covers(*piece, a, b, rho);
-      if (!w.covered[k]) {  // covered: x_i is the projection, t_i = |s_i| as on a whole plane
+      if (!w.covered[k]) {
         double olo, ohi;
         piece->bounds(a, b, rho, &olo, &ohi);
         w.hi[k] = std::sqrt(w.hi[k] * w.hi[k] + ohi * ohi);
@@ -142,6 +145,16 @@ void cullBox(const ShepardData& data, const std::vector<Row>& rows, const std::v
     }
     if (std::abs(w.sc[k]) > w.r[k] + kEps) w.order.push_back(int(k));  // does not cross the box
   }
+}
+
+/// Planes of `from` that may be seen from a voxel of the box [c - e, c + e], and the planes that
+/// may hide one of them there (see the file comment of shepard_interpolant.h), sorted by lower
+/// distance bound.
+void cullBox(const ShepardData& data, const std::vector<Row>& rows, const std::vector<Entry>& from, const Vec3& c,
+             const Vec3& e, std::vector<Entry>& out, Scratch& w) {
+  const std::size_t m = from.size();
+  const double rho = e.norm();
+  boxBounds(data, rows, from, c, e, w);
   // Whether q's piece holds every point where a segment from the box to x_i crosses P_q (q
   // separating the box from x_i everywhere; see shepard_interpolant.h).
   const auto holdsCrossings = [&](std::size_t q, std::size_t i) {
