@@ -5,6 +5,11 @@
 // a, a/b, a//c, a/b/c references, negative = relative). All writers are byte-deterministic: the
 // bytes depend only on the mesh, never on the locale, the platform's endianness or the time.
 // Malformed input raises InputError naming the file, the field and the line (text formats).
+// Why not CGAL's polygon-soup IO (CGAL 5.5, CGAL::IO::read_polygon_soup), measured: it returned
+// true on 5 of the 16 malformed files of tests/test_mesh_io.cpp (face indices out of range in PLY
+// and OBJ, an OBJ face of two vertices, a binary STL cut to 50 bytes read as an empty mesh), names
+// no field or line when it refuses, and read a 6.46 M-triangle binary PLY in 2.0-2.3 s against
+// 1.1-1.2 s here (0.25 s against 0.07 s for 0.86 M triangles); its writers' bytes are not these.
 #include "io/mesh_io.h"
 
 #include <Eigen/Geometry>

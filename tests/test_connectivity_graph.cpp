@@ -72,7 +72,7 @@ std::vector<CuttingPlane> fanOfPlanes(int count, const Vec3& centre, const Vec3&
 // through the ball: every plane's contour crosses the axis twice, on all the other planes at once.
 // The same fan with its axis beside the ball, random planes, a plane listed twice, and planes on a
 // lattice meeting three at a point on the contours: none.
-TEST(SectionArrangement, CountsContourCrossingsOnAPencilOfPlanes) {
+TEST(ConnectivityGraphArrangement, CountsContourCrossingsOnAPencilOfPlanes) {
   std::mt19937_64 rng(17);
   std::normal_distribution<double> g(0, 1);
   for (int trial = 0; trial < 6; ++trial) {
@@ -106,7 +106,7 @@ TEST(SectionArrangement, CountsContourCrossingsOnAPencilOfPlanes) {
   EXPECT_EQ(l.pencil_crossings, 0);
 }
 
-TEST(SectionArrangement, CellsOfAStackAndOfAStackCutAcross) {
+TEST(ConnectivityGraphArrangement, CellsOfAStackAndOfAStackCutAcross) {
   std::vector<CuttingPlane> planes = {diskPlane(2, 0, 2), diskPlane(2, 1, 2), diskPlane(2, 2, 2)};
   for (auto& p : boxAround(5)) planes.push_back(p);
   SectionArrangement a = arrangeSections(planes, 0.1);

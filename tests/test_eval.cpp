@@ -58,7 +58,7 @@ nlohmann::json readJson(const fs::path& p) {
 
 // ---------------------------------------------------------------------------------------------
 
-TEST(MeshDistance, BoxDistancesClosestPointsAndSide) {
+TEST(EvalMeshDistance, BoxDistancesClosestPointsAndSide) {
   const TriangleMesh box = test::boxMesh({0, 0, 0}, {2, 2, 2});
   const MeshDistance q(box);
   const std::vector<Vec3> pts = {{3, 1, 1}, {1, 1, 1}, {3, 3, 1}, {1, 1, 1.5}, {-1, -1, -1}};
@@ -72,7 +72,7 @@ TEST(MeshDistance, BoxDistancesClosestPointsAndSide) {
   EXPECT_EQ(q.inside(pts), (std::vector<std::uint8_t>{0, 1, 0, 1, 0}));
 }
 
-TEST(MeshDistance, InsideMatchesAnalyticSphereForManyPoints) {
+TEST(EvalMeshDistance, InsideMatchesAnalyticSphereForManyPoints) {
   const TriangleMesh s = test::icosphere(10, 4);
   const MeshDistance q(s);
   std::vector<Vec3> pts;
@@ -93,7 +93,7 @@ TEST(MeshDistance, InsideMatchesAnalyticSphereForManyPoints) {
   EXPECT_NEAR(d[1], 3.0, 0.05);
 }
 
-TEST(MeshDistance, NonManifoldSoupStillClassifies) {
+TEST(EvalMeshDistance, NonManifoldSoupStillClassifies) {
   // Two unit voxels sharing only an edge: four triangles meet there (not a manifold mesh).
   const TriangleMesh m = test::voxelBoundary({{0, 0, 0}, {1, 1, 0}});
   EXPECT_FALSE(meshTopology(m).watertight);
@@ -103,7 +103,7 @@ TEST(MeshDistance, NonManifoldSoupStillClassifies) {
   EXPECT_NEAR(q.distances({{1.5, 0.5, 0.5}})[0], 0.5, 1e-12);
 }
 
-TEST(MeshDistance, ResultsDoNotDependOnThreadCount) {
+TEST(EvalMeshDistance, ResultsDoNotDependOnThreadCount) {
   const TriangleMesh s = test::icosphere(5, 3);
   const std::vector<Vec3> pts = sampleSurface(test::icosphere(6, 2), 5000, 7);
   const MeshDistance q(s);
@@ -116,7 +116,7 @@ TEST(MeshDistance, ResultsDoNotDependOnThreadCount) {
   EXPECT_EQ(many, one);
 }
 
-TEST(MeshDistance, SurfaceSamplingIsSeededOnSurfaceAndAreaWeighted) {
+TEST(EvalMeshDistance, SurfaceSamplingIsSeededOnSurfaceAndAreaWeighted) {
   // A 1 x 1 x 10 box: the two end caps hold 2 of its 42 mm² of area.
   const TriangleMesh box = test::boxMesh({0, 0, 0}, {1, 1, 10});
   EXPECT_NEAR(surfaceArea(box), 42.0, 1e-9);
@@ -137,7 +137,7 @@ TEST(MeshDistance, SurfaceSamplingIsSeededOnSurfaceAndAreaWeighted) {
 
 // ---------------------------------------------------------------------------------------------
 
-TEST(PlaneCut, CubeCutIsItsSquare) {
+TEST(EvalPlaneCut, CubeCutIsItsSquare) {
   const TriangleMesh box = test::boxMesh({0, 0, 0}, {2, 3, 4});
   Plane p;
   p.origin = Vec3(0, 0, 1.5);
@@ -149,7 +149,7 @@ TEST(PlaneCut, CubeCutIsItsSquare) {
   EXPECT_NEAR(regionIoU(seg, {Section{rect(1, 0, 3, 3), {}}}, 0.01), 1.0 / 3.0, 1e-9);
 }
 
-TEST(PlaneCut, VerticesOnThePlaneStillCloseTheLoop) {
+TEST(EvalPlaneCut, VerticesOnThePlaneStillCloseTheLoop) {
   // Two stacked unit voxels: the plane z = 1 passes exactly through a ring of vertices.
   const TriangleMesh m = test::voxelBoundary({{0, 0, 0}, {0, 0, 1}});
   Plane p;
@@ -163,7 +163,7 @@ TEST(PlaneCut, VerticesOnThePlaneStillCloseTheLoop) {
   EXPECT_TRUE(cutMesh(m, p).empty());
 }
 
-TEST(PlaneCut, SphereCutMatchesExactDisk) {
+TEST(EvalPlaneCut, SphereCutMatchesExactDisk) {
   const TriangleMesh s = test::icosphere(10, 5);
   // A tilted plane at distance 6 from the centre: the cut is a disk of radius 8 around the
   // projection of the centre.
@@ -182,7 +182,7 @@ TEST(PlaneCut, SphereCutMatchesExactDisk) {
   EXPECT_NEAR(cutArea(seg, 0.02), M_PI * 64, 0.01 * M_PI * 64);
 }
 
-TEST(PlaneCut, ConformityWithHolesAndClip) {
+TEST(EvalPlaneCut, ConformityWithHolesAndClip) {
   const TriangleMesh box = test::boxMesh({0, 0, 0}, {10, 10, 10});
   Plane p;
   p.origin = Vec3(0, 0, 5);

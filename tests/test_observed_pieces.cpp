@@ -61,9 +61,9 @@ void maskWithFan(const std::filesystem::path& dir) {
   test::writeFile(dir / "ph/slices.yaml", out);
 }
 
-class BallLargerThanEveryImage : public ::testing::TestWithParam<PartialSweeps> {};
+class ObservedPiecesOfABallLargerThanEveryImage : public ::testing::TestWithParam<PartialSweeps> {};
 
-TEST_P(BallLargerThanEveryImage, IsOneBallWithObservedPiecesAndCarvedWithWholePlanes) {
+TEST_P(ObservedPiecesOfABallLargerThanEveryImage, IsOneBallWithObservedPiecesAndCarvedWithWholePlanes) {
   const PartialSweeps c = GetParam();
   const auto dir = test::phantom("observed_ball", twoPartialSweeps(c.tilt_deg, c.axis, c.offset));
   if (c.fan) maskWithFan(dir);
@@ -131,7 +131,7 @@ TEST_P(BallLargerThanEveryImage, IsOneBallWithObservedPiecesAndCarvedWithWholePl
   EXPECT_GT(counts["voxels_added_by_method_1"].get<std::int64_t>(), 0) << counts;
 }
 
-INSTANTIATE_TEST_SUITE_P(TwoSweeps, BallLargerThanEveryImage,
+INSTANTIATE_TEST_SUITE_P(TwoSweeps, ObservedPiecesOfABallLargerThanEveryImage,
                          ::testing::Values(PartialSweeps{15, "y", 4.0, false}, PartialSweeps{25, "y", 4.5, false},
                                            PartialSweeps{20, "x", 4.0, false}, PartialSweeps{15, "y", 4.0, true}));
 

@@ -80,7 +80,7 @@ config: {reconstruction.voxel_size_mm: 0.3, output: {mesh: [ply, stl]}}
 
 }  // namespace
 
-TEST(PhantomRender, ThresholdedSectionHasTheAnalyticArea) {
+TEST(PhantomCommandRender, ThresholdedSectionHasTheAnalyticArea) {
   const double R = 10, d = 4, px = 0.1;
   const PhantomShape s = sphere(R, Vec3(1, 2, 3));
   // Plane z = 3 + d, image 241 x 241 px centred over the sphere.
@@ -99,7 +99,7 @@ TEST(PhantomRender, ThresholdedSectionHasTheAnalyticArea) {
   EXPECT_TRUE(renderSlice(s, small, 101, 101, cv::Mat(), {}, 1, 0).clipped);
 }
 
-TEST(PhantomRender, DeterministicFromTheSeed) {
+TEST(PhantomCommandRender, DeterministicFromTheSeed) {
   const PhantomShape s = sphere(5, Vec3::Zero());
   const Mat4 pose = centredPose(Vec3(0, 0, 1), Vec3::UnitX(), Vec3::UnitY(), 0.1, 121, 121);
   PhantomDegradations d;
@@ -123,7 +123,7 @@ TEST(PhantomRender, DeterministicFromTheSeed) {
   EXPECT_TRUE(masked.clipped);
 }
 
-TEST(PhantomRender, PoseJitterAndDrops) {
+TEST(PhantomCommandRender, PoseJitterAndDrops) {
   const Mat4 pose = centredPose(Vec3(0, 0, 1), Vec3::UnitX(), Vec3::UnitY(), 0.2, 100, 80);
   EXPECT_EQ(jitterPose(pose, 100, 80, 0, 0, 1, 0), pose);
   const Mat4 j = jitterPose(pose, 100, 80, 0.5, 1.0, 1, 0);
@@ -137,7 +137,7 @@ TEST(PhantomRender, PoseJitterAndDrops) {
   EXPECT_NEAR(dropped, 300, 60);
 }
 
-TEST(PhantomRender, BlendedVesselTreeCullingKeepsEveryPixel) {
+TEST(PhantomCommandRender, BlendedVesselTreeCullingKeepsEveryPixel) {
   // The renderer skips junctions far from the plane: every pixel must equal the one computed
   // from the whole tree.
   PhantomShape s;

@@ -554,7 +554,7 @@ void expectCoversBoundingSphere(const SlicePlan& plan) {
 }
 }  // namespace
 
-TEST(PhantomPatterns, MultiaxialStacksAreOrthogonal) {
+TEST(PhantomShapesPatterns, MultiaxialStacksAreOrthogonal) {
   SlicingPattern p;
   p.kind = PatternKind::multiaxial;
   p.counts = {4, 5, 6};
@@ -575,7 +575,7 @@ TEST(PhantomPatterns, MultiaxialStacksAreOrthogonal) {
   expectCoversBoundingSphere(plan);
 }
 
-TEST(PhantomPatterns, ParallelSpacingPositionsAndTilt) {
+TEST(PhantomShapesPatterns, ParallelSpacingPositionsAndTilt) {
   SlicingPattern p;
   p.kind = PatternKind::parallel;
   p.count = 7;
@@ -606,7 +606,7 @@ TEST(PhantomPatterns, ParallelSpacingPositionsAndTilt) {
   EXPECT_LE(maxTilt, 10 * M_PI / 180 + 1e-9);
 }
 
-TEST(PhantomPatterns, FanPlanesShareTheAxis) {
+TEST(PhantomShapesPatterns, FanPlanesShareTheAxis) {
   SlicingPattern p;
   p.kind = PatternKind::fan;
   p.count = 12;
@@ -626,7 +626,7 @@ TEST(PhantomPatterns, FanPlanesShareTheAxis) {
   expectCoversBoundingSphere(plan);
 }
 
-TEST(PhantomPatterns, RandomPlanesCutTheBoundingSphere) {
+TEST(PhantomShapesPatterns, RandomPlanesCutTheBoundingSphere) {
   SlicingPattern p;
   p.kind = PatternKind::random;
   p.count = 100;
@@ -647,7 +647,7 @@ TEST(PhantomPatterns, RandomPlanesCutTheBoundingSphere) {
   EXPECT_NE(plan.poses[50], other.poses[50]);
 }
 
-TEST(PhantomPatterns, FreehandSweepIsMonotonicWithSmoothTilt) {
+TEST(PhantomShapesPatterns, FreehandSweepIsMonotonicWithSmoothTilt) {
   SlicingPattern p;
   p.kind = PatternKind::freehand;
   p.count = 300;

@@ -214,7 +214,7 @@ TEST(ProgressOutput, QuietPrintsNothingOnSuccess) {
   fs::remove_all(dir);
 }
 
-TEST(ProgressClass, OffATerminalOnlyTheStagesLines) {
+TEST(ProgressOutputClass, OffATerminalOnlyTheStagesLines) {
   std::FILE* f = std::tmpfile();
   ASSERT_NE(f, nullptr);
   {
@@ -234,7 +234,7 @@ TEST(ProgressClass, OffATerminalOnlyTheStagesLines) {
       << s;
 }
 
-TEST(ProgressClass, TerminalBarIsThrottledAndEndsWithItsLine) {
+TEST(ProgressOutputClass, TerminalBarIsThrottledAndEndsWithItsLine) {
   std::FILE* f = std::tmpfile();
   ASSERT_NE(f, nullptr);
   const auto t0 = std::chrono::steady_clock::now();
@@ -259,7 +259,7 @@ TEST(ProgressClass, TerminalBarIsThrottledAndEndsWithItsLine) {
       << "the first update draws at once:\n" << s;
 }
 
-TEST(ProgressClass, UnchangedBarIsNotRedrawnAndFractionsShowPercent) {
+TEST(ProgressOutputClass, UnchangedBarIsNotRedrawnAndFractionsShowPercent) {
   std::FILE* f = std::tmpfile();
   ASSERT_NE(f, nullptr);
   {
@@ -275,7 +275,7 @@ TEST(ProgressClass, UnchangedBarIsNotRedrawnAndFractionsShowPercent) {
   EXPECT_TRUE(std::regex_search(s, std::regex("\r\\[reconstruct\\] done in [0-9.]+ s\033\\[K\n$"))) << s;
 }
 
-TEST(ProgressClass, TimeLeftOnceTheStageHasRunHalfASecond) {
+TEST(ProgressOutputClass, TimeLeftOnceTheStageHasRunHalfASecond) {
   std::FILE* f = std::tmpfile();
   ASSERT_NE(f, nullptr);
   {
@@ -292,7 +292,7 @@ TEST(ProgressClass, TimeLeftOnceTheStageHasRunHalfASecond) {
       << s;
 }
 
-TEST(ProgressClass, UpdatesFromManyThreads) {
+TEST(ProgressOutputClass, UpdatesFromManyThreads) {
   std::FILE* f = std::tmpfile();
   ASSERT_NE(f, nullptr);
   {
@@ -310,7 +310,7 @@ TEST(ProgressClass, UpdatesFromManyThreads) {
       << s;
 }
 
-TEST(ProgressClass, QuietWritesNothing) {
+TEST(ProgressOutputClass, QuietWritesNothing) {
   std::FILE* f = std::tmpfile();
   ASSERT_NE(f, nullptr);
   {
@@ -324,7 +324,7 @@ TEST(ProgressClass, QuietWritesNothing) {
   EXPECT_EQ(contents(f), "");
 }
 
-TEST(ProgressClass, NoStageLineWhileAnExceptionUnwinds) {
+TEST(ProgressOutputClass, NoStageLineWhileAnExceptionUnwinds) {
   std::FILE* file = std::tmpfile();
   std::FILE* terminal = std::tmpfile();
   ASSERT_NE(file, nullptr);

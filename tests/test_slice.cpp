@@ -23,7 +23,7 @@ namespace fs = std::filesystem;
 
 // A sphere cut at distance d from its centre: one disc of radius sqrt(R² - d²). Every vertex lies
 // on the circle within the icosphere's chord error; the area within 1%. 60 random planes.
-TEST(MeshSections, RandomPlanesThroughASphereGiveItsDiscs) {
+TEST(SliceMeshSections, RandomPlanesThroughASphereGiveItsDiscs) {
   const double R = 5.0;
   const Vec3 c(1, -2, 3);
   const TriangleMesh sphere = test::icosphere(R, 5, c);  // edges about 0.1 mm: chord error ~2.5e-4 R
@@ -48,7 +48,7 @@ TEST(MeshSections, RandomPlanesThroughASphereGiveItsDiscs) {
 }
 
 // A torus: across its axis an annulus (a section with a hole); through its axis two discs.
-TEST(MeshSections, TorusGivesAnAnnulusAndTwoDiscs) {
+TEST(SliceMeshSections, TorusGivesAnAnnulusAndTwoDiscs) {
   const double R = 10, r = 3, z = 1.2;
   const TriangleMesh torus = test::torusMesh(R, r, 240, 120);
   const std::vector<Section> across = meshSections(torus, planeThrough(Vec3(0, 0, z), Vec3::UnitZ()));
@@ -69,7 +69,7 @@ TEST(MeshSections, TorusGivesAnAnnulusAndTwoDiscs) {
 // Planes through mesh vertices (a voxel mesh cut at its lattice levels): vertices on the plane
 // are taken a hair to the normal's side, so the section is the one just behind the plane, with
 // simple rings even where two rings would touch at a vertex.
-TEST(MeshSections, PlanesThroughVerticesGiveTheSectionJustBehind) {
+TEST(SliceMeshSections, PlanesThroughVerticesGiveTheSectionJustBehind) {
   const TriangleMesh l = test::voxelBoundary({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}});  // an L of 3 voxels
   // x = 1 facing +x: behind it (x < 1), voxel (0,0,0): one unit square.
   auto s = meshSections(l, planeThrough(Vec3(1, 0, 0), Vec3::UnitX()));
@@ -94,7 +94,7 @@ TEST(MeshSections, PlanesThroughVerticesGiveTheSectionJustBehind) {
 }
 
 // An open mesh crossed where it is open: an error, not a made-up contour.
-TEST(MeshSections, AnOpenMeshIsRefusedWhereThePlaneMeetsTheOpening) {
+TEST(SliceMeshSections, AnOpenMeshIsRefusedWhereThePlaneMeetsTheOpening) {
   TriangleMesh sphere = test::icosphere(5, 3);
   // Remove the triangles around the top pole: the cap is open.
   std::vector<std::array<std::uint32_t, 3>> kept;

@@ -90,8 +90,8 @@ struct KeyHash {
 
 }  // namespace
 
-struct CellKeys {
-  explicit CellKeys(std::size_t n) : z(n) {}
+struct ArrangementKeys {
+  explicit ArrangementKeys(std::size_t n) : z(n) {}
   Zobrist z;
   std::vector<K::Plane_3> eq;
   std::unordered_map<Key, int, KeyHash> cellOf;
@@ -246,7 +246,7 @@ std::vector<PointKeys> pointKeys(const std::vector<CuttingPlane>& planes, const 
 /// cells met), the points given their cells, and the sub-sections counted.
 SectionArrangement numberCells(const std::vector<std::vector<SectionPoint>>& pts,
                                const std::vector<std::vector<PointKeys>>& keys, const std::vector<PencilCrossings>& pencils,
-                               std::shared_ptr<CellKeys> cellKeys, double spacing) {
+                               std::shared_ptr<ArrangementKeys> cellKeys, double spacing) {
   const std::size_t k = pts.size();
   SectionArrangement out;
   out.sample_spacing_mm = spacing;
@@ -299,7 +299,7 @@ SectionArrangement arrangeSections(const std::vector<CuttingPlane>& planes, doub
     const Vec3 n = planes[i].plane.normal;
     eq[i] = K::Plane_3(n.x(), n.y(), n.z(), -n.dot(planes[i].plane.origin));
   }
-  auto cellKeys = std::make_shared<CellKeys>(k);
+  auto cellKeys = std::make_shared<ArrangementKeys>(k);
   cellKeys->eq = eq;
   const Zobrist& z = cellKeys->z;
 
@@ -347,7 +347,7 @@ int cellOfKey(const SectionArrangement& arr, const CellKey& key) {
 CellsAround cellsAround(const SectionArrangement& arr, const std::vector<CuttingPlane>& planes, const Vec3& x,
                         const std::vector<int>& on) {
   if (!arr.keys || on.empty() || on.size() > 3) throw std::invalid_argument("cellsAround: 1 to 3 planes");
-  const CellKeys& ck = *arr.keys;
+  const ArrangementKeys& ck = *arr.keys;
   std::uint64_t ha = 0, hb = 0;
   for (std::size_t j = 0; j < planes.size(); ++j) {
     if (std::find(on.begin(), on.end(), int(j)) != on.end()) continue;

@@ -47,7 +47,7 @@ struct SubSection {
 };
 
 /// The sign-vector keys of the cells found (opaque; see cellsAround).
-struct CellKeys;
+struct ArrangementKeys;
 
 struct SectionArrangement {
   int cells = 0;                     ///< cells of the arrangement bounded by at least one section
@@ -61,7 +61,7 @@ struct SectionArrangement {
   int pencil_crossings = 0;
   std::array<int, 3> pencil_planes{-1, -1, -1};
   double sample_spacing_mm = 0;
-  std::shared_ptr<const CellKeys> keys;  ///< for cellsAround
+  std::shared_ptr<const ArrangementKeys> keys;  ///< for cellsAround
 };
 
 /// @param planes   all cutting planes (real and virtual: virtual planes bound cells too).
@@ -89,5 +89,6 @@ struct CellsAround {
 };
 CellsAround cellsAround(const SectionArrangement& arrangement, const std::vector<CuttingPlane>& planes,
                         const Vec3& x, const std::vector<int>& on);
+
 
 }  // namespace xsect
