@@ -80,6 +80,14 @@ SCENARIOS = {
                                                                     "reconstruction.method=delaunay"]),
     "freehand-400-conform-m3": ("vessel-tree-freehand.yaml", ["conformity.enforce=true",
                                                              "reconstruction.method=delaunay"]),
+    # topology control (issue 51): the truth's Betti numbers given (reconstruction.topology), on
+    # the dense inputs above (nothing to change: the cost of finding so) and on the 60 random
+    # planes through the genus-2 solid of configs/phantoms/genus2-random.yaml
+    "random-200-topo": ("genus2-random-200.yaml", ["reconstruction.end_margin_mm=1.0",
+                                                   "reconstruction.topology=[1,2,0]"]),
+    "multiaxial-3x40-topo": ("torus-multiaxial-3x40.yaml", ["reconstruction.topology=[1,1,0]"]),
+    "genus2-sparse": ("genus2-random.yaml", []),
+    "genus2-sparse-topo": ("genus2-random.yaml", ["reconstruction.topology=[1,2,0]"]),
     # a PLUS tracked-ultrasound recording (issue 20): the freehand vessel tree as 400 frames of
     # 820x616 px (the size of PLUS's N-wire example) in one zlib-compressed .igs.mha with its device
     # set, read through input.plus_sequence (config_plus.yaml); frames/s of load + segment. Its

@@ -60,6 +60,7 @@ const std::set<std::string> kKnownKeys = {
     "conformity.pose_sigma_mm", "conformity.pose_sigma_deg", "reconstruction",
     "reconstruction.method", "reconstruction.voxel_size_mm", "reconstruction.voxel_budget", "reconstruction.end_margin_mm",
     "reconstruction.conformal_mesh", "reconstruction.planes", "reconstruction.cell_tunnels",
+    "reconstruction.topology", "reconstruction.min_feature_mm",
     "smoothing", "smoothing.method", "smoothing.exponent", "smoothing.cap_mm",
     "smoothing.adaptivity", "smoothing.keep_connectivity", "smoothing.iterations", "sampling", "sampling.reach_mm",
     "sampling.reach_interior_mm", "sampling.reach_exterior_mm", "sampling.max_angle_deg", "sampling.advice_count",
@@ -292,6 +293,41 @@ void readConformity(const YAML::Node& s, const std::string& path, RunConfig& c) 
   }
 }
 
+/// reconstruction.topology: free | simplest | [b0, b1, b2]; reconstruction.min_feature_mm (simplest).
+void readTopologyGoal(const YAML::Node& s, const std::string& path, RunConfig& c) {
+  TopologyGoal& t = c.topology;
+  if (const YAML::Node n = s["topology"]) {
+    if (n.IsSequence()) {
+      if (n.size() != 3)
+        throw InputError(path, "reconstruction.topology",
+                         "a target is three Betti numbers [b0, b1, b2] (components, tunnels, cavities)", yamlLine(n));
+      for (std::size_t i = 0; i < 3; ++i)
+        t.target[i] = yamlInteger(n[i], path, "reconstruction.topology[" + std::to_string(i) + "]", i == 0 ? 1 : 0,
+                                  100000);
+      t.mode = TopologyMode::target;
+    } else {
+      t.mode = yamlChoice(n, path, "reconstruction.topology", kTopologyModes,
+                          "topology (or a target [b0, b1, b2])");
+    }
+  }
+  if (const YAML::Node m = s["min_feature_mm"]) {
+    t.min_feature_mm = yamlNumber(m, path, "reconstruction.min_feature_mm");
+    if (!(t.min_feature_mm >= 0) || !std::isfinite(t.min_feature_mm))
+      throw InputError(path, "reconstruction.min_feature_mm", "must be a size in mm, 0 or more", yamlLine(m));
+    if (t.mode != TopologyMode::simplest)
+      throw InputError(path, "reconstruction.min_feature_mm",
+                       "keeps the joins wider than it when reconstruction.topology is simplest; set that too",
+                       yamlLine(m));
+  }
+  if (t.mode == TopologyMode::free) return;
+  const YAML::Node at = s["topology"];
+  if (c.reconstruction_method == ReconstructionMethod::delaunay)
+    throw InputError(path, "reconstruction.topology",
+                     "is available for methods 1 (nearest_plane) and 2 (section_voronoi); method 3 (delaunay) has "
+                     "reconstruction.cell_tunnels for the tunnels inside a cell",
+                     yamlLine(at));
+}
+
 /// reconstruction: the method, the voxel size, the grid's margins, the planes' extent.
 void readReconstruction(const YAML::Node& s, const std::string& path, RunConfig& c) {
   if (s["method"]) {
@@ -313,6 +349,7 @@ void readReconstruction(const YAML::Node& s, const std::string& path, RunConfig&
     c.conformal_mesh = yamlBool(s["conformal_mesh"], path, "reconstruction.conformal_mesh");
   if (s["cell_tunnels"])
     c.cell_tunnels = yamlChoice(s["cell_tunnels"], path, "reconstruction.cell_tunnels", kCellTunnels, "cell tunnels choice");
+  readTopologyGoal(s, path, c);
   if (s["planes"]) {
     c.planes = yamlChoice(s["planes"], path, "reconstruction.planes", kPlaneExtents, "plane extent");
     c.planes_default = false;
@@ -443,6 +480,11 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
   if (const YAML::Node s = section("conformity")) readConformity(s, path, c);
   if (const YAML::Node s = section("reconstruction")) readReconstruction(s, path, c);
   if (const YAML::Node s = section("smoothing")) readSmoothing(s, path, c);
+  if (c.topology.mode != TopologyMode::free && c.smoothing_method != SmoothingMethod::none)
+    throw InputError(path, "reconstruction.topology",
+                     "is not yet available with smoothing (the smooth surface is not held to the chosen "
+                     "topology): use smoothing.method: none, or reconstruction.topology: free",
+                     yamlLine(root["reconstruction"]["topology"]));
   if (const YAML::Node s = section("sampling")) readSampling(s, path, c);
   if (const YAML::Node s = section("run")) readRun(s, path, c);
   c.output_dir = resolvePath(base, "out");

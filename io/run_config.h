@@ -12,6 +12,7 @@
 #include "geometry/core/plane_extent.h"
 #include "geometry/core/reconstruction_method.h"
 #include "geometry/delaunay/cell_tunnels.h"
+#include "geometry/reconstruction/topology_goal.h"
 #include "segmentation/segment_slice.h"
 
 namespace xsect {
@@ -94,6 +95,9 @@ struct RunConfig {
   /// `reconstruction.cell_tunnels` (method 3): cut tunnels of one cell's R'' that its sections do
   /// not carry (geometry/delaunay/cell_cycles.h), or keep the thesis' D3 as it is.
   CellTunnels cell_tunnels = CellTunnels::cut;
+  /// `reconstruction.topology` and `reconstruction.min_feature_mm` (issue 51): free (the method's
+  /// solid), simplest, or target Betti numbers; methods 1 and 2, without smoothing.
+  TopologyGoal topology;
   SmoothingMethod smoothing_method = SmoothingMethod::none;
   double smoothing_exponent = 1.0;                      ///< Shepard: g(t) = t^p; +inf allowed
   std::optional<double> smoothing_cap_mm;               ///< Shepard: clamp of f_i; empty = auto

@@ -1,14 +1,82 @@
-// Stage 5: the method's solid on the grid and its check against the graph (see reconstruct_stage.h).
+// Stage 5: the method's solid on the grid, its topology as asked, and its check against the graph
+// (see reconstruct_stage.h).
 #include "pipeline/reconstruct_stage.h"
 
+#include <algorithm>
+#include <iterator>
+
+#include "geometry/core/section_ids.h"
+#include "geometry/reconstruction/voxel_labels.h"
+#include "io/input_error.h"
+
 namespace xsect {
+
+namespace {
+
+std::string bettiList(const Betti& b) {
+  return "[" + std::to_string(b[0]) + ", " + std::to_string(b[1]) + ", " + std::to_string(b[2]) + "]";
+}
+
+/// reconstruction.topology (issue 51): each voxel labelled with the section its lift comes from,
+/// joins cut cell by cell until the solid has the topology asked for (topology_control.h); the
+/// solid, its field (for the mesh) and its Betti numbers then describe the solid chosen.
+TopologyControl chooseTopology(const RunConfig& c, const SectionScene& scene, const ArrangeStage& a,
+                               SampledReconstruction& rec) {
+  const SectionIds ids = scene.ids();
+  if (ids.count() > 65534)
+    throw InputError(c.path, "reconstruction.topology",
+                     "labels each voxel with its section, at most 65534 sections; these slices hold " +
+                         std::to_string(ids.count()) + ": use reconstruction.topology: free");
+  std::vector<std::vector<Section>> bySection(scene.planes.size());
+  for (std::size_t p = 0; p < scene.real_planes; ++p) {
+    bySection[p] = scene.planes[p].sections;
+    for (std::size_t s = 0; s < bySection[p].size(); ++s)
+      bySection[p][s].label = int(ids.of(int(p), int(s)) + 1);
+  }
+  const GridSpec& grid = rec.inside.grid();
+  std::vector<std::uint8_t> inside = denseValues(rec.inside);
+  TopologyControl t =
+      controlTopology(inside, grid, denseValues(voxelLabels(rec.inside, rec.section_plane, scene.planes, bySection,
+                                                            &scene.pieces)),
+                      scene.planes, scene.real_planes, scene.fields, a.arrangement, c.topology);
+  if (!t.reached)
+    throw InputError(c.path, "reconstruction.topology",
+                     "the method's solid has Betti numbers " + bettiList(t.before) + "; cutting and adding joins "
+                     "inside cells (" + std::to_string(t.joins) + " joins made, " + std::to_string(t.joins_possible) +
+                     " possible, " + std::to_string(t.evaluated) + " changes tried) came no nearer to " +
+                     bettiList(c.topology.target) + " than " + bettiList(t.after) +
+                     ": check the target, or use reconstruction.topology: simplest (the fewest components, "
+                     "tunnels and cavities found) or free");
+  if (!t.changes.empty()) {
+    rec.inside = blockValues(inside, grid);
+    rec.raw_inside = rec.inside;
+    rec.voxels_inside = rec.inside.count(1);
+    rec.voxel_betti = t.after;
+    imposeSolid(rec.field, rec.inside, float(0.05 * grid.voxel));
+  }
+  return t;
+}
+
+}  // namespace
+
+std::vector<GraphEdge> ReconstructStage::joins(const std::vector<GraphEdge>& methodEdges) const {
+  if (!topology || (topology->edges_cut.empty() && topology->edges_added.empty())) return methodEdges;
+  std::vector<GraphEdge> kept, out;
+  std::set_difference(methodEdges.begin(), methodEdges.end(), topology->edges_cut.begin(), topology->edges_cut.end(),
+                      std::back_inserter(kept));
+  std::set_union(kept.begin(), kept.end(), topology->edges_added.begin(), topology->edges_added.end(),
+                 std::back_inserter(out));
+  return out;
+}
 
 ReconstructStage reconstructStage(const RunInputs& in, const SceneStage& built, const ArrangeStage& a,
                                   const Method& method, Progress& progress) {
   ReconstructStage r = method.reconstruct(in, built, a, progress);
   const SectionScene& scene = built.scene;
-  r.graph_check = compareWithVoxels(a.methodEdges(), scene, a.arrangement, r.solid.inside);
-  r.cell_check = compareCellsWithVoxels(a.methodEdges(), scene, a.arrangement, r.solid.inside);
+  if (in.config.topology.mode != TopologyMode::free) r.topology = chooseTopology(in.config, scene, a, r.solid);
+  const std::vector<GraphEdge> joins = r.joins(a.methodEdges());
+  r.graph_check = compareWithVoxels(joins, scene, a.arrangement, r.solid.inside);
+  r.cell_check = compareCellsWithVoxels(joins, scene, a.arrangement, r.solid.inside);
   const GraphVoxelCheck& g = r.graph_check;
   if (!g.same_partition)
     r.warnings.push_back("the connectivity graph and the voxel solid group the sections differently (" +

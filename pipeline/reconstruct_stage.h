@@ -13,6 +13,7 @@
 #include "geometry/delaunay/delaunay_reconstruction.h"
 #include "geometry/delaunay/tetrahedra_voxels.h"
 #include "geometry/reconstruction/sampled_reconstruction.h"
+#include "geometry/reconstruction/topology_control.h"
 #include "pipeline/arrange_stage.h"
 #include "pipeline/input_stage.h"
 #include "pipeline/methods/method.h"
@@ -49,7 +50,14 @@ struct ReconstructStage {
   /// Voxels that the observed pieces decide, when the method counted them as it evaluated (method
   /// 2's R'_Ω); the smoothing's report measures them otherwise (smooth_stage.cpp).
   std::optional<std::int64_t> voxels_decided_by_pieces;
+  /// reconstruction.topology other than free (issue 51): the joins cut or added so that `solid` has
+  /// the topology asked for (topology_control.h); `solid` is the solid chosen.
+  std::optional<TopologyControl> topology;
   std::vector<std::string> warnings;  ///< what the stage found worth a warning (report.json's warnings)
+
+  /// The method's graph as the solid realises it: less the joins the topology control cut, with
+  /// those it added.
+  std::vector<GraphEdge> joins(const std::vector<GraphEdge>& methodEdges) const;
 };
 
 /// Reads the scene (stage 4's input) and the method's graph (stage 4); warns (ReconstructStage::
@@ -57,7 +65,8 @@ struct ReconstructStage {
 /// reconstruction throws: for methods 1 and 2 InputError naming the voxel size or budget when the
 /// solid is empty; for method 3 InputError naming reconstruction.method when R'' has no
 /// tetrahedron (no two planes' sections face each other in a cell), a warning when its
-/// voxelisation is empty.
+/// voxelisation is empty; with reconstruction.topology, InputError naming it when the goal is not
+/// reached by cutting joins.
 ReconstructStage reconstructStage(const RunInputs& inputs, const SceneStage& scene, const ArrangeStage& arrangement,
                                   const Method& method, Progress& progress);
 

@@ -40,9 +40,14 @@ void forEachEdge(const RunResults& r, const Visit& visit) {
       visit(ids.of(e.plane_a, e.section_a), ids.of(e.plane_b, e.section_b), e.cell, method, style);
   };
   const ArrangeStage& a = r.arrangement;
-  visitAll(a.graphs.g, "nearest_plane", "style=dashed");
-  if (a.with_g_prime) visitAll(a.graphs.g_prime, "section_voronoi", "style=solid");
-  if (a.with_g_double_prime) visitAll(a.graphs.g_double_prime, "delaunay", "style=bold");
+  // The run's method's graph as its solid realises it (less the joins reconstruction.topology cut).
+  const std::vector<GraphEdge> joins = r.reconstruction.joins(a.methodEdges());
+  const auto graphOf = [&](const std::vector<GraphEdge>& es) -> const std::vector<GraphEdge>& {
+    return &es == &a.methodEdges() ? joins : es;
+  };
+  visitAll(graphOf(a.graphs.g), "nearest_plane", "style=dashed");
+  if (a.with_g_prime) visitAll(graphOf(a.graphs.g_prime), "section_voronoi", "style=solid");
+  if (a.with_g_double_prime) visitAll(graphOf(a.graphs.g_double_prime), "delaunay", "style=bold");
 }
 
 std::string manifestText(const RunInputs& in, const RunOptions& o, const fs::path& dir) {

@@ -1,5 +1,6 @@
 // report.json of `xsect run` (GUIDE.md, "report.json"): the topology of the result, the counts,
 // each stage's parameters and measurements, timings, peak memory and the warnings.
+#include <algorithm>
 #include <cmath>
 
 #include "pipeline/json_values.h"
@@ -183,6 +184,41 @@ json smoothingJson(const RunResults& r) {
                           {"mesh_triangles", r.meshes.method_mesh.triangles.size()}}}};
 }
 
+/// report.json `topology` (reconstruction.topology other than free, issue 51): the goal, the Betti
+/// numbers before and after, and each change of a cell (a join cut or added: its sections as
+/// graph.json numbers them, its cell, where, its size).
+json topologyJson(const RunResults& r) {
+  const TopologyControl& t = *r.reconstruction.topology;
+  const TopologyGoal& goal = r.inputs.config.topology;
+  json changes = json::array();
+  std::vector<int> cells;
+  for (const CellChange& c : t.changes) {
+    changes.push_back({{"change", c.added ? "join_added" : c.partial ? "join_halved" : "join_cut"},
+                       {"sections", {c.section_a, c.section_b}},
+                       {"cell", c.cell},
+                       {"at_mm", vecJson(c.at)},
+                       {"voxels", c.voxels},
+                       {"width_mm", c.width_mm},
+                       {"betti_after", c.after}});
+    cells.push_back(c.cell);
+  }
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  return {{"mode", goal.mode == TopologyMode::target ? "target" : nameOf(kTopologyModes, goal.mode)},
+          {"target", goal.mode == TopologyMode::target ? json(goal.target) : json(nullptr)},
+          {"min_feature_mm", goal.mode == TopologyMode::simplest ? json(goal.min_feature_mm) : json(nullptr)},
+          {"betti_before", t.before},
+          {"betti_after", t.after},
+          {"reached", t.reached},
+          {"joins", t.joins},
+          {"joins_forced", t.joins_forced},
+          {"joins_possible", t.joins_possible},
+          {"changes_tried", t.evaluated},
+          {"changes", changes},
+          {"cells_changed", cells},
+          {"seconds", t.seconds}};
+}
+
 json conformityJson(const RunResults& r) {
   const ConformalCutStats& cut = r.meshes.cut;
   json j = conformitySummaryJson(r.inputs.config.conformity, r.inputs.conformity);
@@ -236,6 +272,7 @@ json reportJson(const RunResults& r, const StageClock& clock) {
                            {"trace_points_added", a.trace_points},
                            {"sample_spacing_mm", a.sample_spacing_mm}};
   report["graph"] = graphSummaryJson(r);
+  if (r.reconstruction.topology) report["topology"] = topologyJson(r);
   if (r.smooth) report["smoothing"] = smoothingJson(r);
   report["topology_repair"] = {{"specks_removed", rec.repair.specks_removed},
                                {"cavities_filled", rec.repair.cavities_filled},

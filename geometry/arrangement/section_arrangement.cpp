@@ -373,4 +373,17 @@ CellsAround cellsAround(const SectionArrangement& arr, const std::vector<Cutting
   return out;
 }
 
+CellKey cellKeyAt(const SectionArrangement& arr, const std::vector<CuttingPlane>& planes, const Vec3& x) {
+  if (!arr.keys) throw std::invalid_argument("cellKeyAt: an arrangement without keys");
+  const ArrangementKeys& ck = *arr.keys;
+  std::uint64_t a = 0, b = 0;
+  for (std::size_t j = 0; j < planes.size(); ++j) {
+    int sj = sign(ck.eq[j], x);
+    if (sj == 0) sj = 1;
+    a ^= ck.z.a[j][std::size_t(sj + 1)];
+    b ^= ck.z.b[j][std::size_t(sj + 1)];
+  }
+  return {a, b};
+}
+
 }  // namespace xsect

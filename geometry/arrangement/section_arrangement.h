@@ -90,5 +90,9 @@ struct CellsAround {
 CellsAround cellsAround(const SectionArrangement& arrangement, const std::vector<CuttingPlane>& planes,
                         const Vec3& x, const std::vector<int>& on);
 
+/// The key of the cell holding x (exact signs against every plane of `planes`, the planes the
+/// arrangement was built on; a point on a plane counts on its positive side, as the
+/// arrangement's points do); cellOfKey gives its id.
+CellKey cellKeyAt(const SectionArrangement& arrangement, const std::vector<CuttingPlane>& planes, const Vec3& x);
 
 }  // namespace xsect

@@ -1,0 +1,521 @@
+// Topology control by cutting joins cell by cell (see topology_control.h).
+#include "geometry/reconstruction/topology_control.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <optional>
+#include <set>
+#include <stdexcept>
+#include <tuple>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "geometry/core/disjoint_sets.h"
+#include "geometry/core/section_ids.h"
+
+namespace xsect {
+
+namespace {
+
+/// The solid's box with a margin of empty voxels (so that well-composing and the Betti numbers
+/// see the same solid as on the whole grid): the work is bounded by the solid, not the grid.
+struct Box {
+  GridSpec grid;                 ///< the box as a grid of its own
+  std::array<int, 3> lo{0, 0, 0};  ///< its first voxel on the whole grid
+};
+
+Box solidBox(const std::vector<std::uint8_t>& inside, const GridSpec& g, int margin) {
+  std::array<int, 3> lo{g.dims[0], g.dims[1], g.dims[2]}, hi{-1, -1, -1};
+  for (int k = 0; k < g.dims[2]; ++k)
+    for (int j = 0; j < g.dims[1]; ++j)
+      for (int i = 0; i < g.dims[0]; ++i)
+        if (inside[std::size_t(g.index(i, j, k))]) {
+          const std::array<int, 3> v{i, j, k};
+          for (int a = 0; a < 3; ++a) lo[std::size_t(a)] = std::min(lo[std::size_t(a)], v[std::size_t(a)]),
+                                      hi[std::size_t(a)] = std::max(hi[std::size_t(a)], v[std::size_t(a)]);
+        }
+  Box b;
+  b.grid.voxel = g.voxel;
+  if (hi[0] < 0) return b;
+  for (int a = 0; a < 3; ++a) {
+    b.lo[std::size_t(a)] = lo[std::size_t(a)] - margin;
+    b.grid.dims[std::size_t(a)] = hi[std::size_t(a)] - lo[std::size_t(a)] + 1 + 2 * margin;
+  }
+  b.grid.origin = g.centre(b.lo[0], b.lo[1], b.lo[2]);
+  return b;
+}
+
+/// `values` on the whole grid copied into the box (voxels beyond the grid: T{}), or back.
+template <typename T>
+std::vector<T> intoBox(const std::vector<T>& values, const GridSpec& g, const Box& b) {
+  std::vector<T> out(std::size_t(b.grid.count()), T{});
+  for (int k = 0; k < b.grid.dims[2]; ++k)
+    for (int j = 0; j < b.grid.dims[1]; ++j)
+      for (int i = 0; i < b.grid.dims[0]; ++i) {
+        const int gi = i + b.lo[0], gj = j + b.lo[1], gk = k + b.lo[2];
+        if (gi < 0 || gj < 0 || gk < 0 || gi >= g.dims[0] || gj >= g.dims[1] || gk >= g.dims[2]) continue;
+        out[std::size_t(b.grid.index(i, j, k))] = values[std::size_t(g.index(gi, gj, gk))];
+      }
+  return out;
+}
+
+void outOfBox(const std::vector<std::uint8_t>& box, const Box& b, std::vector<std::uint8_t>& values, const GridSpec& g) {
+  std::fill(values.begin(), values.end(), std::uint8_t(0));
+  for (int k = 0; k < b.grid.dims[2]; ++k)
+    for (int j = 0; j < b.grid.dims[1]; ++j)
+      for (int i = 0; i < b.grid.dims[0]; ++i) {
+        if (!box[std::size_t(b.grid.index(i, j, k))]) continue;
+        const int gi = i + b.lo[0], gj = j + b.lo[1], gk = k + b.lo[2];
+        if (gi < 0 || gj < 0 || gk < 0 || gi >= g.dims[0] || gj >= g.dims[1] || gk >= g.dims[2])
+          throw std::logic_error("controlTopology: the solid grew beyond its grid");
+        values[std::size_t(g.index(gi, gj, gk))] = 1;
+      }
+}
+
+/// A join: one contact patch of two sections' lifts inside one cell.
+struct Patch {
+  CellKey key{0, 0};
+  int cell = -1;
+  int a = 0, b = 0;                     ///< 1 + flat section ids, a < b
+  std::vector<std::int64_t> voxels;     ///< box indices, sorted
+  std::vector<std::int64_t> removable;  ///< of them, farther than a voxel from every real plane
+  /// Half of a patch (the side of a plane through its centre across its longest axis): cutting
+  /// it leaves the join and breaks a ring-shaped contact, a tunnel the join graph does not see.
+  bool partial = false;
+};
+
+/// For each patch of at least 8 voxels, its half on the positive side of the plane through its
+/// centre normal to its longest axis (the principal direction of its voxels' centres).
+std::vector<Patch> halfPatches(const std::vector<Patch>& patches, const GridSpec& g) {
+  std::vector<Patch> halves;
+  const auto centre = [&](std::int64_t v) {
+    return g.centre(int(v % g.dims[0]), int((v / g.dims[0]) % g.dims[1]), int(v / (std::int64_t(g.dims[0]) * g.dims[1])));
+  };
+  for (const Patch& p : patches) {
+    if (p.voxels.size() < 8 || p.removable.empty()) continue;
+    Vec3 mean = Vec3::Zero();
+    for (const std::int64_t v : p.voxels) mean += centre(v);
+    mean /= double(p.voxels.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (const std::int64_t v : p.voxels) cov += (centre(v) - mean) * (centre(v) - mean).transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+    const Vec3 axis = eig.eigenvectors().col(2);  // eigenvalues ascending: the longest axis
+    Patch h = p;
+    h.partial = true;
+    h.voxels.clear();
+    h.removable.clear();
+    for (const std::int64_t v : p.voxels)
+      if (axis.dot(centre(v) - mean) >= 0) h.voxels.push_back(v);
+    for (const std::int64_t v : p.removable)
+      if (axis.dot(centre(v) - mean) >= 0) h.removable.push_back(v);
+    if (!h.removable.empty() && h.voxels.size() < p.voxels.size()) halves.push_back(std::move(h));
+  }
+  return halves;
+}
+
+/// Every contact of two sections' lifts inside one cell, split into 26-connected patches.
+std::vector<Patch> contactPatches(const std::vector<std::uint8_t>& in, const std::vector<std::uint16_t>& src,
+                                  const GridSpec& g, const std::vector<CuttingPlane>& planes,
+                                  std::size_t realPlanes, const SectionArrangement& arrangement) {
+  std::unordered_map<std::int64_t, CellKey> keyOf;
+  const auto keyAt = [&](std::int64_t v, int i, int j, int k) -> const CellKey& {
+    auto it = keyOf.find(v);
+    if (it == keyOf.end()) it = keyOf.emplace(v, cellKeyAt(arrangement, planes, g.centre(i, j, k))).first;
+    return it->second;
+  };
+  // (key, a, b) -> the voxels of either side of the contact.
+  std::map<std::tuple<CellKey, int, int>, std::vector<std::int64_t>> contacts;
+  for (int k = 1; k + 1 < g.dims[2]; ++k)
+    for (int j = 1; j + 1 < g.dims[1]; ++j)
+      for (int i = 1; i + 1 < g.dims[0]; ++i) {
+        const std::int64_t v = g.index(i, j, k);
+        if (!in[std::size_t(v)] || !src[std::size_t(v)]) continue;
+        for (int dk = -1; dk <= 1; ++dk)
+          for (int dj = -1; dj <= 1; ++dj)
+            for (int di = -1; di <= 1; ++di) {
+              // Each unordered pair once: the neighbours after v in index order.
+              if (dk < 0 || (dk == 0 && (dj < 0 || (dj == 0 && di <= 0)))) continue;
+              const std::int64_t w = g.index(i + di, j + dj, k + dk);
+              if (!in[std::size_t(w)] || !src[std::size_t(w)] || src[std::size_t(w)] == src[std::size_t(v)]) continue;
+              const CellKey kv = keyAt(v, i, j, k);
+              if (kv != keyAt(w, i + di, j + dj, k + dk)) continue;  // across a plane: the sections' own cut
+              const int a = std::min(src[std::size_t(v)], src[std::size_t(w)]);
+              const int b = std::max(src[std::size_t(v)], src[std::size_t(w)]);
+              auto& list = contacts[{kv, a, b}];
+              list.push_back(v);
+              list.push_back(w);
+            }
+      }
+  std::vector<Patch> patches;
+  const auto coords = [&](std::int64_t v) {
+    return std::array<int, 3>{int(v % g.dims[0]), int((v / g.dims[0]) % g.dims[1]), int(v / (std::int64_t(g.dims[0]) * g.dims[1]))};
+  };
+  for (auto& [key, list] : contacts) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    std::unordered_map<std::int64_t, int> patchOf;
+    for (const std::int64_t v : list) patchOf[v] = -1;
+    for (const std::int64_t seed : list) {
+      if (patchOf[seed] >= 0) continue;
+      Patch p;
+      p.key = std::get<0>(key);
+      p.cell = cellOfKey(arrangement, p.key);
+      p.a = std::get<1>(key);
+      p.b = std::get<2>(key);
+      std::vector<std::int64_t> queue{seed};
+      patchOf[seed] = int(patches.size());
+      for (std::size_t at = 0; at < queue.size(); ++at) {
+        const std::array<int, 3> c = coords(queue[at]);
+        for (int dk = -1; dk <= 1; ++dk)
+          for (int dj = -1; dj <= 1; ++dj)
+            for (int di = -1; di <= 1; ++di) {
+              const std::int64_t w = g.index(c[0] + di, c[1] + dj, c[2] + dk);
+              const auto it = patchOf.find(w);
+              if (it == patchOf.end() || it->second >= 0) continue;
+              it->second = int(patches.size());
+              queue.push_back(w);
+            }
+      }
+      std::sort(queue.begin(), queue.end());
+      p.voxels = queue;
+      for (const std::int64_t v : queue) {
+        const std::array<int, 3> c = coords(v);
+        const Vec3 x = g.centre(c[0], c[1], c[2]);
+        bool nearPlane = false;
+        for (std::size_t q = 0; q < realPlanes && !nearPlane; ++q)
+          nearPlane = std::abs(planes[q].plane.signedDistance(x)) < g.voxel;
+        if (!nearPlane) p.removable.push_back(v);
+      }
+      patches.push_back(std::move(p));
+    }
+  }
+  return patches;
+}
+
+/// Whether edge e of the multigraph (nodes: sections; edges: joins not cut) is a bridge.
+std::vector<char> bridges(int nodes, const std::vector<std::array<int, 2>>& edges, const std::vector<char>& alive) {
+  std::vector<std::vector<std::pair<int, int>>> adj(static_cast<std::size_t>(nodes));
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    if (alive[e]) {
+      adj[std::size_t(edges[e][0])].push_back({edges[e][1], int(e)});
+      adj[std::size_t(edges[e][1])].push_back({edges[e][0], int(e)});
+    }
+  std::vector<int> order(static_cast<std::size_t>(nodes), -1), low(static_cast<std::size_t>(nodes), 0);
+  std::vector<char> bridge(edges.size(), 0);
+  int time = 0;
+  struct Frame {
+    int node, parentEdge;
+    std::size_t next;
+  };
+  for (int root = 0; root < nodes; ++root) {
+    if (order[std::size_t(root)] >= 0) continue;
+    std::vector<Frame> stack{{root, -1, 0}};
+    order[std::size_t(root)] = low[std::size_t(root)] = time++;
+    while (!stack.empty()) {
+      Frame& f = stack.back();
+      if (f.next < adj[std::size_t(f.node)].size()) {
+        const auto [to, e] = adj[std::size_t(f.node)][f.next++];
+        if (e == f.parentEdge) continue;  // parallel edges have their own ids
+        if (order[std::size_t(to)] >= 0) {
+          low[std::size_t(f.node)] = std::min(low[std::size_t(f.node)], order[std::size_t(to)]);
+        } else {
+          order[std::size_t(to)] = low[std::size_t(to)] = time++;
+          stack.push_back({to, e, 0});
+        }
+      } else {
+        const Frame done = f;
+        stack.pop_back();
+        if (!stack.empty()) {
+          const int parent = stack.back().node;
+          low[std::size_t(parent)] = std::min(low[std::size_t(parent)], low[std::size_t(done.node)]);
+          if (low[std::size_t(done.node)] > order[std::size_t(parent)]) bridge[std::size_t(done.parentEdge)] = 1;
+        }
+      }
+    }
+  }
+  return bridge;
+}
+
+/// A join to add: a tube in cell `cell` between the deepest points of two sections on its faces.
+struct Tube {
+  CellKey key{0, 0};
+  int cell = -1;
+  int a = 0, b = 0;  ///< 1 + flat section ids, a < b
+  Vec3 from = Vec3::Zero(), to = Vec3::Zero();
+  double radius = 0;
+  double cost = 0;   ///< its volume in voxels
+};
+
+/// Every pair of sections on different faces of one cell (joined there or not: a tube between two
+/// joined sections may fill the tunnel between two of their contacts).
+std::vector<Tube> joinCandidates(const std::vector<CuttingPlane>& planes,
+                                 const std::vector<SectionDistanceField>& fields, const SectionArrangement& arrangement,
+                                 double voxel) {
+  const SectionIds ids(planes);
+  struct Deepest {
+    Vec3 x = Vec3::Zero();
+    double depth = -1;
+    int plane = 0;
+  };
+  // (cell, 1 + section id) -> its deepest sample point (contour vertices: depth 0).
+  std::map<std::pair<int, int>, Deepest> faces;
+  for (const SectionPoint& sp : arrangement.points) {
+    if (sp.kind == SectionPoint::trace) continue;
+    const double depth = std::max(0.0, -double(fields[std::size_t(sp.plane)].sample(sp.p.x(), sp.p.y())));
+    for (const int cell : sp.cell) {
+      if (cell < 0) continue;
+      Deepest& d = faces[{cell, ids.of(sp.plane, sp.section) + 1}];
+      if (depth > d.depth) d = {planes[std::size_t(sp.plane)].plane.toWorld(sp.p), depth, sp.plane};
+    }
+  }
+  std::vector<Tube> tubes;
+  for (auto i = faces.begin(); i != faces.end(); ++i)
+    for (auto j = std::next(i); j != faces.end() && j->first.first == i->first.first; ++j) {
+      const Deepest &da = i->second, &db = j->second;
+      const int cell = i->first.first;
+      if (da.plane == db.plane) continue;
+      Tube t;
+      t.key = cellKey(arrangement, cell);
+      t.cell = cell;
+      t.a = i->first.second;
+      t.b = j->first.second;
+      t.from = da.x;
+      t.to = db.x;
+      t.radius = std::max(1.5 * voxel, 0.5 * std::min(da.depth, db.depth));
+      t.cost = M_PI * t.radius * t.radius * (t.to - t.from).norm() / (voxel * voxel * voxel);
+      tubes.push_back(t);
+    }
+  return tubes;
+}
+
+/// The voxels of the box a tube adds: centres within its radius of its segment, in its cell,
+/// farther than a voxel from every real plane, not in the solid yet.
+std::vector<std::int64_t> tubeVoxels(const Tube& t, const std::vector<std::uint8_t>& in, const GridSpec& g,
+                                     const std::vector<CuttingPlane>& planes, std::size_t realPlanes,
+                                     const SectionArrangement& arrangement) {
+  std::vector<std::int64_t> out;
+  const Vec3 lo = t.from.cwiseMin(t.to) - Vec3::Constant(t.radius), hi = t.from.cwiseMax(t.to) + Vec3::Constant(t.radius);
+  std::array<int, 3> i0{}, i1{};
+  for (int a = 0; a < 3; ++a) {
+    i0[std::size_t(a)] = std::max(0, int(std::floor((lo[a] - g.origin[a]) / g.voxel)));
+    i1[std::size_t(a)] = std::min(g.dims[std::size_t(a)] - 1, int(std::ceil((hi[a] - g.origin[a]) / g.voxel)));
+  }
+  const Vec3 d = t.to - t.from;
+  const double l2 = d.squaredNorm();
+  for (int k = i0[2]; k <= i1[2]; ++k)
+    for (int j = i0[1]; j <= i1[1]; ++j)
+      for (int i = i0[0]; i <= i1[0]; ++i) {
+        const std::int64_t v = g.index(i, j, k);
+        if (in[std::size_t(v)]) continue;
+        const Vec3 x = g.centre(i, j, k);
+        const double u = l2 > 0 ? std::clamp((x - t.from).dot(d) / l2, 0.0, 1.0) : 0.0;
+        if ((t.from + u * d - x).norm() > t.radius) continue;
+        bool nearPlane = false;
+        for (std::size_t q = 0; q < realPlanes && !nearPlane; ++q)
+          nearPlane = std::abs(planes[q].plane.signedDistance(x)) < g.voxel;
+        if (nearPlane || cellKeyAt(arrangement, planes, x) != t.key) continue;
+        out.push_back(v);
+      }
+  return out;
+}
+
+int distance(const Betti& b, const Betti& t) {
+  return std::abs(b[0] - t[0]) + std::abs(b[1] - t[1]) + std::abs(b[2] - t[2]);
+}
+
+/// Whether a change that takes the solid from `now` to `next` is kept (see topology_control.h).
+/// `strict` (target): every Betti number moves toward its target without passing it, so that no
+/// change overshoots where another would not (a cut that removed three tunnels where one was
+/// asked for left a target no added join could reach).
+bool moves(const TopologyGoal& goal, const Betti& now, const Betti& next, bool strict) {
+  if (goal.mode == TopologyMode::target) {
+    if (!(distance(next, goal.target) < distance(now, goal.target))) return false;
+    for (int i = 0; i < 3 && strict; ++i) {
+      const int toward = goal.target[std::size_t(i)] - now[std::size_t(i)], step = next[std::size_t(i)] - now[std::size_t(i)];
+      if (step * toward < 0 || std::abs(step) > std::abs(toward)) return false;
+    }
+    return true;
+  }
+  return next[0] <= now[0] && next[1] <= now[1] && next[2] <= now[2] &&
+         next[0] + next[1] + next[2] < now[0] + now[1] + now[2];
+}
+
+Vec3 centreOf(const std::vector<std::int64_t>& voxels, const GridSpec& g) {
+  Vec3 sum = Vec3::Zero();
+  for (const std::int64_t v : voxels)
+    sum += g.centre(int(v % g.dims[0]), int((v / g.dims[0]) % g.dims[1]), int(v / (std::int64_t(g.dims[0]) * g.dims[1])));
+  return voxels.empty() ? sum : Vec3(sum / double(voxels.size()));
+}
+
+/// The join graph's edges and what a change can do to it (see topology_control.h).
+struct JoinGraph {
+  int nodes = 0;
+  std::vector<std::array<int, 2>> edges;  ///< patches first, then tubes
+  std::vector<char> alive;                ///< the joins the solid makes now
+};
+
+/// The graph edges (section, section, cell) of the patches whose last patch was cut, and of the
+/// tubes added.
+void graphEdges(const std::vector<Patch>& patches, const std::vector<Tube>& tubes, const JoinGraph& graph,
+                const std::vector<CuttingPlane>& planes, TopologyControl& out) {
+  const SectionIds ids(planes);  // the end planes hold no section: the real planes' ids
+  const auto edge = [&](int a1, int b1, int cell) {
+    GraphEdge e;
+    e.plane_a = ids.planeOf(a1 - 1);
+    e.section_a = a1 - 1 - ids.first(e.plane_a);
+    e.plane_b = ids.planeOf(b1 - 1);
+    e.section_b = b1 - 1 - ids.first(e.plane_b);
+    e.cell = cell;
+    return e;
+  };
+  std::map<std::tuple<int, int, int>, int> left;
+  for (std::size_t p = 0; p < patches.size(); ++p)
+    if (!patches[p].partial) left[{patches[p].a, patches[p].b, patches[p].cell}] += graph.alive[p];
+  for (const auto& [k, n] : left)
+    if (n == 0 && std::get<2>(k) >= 0) out.edges_cut.push_back(edge(std::get<0>(k), std::get<1>(k), std::get<2>(k)));
+  for (std::size_t t = 0; t < tubes.size(); ++t)
+    if (graph.alive[patches.size() + t]) out.edges_added.push_back(edge(tubes[t].a, tubes[t].b, tubes[t].cell));
+  std::sort(out.edges_cut.begin(), out.edges_cut.end());
+  std::sort(out.edges_added.begin(), out.edges_added.end());
+}
+
+}  // namespace
+
+TopologyControl controlTopology(std::vector<std::uint8_t>& inside, const GridSpec& grid,
+                                const std::vector<std::uint16_t>& source, const std::vector<CuttingPlane>& planes,
+                                std::size_t real_planes, const std::vector<SectionDistanceField>& fields,
+                                const SectionArrangement& arrangement, const TopologyGoal& goal) {
+  const auto start = std::chrono::steady_clock::now();
+  if (inside.size() != std::size_t(grid.count()) || source.size() != inside.size() || fields.size() != planes.size())
+    throw std::invalid_argument("controlTopology: the solid, its sources, the grid and the planes differ in size");
+  TopologyControl out;
+  const Box box = solidBox(inside, grid, 2);
+  std::vector<std::uint8_t> in = intoBox(inside, grid, box);
+  const GridSpec& g = box.grid;
+  out.before = out.after = voxelBetti(in, g);
+  const auto reachedTarget = [&] { return goal.mode == TopologyMode::target && out.after == goal.target; };
+  if (goal.mode == TopologyMode::free || reachedTarget() || g.count() == 0) {
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return out;
+  }
+  std::vector<Patch> patches = contactPatches(in, intoBox(source, grid, box), g, planes, real_planes, arrangement);
+  const std::vector<Tube> tubes = joinCandidates(planes, fields, arrangement, g.voxel);
+  out.joins = int(patches.size());
+  for (Patch& h : halfPatches(patches, g)) patches.push_back(std::move(h));
+  out.joins_possible = int(tubes.size());
+  JoinGraph graph;
+  graph.nodes = SectionIds(planes).count() + 1;
+  for (const Patch& p : patches) {
+    graph.edges.push_back({p.a, p.b});
+    out.joins_forced += !p.partial && p.removable.empty();
+  }
+  for (const Tube& t : tubes) graph.edges.push_back({t.a, t.b});
+  graph.alive.assign(graph.edges.size(), 0);
+  for (std::size_t p = 0; p < patches.size(); ++p) graph.alive[p] = !patches[p].partial;
+  // The order tried: cheapest first, then by cell and sections (deterministic).
+  const auto cost = [&](std::size_t c) {
+    return c < patches.size() ? double(patches[c].voxels.size()) : tubes[c - patches.size()].cost;
+  };
+  std::vector<std::size_t> order(graph.edges.size());
+  for (std::size_t c = 0; c < order.size(); ++c) order[c] = c;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return cost(x) < cost(y); });
+  std::vector<char> tried(graph.edges.size(), 0);
+  const auto widthOf = [&](std::size_t c) {
+    return c < patches.size() ? std::sqrt(double(patches[c].voxels.size()) / 2.0) * g.voxel
+                              : 2 * tubes[c - patches.size()].radius;
+  };
+  // Change c applied to a copy of the solid, made well-composed: the voxels changed and the copy.
+  const auto apply = [&](std::size_t c, std::vector<std::int64_t>& change, std::vector<std::uint8_t>& next) {
+    const bool isCut = c < patches.size();
+    change = isCut ? patches[c].removable : tubeVoxels(tubes[c - patches.size()], in, g, planes, real_planes, arrangement);
+    next = in;
+    for (const std::int64_t v : change) next[std::size_t(v)] = isCut ? 0 : 1;
+    makeWellComposed(next, g);
+  };
+  const auto keep = [&](std::size_t c, const std::vector<std::int64_t>& change, std::vector<std::uint8_t>& next,
+                        const Betti& nb) {
+    const bool isCut = c < patches.size();
+    in = std::move(next);
+    out.after = nb;
+    if (!isCut || !patches[c].partial) graph.alive[c] = isCut ? 0 : 1;
+    CellChange ch;
+    ch.partial = isCut && patches[c].partial;
+    ch.added = !isCut;
+    ch.section_a = graph.edges[c][0] - 1;
+    ch.section_b = graph.edges[c][1] - 1;
+    ch.cell = isCut ? patches[c].cell : tubes[c - patches.size()].cell;
+    ch.at = centreOf(isCut ? patches[c].voxels : change, g);
+    ch.voxels = std::int64_t(change.size());
+    ch.width_mm = widthOf(c);
+    ch.after = nb;
+    out.changes.push_back(ch);
+  };
+  std::set<Betti> visited{out.before};
+  bool progress = true;
+  while (progress && out.evaluated < goal.max_evaluations && !reachedTarget()) {
+    progress = false;
+    const std::vector<char> bridge = bridges(graph.nodes, graph.edges, graph.alive);
+    DisjointSets parts(std::size_t(graph.nodes));
+    for (std::size_t e = 0; e < graph.edges.size(); ++e)
+      if (graph.alive[e]) parts.unite(std::size_t(graph.edges[e][0]), std::size_t(graph.edges[e][1]));
+    const Betti& b = out.after;
+    const Betti t = goal.mode == TopologyMode::target ? goal.target : Betti{1, 0, 0};
+    std::optional<std::size_t> fallback;  // the first change that overshoots but comes nearer
+    std::optional<std::size_t> sideways;  // else the first to Betti numbers as near, not met before
+    for (const std::size_t c : order) {
+      const bool isCut = c < patches.size();
+      const bool partial = isCut && patches[c].partial;
+      if (tried[c] || (!partial && graph.alive[c] != char(isCut))) continue;
+      // What the change can do, and whether the goal wants it.
+      const bool merges = !isCut && parts.find(std::size_t(graph.edges[c][0])) != parts.find(std::size_t(graph.edges[c][1]));
+      const bool wanted = isCut ? (bridge[c] && !partial ? b[0] < t[0] : b[1] + b[2] > t[1] + t[2])
+                                : (merges ? b[0] > t[0] : b[1] != t[1]);
+      if (!wanted || (isCut && patches[c].removable.empty())) continue;
+      if (isCut && goal.mode == TopologyMode::simplest && goal.min_feature_mm > 0 && widthOf(c) > goal.min_feature_mm)
+        continue;
+      if (out.evaluated >= goal.max_evaluations) break;
+      tried[c] = 1;
+      std::vector<std::int64_t> change;
+      std::vector<std::uint8_t> next;
+      apply(c, change, next);
+      if (change.empty()) continue;
+      const Betti nb = voxelBetti(next, g);
+      ++out.evaluated;
+      if (moves(goal, out.after, nb, true)) {
+        keep(c, change, next, nb);
+        visited.insert(nb);
+        progress = true;
+        break;  // the graph's bridges and components change with every change
+      }
+      if (!fallback && moves(goal, out.after, nb, false)) fallback = c;
+      if (!sideways && goal.mode == TopologyMode::target && !visited.count(nb) &&
+          distance(nb, goal.target) == distance(out.after, goal.target))
+        sideways = c;
+    }
+    // No change comes nearer without overshooting: the first that comes nearer, else one to Betti
+    // numbers as near but new (a cut that removed two tunnels where one was asked for, after which
+    // an added join makes one back).
+    if (!progress && (fallback || sideways)) {
+      const std::size_t c = fallback ? *fallback : *sideways;
+      std::vector<std::int64_t> change;
+      std::vector<std::uint8_t> next;
+      apply(c, change, next);
+      const Betti nb = voxelBetti(next, g);
+      ++out.evaluated;
+      keep(c, change, next, nb);
+      visited.insert(nb);
+      progress = true;
+    }
+  }
+  graphEdges(patches, tubes, graph, planes, out);
+  outOfBox(in, box, inside, grid);
+  out.reached = goal.mode != TopologyMode::target || out.after == goal.target;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace xsect

@@ -1,0 +1,86 @@
+// Topology control (issue 51): the solid the sections allow with the Betti numbers the user knows,
+// or the simplest one, chosen cell by cell among joins of the sections.
+//
+// Every method's solid R is the union of its cells' solids R_C (thesis ch. 1 §1.2: the
+// arrangement of the planes), and in each cell R_C joins some of the sections on the cell's faces
+// (the graphs G, G', G'': ch. 1 §3, ch. 2 §2). The alternatives of a cell are which joins it makes:
+//  - a join the method made is a *contact patch* of the sampled solid: a 26-connected set of
+//    voxels of the cell whose lifts come from two different sections (each voxel labelled with
+//    the section its lift comes from, thesis remark after Def. 17) and touch each other. It is
+//    *cut* by removing the patch's voxels; removing half of it (the side of a plane through its
+//    centre across its longest axis) keeps the join and breaks a ring-shaped contact, a tunnel
+//    the join graph does not see;
+//  - a join between two sections on different faces of the cell is *added* as a tube inside the
+//    cell from the deepest sample point of one to the deepest of the other (radius: half the
+//    smaller depth, at least 1.5 voxels; the cell is convex, so the segment lies in it, and the
+//    tube is clipped to it); between two sections the cell joins already, the tube may fill the
+//    tunnel between two of their contacts (where they cross at a trace, contacts no cut can remove).
+// No voxel within one voxel of a real plane is removed or added, so the cut of the solid by every
+// plane (its sections) is unchanged; a patch none of whose voxels may be removed is forced.
+//
+// The search is greedy, cheapest change first (cost: voxels removed or added, so that thin
+// contacts, the spurious tunnels between sparse planes, go before wide ones; ties in a fixed
+// order). The join graph (nodes: the sections; edges: the joins kept) says what a change can do:
+// cutting a bridge splits a component, cutting another join removes a tunnel, adding a join
+// between components merges them, adding one within a component makes or fills a tunnel; only
+// changes that can move the solid toward the goal are tried. Each is applied to a copy, made
+// well-composed (digital_topology.h), and kept when its Betti numbers (voxelBetti) do:
+//  - target [b0, b1, b2]: the sum of |b_i - target_i| decreases;
+//  - simplest: no Betti number grows and their sum decreases; with min_feature_mm > 0, joins
+//    wider than it (width: sqrt(patch voxels / 2) voxels, in mm) are not cut.
+// It stops at the target, when no change is left to try, or after max_evaluations changes tried.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "geometry/arrangement/connectivity_graph.h"
+#include "geometry/arrangement/section_arrangement.h"
+#include "geometry/core/digital_topology.h"
+#include "geometry/core/types.h"
+#include "geometry/reconstruction/topology_goal.h"
+#include "geometry/scene/section_distance_field.h"
+
+namespace xsect {
+
+/// One change of one cell: a join cut or added.
+struct CellChange {
+  bool added = false;                ///< a join added (else cut)
+  bool partial = false;              ///< half a patch cut: the join stays, a ring-shaped contact is broken
+  int section_a = 0, section_b = 0;  ///< flat section ids (section_ids.h), a < b
+  int cell = -1;                     ///< the arrangement's cell id, -1 where no section point bounds it
+  Vec3 at = Vec3::Zero();            ///< the change's centre, mm
+  std::int64_t voxels = 0;           ///< voxels removed or added
+  double width_mm = 0;               ///< cut: the patch's width; added: the tube's diameter
+  Betti after{0, 0, 0};              ///< the solid's Betti numbers after it
+};
+
+struct TopologyControl {
+  Betti before{0, 0, 0}, after{0, 0, 0};
+  int joins = 0;          ///< contact patches found inside cells
+  int joins_forced = 0;   ///< of them, within one voxel of a real plane everywhere
+  int joins_possible = 0; ///< pairs of sections on different faces of a cell (tubes that may be added)
+  int evaluated = 0;      ///< changes tried
+  bool reached = true;    ///< mode target: `after` is the target
+  std::vector<CellChange> changes;
+  /// The (section, section, cell) joins no patch of which is left, and those added, as graph edges
+  /// (sorted): the method's graph less the first and with the second is the chosen solid's.
+  std::vector<GraphEdge> edges_cut, edges_added;
+  double seconds = 0;
+};
+
+/// @param inside       the solid on `grid`, 1 = in; changed in place (cut joins removed, the
+///                     result well-composed).
+/// @param source       per voxel of `grid`, 1 + the flat id of the section the voxel's lift comes
+///                     from (0: none).
+/// @param planes       every plane of the arrangement (real first, then the end planes).
+/// @param real_planes  how many of `planes` are real (hold sections).
+/// @param fields       per plane, its sections' distance raster (the deepest points of the joins added).
+/// @param arrangement  arrangeSections(planes, ...): the cells, their ids and the sections' sample points.
+/// Deterministic. Throws std::invalid_argument on mismatched sizes.
+TopologyControl controlTopology(std::vector<std::uint8_t>& inside, const GridSpec& grid,
+                                const std::vector<std::uint16_t>& source, const std::vector<CuttingPlane>& planes,
+                                std::size_t real_planes, const std::vector<SectionDistanceField>& fields,
+                                const SectionArrangement& arrangement, const TopologyGoal& goal);
+
+}  // namespace xsect
