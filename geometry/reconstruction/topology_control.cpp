@@ -383,6 +383,143 @@ void graphEdges(const std::vector<Patch>& patches, const std::vector<Tube>& tube
   std::sort(out.edges_added.begin(), out.edges_added.end());
 }
 
+/// The greedy search over the changes of the cells (see topology_control.h) on the solid's box:
+/// candidates `c` index the patches, then the tubes.
+class Search {
+ public:
+  Search(std::vector<Patch> patches, std::vector<Tube> tubes, std::vector<std::uint8_t>& in, const GridSpec& g,
+         const std::vector<CuttingPlane>& planes, std::size_t realPlanes, const SectionArrangement& arrangement,
+         const TopologyGoal& goal, TopologyControl& out)
+      : patches_(std::move(patches)), tubes_(std::move(tubes)), in_(in), g_(g), planes_(planes),
+        realPlanes_(realPlanes), arrangement_(arrangement), goal_(goal), out_(out) {
+    graph_.nodes = SectionIds(planes).count() + 1;
+    for (const Patch& p : patches_) graph_.edges.push_back({p.a, p.b});
+    for (const Tube& t : tubes_) graph_.edges.push_back({t.a, t.b});
+    graph_.alive.assign(graph_.edges.size(), 0);
+    for (std::size_t p = 0; p < patches_.size(); ++p) graph_.alive[p] = !patches_[p].partial;
+    // The order tried: cheapest first (voxels removed or added), else as listed (deterministic).
+    const auto cost = [&](std::size_t c) { return isCut(c) ? double(patches_[c].voxels.size()) : tube(c).cost; };
+    order_.resize(graph_.edges.size());
+    for (std::size_t c = 0; c < order_.size(); ++c) order_[c] = c;
+    std::stable_sort(order_.begin(), order_.end(), [&](std::size_t x, std::size_t y) { return cost(x) < cost(y); });
+    tried_.assign(graph_.edges.size(), 0);
+    visited_.insert(out_.after);
+  }
+
+  void run() {
+    while (out_.evaluated < goal_.max_evaluations && !reached() && pass()) {
+    }
+    graphEdges(patches_, tubes_, graph_, planes_, out_);
+  }
+
+ private:
+  bool isCut(std::size_t c) const { return c < patches_.size(); }
+  const Tube& tube(std::size_t c) const { return tubes_[c - patches_.size()]; }
+  bool reached() const { return goal_.mode == TopologyMode::target && out_.after == goal_.target; }
+  double width(std::size_t c) const {
+    return isCut(c) ? std::sqrt(double(patches_[c].voxels.size()) / 2.0) * g_.voxel : 2 * tube(c).radius;
+  }
+
+  /// Whether the goal wants what change c can do to the join graph (its bridges and components now).
+  bool wanted(std::size_t c, const std::vector<char>& bridge, DisjointSets& parts) const {
+    const Betti& b = out_.after;
+    const Betti t = goal_.mode == TopologyMode::target ? goal_.target : Betti{1, 0, 0};
+    if (isCut(c)) {
+      const Patch& p = patches_[c];
+      if (p.removable.empty()) return false;
+      if (goal_.mode == TopologyMode::simplest && goal_.min_feature_mm > 0 && width(c) > goal_.min_feature_mm)
+        return false;
+      return bridge[c] && !p.partial ? b[0] < t[0] : b[1] + b[2] > t[1] + t[2];
+    }
+    const bool merges = parts.find(std::size_t(graph_.edges[c][0])) != parts.find(std::size_t(graph_.edges[c][1]));
+    return merges ? b[0] > t[0] : b[1] != t[1];
+  }
+
+  /// Change c applied to a copy of the solid, made well-composed: the voxels changed, the copy and
+  /// its Betti numbers.
+  Betti apply(std::size_t c, std::vector<std::int64_t>& change, std::vector<std::uint8_t>& next) {
+    change = isCut(c) ? patches_[c].removable : tubeVoxels(tube(c), in_, g_, planes_, realPlanes_, arrangement_);
+    if (change.empty()) return out_.after;  // nothing to change (a tube wholly in the solid)
+    next = in_;
+    for (const std::int64_t v : change) next[std::size_t(v)] = isCut(c) ? 0 : 1;
+    makeWellComposed(next, g_);
+    ++out_.evaluated;
+    return voxelBetti(next, g_);
+  }
+
+  void keep(std::size_t c, const std::vector<std::int64_t>& change, std::vector<std::uint8_t>& next, const Betti& nb) {
+    const bool cut = isCut(c);
+    in_ = std::move(next);
+    out_.after = nb;
+    visited_.insert(nb);
+    if (!cut || !patches_[c].partial) graph_.alive[c] = cut ? 0 : 1;
+    CellChange ch;
+    ch.partial = cut && patches_[c].partial;
+    ch.added = !cut;
+    ch.section_a = graph_.edges[c][0] - 1;
+    ch.section_b = graph_.edges[c][1] - 1;
+    ch.cell = cut ? patches_[c].cell : tube(c).cell;
+    ch.at = centreOf(cut ? patches_[c].voxels : change, g_);
+    ch.voxels = std::int64_t(change.size());
+    ch.width_mm = width(c);
+    ch.after = nb;
+    out_.changes.push_back(ch);
+  }
+
+  /// Tries the changes in order until one is kept (the graph's bridges and components change with
+  /// every change); false when none is.
+  bool pass() {
+    const std::vector<char> bridge = bridges(graph_.nodes, graph_.edges, graph_.alive);
+    DisjointSets parts(std::size_t(graph_.nodes));
+    for (std::size_t e = 0; e < graph_.edges.size(); ++e)
+      if (graph_.alive[e]) parts.unite(std::size_t(graph_.edges[e][0]), std::size_t(graph_.edges[e][1]));
+    std::optional<std::size_t> fallback;  // the first change that overshoots but comes nearer
+    std::optional<std::size_t> sideways;  // else the first to Betti numbers as near, not met before
+    for (const std::size_t c : order_) {
+      const bool partial = isCut(c) && patches_[c].partial;
+      if (tried_[c] || (!partial && graph_.alive[c] != char(isCut(c))) || !wanted(c, bridge, parts)) continue;
+      if (out_.evaluated >= goal_.max_evaluations) break;
+      tried_[c] = 1;
+      std::vector<std::int64_t> change;
+      std::vector<std::uint8_t> next;
+      const Betti nb = apply(c, change, next);
+      if (change.empty()) continue;
+      if (moves(goal_, out_.after, nb, true)) {
+        keep(c, change, next, nb);
+        return true;
+      }
+      if (!fallback && moves(goal_, out_.after, nb, false)) fallback = c;
+      if (!sideways && goal_.mode == TopologyMode::target && !visited_.count(nb) &&
+          distance(nb, goal_.target) == distance(out_.after, goal_.target))
+        sideways = c;
+    }
+    // No change comes nearer without overshooting: the first that comes nearer, else one to Betti
+    // numbers as near but new (a cut that removed two tunnels where one was asked for, after which
+    // an added join makes one back).
+    if (!fallback && !sideways) return false;
+    const std::size_t c = fallback ? *fallback : *sideways;
+    std::vector<std::int64_t> change;
+    std::vector<std::uint8_t> next;
+    const Betti nb = apply(c, change, next);
+    keep(c, change, next, nb);
+    return true;
+  }
+
+  std::vector<Patch> patches_;
+  std::vector<Tube> tubes_;
+  std::vector<std::uint8_t>& in_;
+  const GridSpec& g_;
+  const std::vector<CuttingPlane>& planes_;
+  std::size_t realPlanes_;
+  const SectionArrangement& arrangement_;
+  const TopologyGoal& goal_;
+  TopologyControl& out_;
+  JoinGraph graph_;
+  std::vector<std::size_t> order_;
+  std::vector<char> tried_;
+  std::set<Betti> visited_;
+};
+
 }  // namespace
 
 TopologyControl controlTopology(std::vector<std::uint8_t>& inside, const GridSpec& grid,
@@ -397,122 +534,17 @@ TopologyControl controlTopology(std::vector<std::uint8_t>& inside, const GridSpe
   std::vector<std::uint8_t> in = intoBox(inside, grid, box);
   const GridSpec& g = box.grid;
   out.before = out.after = voxelBetti(in, g);
-  const auto reachedTarget = [&] { return goal.mode == TopologyMode::target && out.after == goal.target; };
-  if (goal.mode == TopologyMode::free || reachedTarget() || g.count() == 0) {
-    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return out;
+  const bool done = goal.mode == TopologyMode::free || (goal.mode == TopologyMode::target && out.after == goal.target);
+  if (!done && g.count() > 0) {
+    std::vector<Patch> patches = contactPatches(in, intoBox(source, grid, box), g, planes, real_planes, arrangement);
+    std::vector<Tube> tubes = joinCandidates(planes, fields, arrangement, g.voxel);
+    out.joins = int(patches.size());
+    for (const Patch& p : patches) out.joins_forced += p.removable.empty();
+    out.joins_possible = int(tubes.size());
+    for (Patch& h : halfPatches(patches, g)) patches.push_back(std::move(h));
+    Search(std::move(patches), std::move(tubes), in, g, planes, real_planes, arrangement, goal, out).run();
+    outOfBox(in, box, inside, grid);
   }
-  std::vector<Patch> patches = contactPatches(in, intoBox(source, grid, box), g, planes, real_planes, arrangement);
-  const std::vector<Tube> tubes = joinCandidates(planes, fields, arrangement, g.voxel);
-  out.joins = int(patches.size());
-  for (Patch& h : halfPatches(patches, g)) patches.push_back(std::move(h));
-  out.joins_possible = int(tubes.size());
-  JoinGraph graph;
-  graph.nodes = SectionIds(planes).count() + 1;
-  for (const Patch& p : patches) {
-    graph.edges.push_back({p.a, p.b});
-    out.joins_forced += !p.partial && p.removable.empty();
-  }
-  for (const Tube& t : tubes) graph.edges.push_back({t.a, t.b});
-  graph.alive.assign(graph.edges.size(), 0);
-  for (std::size_t p = 0; p < patches.size(); ++p) graph.alive[p] = !patches[p].partial;
-  // The order tried: cheapest first, then by cell and sections (deterministic).
-  const auto cost = [&](std::size_t c) {
-    return c < patches.size() ? double(patches[c].voxels.size()) : tubes[c - patches.size()].cost;
-  };
-  std::vector<std::size_t> order(graph.edges.size());
-  for (std::size_t c = 0; c < order.size(); ++c) order[c] = c;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return cost(x) < cost(y); });
-  std::vector<char> tried(graph.edges.size(), 0);
-  const auto widthOf = [&](std::size_t c) {
-    return c < patches.size() ? std::sqrt(double(patches[c].voxels.size()) / 2.0) * g.voxel
-                              : 2 * tubes[c - patches.size()].radius;
-  };
-  // Change c applied to a copy of the solid, made well-composed: the voxels changed and the copy.
-  const auto apply = [&](std::size_t c, std::vector<std::int64_t>& change, std::vector<std::uint8_t>& next) {
-    const bool isCut = c < patches.size();
-    change = isCut ? patches[c].removable : tubeVoxels(tubes[c - patches.size()], in, g, planes, real_planes, arrangement);
-    next = in;
-    for (const std::int64_t v : change) next[std::size_t(v)] = isCut ? 0 : 1;
-    makeWellComposed(next, g);
-  };
-  const auto keep = [&](std::size_t c, const std::vector<std::int64_t>& change, std::vector<std::uint8_t>& next,
-                        const Betti& nb) {
-    const bool isCut = c < patches.size();
-    in = std::move(next);
-    out.after = nb;
-    if (!isCut || !patches[c].partial) graph.alive[c] = isCut ? 0 : 1;
-    CellChange ch;
-    ch.partial = isCut && patches[c].partial;
-    ch.added = !isCut;
-    ch.section_a = graph.edges[c][0] - 1;
-    ch.section_b = graph.edges[c][1] - 1;
-    ch.cell = isCut ? patches[c].cell : tubes[c - patches.size()].cell;
-    ch.at = centreOf(isCut ? patches[c].voxels : change, g);
-    ch.voxels = std::int64_t(change.size());
-    ch.width_mm = widthOf(c);
-    ch.after = nb;
-    out.changes.push_back(ch);
-  };
-  std::set<Betti> visited{out.before};
-  bool progress = true;
-  while (progress && out.evaluated < goal.max_evaluations && !reachedTarget()) {
-    progress = false;
-    const std::vector<char> bridge = bridges(graph.nodes, graph.edges, graph.alive);
-    DisjointSets parts(std::size_t(graph.nodes));
-    for (std::size_t e = 0; e < graph.edges.size(); ++e)
-      if (graph.alive[e]) parts.unite(std::size_t(graph.edges[e][0]), std::size_t(graph.edges[e][1]));
-    const Betti& b = out.after;
-    const Betti t = goal.mode == TopologyMode::target ? goal.target : Betti{1, 0, 0};
-    std::optional<std::size_t> fallback;  // the first change that overshoots but comes nearer
-    std::optional<std::size_t> sideways;  // else the first to Betti numbers as near, not met before
-    for (const std::size_t c : order) {
-      const bool isCut = c < patches.size();
-      const bool partial = isCut && patches[c].partial;
-      if (tried[c] || (!partial && graph.alive[c] != char(isCut))) continue;
-      // What the change can do, and whether the goal wants it.
-      const bool merges = !isCut && parts.find(std::size_t(graph.edges[c][0])) != parts.find(std::size_t(graph.edges[c][1]));
-      const bool wanted = isCut ? (bridge[c] && !partial ? b[0] < t[0] : b[1] + b[2] > t[1] + t[2])
-                                : (merges ? b[0] > t[0] : b[1] != t[1]);
-      if (!wanted || (isCut && patches[c].removable.empty())) continue;
-      if (isCut && goal.mode == TopologyMode::simplest && goal.min_feature_mm > 0 && widthOf(c) > goal.min_feature_mm)
-        continue;
-      if (out.evaluated >= goal.max_evaluations) break;
-      tried[c] = 1;
-      std::vector<std::int64_t> change;
-      std::vector<std::uint8_t> next;
-      apply(c, change, next);
-      if (change.empty()) continue;
-      const Betti nb = voxelBetti(next, g);
-      ++out.evaluated;
-      if (moves(goal, out.after, nb, true)) {
-        keep(c, change, next, nb);
-        visited.insert(nb);
-        progress = true;
-        break;  // the graph's bridges and components change with every change
-      }
-      if (!fallback && moves(goal, out.after, nb, false)) fallback = c;
-      if (!sideways && goal.mode == TopologyMode::target && !visited.count(nb) &&
-          distance(nb, goal.target) == distance(out.after, goal.target))
-        sideways = c;
-    }
-    // No change comes nearer without overshooting: the first that comes nearer, else one to Betti
-    // numbers as near but new (a cut that removed two tunnels where one was asked for, after which
-    // an added join makes one back).
-    if (!progress && (fallback || sideways)) {
-      const std::size_t c = fallback ? *fallback : *sideways;
-      std::vector<std::int64_t> change;
-      std::vector<std::uint8_t> next;
-      apply(c, change, next);
-      const Betti nb = voxelBetti(next, g);
-      ++out.evaluated;
-      keep(c, change, next, nb);
-      visited.insert(nb);
-      progress = true;
-    }
-  }
-  graphEdges(patches, tubes, graph, planes, out);
-  outOfBox(in, box, inside, grid);
   out.reached = goal.mode != TopologyMode::target || out.after == goal.target;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
