@@ -149,6 +149,39 @@ void writeMeshAtomically(const std::string& path, const xsect::TriangleMesh& mes
   }
 }
 
+/// The Poisson surface as xsect's TriangleMesh (indices compacted), turned outward; its boundary
+/// edges, whether it was turned, and 6 x its signed volume before.
+xsect::TriangleMesh outwardMesh(const Mesh& mesh, std::size_t* boundaryEdges, bool* flipped, double* volume6) {
+  xsect::TriangleMesh out;
+  std::vector<std::uint32_t> index(mesh.num_vertices(), 0);
+  for (auto v : mesh.vertices()) {
+    index[v.idx()] = std::uint32_t(out.vertices.size());
+    const Point& p = mesh.point(v);
+    out.vertices.emplace_back(float(p.x()), float(p.y()), float(p.z()));
+  }
+  *volume6 = 0;
+  *boundaryEdges = 0;
+  for (auto h : mesh.halfedges())
+    if (mesh.is_border(h)) ++*boundaryEdges;
+  for (auto f : mesh.faces()) {
+    std::array<std::uint32_t, 3> t{};
+    int k = 0;
+    for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
+      if (k < 3) t[k] = index[v.idx()];
+      ++k;
+    }
+    if (k != 3) continue;
+    out.triangles.push_back(t);
+    const Eigen::Vector3d a = out.vertices[t[0]].cast<double>(), b = out.vertices[t[1]].cast<double>(),
+                          d = out.vertices[t[2]].cast<double>();
+    *volume6 += a.dot(b.cross(d));
+  }
+  *flipped = *volume6 < 0;
+  if (*flipped)
+    for (auto& t : out.triangles) std::swap(t[1], t[2]);
+  return out;
+}
+
 int run(const Options& o) {
   using clock = std::chrono::steady_clock;
   const auto tLoad = clock::now();
@@ -205,34 +238,10 @@ int run(const Options& o) {
     return 1;
   }
 
-  // Surface_mesh -> TriangleMesh (indices compacted), turned outward.
-  xsect::TriangleMesh out;
-  std::vector<std::uint32_t> index(mesh.num_vertices(), 0);
-  for (auto v : mesh.vertices()) {
-    index[v.idx()] = std::uint32_t(out.vertices.size());
-    const Point& p = mesh.point(v);
-    out.vertices.emplace_back(float(p.x()), float(p.y()), float(p.z()));
-  }
-  double volume6 = 0;  // 6 x signed volume
   std::size_t boundaryEdges = 0;
-  for (auto h : mesh.halfedges())
-    if (mesh.is_border(h)) ++boundaryEdges;
-  for (auto f : mesh.faces()) {
-    std::array<std::uint32_t, 3> t{};
-    int k = 0;
-    for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) {
-      if (k < 3) t[k] = index[v.idx()];
-      ++k;
-    }
-    if (k != 3) continue;
-    out.triangles.push_back(t);
-    const Eigen::Vector3d a = out.vertices[t[0]].cast<double>(), b = out.vertices[t[1]].cast<double>(),
-                          d = out.vertices[t[2]].cast<double>();
-    volume6 += a.dot(b.cross(d));
-  }
-  const bool flipped = volume6 < 0;
-  if (flipped)
-    for (auto& t : out.triangles) std::swap(t[1], t[2]);
+  bool flipped = false;
+  double volume6 = 0;  // 6 x signed volume
+  const xsect::TriangleMesh out = outwardMesh(mesh, &boundaryEdges, &flipped, &volume6);
   writeMeshAtomically(o.out, out);
 
   std::cerr << "xsect_poisson_baseline: " << points.size() << " points from " << sections
