@@ -1,4 +1,4 @@
-// Topology control by cutting joins cell by cell (see topology_control.h).
+// Topology control by cutting and adding joins cell by cell (see topology_control.h).
 #include "geometry/reconstruction/topology_control.h"
 
 #include <Eigen/Eigenvalues>
@@ -12,7 +12,6 @@
 #include <stdexcept>
 #include <tuple>
 #include <unordered_map>
-#include <unordered_set>
 
 #include "geometry/core/disjoint_sets.h"
 #include "geometry/core/section_ids.h"
