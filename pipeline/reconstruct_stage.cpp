@@ -59,22 +59,20 @@ TopologyControl chooseTopology(const RunConfig& c, const SectionScene& scene, co
 
 }  // namespace
 
-std::vector<GraphEdge> ReconstructStage::joins(const std::vector<GraphEdge>& methodEdges) const {
-  if (!topology || (topology->edges_cut.empty() && topology->edges_added.empty())) return methodEdges;
-  std::vector<GraphEdge> kept, out;
-  std::set_difference(methodEdges.begin(), methodEdges.end(), topology->edges_cut.begin(), topology->edges_cut.end(),
-                      std::back_inserter(kept));
-  std::set_union(kept.begin(), kept.end(), topology->edges_added.begin(), topology->edges_added.end(),
-                 std::back_inserter(out));
-  return out;
-}
-
 ReconstructStage reconstructStage(const RunInputs& in, const SceneStage& built, const ArrangeStage& a,
                                   const Method& method, Progress& progress) {
   ReconstructStage r = method.reconstruct(in, built, a, progress);
   const SectionScene& scene = built.scene;
-  if (in.config.topology.mode != TopologyMode::free) r.topology = chooseTopology(in.config, scene, a, r.solid);
-  const std::vector<GraphEdge> joins = r.joins(a.methodEdges());
+  if (in.config.topology.mode != TopologyMode::free) {
+    r.topology = chooseTopology(in.config, scene, a, r.solid);
+    const std::vector<GraphEdge>& method = a.methodEdges();
+    std::vector<GraphEdge> kept;
+    std::set_difference(method.begin(), method.end(), r.topology->edges_cut.begin(), r.topology->edges_cut.end(),
+                        std::back_inserter(kept));
+    std::set_union(kept.begin(), kept.end(), r.topology->edges_added.begin(), r.topology->edges_added.end(),
+                   std::back_inserter(r.joins_chosen));
+  }
+  const std::vector<GraphEdge>& joins = r.joins(a.methodEdges());
   r.graph_check = compareWithVoxels(joins, scene, a.arrangement, r.solid.inside);
   r.cell_check = compareCellsWithVoxels(joins, scene, a.arrangement, r.solid.inside);
   const GraphVoxelCheck& g = r.graph_check;

@@ -55,9 +55,14 @@ struct ReconstructStage {
   std::optional<TopologyControl> topology;
   std::vector<std::string> warnings;  ///< what the stage found worth a warning (report.json's warnings)
 
-  /// The method's graph as the solid realises it: less the joins the topology control cut, with
-  /// those it added.
-  std::vector<GraphEdge> joins(const std::vector<GraphEdge>& methodEdges) const;
+  /// With `topology`: the method's graph as the chosen solid realises it, less the joins cut and
+  /// with those added (sorted); empty otherwise.
+  std::vector<GraphEdge> joins_chosen;
+
+  /// The method's graph as the solid realises it: `methodEdges`, or joins_chosen with `topology`.
+  const std::vector<GraphEdge>& joins(const std::vector<GraphEdge>& methodEdges) const {
+    return topology ? joins_chosen : methodEdges;
+  }
 };
 
 /// Reads the scene (stage 4's input) and the method's graph (stage 4); warns (ReconstructStage::

@@ -41,7 +41,7 @@ void forEachEdge(const RunResults& r, const Visit& visit) {
   };
   const ArrangeStage& a = r.arrangement;
   // The run's method's graph as its solid realises it (less the joins reconstruction.topology cut).
-  const std::vector<GraphEdge> joins = r.reconstruction.joins(a.methodEdges());
+  const std::vector<GraphEdge>& joins = r.reconstruction.joins(a.methodEdges());
   const auto graphOf = [&](const std::vector<GraphEdge>& es) -> const std::vector<GraphEdge>& {
     return &es == &a.methodEdges() ? joins : es;
   };
