@@ -18,7 +18,7 @@ std::string bettiList(const Betti& b) {
 }
 
 /// reconstruction.topology (issue 51): each voxel labelled with the section its lift comes from,
-/// joins cut cell by cell until the solid has the topology asked for (topology_control.h); the
+/// joins cut and added cell by cell until the solid has the topology asked for (topology_control.h); the
 /// solid, its field (for the mesh) and its Betti numbers then describe the solid chosen.
 TopologyControl chooseTopology(const RunConfig& c, const SectionScene& scene, const ArrangeStage& a,
                                SampledReconstruction& rec) {
