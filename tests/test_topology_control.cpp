@@ -110,6 +110,11 @@ TEST(TopologyControl, ARingOfFourJoinsIsCutAtItsThinnestJoinAndKeepsEveryPlanesS
   const nlohmann::json two = runRing(dir, "two", "--set reconstruction.topology=[2,0,0]");
   EXPECT_EQ(two["betti"], nlohmann::json({2, 0, 0}));
   EXPECT_EQ(two["topology"]["changes"].size(), 2u);
+  // The page shows the cells changed, and only when the topology was controlled.
+  const std::string page = test::slurp(dir / "two/report.html");
+  EXPECT_NE(page.find("<section id=\"topology\">"), std::string::npos);
+  EXPECT_NE(page.find("join_cut"), std::string::npos);
+  EXPECT_EQ(test::slurp(dir / "free/report.html").find("<section id=\"topology\">"), std::string::npos);
 }
 
 TEST(TopologyControl, FreeIsTheMethodsOwnSolidByteForByte) {

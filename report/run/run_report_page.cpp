@@ -7,6 +7,7 @@
 #include "report/run/section_graph.h"
 #include "report/run/slice_plots.h"
 #include "report/run/summary_section.h"
+#include "report/run/topology_changes.h"
 #include "report/run/view_data.h"
 #include "report/run/warning_advice.h"
 
@@ -24,6 +25,8 @@ ReportPage runReportPage(const RunResults& r, const json& report, const json& co
   page.sections.push_back({"warnings", "Warnings", warningsHtml(runWarnings(r))});
   page.sections.push_back({"slice-plots", "Slices", "<div class=\"plots\">\n" + slicePlotsHtml(conformity) + "</div>"});
   page.sections.push_back({"graph", "How the sections connect", sectionGraphHtml(graph)});
+  if (const std::string changes = topologyChangesHtml(report); !changes.empty())
+    page.sections.push_back({"topology", "Topology control", changes});
   page.sections.push_back({"frames", "Frames", frameOverlaysHtml(r.inputs)});
   // Timings and memory change from run to run: the one block of the page that does (tests and
   // scripts/output_hashes.py drop what lies between the markers before comparing pages).

@@ -1,0 +1,30 @@
+// The changes topology control made, as a table (see topology_changes.h).
+#include "report/run/topology_changes.h"
+
+#include "report/run/page_text.h"
+
+namespace xsect {
+
+using json = nlohmann::ordered_json;
+
+std::string topologyChangesHtml(const json& report) {
+  const json& t = field(report, {"topology"});
+  if (!t.is_object()) return "";
+  std::string h = "<p>reconstruction.topology: " + cellText(t["mode"]) +
+                  (t["target"].is_null() ? std::string() : " [" + cellText(t["target"]) + "]") +
+                  "; Betti numbers of the method's solid " + cellText(t["betti_before"]) + ", of the solid chosen " +
+                  cellText(t["betti_after"]) + " (" + cellText(t["joins"]) + " joins made by the method, " +
+                  cellText(t["joins_forced"]) + " of them forced, " + cellText(t["changes_tried"]) +
+                  " changes tried).</p>\n";
+  if (t["changes"].empty()) return h + "<p>No cell changed.</p>\n";
+  h += "<table>\n<tr><th>change</th><th>sections</th><th>cell</th><th>centre (mm)</th><th>voxels</th>"
+       "<th>width (mm)</th><th>Betti after</th></tr>\n";
+  for (const json& c : t["changes"])
+    h += "<tr><td>" + cellText(c["change"]) + "</td><td>" + cellText(c["sections"]) + "</td><td class=\"num\">" +
+         cellText(c["cell"]) + "</td><td>" + cellText(c["at_mm"]) + "</td><td class=\"num\">" + cellText(c["voxels"]) +
+         "</td><td class=\"num\">" + cellText(c["width_mm"]) + "</td><td>" + cellText(c["betti_after"]) + "</td></tr>\n";
+  return h + "</table>\n<p class=\"hint\">Sections are numbered as graph.json's nodes; cells as the arrangement's "
+             "(report.json topology.cells_changed).</p>\n";
+}
+
+}  // namespace xsect
