@@ -25,7 +25,10 @@
 // between components merges them, adding one within a component makes or fills a tunnel; only
 // changes that can move the solid toward the goal are tried. Each is applied to a copy, made
 // well-composed (digital_topology.h), and kept when its Betti numbers (voxelBetti) do:
-//  - target [b0, b1, b2]: the sum of |b_i - target_i| decreases;
+//  - target [b0, b1, b2]: each b_i moves toward target_i without passing it, and the sum of
+//    |b_i - target_i| decreases. When no change of a pass does, the first that decreases the sum
+//    by passing a target is kept, else the first that leads to Betti numbers as near and not met
+//    before (a cut that removed two tunnels where one was asked for, after which a tube makes one);
 //  - simplest: no Betti number grows and their sum decreases; with min_feature_mm > 0, joins
 //    wider than it (width: sqrt(patch voxels / 2) voxels, in mm) are not cut.
 // It stops at the target, when no change is left to try, or after max_evaluations changes tried.
