@@ -21,7 +21,7 @@ std::string bettiList(const Betti& b) {
 /// joins cut and added cell by cell until the solid has the topology asked for (topology_control.h); the
 /// solid, its field (for the mesh) and its Betti numbers then describe the solid chosen.
 TopologyControl chooseTopology(const RunConfig& c, const SectionScene& scene, const ArrangeStage& a,
-                               SampledReconstruction& rec) {
+                               SampledReconstruction& rec, Progress& progress) {
   const SectionIds ids = scene.ids();
   if (ids.count() > 65534)
     throw InputError(c.path, "reconstruction.topology",
@@ -38,7 +38,8 @@ TopologyControl chooseTopology(const RunConfig& c, const SectionScene& scene, co
   TopologyControl t =
       controlTopology(inside, grid, denseValues(voxelLabels(rec.inside, rec.section_plane, scene.planes, bySection,
                                                             &scene.pieces)),
-                      scene.planes, scene.real_planes, scene.fields, a.arrangement, c.topology);
+                      scene.planes, scene.real_planes, scene.fields, a.arrangement, c.topology,
+                      progress.counter());
   if (!t.reached)
     throw InputError(c.path, "reconstruction.topology",
                      "the method's solid has Betti numbers " + bettiList(t.before) + "; cutting and adding joins "
@@ -64,7 +65,8 @@ ReconstructStage reconstructStage(const RunInputs& in, const SceneStage& built, 
   ReconstructStage r = method.reconstruct(in, built, a, progress);
   const SectionScene& scene = built.scene;
   if (in.config.topology.mode != TopologyMode::free) {
-    r.topology = chooseTopology(in.config, scene, a, r.solid);
+    progress.stage("topology", "changes");
+    r.topology = chooseTopology(in.config, scene, a, r.solid, progress);
     const std::vector<GraphEdge>& method = a.methodEdges();
     std::vector<GraphEdge> kept;
     std::set_difference(method.begin(), method.end(), r.topology->edges_cut.begin(), r.topology->edges_cut.end(),

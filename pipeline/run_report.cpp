@@ -216,7 +216,7 @@ json topologyJson(const RunResults& r) {
           {"changes_tried", t.evaluated},
           {"changes", changes},
           {"cells_changed", cells},
-          {"seconds", t.seconds}};
+          {"search_s", t.seconds}};
 }
 
 json conformityJson(const RunResults& r) {

@@ -405,9 +405,10 @@ class Search {
     visited_.insert(out_.after);
   }
 
-  void run() {
-    while (out_.evaluated < goal_.max_evaluations && !reached() && pass()) {
-    }
+  void run(const std::function<void(std::int64_t, std::int64_t)>& progress) {
+    while (out_.evaluated < goal_.max_evaluations && !reached() && pass())
+      if (progress) progress(out_.evaluated, goal_.max_evaluations);
+    if (progress) progress(out_.evaluated, out_.evaluated);  // the count the stage's line ends with
     graphEdges(patches_, tubes_, graph_, planes_, out_);
   }
 
@@ -524,7 +525,8 @@ class Search {
 TopologyControl controlTopology(std::vector<std::uint8_t>& inside, const GridSpec& grid,
                                 const std::vector<std::uint16_t>& source, const std::vector<CuttingPlane>& planes,
                                 std::size_t real_planes, const std::vector<SectionDistanceField>& fields,
-                                const SectionArrangement& arrangement, const TopologyGoal& goal) {
+                                const SectionArrangement& arrangement, const TopologyGoal& goal,
+                                const std::function<void(std::int64_t, std::int64_t)>& progress) {
   const auto start = std::chrono::steady_clock::now();
   if (inside.size() != std::size_t(grid.count()) || source.size() != inside.size() || fields.size() != planes.size())
     throw std::invalid_argument("controlTopology: the solid, its sources, the grid and the planes differ in size");
@@ -541,7 +543,7 @@ TopologyControl controlTopology(std::vector<std::uint8_t>& inside, const GridSpe
     for (const Patch& p : patches) out.joins_forced += p.removable.empty();
     out.joins_possible = int(tubes.size());
     for (Patch& h : halfPatches(patches, g)) patches.push_back(std::move(h));
-    Search(std::move(patches), std::move(tubes), in, g, planes, real_planes, arrangement, goal, out).run();
+    Search(std::move(patches), std::move(tubes), in, g, planes, real_planes, arrangement, goal, out).run(progress);
     outOfBox(in, box, inside, grid);
   }
   out.reached = goal.mode != TopologyMode::target || out.after == goal.target;

@@ -35,6 +35,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "geometry/arrangement/connectivity_graph.h"
@@ -80,10 +81,13 @@ struct TopologyControl {
 /// @param real_planes  how many of `planes` are real (hold sections).
 /// @param fields       per plane, its sections' distance raster (the deepest points of the joins added).
 /// @param arrangement  arrangeSections(planes, ...): the cells, their ids and the sections' sample points.
+/// @param progress     optional, called with the changes tried and goal.max_evaluations after each
+///                     change kept, and with the changes tried twice at the end.
 /// Deterministic. Throws std::invalid_argument on mismatched sizes.
 TopologyControl controlTopology(std::vector<std::uint8_t>& inside, const GridSpec& grid,
                                 const std::vector<std::uint16_t>& source, const std::vector<CuttingPlane>& planes,
                                 std::size_t real_planes, const std::vector<SectionDistanceField>& fields,
-                                const SectionArrangement& arrangement, const TopologyGoal& goal);
+                                const SectionArrangement& arrangement, const TopologyGoal& goal,
+                                const std::function<void(std::int64_t, std::int64_t)>& progress = {});
 
 }  // namespace xsect
