@@ -43,8 +43,9 @@ TopologyControl chooseTopology(const RunConfig& c, const SectionScene& scene, co
   if (!t.reached)
     throw InputError(c.path, "reconstruction.topology",
                      "the method's solid has Betti numbers " + bettiList(t.before) + "; cutting and adding joins "
-                     "inside cells (" + std::to_string(t.joins) + " joins made, " + std::to_string(t.joins_possible) +
-                     " possible, " + std::to_string(t.evaluated) + " changes tried) came no nearer to " +
+                     "and mending gaps and necks inside cells (" + std::to_string(t.joins) + " joins made, " +
+                     std::to_string(t.joins_possible) + " possible, " + std::to_string(t.mends_possible) +
+                     " mends found, " + std::to_string(t.evaluated) + " changes tried) came no nearer to " +
                      bettiList(c.topology.target) + " than " + bettiList(t.after) +
                      ": check the target, or use reconstruction.topology: simplest (the fewest components, "
                      "tunnels and cavities found) or free");

@@ -193,8 +193,8 @@ json topologyJson(const RunResults& r) {
   json changes = json::array();
   std::vector<int> cells;
   for (const CellChange& c : t.changes) {
-    changes.push_back({{"change", c.added ? "join_added" : c.partial ? "join_halved" : "join_cut"},
-                       {"sections", {c.section_a, c.section_b}},
+    changes.push_back({{"change", nameOf(kCellChangeKinds, c.kind)},
+                       {"sections", c.sections},
                        {"cell", c.cell},
                        {"at_mm", vecJson(c.at)},
                        {"voxels", c.voxels},
@@ -213,6 +213,7 @@ json topologyJson(const RunResults& r) {
           {"joins", t.joins},
           {"joins_forced", t.joins_forced},
           {"joins_possible", t.joins_possible},
+          {"mends_possible", t.mends_possible},
           {"changes_tried", t.evaluated},
           {"changes", changes},
           {"cells_changed", cells},

@@ -84,6 +84,37 @@ TEST(DigitalTopology, RunComponentsAreTheFloodFillsOnRandomSets) {
   EXPECT_EQ(sets, 120);
 }
 
+/// The change of the Euler characteristic summed next to the change equals that of the whole
+/// sets (chi = b0 - b1 + b2 of voxelBetti), for changes of every size on random sets.
+TEST(DigitalTopology, EulerCharacteristicChangeIsTheWholeSetsDifference) {
+  std::mt19937 rng(29);
+  int changes = 0, nonzero = 0;
+  for (const double density : {0.1, 0.3, 0.5, 0.7}) {
+    for (int trial = 0; trial < 25; ++trial) {
+      GridSpec g;
+      g.dims = {4 + int(rng() % 10), 4 + int(rng() % 10), 4 + int(rng() % 10)};
+      std::bernoulli_distribution on(density);
+      std::vector<std::uint8_t> in(std::size_t(g.count()));
+      for (auto& v : in) v = on(rng);
+      const std::uint8_t value = std::uint8_t(rng() % 2);
+      std::vector<std::int64_t> voxels;
+      std::bernoulli_distribution pick(0.05 + 0.1 * (trial % 4));
+      for (std::int64_t v = 0; v < g.count(); ++v)
+        if (pick(rng)) voxels.push_back(v);
+      std::vector<std::uint8_t> after = in;
+      for (const std::int64_t v : voxels) after[std::size_t(v)] = value;
+      const Betti b = voxelBetti(in, g), a = voxelBetti(after, g);
+      const long long expected = (a[0] - a[1] + a[2]) - (b[0] - b[1] + b[2]);
+      EXPECT_EQ(eulerCharacteristicChange(in, g, voxels, value), expected) << "density " << density << " trial " << trial;
+      nonzero += expected != 0;
+      ++changes;
+    }
+  }
+  EXPECT_EQ(changes, 100);
+  EXPECT_GT(nonzero, 50);  // the changes do change the topology: the test can fail
+  EXPECT_EQ(eulerCharacteristicChange(std::vector<std::uint8_t>(8, 0), GridSpec{Vec3::Zero(), 1.0, {2, 2, 2}}, {}, 1), 0);
+}
+
 TEST(DigitalTopology, RepairKeepsTheAnchoredComponentsAndFillsUnanchoredCavities) {
   // Two blocks, one anchored; a hollow cube whose cavity carries no outside anchor.
   GridSpec g;

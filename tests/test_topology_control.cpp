@@ -117,6 +117,59 @@ TEST(TopologyControl, ARingOfFourJoinsIsCutAtItsThinnestJoinAndKeepsEveryPlanesS
   EXPECT_EQ(test::slurp(dir / "free/report.html").find("<section id=\"topology\">"), std::string::npos);
 }
 
+/// An annulus between radii r0 and r1 on a horizontal plane.
+Section annulus(double r0, double r1) {
+  Section s = disk(0, 0, r1);
+  Ring hole = disk(0, 0, r0).outer;
+  std::reverse(hole.begin(), hole.end());
+  s.holes.push_back(hole);
+  return s;
+}
+
+/// A frustum's wall, 1 mm thick (radii 9-10 mm at z = 0, 10.5-11.5 mm at z = 10), cut by its two
+/// end planes and by the axial planes y = 0 and x = 0. Method 1 lifts each end's annulus half-way:
+/// in each of the four quadrant cells between the end planes the two halves of the wall miss each
+/// other by 0.5 mm, held together by the axial planes' sections: b1 = 5, the wall's own tunnel
+/// and four gaps (the mug's case, synthetic). Mends fill the four gaps.
+TEST(TopologyControl, TheGapsBetweenAWallsHalvesAreFilledCellByCell) {
+  const fs::path dir = test::freshDir("topology-frustum");
+  const auto axial = [](int slice, const Vec3& normal, const Vec3& u) {
+    CuttingPlane p;
+    p.slice = slice;
+    p.name = "axial " + std::to_string(slice);
+    p.plane.origin = Vec3::Zero();
+    p.plane.normal = normal;
+    p.plane.u = u;
+    p.plane.v = Vec3::UnitZ();
+    for (const double side : {1.0, -1.0}) {
+      Section s;
+      s.outer = {Vec2(9 * side, 0), Vec2(10 * side, 0), Vec2(11.5 * side, 10), Vec2(10.5 * side, 10)};
+      if (side < 0) std::reverse(s.outer.begin(), s.outer.end());
+      p.sections.push_back(s);
+    }
+    return p;
+  };
+  const std::vector<CuttingPlane> planes{horizontal(0, 0, {annulus(9, 10)}), horizontal(1, 10, {annulus(10.5, 11.5)}),
+                                         axial(2, Vec3::UnitY(), Vec3::UnitX()), axial(3, Vec3::UnitX(), Vec3::UnitY())};
+  writeCslFile((dir / "frustum.csl").string(), planes);
+  test::writeFile(dir / "config.yaml",
+                  "input:\n  csl: frustum.csl\nreconstruction:\n  voxel_size_mm: 0.25\noutput:\n  mesh: [ply]\n");
+  const nlohmann::json free = runRing(dir, "free", "");
+  ASSERT_EQ(free["betti"], nlohmann::json({1, 5, 0}));
+  const std::vector<double> freeIoU = cutIoUs(dir / "free/mesh.ply", readCslFile((dir / "frustum.csl").string()));
+  const nlohmann::json r = runRing(dir, "target", "--set reconstruction.topology=[1,1,0]");
+  EXPECT_EQ(r["betti"], nlohmann::json({1, 1, 0}));
+  EXPECT_EQ(r["voxel_betti"], r["betti"]);
+  int filled = 0;
+  for (const auto& c : r["topology"]["changes"]) {
+    filled += c["change"] == "gap_filled";
+    if (c["change"] == "gap_filled") EXPECT_GE(c["sections"].size(), 2u) << c.dump();  // it joins the halves
+  }
+  EXPECT_EQ(filled, 4) << r["topology"].dump();
+  const std::vector<double> iou = cutIoUs(dir / "target/mesh.ply", readCslFile((dir / "frustum.csl").string()));
+  for (std::size_t p = 0; p < iou.size(); ++p) EXPECT_GE(iou[p], freeIoU[p] - 0.01) << "plane " << p;
+}
+
 TEST(TopologyControl, FreeIsTheMethodsOwnSolidByteForByte) {
   const fs::path dir = fourDiskRing();
   runRing(dir, "plain", "");
@@ -203,31 +256,42 @@ namespace {
 
 /// Real contour sets (../shared/data, skipped when absent): the mug of the contour-set literature
 /// (5 planes of mixed orientations, genus 1) and OReX's Elephant (truth (1, 0, 0)). `simplest`
-/// never gives a feature more than the method's own solid; the truth as a target is met or
-/// refused naming the key (measured: refused on both, see README "Topology control").
-TEST(TopologyControlRealData, MugAndElephantSimplestNeverGainsAFeatureAndTheTruthIsMetOrRefused) {
+/// never gives a feature more than the method's own solid. The mug's truth is met by methods 1
+/// and 2 (their solids: b1 = 9 and 7, gaps between the walls lifted from parallel planes, filled
+/// by mends); on the Elephant (b1 = 11 and 13: pinholes where lifts meet next to planes) at most
+/// two tunnels are left (measured: 1 and 2), and the truth is met or refused naming the key.
+TEST(TopologyControlRealData, MugMeetsItsTruthAndTheElephantLosesAllButAtMostTwoTunnels) {
   const fs::path data = fs::path(XSECT_SOURCE_DIR) / "../shared/data";
-  const std::vector<std::tuple<std::string, std::string, std::string>> sets{
-      {"mug", "contour: " + (data / "contour/mug.contour").string(), "[1,1,0]"},
-      {"elephant", "csl: " + (data / "orex/Elephant.csl").string(), "[1,0,0]"}};
+  struct RealSet {
+    std::string name, input, truth;
+    int most_tunnels_left;  ///< simplest
+  };
+  const std::vector<RealSet> sets{{"mug", "contour: " + (data / "contour/mug.contour").string(), "[1,1,0]", 1},
+                                  {"elephant", "csl: " + (data / "orex/Elephant.csl").string(), "[1,0,0]", 2}};
   if (!fs::exists(data / "contour/mug.contour") || !fs::exists(data / "orex/Elephant.csl"))
     GTEST_SKIP() << "no ../shared/data";
-  for (const auto& [name, input, truth] : sets) {
-    const fs::path dir = test::freshDir("topology-" + name);
-    test::writeFile(dir / "config.yaml", "input:\n  " + input + "\noutput:\n  mesh: [ply]\n");
-    const nlohmann::json free = runRing(dir, "free", "");
-    const nlohmann::json simplest = runRing(dir, "simplest", "--set reconstruction.topology=simplest");
-    for (int i = 0; i < 3; ++i) EXPECT_LE(simplest["betti"][i], free["betti"][i]) << name;
-    EXPECT_EQ(simplest["voxel_betti"], simplest["betti"]) << name;
-    EXPECT_EQ(simplest["topology"]["betti_after"], simplest["betti"]) << name;
-    const auto r = test::runXsect("run " + (dir / "config.yaml").string() + " --out " + (dir / "target").string() +
-                                  " --quiet --set reconstruction.topology=" + truth);
-    if (r.code == 0)
-      EXPECT_EQ(test::readJson(dir / "target/report.json")["betti"], nlohmann::json::parse(truth)) << name;
-    else
-      EXPECT_TRUE(r.code == 2 && r.err.find("reconstruction.topology") != std::string::npos) << name << r.err;
-    fs::remove_all(dir);
-  }
+  for (const RealSet& set : sets)
+    for (const std::string method : {"nearest_plane", "section_voronoi"}) {
+      const std::string name = set.name + " " + method;
+      const fs::path dir = test::freshDir("topology-" + set.name);
+      test::writeFile(dir / "config.yaml", "input:\n  " + set.input + "\nreconstruction:\n  method: " + method +
+                                               "\noutput:\n  mesh: [ply]\n");
+      const nlohmann::json free = runRing(dir, "free", "");
+      const nlohmann::json simplest = runRing(dir, "simplest", "--set reconstruction.topology=simplest");
+      for (int i = 0; i < 3; ++i) EXPECT_LE(simplest["betti"][i], free["betti"][i]) << name;
+      EXPECT_EQ(simplest["voxel_betti"], simplest["betti"]) << name;
+      EXPECT_EQ(simplest["topology"]["betti_after"], simplest["betti"]) << name;
+      EXPECT_EQ(simplest["betti"][0], 1) << name;
+      EXPECT_LE(simplest["betti"][1], set.most_tunnels_left) << name;
+      const auto r = test::runXsect("run " + (dir / "config.yaml").string() + " --out " + (dir / "target").string() +
+                                    " --quiet --set reconstruction.topology=" + set.truth);
+      if (set.name == "mug") ASSERT_EQ(r.code, 0) << name << r.err;
+      if (r.code == 0)
+        EXPECT_EQ(test::readJson(dir / "target/report.json")["betti"], nlohmann::json::parse(set.truth)) << name;
+      else
+        EXPECT_TRUE(r.code == 2 && r.err.find("reconstruction.topology") != std::string::npos) << name << r.err;
+      fs::remove_all(dir);
+    }
 }
 
 }  // namespace

@@ -517,4 +517,47 @@ Betti voxelBetti(const BlockGrid<std::uint8_t>& in) {
   return betti(BlockRows(in), in.grid());
 }
 
+long long eulerCharacteristicChange(const std::vector<std::uint8_t>& in, const GridSpec& g,
+                                    const std::vector<std::int64_t>& voxels, std::uint8_t value) {
+  if (voxels.empty()) return 0;
+  std::array<int, 3> lo{g.dims[0], g.dims[1], g.dims[2]}, hi{-1, -1, -1};
+  for (const std::int64_t v : voxels) {
+    const std::array<int, 3> c{int(v % g.dims[0]), int((v / g.dims[0]) % g.dims[1]),
+                               int(v / (std::int64_t(g.dims[0]) * g.dims[1]))};
+    for (std::size_t a = 0; a < 3; ++a) lo[a] = std::min(lo[a], c[a]), hi[a] = std::max(hi[a], c[a]);
+  }
+  // Voxel (i, j, k) is the cube of doubled coordinates [2i, 2i + 2]^3; a lattice cell of doubled
+  // coordinates (a, b, c) has dimension the number of odd ones, and lies in the union when one of
+  // the voxels it bounds (one per odd coordinate, two per even one) is in the set.
+  const auto member = [&](int i, int j, int k, bool after) -> int {
+    if (i < 0 || j < 0 || k < 0 || i >= g.dims[0] || j >= g.dims[1] || k >= g.dims[2]) return 0;
+    const std::int64_t v = g.index(i, j, k);
+    if (after && std::binary_search(voxels.begin(), voxels.end(), v)) return value ? 1 : 0;
+    return in[std::size_t(v)] ? 1 : 0;
+  };
+  long long change = 0;
+  for (int c = 2 * lo[2]; c <= 2 * hi[2] + 2; ++c)
+    for (int b = 2 * lo[1]; b <= 2 * hi[1] + 2; ++b)
+      for (int a = 2 * lo[0]; a <= 2 * hi[0] + 2; ++a) {
+        const std::array<int, 3> d{a, b, c};
+        std::array<int, 3> first{}, count{};
+        int dim = 0;
+        for (std::size_t x = 0; x < 3; ++x) {
+          const bool odd = d[x] & 1;
+          dim += odd;
+          first[x] = odd ? (d[x] - 1) / 2 : d[x] / 2 - 1;
+          count[x] = odd ? 1 : 2;
+        }
+        int before = 0, after = 0;
+        for (int z = 0; z < count[2]; ++z)
+          for (int y = 0; y < count[1]; ++y)
+            for (int x = 0; x < count[0]; ++x) {
+              before |= member(first[0] + x, first[1] + y, first[2] + z, false);
+              after |= member(first[0] + x, first[1] + y, first[2] + z, true);
+            }
+        change += (dim % 2 ? -1 : 1) * (after - before);
+      }
+  return change;
+}
+
 }  // namespace xsect

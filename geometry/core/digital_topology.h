@@ -79,6 +79,13 @@ std::vector<int> solidComponents(const std::vector<std::uint8_t>& inside, const 
 /// Betti numbers of the union of the closed voxel cubes of `inside` (26-connected components,
 /// 6-connected bounded complement components, b1 from the Euler characteristic).
 Betti voxelBetti(const std::vector<std::uint8_t>& inside, const GridSpec& grid);
+
+/// The change of the Euler characteristic of the union of the closed voxel cubes of `inside` when
+/// the voxels `voxels` (grid indices, sorted) take `value` (0 or 1): a sum over the lattice cells
+/// next to them only, so its cost follows the change, not the grid. With b0 and b2 unchanged,
+/// b1 changes by minus it (b1 = b0 + b2 - chi).
+long long eulerCharacteristicChange(const std::vector<std::uint8_t>& inside, const GridSpec& grid,
+                                    const std::vector<std::int64_t>& voxels, std::uint8_t value);
 Betti voxelBetti(const BlockGrid<std::uint8_t>& inside);
 
 }  // namespace xsect

@@ -15,10 +15,17 @@
 
 #include "geometry/core/disjoint_sets.h"
 #include "geometry/core/section_ids.h"
+#include "geometry/reconstruction/cell_mends.h"
 
 namespace xsect {
 
 namespace {
+
+/// The largest ball of the mends (cell_mends.h), voxels: gaps up to 10 voxels wide are filled,
+/// necks up to 10 thick cut. Measured on the mug of the contour literature (5 planes): its four
+/// gaps between the walls lifted from two parallel planes need a ball of 5 voxels (3 and 4 leave
+/// b1 = 5, 6 does no better than 5).
+constexpr int kMendRadius = 5;
 
 /// The solid's box with a margin of empty voxels (so that well-composing and the Betti numbers
 /// see the same solid as on the whole grid): the work is bounded by the solid, not the grid.
@@ -119,7 +126,8 @@ std::vector<Patch> halfPatches(const std::vector<Patch>& patches, const GridSpec
 /// Every contact of two sections' lifts inside one cell, split into 26-connected patches.
 std::vector<Patch> contactPatches(const std::vector<std::uint8_t>& in, const std::vector<std::uint16_t>& src,
                                   const GridSpec& g, const std::vector<CuttingPlane>& planes,
-                                  std::size_t realPlanes, const SectionArrangement& arrangement) {
+                                  std::size_t realPlanes, const std::vector<SectionDistanceField>& fields,
+                                  const SectionArrangement& arrangement) {
   std::unordered_map<std::int64_t, CellKey> keyOf;
   const auto keyAt = [&](std::int64_t v, int i, int j, int k) -> const CellKey& {
     auto it = keyOf.find(v);
@@ -183,11 +191,7 @@ std::vector<Patch> contactPatches(const std::vector<std::uint8_t>& in, const std
       p.voxels = queue;
       for (const std::int64_t v : queue) {
         const std::array<int, 3> c = coords(v);
-        const Vec3 x = g.centre(c[0], c[1], c[2]);
-        bool nearPlane = false;
-        for (std::size_t q = 0; q < realPlanes && !nearPlane; ++q)
-          nearPlane = std::abs(planes[q].plane.signedDistance(x)) < g.voxel;
-        if (!nearPlane) p.removable.push_back(v);
+        if (planesAllow(g.centre(c[0], c[1], c[2]), false, planes, realPlanes, fields, g.voxel)) p.removable.push_back(v);
       }
       patches.push_back(std::move(p));
     }
@@ -295,6 +299,7 @@ std::vector<Tube> joinCandidates(const std::vector<CuttingPlane>& planes,
 /// farther than a voxel from every real plane, not in the solid yet.
 std::vector<std::int64_t> tubeVoxels(const Tube& t, const std::vector<std::uint8_t>& in, const GridSpec& g,
                                      const std::vector<CuttingPlane>& planes, std::size_t realPlanes,
+                                     const std::vector<SectionDistanceField>& fields,
                                      const SectionArrangement& arrangement) {
   std::vector<std::int64_t> out;
   const Vec3 lo = t.from.cwiseMin(t.to) - Vec3::Constant(t.radius), hi = t.from.cwiseMax(t.to) + Vec3::Constant(t.radius);
@@ -313,10 +318,8 @@ std::vector<std::int64_t> tubeVoxels(const Tube& t, const std::vector<std::uint8
         const Vec3 x = g.centre(i, j, k);
         const double u = l2 > 0 ? std::clamp((x - t.from).dot(d) / l2, 0.0, 1.0) : 0.0;
         if ((t.from + u * d - x).norm() > t.radius) continue;
-        bool nearPlane = false;
-        for (std::size_t q = 0; q < realPlanes && !nearPlane; ++q)
-          nearPlane = std::abs(planes[q].plane.signedDistance(x)) < g.voxel;
-        if (nearPlane || cellKeyAt(arrangement, planes, x) != t.key) continue;
+        if (!planesAllow(x, true, planes, realPlanes, fields, g.voxel) || cellKeyAt(arrangement, planes, x) != t.key)
+          continue;
         out.push_back(v);
       }
   return out;
@@ -357,9 +360,10 @@ struct JoinGraph {
   std::vector<char> alive;                ///< the joins the solid makes now
 };
 
-/// The graph edges (section, section, cell) of the patches whose last patch was cut, and of the
-/// tubes added.
+/// The graph edges (section, section, cell) whose last patch was cut (or whose voxels necks cut
+/// removed), and those tubes and gaps filled added.
 void graphEdges(const std::vector<Patch>& patches, const std::vector<Tube>& tubes, const JoinGraph& graph,
+                const std::vector<std::array<int, 3>>& filled, const std::vector<std::uint8_t>& in,
                 const std::vector<CuttingPlane>& planes, TopologyControl& out) {
   const SectionIds ids(planes);  // the end planes hold no section: the real planes' ids
   const auto edge = [&](int a1, int b1, int cell) {
@@ -373,35 +377,43 @@ void graphEdges(const std::vector<Patch>& patches, const std::vector<Tube>& tube
   };
   std::map<std::tuple<int, int, int>, int> left;
   for (std::size_t p = 0; p < patches.size(); ++p)
-    if (!patches[p].partial) left[{patches[p].a, patches[p].b, patches[p].cell}] += graph.alive[p];
+    if (!patches[p].partial)
+      left[{patches[p].a, patches[p].b, patches[p].cell}] +=
+          graph.alive[p] && std::any_of(patches[p].voxels.begin(), patches[p].voxels.end(), [&](std::int64_t v) { return in[std::size_t(v)] != 0; });
   for (const auto& [k, n] : left)
     if (n == 0 && std::get<2>(k) >= 0) out.edges_cut.push_back(edge(std::get<0>(k), std::get<1>(k), std::get<2>(k)));
   for (std::size_t t = 0; t < tubes.size(); ++t)
     if (graph.alive[patches.size() + t]) out.edges_added.push_back(edge(tubes[t].a, tubes[t].b, tubes[t].cell));
+  for (const auto& [a, b, cell] : filled)
+    if (cell >= 0) out.edges_added.push_back(edge(a, b, cell));
   std::sort(out.edges_cut.begin(), out.edges_cut.end());
   std::sort(out.edges_added.begin(), out.edges_added.end());
+  out.edges_added.erase(std::unique(out.edges_added.begin(), out.edges_added.end()), out.edges_added.end());
 }
 
 /// The greedy search over the changes of the cells (see topology_control.h) on the solid's box:
-/// candidates `c` index the patches, then the tubes.
+/// candidates `c` index the patches, then the tubes, then the mends.
 class Search {
  public:
-  Search(std::vector<Patch> patches, std::vector<Tube> tubes, std::vector<std::uint8_t>& in, const GridSpec& g,
-         const std::vector<CuttingPlane>& planes, std::size_t realPlanes, const SectionArrangement& arrangement,
+  Search(std::vector<Patch> patches, std::vector<Tube> tubes, std::vector<CellMend> mends, std::vector<std::uint8_t>& in,
+         const GridSpec& g, const std::vector<CuttingPlane>& planes, std::size_t realPlanes,
+         const std::vector<SectionDistanceField>& fields, const SectionArrangement& arrangement,
          const TopologyGoal& goal, TopologyControl& out)
-      : patches_(std::move(patches)), tubes_(std::move(tubes)), in_(in), g_(g), planes_(planes),
-        realPlanes_(realPlanes), arrangement_(arrangement), goal_(goal), out_(out) {
+      : patches_(std::move(patches)), tubes_(std::move(tubes)), mends_(std::move(mends)), in_(in), g_(g),
+        planes_(planes), realPlanes_(realPlanes), fields_(fields), arrangement_(arrangement), goal_(goal), out_(out) {
     graph_.nodes = SectionIds(planes).count() + 1;
     for (const Patch& p : patches_) graph_.edges.push_back({p.a, p.b});
     for (const Tube& t : tubes_) graph_.edges.push_back({t.a, t.b});
     graph_.alive.assign(graph_.edges.size(), 0);
     for (std::size_t p = 0; p < patches_.size(); ++p) graph_.alive[p] = !patches_[p].partial;
     // The order tried: cheapest first (voxels removed or added), else as listed (deterministic).
-    const auto cost = [&](std::size_t c) { return isCut(c) ? double(patches_[c].voxels.size()) : tube(c).cost; };
-    order_.resize(graph_.edges.size());
+    const auto cost = [&](std::size_t c) {
+      return isMend(c) ? double(mend(c).voxels.size()) : isCut(c) ? double(patches_[c].voxels.size()) : tube(c).cost;
+    };
+    order_.resize(graph_.edges.size() + mends_.size());
     for (std::size_t c = 0; c < order_.size(); ++c) order_[c] = c;
     std::stable_sort(order_.begin(), order_.end(), [&](std::size_t x, std::size_t y) { return cost(x) < cost(y); });
-    tried_.assign(graph_.edges.size(), 0);
+    tried_.assign(order_.size(), 0);
     visited_.insert(out_.after);
   }
 
@@ -409,14 +421,17 @@ class Search {
     while (out_.evaluated < goal_.max_evaluations && !reached() && pass())
       if (progress) progress(out_.evaluated, goal_.max_evaluations);
     if (progress) progress(out_.evaluated, out_.evaluated);  // the count the stage's line ends with
-    graphEdges(patches_, tubes_, graph_, planes_, out_);
+    graphEdges(patches_, tubes_, graph_, filled_, in_, planes_, out_);
   }
 
  private:
   bool isCut(std::size_t c) const { return c < patches_.size(); }
+  bool isMend(std::size_t c) const { return c >= patches_.size() + tubes_.size(); }
   const Tube& tube(std::size_t c) const { return tubes_[c - patches_.size()]; }
+  const CellMend& mend(std::size_t c) const { return mends_[c - patches_.size() - tubes_.size()]; }
   bool reached() const { return goal_.mode == TopologyMode::target && out_.after == goal_.target; }
   double width(std::size_t c) const {
+    if (isMend(c)) return 2 * mend(c).radius * g_.voxel;
     return isCut(c) ? std::sqrt(double(patches_[c].voxels.size()) / 2.0) * g_.voxel : 2 * tube(c).radius;
   }
 
@@ -424,6 +439,11 @@ class Search {
   bool wanted(std::size_t c, const std::vector<char>& bridge, DisjointSets& parts) const {
     const Betti& b = out_.after;
     const Betti t = goal_.mode == TopologyMode::target ? goal_.target : Betti{1, 0, 0};
+    if (isMend(c)) {  // a mend changes tunnels and cavities only (a change of b0 is not kept)
+      if (goal_.mode == TopologyMode::simplest && goal_.min_feature_mm > 0 && width(c) > goal_.min_feature_mm)
+        return false;
+      return b[1] != t[1] || (mend(c).fill ? b[2] > t[2] : b[2] != t[2]);
+    }
     if (isCut(c)) {
       const Patch& p = patches_[c];
       if (p.removable.empty()) return false;
@@ -435,13 +455,73 @@ class Search {
     return merges ? b[0] > t[0] : b[1] != t[1];
   }
 
-  /// Change c applied to a copy of the solid, made well-composed: the voxels changed, the copy and
-  /// its Betti numbers.
-  Betti apply(std::size_t c, std::vector<std::int64_t>& change, std::vector<std::uint8_t>& next) {
-    change = isCut(c) ? patches_[c].removable : tubeVoxels(tube(c), in_, g_, planes_, realPlanes_, arrangement_);
-    if (change.empty()) return out_.after;  // nothing to change (a tube wholly in the solid)
+  bool removes(std::size_t c) const { return isMend(c) ? !mend(c).fill : isCut(c); }
+
+  /// The voxels change c would change now (a mend found on the first solid may be partly done
+  /// since; a tube is clipped to what the planes allow).
+  std::vector<std::int64_t> changeOf(std::size_t c) const {
+    std::vector<std::int64_t> change = isMend(c) ? mend(c).voxels
+                                       : isCut(c) ? patches_[c].removable
+                                                  : tubeVoxels(tube(c), in_, g_, planes_, realPlanes_, fields_, arrangement_);
+    const bool value = !removes(c);
+    change.erase(std::remove_if(change.begin(), change.end(),
+                                [&](std::int64_t v) { return bool(in_[std::size_t(v)]) == value; }),
+                 change.end());
+    return change;
+  }
+
+  /// Whether the change's neighbourhood alone shows that change c cannot move the solid toward the
+  /// goal, so that no Betti computation of the box is spent on it. With no cavity now nor wanted
+  /// and b0 as wanted (a mend that changes b0 is not kept, nor, in strict steps, any change):
+  /// a removal that encloses a cavity moves b2 away; otherwise b1 changes by minus the change of
+  /// the Euler characteristic (eulerCharacteristicChange) plus the cavities made, so it can only
+  /// come down when chi goes up, and up when chi goes down.
+  bool cannotMove(std::size_t c, const std::vector<std::int64_t>& change) const {
+    const Betti& b = out_.after;
+    const Betti t = goal_.mode == TopologyMode::target ? goal_.target : Betti{1, 0, 0};
+    if (b[2] != 0 || t[2] != 0 || (!isMend(c) && b[0] != t[0])) return false;
+    if (removes(c) && enclosesVoxels(change)) return true;  // a cavity made: b2 away from 0
+    const long long chi = eulerCharacteristicChange(in_, g_, change, removes(c) ? 0 : 1);
+    return b[1] > t[1] ? chi <= 0 : b[1] < t[1] ? chi >= 0 : true;
+  }
+
+  /// Whether removing `voxels` (sorted) from the solid leaves one of their 6-connected groups
+  /// without a face-neighbour outside the solid: a cavity (before well-composing).
+  bool enclosesVoxels(const std::vector<std::int64_t>& voxels) const {
+    std::vector<char> seen(voxels.size(), 0);
+    const auto indexOf = [&](std::int64_t v) {
+      const auto it = std::lower_bound(voxels.begin(), voxels.end(), v);
+      return it != voxels.end() && *it == v ? std::ptrdiff_t(it - voxels.begin()) : std::ptrdiff_t(-1);
+    };
+    const std::array<std::int64_t, 3> stride{1, g_.dims[0], std::int64_t(g_.dims[0]) * g_.dims[1]};
+    for (std::size_t s = 0; s < voxels.size(); ++s) {
+      if (seen[s]) continue;
+      bool open = false;
+      std::vector<std::size_t> queue{s};
+      seen[s] = 1;
+      for (std::size_t at = 0; at < queue.size(); ++at) {
+        const std::int64_t v = voxels[queue[at]];
+        const std::array<int, 3> x{int(v % g_.dims[0]), int((v / g_.dims[0]) % g_.dims[1]), int(v / stride[2])};
+        for (int a = 0; a < 3; ++a)
+          for (const int d : {-1, 1}) {
+            const int y = x[std::size_t(a)] + d;
+            if (y < 0 || y >= g_.dims[std::size_t(a)]) { open = true; continue; }
+            const std::int64_t w = v + d * stride[std::size_t(a)];
+            const std::ptrdiff_t i = indexOf(w);
+            if (i < 0) open = open || !in_[std::size_t(w)];
+            else if (!seen[std::size_t(i)]) seen[std::size_t(i)] = 1, queue.push_back(std::size_t(i));
+          }
+      }
+      if (!open) return true;
+    }
+    return false;
+  }
+
+  /// `change` (changeOf(c)) applied to a copy of the solid, made well-composed: the copy and its
+  /// Betti numbers.
+  Betti apply(std::size_t c, const std::vector<std::int64_t>& change, std::vector<std::uint8_t>& next) {
     next = in_;
-    for (const std::int64_t v : change) next[std::size_t(v)] = isCut(c) ? 0 : 1;
+    for (const std::int64_t v : change) next[std::size_t(v)] = removes(c) ? 0 : 1;
     makeWellComposed(next, g_);
     ++out_.evaluated;
     return voxelBetti(next, g_);
@@ -452,13 +532,25 @@ class Search {
     in_ = std::move(next);
     out_.after = nb;
     visited_.insert(nb);
-    if (!cut || !patches_[c].partial) graph_.alive[c] = cut ? 0 : 1;
     CellChange ch;
-    ch.partial = cut && patches_[c].partial;
-    ch.added = !cut;
-    ch.section_a = graph_.edges[c][0] - 1;
-    ch.section_b = graph_.edges[c][1] - 1;
-    ch.cell = cut ? patches_[c].cell : tube(c).cell;
+    if (isMend(c)) {
+      const CellMend& m = mend(c);
+      ch.kind = m.fill ? CellChangeKind::gap_filled : CellChangeKind::neck_cut;
+      for (const int s : m.sections) ch.sections.push_back(s - 1);
+      ch.cell = cellOfKey(arrangement_, m.key);
+      for (std::size_t i = 0; m.fill && i < m.sections.size(); ++i)
+        for (std::size_t j = i + 1; j < m.sections.size(); ++j) {
+          filled_.push_back({m.sections[i], m.sections[j], ch.cell});
+          graph_.edges.push_back({m.sections[i], m.sections[j]});  // the join graph gains the joins
+          graph_.alive.push_back(1);
+        }
+    } else {
+      if (!cut || !patches_[c].partial) graph_.alive[c] = cut ? 0 : 1;
+      ch.kind = !cut ? CellChangeKind::join_added
+                     : patches_[c].partial ? CellChangeKind::join_halved : CellChangeKind::join_cut;
+      ch.sections = {graph_.edges[c][0] - 1, graph_.edges[c][1] - 1};
+      ch.cell = cut ? patches_[c].cell : tube(c).cell;
+    }
     ch.at = centreOf(cut ? patches_[c].voxels : change, g_);
     ch.voxels = std::int64_t(change.size());
     ch.width_mm = width(c);
@@ -476,14 +568,15 @@ class Search {
     std::optional<std::size_t> fallback;  // the first change that overshoots but comes nearer
     std::optional<std::size_t> sideways;  // else the first to Betti numbers as near, not met before
     for (const std::size_t c : order_) {
-      const bool partial = isCut(c) && patches_[c].partial;
-      if (tried_[c] || (!partial && graph_.alive[c] != char(isCut(c))) || !wanted(c, bridge, parts)) continue;
+      const bool untied = isMend(c) || (isCut(c) && patches_[c].partial);  // not tied to one join's state
+      if (tried_[c] || (!untied && graph_.alive[c] != char(isCut(c))) || !wanted(c, bridge, parts)) continue;
       if (out_.evaluated >= goal_.max_evaluations) break;
       tried_[c] = 1;
-      std::vector<std::int64_t> change;
+      const std::vector<std::int64_t> change = changeOf(c);
+      if (change.empty() || cannotMove(c, change)) continue;
       std::vector<std::uint8_t> next;
       const Betti nb = apply(c, change, next);
-      if (change.empty()) continue;
+      if (isMend(c) && nb[0] != out_.after[0]) continue;
       if (moves(goal_, out_.after, nb, true)) {
         keep(c, change, next, nb);
         return true;
@@ -498,7 +591,7 @@ class Search {
     // an added join makes one back).
     if (!fallback && !sideways) return false;
     const std::size_t c = fallback ? *fallback : *sideways;
-    std::vector<std::int64_t> change;
+    const std::vector<std::int64_t> change = changeOf(c);
     std::vector<std::uint8_t> next;
     const Betti nb = apply(c, change, next);
     keep(c, change, next, nb);
@@ -507,10 +600,13 @@ class Search {
 
   std::vector<Patch> patches_;
   std::vector<Tube> tubes_;
+  std::vector<CellMend> mends_;
+  std::vector<std::array<int, 3>> filled_;  ///< (1 + section, 1 + section, cell) joined by gaps filled
   std::vector<std::uint8_t>& in_;
   const GridSpec& g_;
   const std::vector<CuttingPlane>& planes_;
   std::size_t realPlanes_;
+  const std::vector<SectionDistanceField>& fields_;
   const SectionArrangement& arrangement_;
   const TopologyGoal& goal_;
   TopologyControl& out_;
@@ -531,19 +627,24 @@ TopologyControl controlTopology(std::vector<std::uint8_t>& inside, const GridSpe
   if (inside.size() != std::size_t(grid.count()) || source.size() != inside.size() || fields.size() != planes.size())
     throw std::invalid_argument("controlTopology: the solid, its sources, the grid and the planes differ in size");
   TopologyControl out;
-  const Box box = solidBox(inside, grid, 2);
+  const Box box = solidBox(inside, grid, kMendRadius + 1);
   std::vector<std::uint8_t> in = intoBox(inside, grid, box);
   const GridSpec& g = box.grid;
   out.before = out.after = voxelBetti(in, g);
   const bool done = goal.mode == TopologyMode::free || (goal.mode == TopologyMode::target && out.after == goal.target);
   if (!done && g.count() > 0) {
-    std::vector<Patch> patches = contactPatches(in, intoBox(source, grid, box), g, planes, real_planes, arrangement);
+    const std::vector<std::uint16_t> src = intoBox(source, grid, box);
+    std::vector<Patch> patches = contactPatches(in, src, g, planes, real_planes, fields, arrangement);
     std::vector<Tube> tubes = joinCandidates(planes, fields, arrangement, g.voxel);
     out.joins = int(patches.size());
     for (const Patch& p : patches) out.joins_forced += p.removable.empty();
     out.joins_possible = int(tubes.size());
+    std::vector<CellMend> mends = cellMends(in, src, g, planes, real_planes, fields, arrangement, kMendRadius);
+    out.mends_possible = int(mends.size());
     for (Patch& h : halfPatches(patches, g)) patches.push_back(std::move(h));
-    Search(std::move(patches), std::move(tubes), in, g, planes, real_planes, arrangement, goal, out).run(progress);
+    Search(std::move(patches), std::move(tubes), std::move(mends), in, g, planes, real_planes, fields, arrangement, goal,
+           out)
+        .run(progress);
     outOfBox(in, box, inside, grid);
   }
   out.reached = goal.mode != TopologyMode::target || out.after == goal.target;

@@ -15,15 +15,23 @@
 //    smaller depth, at least 1.5 voxels; the cell is convex, so the segment lies in it, and the
 //    tube is clipped to it); between two sections the cell joins already, the tube may fill the
 //    tunnel between two of their contacts (where they cross at a trace, contacts no cut can remove).
-// No voxel within one voxel of a real plane is removed or added, so the cut of the solid by every
-// plane (its sections) is unchanged; a patch none of whose voxels may be removed is forced.
+//  - a cell is *mended* (cell_mends.h): a gap that a ball closing of radius 1-3 voxels fills in
+//    the cell is filled (the sections it touches are then joined in the cell), a neck that an
+//    opening removes is cut (a join whose contact it removes whole is cut with it). A mend that
+//    changes b0 is not kept: components are the joins' business.
+// A voxel within one voxel of a real plane changes only to what the plane's sections say at its
+// projection (cell_mends.h, planesAllow), so the cut of the solid by every plane (its sections)
+// is unchanged; a patch none of whose voxels may be removed is forced.
 //
 // The search is greedy, cheapest change first (cost: voxels removed or added, so that thin
 // contacts, the spurious tunnels between sparse planes, go before wide ones; ties in a fixed
 // order). The join graph (nodes: the sections; edges: the joins kept) says what a change can do:
 // cutting a bridge splits a component, cutting another join removes a tunnel, adding a join
 // between components merges them, adding one within a component makes or fills a tunnel; only
-// changes that can move the solid toward the goal are tried. Each is applied to a copy, made
+// changes that can move the solid toward the goal are tried, and not those whose neighbourhood
+// shows they cannot (with no cavity now nor wanted: a removal enclosing voxels makes a cavity;
+// otherwise b1 comes down only when the Euler characteristic goes up, eulerCharacteristicChange,
+// which leaves 2-10% of the candidates to evaluate on real contour sets). Each is applied to a copy, made
 // well-composed (digital_topology.h), and kept when its Betti numbers (voxelBetti) do:
 //  - target [b0, b1, b2]: each b_i moves toward target_i without passing it, and the sum of
 //    |b_i - target_i| decreases. When no change of a pass does, the first that decreases the sum
@@ -31,7 +39,8 @@
 //    before (a cut that removed two tunnels where one was asked for, after which a tube makes one);
 //  - simplest: no Betti number grows and their sum decreases; with min_feature_mm > 0, joins
 //    wider than it (width: sqrt(patch voxels / 2) voxels, in mm) are not cut.
-// It stops at the target, when no change is left to try, or after max_evaluations changes tried.
+// It stops at the target, when no change is left to try, or after max_evaluations changes
+// evaluated (Betti computations of the box).
 #pragma once
 
 #include <cstdint>
@@ -41,21 +50,40 @@
 #include "geometry/arrangement/connectivity_graph.h"
 #include "geometry/arrangement/section_arrangement.h"
 #include "geometry/core/digital_topology.h"
+#include "geometry/core/named_choice.h"
 #include "geometry/core/types.h"
 #include "geometry/reconstruction/topology_goal.h"
 #include "geometry/scene/section_distance_field.h"
 
 namespace xsect {
 
-/// One change of one cell: a join cut or added.
+/// What a change does in its cell.
+enum class CellChangeKind {
+  join_cut,     ///< a contact patch removed: the join is gone from the cell
+  join_halved,  ///< half a patch removed: the join stays, a ring-shaped contact is broken
+  join_added,   ///< a tube added between two sections
+  gap_filled,   ///< a gap a ball closing fills (cell_mends.h): joins the sections it touches
+  neck_cut      ///< a neck a ball opening removes (cell_mends.h): a join whose contact it removes is cut
+};
+
+/// The names report.json gives the kinds.
+inline constexpr std::array<NamedChoice<CellChangeKind>, 5> kCellChangeKinds{
+    {{CellChangeKind::join_cut, "join_cut"},
+     {CellChangeKind::join_halved, "join_halved"},
+     {CellChangeKind::join_added, "join_added"},
+     {CellChangeKind::gap_filled, "gap_filled"},
+     {CellChangeKind::neck_cut, "neck_cut"}}};
+
+/// One change of one cell.
 struct CellChange {
-  bool added = false;                ///< a join added (else cut)
-  bool partial = false;              ///< half a patch cut: the join stays, a ring-shaped contact is broken
-  int section_a = 0, section_b = 0;  ///< flat section ids (section_ids.h), a < b
+  CellChangeKind kind = CellChangeKind::join_cut;
+  /// Flat section ids (section_ids.h), sorted: a join's two; a mend's, those it touches.
+  std::vector<int> sections;
   int cell = -1;                     ///< the arrangement's cell id, -1 where no section point bounds it
   Vec3 at = Vec3::Zero();            ///< the change's centre, mm
   std::int64_t voxels = 0;           ///< voxels removed or added
-  double width_mm = 0;               ///< cut: the patch's width; added: the tube's diameter
+  /// cut: the patch's width; added: the tube's diameter; a mend: its ball's diameter.
+  double width_mm = 0;
   Betti after{0, 0, 0};              ///< the solid's Betti numbers after it
 };
 
@@ -64,6 +92,7 @@ struct TopologyControl {
   int joins = 0;          ///< contact patches found inside cells
   int joins_forced = 0;   ///< of them, within one voxel of a real plane everywhere
   int joins_possible = 0; ///< pairs of sections on different faces of a cell (tubes that may be added)
+  int mends_possible = 0; ///< gaps to fill and necks to cut found (cell_mends.h)
   int evaluated = 0;      ///< changes tried
   bool reached = true;    ///< mode target: `after` is the target
   std::vector<CellChange> changes;

@@ -19,8 +19,8 @@ inline constexpr std::array<NamedChoice<TopologyMode>, 2> kTopologyModes{{{Topol
 struct TopologyGoal {
   TopologyMode mode = TopologyMode::free;
   std::array<int, 3> target{1, 0, 0};  ///< mode target: b0 (>= 1), b1, b2
-  double min_feature_mm = 0;           ///< mode simplest: joins wider than this are kept (0: none kept)
-  int max_evaluations = 400;           ///< cuts tried at most (each one Betti computation of the solid's box)
+  double min_feature_mm = 0;           ///< mode simplest: joins wider than this are kept, no mend wider is made (0: no limit)
+  int max_evaluations = 400;           ///< changes evaluated at most (each one Betti computation of the solid's box)
 };
 
 }  // namespace xsect

@@ -1,0 +1,24 @@
+// Closing and opening of a voxel set by a ball (the voxel centres within `radius` voxels of the
+// centre), through the exact distance transform (distance_transform.h). The closing adds the gaps
+// narrower than the ball (a slot of at most 2r voxels between two walls; not a hole through a thin
+// sheet, which a ball can touch from outside); the opening removes the necks and fins thinner
+// than it (at most 2r voxels across). Voxels beyond the grid count as outside the set, so a set
+// should keep `radius` voxels of empty margin for the closing to mean the same as on a larger grid.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "geometry/core/types.h"
+
+namespace xsect {
+
+/// @param set     1 = voxel of the set, one byte per voxel of `grid`.
+/// @param radius  the ball's radius, voxels (> 0).
+/// @return        the closing (the set dilated by the ball, then eroded by it): a superset of `set`.
+std::vector<std::uint8_t> ballClosing(const std::vector<std::uint8_t>& set, const GridSpec& grid, double radius);
+
+/// @return        the opening (the set eroded by the ball, then dilated by it): a subset of `set`.
+std::vector<std::uint8_t> ballOpening(const std::vector<std::uint8_t>& set, const GridSpec& grid, double radius);
+
+}  // namespace xsect

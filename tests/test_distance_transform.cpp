@@ -1,0 +1,94 @@
+// The exact distance transform (geometry/core/distance_transform.h) against brute force on random
+// sets, and the ball closing and opening (ball_morphology.h) against their definitions: the
+// closing holds the set and fills a slot narrower than the ball, the opening is held by the set
+// and removes a neck thinner than the ball.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <vector>
+
+#include "geometry/core/ball_morphology.h"
+#include "geometry/core/distance_transform.h"
+
+using namespace xsect;
+
+namespace {
+
+GridSpec grid(int nx, int ny, int nz) {
+  GridSpec g;
+  g.dims = {nx, ny, nz};
+  return g;
+}
+
+TEST(DistanceTransform, EqualsTheNearestVoxelByBruteForceOnRandomSets) {
+  for (int seed = 1; seed <= 20; ++seed) {
+    std::mt19937 rng(static_cast<unsigned>(seed));
+    const GridSpec g = grid(7 + seed % 5, 5 + seed % 7, 6 + seed % 3);
+    const double density = 0.002 + 0.02 * (seed % 6);
+    std::bernoulli_distribution in(density);
+    std::vector<std::uint8_t> set(std::size_t(g.count()));
+    for (auto& v : set) v = in(rng);
+    const std::vector<float> d = squaredDistanceToSet(set, g);
+    for (int k = 0; k < g.dims[2]; ++k)
+      for (int j = 0; j < g.dims[1]; ++j)
+        for (int i = 0; i < g.dims[0]; ++i) {
+          double best = kNoVoxel;
+          for (int c = 0; c < g.dims[2]; ++c)
+            for (int b = 0; b < g.dims[1]; ++b)
+              for (int a = 0; a < g.dims[0]; ++a)
+                if (set[std::size_t(g.index(a, b, c))])
+                  best = std::min(best, double((a - i) * (a - i) + (b - j) * (b - j) + (c - k) * (c - k)));
+          ASSERT_EQ(double(d[std::size_t(g.index(i, j, k))]), best) << "seed " << seed << " at " << i << " " << j << " " << k;
+        }
+  }
+}
+
+TEST(DistanceTransform, RefusesASetOfAnotherSize) {
+  EXPECT_THROW(squaredDistanceToSet(std::vector<std::uint8_t>(5, 0), grid(2, 2, 2)), std::invalid_argument);
+}
+
+/// Two slabs across a 25 x 15 x 15 grid, x <= 9 and x >= 10 + gap: a slot `gap` voxels wide.
+std::vector<std::uint8_t> slot(const GridSpec& g, int gap) {
+  std::vector<std::uint8_t> set(std::size_t(g.count()), 0);
+  for (int k = 2; k < g.dims[2] - 2; ++k)
+    for (int j = 2; j < g.dims[1] - 2; ++j)
+      for (int i = 4; i < g.dims[0] - 4; ++i)
+        if (i <= 9 || i >= 10 + gap) set[std::size_t(g.index(i, j, k))] = 1;
+  return set;
+}
+
+TEST(BallMorphology, ClosingHoldsTheSetAndFillsOnlySlotsNarrowerThanTheBall) {
+  const GridSpec g = grid(25, 15, 15);
+  for (const int gap : {1, 2, 3, 4, 5})
+    for (const double r : {1.0, 2.0}) {
+      const std::vector<std::uint8_t> set = slot(g, gap);
+      const std::vector<std::uint8_t> closed = ballClosing(set, g, r);
+      for (std::size_t v = 0; v < set.size(); ++v) ASSERT_TRUE(!set[v] || closed[v]);
+      // No ball of radius r (2r + 1 voxels across) fits in a slot of at most 2r voxels.
+      EXPECT_EQ(bool(closed[std::size_t(g.index(10, 7, 7))]), gap <= 2 * r) << "gap " << gap << " radius " << r;
+      EXPECT_FALSE(closed[std::size_t(g.index(1, 7, 7))]);  // beyond the slabs: not filled
+    }
+}
+
+TEST(BallMorphology, OpeningIsHeldByTheSetAndRemovesNecksThinnerThanTheBall) {
+  const GridSpec g = grid(31, 15, 15);
+  // Two 9^3 blocks joined by a square neck of side `neck` voxels along x.
+  for (const int neck : {1, 3})
+    for (const double r : {1.0, 2.0}) {
+      std::vector<std::uint8_t> set(std::size_t(g.count()), 0);
+      for (int k = 3; k < 12; ++k)
+        for (int j = 3; j < 12; ++j)
+          for (int i = 2; i < 29; ++i) {
+            const bool block = i < 11 || i >= 20;
+            const bool inNeck = std::abs(j - 7) * 2 < neck && std::abs(k - 7) * 2 < neck;
+            if (block || inNeck) set[std::size_t(g.index(i, j, k))] = 1;
+          }
+      const std::vector<std::uint8_t> opened = ballOpening(set, g, r);
+      for (std::size_t v = 0; v < set.size(); ++v) ASSERT_TRUE(!opened[v] || set[v]);
+      EXPECT_TRUE(opened[std::size_t(g.index(6, 7, 7))]);  // the blocks' centres stay
+      EXPECT_EQ(bool(opened[std::size_t(g.index(15, 7, 7))]), neck > 2 * r) << "neck " << neck << " radius " << r;
+    }
+  EXPECT_THROW(ballOpening(std::vector<std::uint8_t>(8, 0), grid(2, 2, 2), 0.0), std::invalid_argument);
+}
+
+}  // namespace
