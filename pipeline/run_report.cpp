@@ -204,6 +204,16 @@ json topologyJson(const RunResults& r) {
   }
   std::sort(cells.begin(), cells.end());
   cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  json features = json::array();
+  for (const TopologyFeature& f : t.features)
+    features.push_back({{"kind", f.dimension == 1 ? "tunnel" : "cavity"},
+                        {"size_mm", f.size_mm},
+                        {"birth_mm", f.birth_mm},
+                        {"death_mm", std::isfinite(f.death_mm) ? json(f.death_mm) : json(nullptr)},
+                        {"born_at_mm", vecJson(f.born_at)},
+                        {"dies_at_mm", vecJson(f.dies_at)},
+                        {"cells", f.born_in_cell == f.dies_in_cell ? json({f.born_in_cell})
+                                                                   : json({f.born_in_cell, f.dies_in_cell})}});
   return {{"mode", goal.mode == TopologyMode::target ? "target" : nameOf(kTopologyModes, goal.mode)},
           {"target", goal.mode == TopologyMode::target ? json(goal.target) : json(nullptr)},
           {"min_feature_mm", goal.mode == TopologyMode::simplest ? json(goal.min_feature_mm) : json(nullptr)},
@@ -217,6 +227,8 @@ json topologyJson(const RunResults& r) {
           {"changes_tried", t.evaluated},
           {"changes", changes},
           {"cells_changed", cells},
+          {"features", t.features_computed ? features : json(nullptr)},
+          {"features_voxels", t.features_voxels},
           {"search_s", t.seconds}};
 }
 

@@ -15,6 +15,7 @@ PKGS=(build-essential cmake ninja-build pkg-config libcgal-dev libopencv-dev lib
       nlohmann-json3-dev libcli11-dev zlib1g-dev libssl-dev python3
       libpugixml-dev  # PLUS device-set XML (io/plus_device_set)
       libceres-dev  # pose correction's robust least squares (geometry/conformity/pose_correction)
+      libgudhi-dev  # persistence of handles and cavities (geometry/reconstruction/topology_features)
       libjs-three  # three.js, inlined into report.html's 3D view
       graphviz  # dot: the connectivity graph as inline SVG in report.html
       clang libclang-rt-dev)  # clang + its runtimes: libFuzzer, ASan, UBSan (scripts/fuzz.sh)

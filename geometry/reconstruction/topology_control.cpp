@@ -648,6 +648,18 @@ TopologyControl controlTopology(std::vector<std::uint8_t>& inside, const GridSpe
     outOfBox(in, box, inside, grid);
   }
   out.reached = goal.mode != TopologyMode::target || out.after == goal.target;
+  // The features on the solid's own box, with one voxel of margin (a tunnel's hole lies in the
+  // hull of its loop): a third fewer voxels than the search's box.
+  const Box tight = solidBox(in, g, 1);
+  out.features_voxels = tight.grid.count();
+  if (tight.grid.count() > 0 && tight.grid.count() <= kMaxFeatureVoxels) {
+    out.features = topologyFeatures(intoBox(in, g, tight), tight.grid);
+    out.features_computed = true;
+    for (TopologyFeature& f : out.features) {
+      f.born_in_cell = cellOfKey(arrangement, cellKeyAt(arrangement, planes, f.born_at));
+      f.dies_in_cell = cellOfKey(arrangement, cellKeyAt(arrangement, planes, f.dies_at));
+    }
+  }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

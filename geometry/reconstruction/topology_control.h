@@ -52,6 +52,7 @@
 #include "geometry/core/digital_topology.h"
 #include "geometry/core/named_choice.h"
 #include "geometry/core/types.h"
+#include "geometry/reconstruction/topology_features.h"
 #include "geometry/reconstruction/topology_goal.h"
 #include "geometry/scene/section_distance_field.h"
 
@@ -99,6 +100,11 @@ struct TopologyControl {
   /// The (section, section, cell) joins no patch of which is left, and those added, as graph edges
   /// (sorted): the method's graph less the first and with the second is the chosen solid's.
   std::vector<GraphEdge> edges_cut, edges_added;
+  /// The chosen solid's handles and cavities with their sizes and places (topology_features.h),
+  /// when its box holds at most kMaxFeatureVoxels voxels (features_voxels: the box's voxels).
+  std::vector<TopologyFeature> features;
+  bool features_computed = false;
+  std::int64_t features_voxels = 0;
   double seconds = 0;
 };
 

@@ -7,6 +7,28 @@ namespace xsect {
 
 using json = nlohmann::ordered_json;
 
+namespace {
+
+/// The chosen solid's tunnels and cavities with their sizes and places (report.json
+/// topology.features), or why they were not computed.
+std::string featuresHtml(const json& t) {
+  if (!t.contains("features")) return "";
+  if (t["features"].is_null())
+    return "<p>Tunnels and cavities not sized: the solid's box holds " + cellText(t["features_voxels"]) +
+           " voxels, more than the persistence computation takes.</p>\n";
+  if (t["features"].empty()) return "<p>The solid chosen has no tunnel and no cavity.</p>\n";
+  std::string h = "<p>Tunnels and cavities of the solid chosen, by size (the least erosion or growth that "
+                  "removes one: near the voxel size, a spurious one):</p>\n<table>\n<tr><th>kind</th><th>size (mm)"
+                  "</th><th>born at (mm)</th><th>dies at (mm)</th><th>cells</th></tr>\n";
+  for (const json& f : t["features"])
+    h += "<tr><td>" + cellText(f["kind"]) + "</td><td class=\"num\">" + cellText(f["size_mm"]) + "</td><td>" +
+         cellText(f["born_at_mm"]) + "</td><td>" + cellText(f["dies_at_mm"]) + "</td><td>" + cellText(f["cells"]) +
+         "</td></tr>\n";
+  return h + "</table>\n";
+}
+
+}  // namespace
+
 std::string topologyChangesHtml(const json& report) {
   const json& t = field(report, {"topology"});
   if (!t.is_object()) return "";
@@ -16,6 +38,7 @@ std::string topologyChangesHtml(const json& report) {
                   cellText(t["betti_after"]) + " (" + cellText(t["joins"]) + " joins made by the method, " +
                   cellText(t["joins_forced"]) + " of them forced, " + cellText(t["changes_tried"]) +
                   " changes tried).</p>\n";
+  h += featuresHtml(t);
   if (t["changes"].empty()) return h + "<p>No cell changed.</p>\n";
   h += "<table>\n<tr><th>change</th><th>sections</th><th>cell</th><th>centre (mm)</th><th>voxels</th>"
        "<th>width (mm)</th><th>Betti after</th></tr>\n";
