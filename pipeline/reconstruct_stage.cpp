@@ -3,6 +3,7 @@
 #include "pipeline/reconstruct_stage.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <iterator>
 
 #include "geometry/core/section_ids.h"
@@ -15,6 +16,23 @@ namespace {
 
 std::string bettiList(const Betti& b) {
   return "[" + std::to_string(b[0]) + ", " + std::to_string(b[1]) + ", " + std::to_string(b[2]) + "]";
+}
+
+/// The smallest tunnels and cavities of the solid reached, with their sizes and places (at most
+/// three), so that a refusal says whether they are pinholes (about a voxel) or the sections' own.
+std::string featuresLeft(const TopologyControl& t, double voxel) {
+  if (!t.features_computed || t.features.empty()) return "";
+  std::string s = " (the smallest left: ";
+  for (std::size_t i = 0; i < t.features.size() && i < 3; ++i) {
+    const TopologyFeature& f = t.features[i];
+    char text[160];
+    std::snprintf(text, sizeof text, "%sa %s of %.3g mm (%.2g voxels) at (%.4g, %.4g, %.4g) mm", i ? "; " : "",
+                  f.dimension == 1 ? "tunnel" : "cavity", f.size_mm, f.size_mm / voxel, f.born_at.x(), f.born_at.y(),
+                  f.born_at.z());
+    s += text;
+  }
+  return s + "; one about a voxel in size is a pinhole where lifts meet within a voxel of a plane, whose voxels "
+             "only that plane's sections decide)";
 }
 
 /// reconstruction.topology (issue 51): each voxel labelled with the section its lift comes from,
@@ -46,7 +64,7 @@ TopologyControl chooseTopology(const RunConfig& c, const SectionScene& scene, co
                      "and mending gaps and necks inside cells (" + std::to_string(t.joins) + " joins made, " +
                      std::to_string(t.joins_possible) + " possible, " + std::to_string(t.mends_possible) +
                      " mends found, " + std::to_string(t.evaluated) + " changes tried) came no nearer to " +
-                     bettiList(c.topology.target) + " than " + bettiList(t.after) +
+                     bettiList(c.topology.target) + " than " + bettiList(t.after) + featuresLeft(t, grid.voxel) +
                      ": check the target, or use reconstruction.topology: simplest (the fewest components, "
                      "tunnels and cavities found) or free");
   if (!t.changes.empty()) {

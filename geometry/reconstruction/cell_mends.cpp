@@ -29,6 +29,19 @@ std::array<int, 3> coordsOf(std::int64_t v, const GridSpec& g) {
   return {int(v % g.dims[0]), int((v / g.dims[0]) % g.dims[1]), int(v / (std::int64_t(g.dims[0]) * g.dims[1]))};
 }
 
+/// Calls f(w, i, j, k) for each of voxel v's 26 neighbours (and v itself) within the grid.
+template <typename F>
+void forEachNeighbour(std::int64_t v, const GridSpec& g, F f) {
+  const std::array<int, 3> c = coordsOf(v, g);
+  for (int dk = -1; dk <= 1; ++dk)
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int di = -1; di <= 1; ++di) {
+        const int i = c[0] + di, j = c[1] + dj, k = c[2] + dk;
+        if (i < 0 || j < 0 || k < 0 || i >= g.dims[0] || j >= g.dims[1] || k >= g.dims[2]) continue;
+        f(g.index(i, j, k), i, j, k);
+      }
+}
+
 /// The voxels `changed` marks that the planes allow to change, grouped into 26-connected sets of one cell.
 std::vector<CellMend> groupByCell(const std::vector<std::uint8_t>& changed, bool fill, double radius,
                                   const GridSpec& g, const std::vector<CuttingPlane>& planes,
@@ -54,20 +67,13 @@ std::vector<CellMend> groupByCell(const std::vector<std::uint8_t>& changed, bool
     m.key = keyOf.at(seed);
     std::vector<std::int64_t> queue{seed};
     seen[seed] = 1;
-    for (std::size_t at = 0; at < queue.size(); ++at) {
-      const std::array<int, 3> c = coordsOf(queue[at], g);
-      for (int dk = -1; dk <= 1; ++dk)
-        for (int dj = -1; dj <= 1; ++dj)
-          for (int di = -1; di <= 1; ++di) {
-            const int i = c[0] + di, j = c[1] + dj, k = c[2] + dk;
-            if (i < 0 || j < 0 || k < 0 || i >= g.dims[0] || j >= g.dims[1] || k >= g.dims[2]) continue;
-            const std::int64_t w = g.index(i, j, k);
-            const auto it = keyOf.find(w);
-            if (it == keyOf.end() || it->second != m.key || seen.count(w)) continue;
-            seen[w] = 1;
-            queue.push_back(w);
-          }
-    }
+    for (std::size_t at = 0; at < queue.size(); ++at)
+      forEachNeighbour(queue[at], g, [&](std::int64_t w, int, int, int) {
+        const auto it = keyOf.find(w);
+        if (it == keyOf.end() || it->second != m.key || seen.count(w)) return;
+        seen[w] = 1;
+        queue.push_back(w);
+      });
     std::sort(queue.begin(), queue.end());
     m.voxels = std::move(queue);
     mends.push_back(std::move(m));
@@ -85,16 +91,10 @@ std::vector<int> touchedSections(const CellMend& m, const std::vector<std::uint8
       if (src[std::size_t(v)]) sections.insert(src[std::size_t(v)]);
       continue;
     }
-    const std::array<int, 3> c = coordsOf(v, g);
-    for (int dk = -1; dk <= 1; ++dk)
-      for (int dj = -1; dj <= 1; ++dj)
-        for (int di = -1; di <= 1; ++di) {
-          const int i = c[0] + di, j = c[1] + dj, k = c[2] + dk;
-          if (i < 0 || j < 0 || k < 0 || i >= g.dims[0] || j >= g.dims[1] || k >= g.dims[2]) continue;
-          const std::int64_t w = g.index(i, j, k);
-          if (!in[std::size_t(w)] || !src[std::size_t(w)] || sections.count(src[std::size_t(w)])) continue;
-          if (cellKeyAt(arrangement, planes, g.centre(i, j, k)) == m.key) sections.insert(src[std::size_t(w)]);
-        }
+    forEachNeighbour(v, g, [&](std::int64_t w, int i, int j, int k) {
+      if (!in[std::size_t(w)] || !src[std::size_t(w)] || sections.count(src[std::size_t(w)])) return;
+      if (cellKeyAt(arrangement, planes, g.centre(i, j, k)) == m.key) sections.insert(src[std::size_t(w)]);
+    });
   }
   return {sections.begin(), sections.end()};
 }
