@@ -4,11 +4,12 @@
 
 The configurations are bench/sparse_comparison.py's: the vessel tree with planes 4 trunk radii
 apart, the genus-2 solid cut by 20, 30 and 40 random planes, the torus by 6 and 9, the sphere by 6
-and 9, seeds FIRST-LAST. Each is rendered (`xsect phantom`), reconstructed with methods 1
+and 9, seeds FIRST-LAST; and a cup with a handle cut by 5 planes of mixed orientations
+(configs/phantoms/cup-mixed.yaml), tilted by each seed. Each is rendered (`xsect phantom`), reconstructed with methods 1
 and 2 under each mode, and evaluated against the analytic truth (`xsect eval`: Hausdorff distance,
 and the mesh's cut by every input plane against its sections, as the IoU of the two).
 
-  python3 bench/topology_family.py --xsect build/xsect --work /tmp/topo [--seeds 1-8] [--json out.json]
+  python3 bench/topology_family.py --xsect build/xsect --work /tmp/topo [--seeds 1-8] [--json out.json] [--only cup]
 """
 import argparse, json, os, re, subprocess, sys
 
@@ -16,6 +17,17 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from sparse_comparison import configurations  # noqa: E402
 
 METHODS = ["nearest_plane", "section_voronoi"]
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def cup_configurations(seeds):
+    """The cup of configs/phantoms/cup-mixed.yaml, its tilt and turn drawn from each seed."""
+    base = open(os.path.join(ROOT, "configs", "phantoms", "cup-mixed.yaml")).read()
+    for seed in seeds:
+        rotation = [(seed * 17) % 31 - 15, (seed * 29) % 31 - 15, (seed * 73) % 360]
+        text = re.sub(r"(?m)^seed: .*$", f"seed: {seed}", base)
+        text = re.sub(r"(?m)^  rotation_deg: .*$", f"  rotation_deg: {rotation}", text)
+        yield "cup with a handle, 5 planes of mixed orientations", f"cup-mixed-s{seed}", text
 
 
 def run(cmd):
@@ -28,12 +40,15 @@ def main():
     ap.add_argument("--work", required=True)
     ap.add_argument("--seeds", default="1-8")
     ap.add_argument("--json")
+    ap.add_argument("--only", default="", help="only the configurations whose name holds this (e.g. cup)")
     a = ap.parse_args()
     first, _, last = a.seeds.partition("-")
     seeds = range(int(first), int(last or first) + 1)
     os.makedirs(a.work, exist_ok=True)
     rows, tally = [], {}
-    for family, name, spec in configurations(seeds):
+    for family, name, spec in list(configurations(seeds)) + list(cup_configurations(seeds)):
+        if a.only not in name:
+            continue
         d = os.path.join(a.work, name)
         os.makedirs(d, exist_ok=True)
         with open(os.path.join(d, "spec.yaml"), "w") as f:

@@ -5,7 +5,7 @@
 //   [seed: 1]                       # non-negative integer: drives every random choice
 //   shape:
 //     kind: torus                   # sphere | ellipsoid | torus | genus2 | hollow_sphere |
-//                                   # two_spheres | vessel_tree | twisted_cylinder | notched_torus
+//                                   # two_spheres | vessel_tree | twisted_cylinder | notched_torus | cup
 //     params: {major_radius: 12, minor_radius: 4}   # per kind, see geometry/phantoms/phantom_shape.cpp
 //     [centre: [0, 0, 0]]           # world position of the shape's origin, mm
 //     [rotation_deg: [0, 0, 0]]     # xyz Euler angles: R = Rz * Ry * Rx

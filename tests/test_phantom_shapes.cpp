@@ -50,6 +50,8 @@ std::vector<PhantomShape> allShapes() {
                                         {"height", 20}}, c, e));
   v.push_back(make("notched_torus", {{"inner_radius", 6}, {"outer_radius", 10},
                                      {"height", 20}}, c, e));
+  v.push_back(make("cup", {{"radius", 10}, {"height", 24}, {"wall", 2}, {"bottom", 3}, {"handle_radius", 6},
+                           {"handle_thickness", 3}}, c, e));
   return v;
 }
 
@@ -201,6 +203,29 @@ TEST(PhantomShapes, BoundsContainEveryInsidePoint) {
     }
     EXPECT_GT(inside, 20) << nameOf(kShapeKinds, s.kind);
   }
+}
+
+/// The cup's voxels (the sign of its distance at voxel centres) have the Betti numbers it
+/// declares: one component, one tunnel (the handle), no cavity, in any placement.
+TEST(PhantomShapes, CupIsOneComponentWithTheHandlesTunnel) {
+  for (const Vec3& e : {Vec3(0, 0, 0), Vec3(10, -20, 30), Vec3(75, 40, -15)}) {
+    const PhantomShape cup = make("cup", {{"radius", 10}, {"height", 24}, {"wall", 2}, {"bottom", 3},
+                                          {"handle_radius", 6}, {"handle_thickness", 3}}, Vec3(1, 2, 3), e);
+    Vec3 lo, hi;
+    bounds(cup, &lo, &hi);
+    GridSpec g;
+    g.voxel = 0.4;
+    g.origin = lo - Vec3::Constant(1);
+    for (int a = 0; a < 3; ++a) g.dims[std::size_t(a)] = int(std::ceil((hi[a] - lo[a] + 2) / g.voxel)) + 1;
+    std::vector<std::uint8_t> in(std::size_t(g.count()));
+    for (int k = 0; k < g.dims[2]; ++k)
+      for (int j = 0; j < g.dims[1]; ++j)
+        for (int i = 0; i < g.dims[0]; ++i) in[std::size_t(g.index(i, j, k))] = signedDistance(cup, g.centre(i, j, k)) < 0;
+    EXPECT_EQ(voxelBetti(in, g), bettiNumbers(cup)) << e.transpose();
+  }
+  EXPECT_EQ(bettiNumbers(make("cup", {{"radius", 10}, {"height", 24}, {"wall", 2}, {"bottom", 3},
+                                      {"handle_radius", 6}, {"handle_thickness", 3}}, Vec3::Zero(), Vec3::Zero())),
+            (Betti{1, 1, 0}));
 }
 
 TEST(PhantomShapes, InexactDistancesAreConservative) {

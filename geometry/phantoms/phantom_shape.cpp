@@ -31,6 +31,13 @@
 //                     reconstruction): a solid torus, Betti (1, 1, 0). Both share the sections on
 //                     z = 0 and z = H. Both: (0, 0) (convex edges where the gap's walls meet the
 //                     annulus; the notched torus also has concave ones).
+//   cup               radius, height, wall, bottom, handle_radius, handle_thickness: a cylinder of
+//                     the radius from z = 0 to the height, hollowed from z = bottom up (inner
+//                     radius radius - wall), with a handle: the torus of major radius
+//                     handle_radius and minor radius handle_thickness / 2 around the axis y at
+//                     (radius, 0, height / 2), less the cup's hollow. Betti (1, 1, 0) (the mug of
+//                     the contour literature, synthetic); (0, 0): creases where the handle
+//                     meets the wall and at the rim.
 #include "geometry/phantoms/phantom_shape.h"
 
 #include <Eigen/Geometry>
@@ -128,6 +135,18 @@ double shapeFrameSdf(const PhantomShape& s, const Vec3& q) {
         extrude(rho * wedgeProfile(wrapAngle(phi - M_PI), half), q.z(), H - notch, H + e + 1.0);
     return std::max({body, -cut0, -cutH});
   }
+  if (k == ShapeKind::cup) {
+    // Unions and differences of exact distances (min, max): the sign is exact, the value a
+    // 1-Lipschitz lower bound of the distance.
+    const double R = P(s, "radius"), H = P(s, "height"), Ri = R - P(s, "wall"), b = P(s, "bottom");
+    const double rho = std::hypot(q.x(), q.y());
+    const double body = extrude(rho - R, q.z(), 0.0, H);
+    const double hollow = extrude(rho - Ri, q.z(), b, H + R);  // open above the rim
+    const Vec3 h = q - Vec3(R, 0.0, 0.5 * H);                  // the handle's centre, its axis y
+    const double handle = std::hypot(std::hypot(h.x(), h.z()) - P(s, "handle_radius"), h.y()) -
+                          0.5 * P(s, "handle_thickness");
+    return std::max(std::min(body, handle), -hollow);
+  }
   throw std::invalid_argument(std::string("no signed distance for shape kind ") + nameOf(kShapeKinds, k));
 }
 
@@ -154,6 +173,12 @@ void shapeFrameBox(const PhantomShape& s, Vec3* lo, Vec3* hi) {
     const double ro = P(s, "outer_radius"), e = P(s, "extension"), H = P(s, "height");
     *lo = Vec3(-ro, -ro, -e);
     *hi = Vec3(ro, ro, H + e);
+    return;
+  } else if (k == ShapeKind::cup) {
+    const double R = P(s, "radius"), H = P(s, "height");
+    const double out = P(s, "handle_radius") + 0.5 * P(s, "handle_thickness");
+    *lo = Vec3(-R, -R, 0);
+    *hi = Vec3(R + out, R, H);
     return;
   } else {
     throw std::invalid_argument(std::string("shapeFrameBox: unsupported kind ") + nameOf(kShapeKinds, k));
@@ -185,6 +210,9 @@ std::map<std::string, std::optional<double>> phantomShapeParams(ShapeKind k) {
   if (k == ShapeKind::notched_torus)
     return M{{"inner_radius", req}, {"outer_radius", req}, {"gap_deg", 60.0},
              {"height", req},       {"extension", 3.0},    {"notch", 1.0}};
+  if (k == ShapeKind::cup)
+    return M{{"radius", req},        {"height", req},         {"wall", req},
+             {"bottom", req},        {"handle_radius", req},  {"handle_thickness", req}};
   return {};
 }
 
@@ -275,6 +303,18 @@ std::optional<ShapeProblem> checkPhantomShape(const PhantomShape& s) {
     }
     return std::nullopt;
   }
+  if (k == ShapeKind::cup) {
+    if ((p = positive({"radius", "height", "wall", "bottom", "handle_radius", "handle_thickness"}))) return p;
+    if (value("wall") >= value("radius")) return ShapeProblem{"wall", "must be smaller than radius"};
+    if (value("bottom") >= value("height")) return ShapeProblem{"bottom", "must be smaller than height"};
+    // The handle's hole must lie outside the wall (else it is no handle), and the handle within
+    // the cup's height (else it is cut by the rim or the floor).
+    if (value("handle_radius") - 0.5 * value("handle_thickness") <= 0)
+      return ShapeProblem{"handle_thickness", "must be smaller than twice handle_radius (else the handle has no hole)"};
+    if (value("handle_radius") + 0.5 * value("handle_thickness") >= 0.5 * value("height"))
+      return ShapeProblem{"handle_radius", "handle_radius + handle_thickness / 2 must be below height / 2"};
+    return std::nullopt;
+  }
   return std::nullopt;
 }
 
@@ -313,11 +353,11 @@ double signedDistance(const PhantomShape& shape, const Vec3& x) {
 
 bool hasExactDistance(const PhantomShape& shape) {
   return shape.kind != ShapeKind::vessel_tree && shape.kind != ShapeKind::twisted_cylinder &&
-         shape.kind != ShapeKind::notched_torus;
+         shape.kind != ShapeKind::notched_torus && shape.kind != ShapeKind::cup;
 }
 
 Betti bettiNumbers(const PhantomShape& s) {
-  if (s.kind == ShapeKind::torus || s.kind == ShapeKind::notched_torus) return {1, 1, 0};
+  if (s.kind == ShapeKind::torus || s.kind == ShapeKind::notched_torus || s.kind == ShapeKind::cup) return {1, 1, 0};
   if (s.kind == ShapeKind::genus2) return {1, 2, 0};
   if (s.kind == ShapeKind::hollow_sphere) return {1, 0, 1};
   if (s.kind == ShapeKind::two_spheres) return {2, 0, 0};
@@ -339,7 +379,7 @@ double reachInterior(const PhantomShape& s) {
   if (k == ShapeKind::hollow_sphere) return 0.5 * (P(s, "outer_radius") - P(s, "inner_radius"));
   if (k == ShapeKind::two_spheres) return P(s, "radius");
   if (k == ShapeKind::vessel_tree) return vesselTreeReach(s).interior;
-  return 0.0;  // twisted_cylinder, notched_torus: convex edges
+  return 0.0;  // twisted_cylinder, notched_torus, cup: convex edges
 }
 
 double reachExterior(const PhantomShape& s) {
@@ -351,7 +391,7 @@ double reachExterior(const PhantomShape& s) {
   if (k == ShapeKind::hollow_sphere) return P(s, "inner_radius");
   if (k == ShapeKind::two_spheres) return 0.5 * (P(s, "separation") - 2 * P(s, "radius"));
   if (k == ShapeKind::vessel_tree) return vesselTreeReach(s).exterior;
-  return 0.0;  // twisted_cylinder, notched_torus: not derived (the notched torus has creases)
+  return 0.0;  // twisted_cylinder, notched_torus, cup: not derived (creases)
 }
 
 double reach(const PhantomShape& s) { return std::min(reachInterior(s), reachExterior(s)); }

@@ -22,9 +22,10 @@ enum class ShapeKind {
   two_spheres,
   vessel_tree,
   twisted_cylinder,
-  notched_torus
+  notched_torus,
+  cup
 };
-constexpr std::array<NamedChoice<ShapeKind>, 9> kShapeKinds{{
+constexpr std::array<NamedChoice<ShapeKind>, 10> kShapeKinds{{
     {ShapeKind::sphere, "sphere"},
     {ShapeKind::ellipsoid, "ellipsoid"},
     {ShapeKind::torus, "torus"},
@@ -34,6 +35,7 @@ constexpr std::array<NamedChoice<ShapeKind>, 9> kShapeKinds{{
     {ShapeKind::vessel_tree, "vessel_tree"},
     {ShapeKind::twisted_cylinder, "twisted_cylinder"},
     {ShapeKind::notched_torus, "notched_torus"},
+    {ShapeKind::cup, "cup"},
 }};
 
 /// A shape in its own frame, placed in the world by `centre` and `rotation` (world <- shape):
