@@ -88,7 +88,7 @@ struct Patch {
   int cell = -1;
   int a = 0, b = 0;                     ///< 1 + flat section ids, a < b
   std::vector<std::int64_t> voxels;     ///< box indices, sorted
-  std::vector<std::int64_t> removable;  ///< of them, farther than a voxel from every real plane
+  std::vector<std::int64_t> removable;  ///< of them, those the planes let go (planesAllow)
   /// Half of a patch (the side of a plane through its centre across its longest axis): cutting
   /// it leaves the join and breaks a ring-shaped contact, a tunnel the join graph does not see.
   bool partial = false;
@@ -296,7 +296,7 @@ std::vector<Tube> joinCandidates(const std::vector<CuttingPlane>& planes,
 }
 
 /// The voxels of the box a tube adds: centres within its radius of its segment, in its cell,
-/// farther than a voxel from every real plane, not in the solid yet.
+/// that the planes let in (planesAllow), not in the solid yet.
 std::vector<std::int64_t> tubeVoxels(const Tube& t, const std::vector<std::uint8_t>& in, const GridSpec& g,
                                      const std::vector<CuttingPlane>& planes, std::size_t realPlanes,
                                      const std::vector<SectionDistanceField>& fields,
@@ -377,9 +377,11 @@ void graphEdges(const std::vector<Patch>& patches, const std::vector<Tube>& tube
   };
   std::map<std::tuple<int, int, int>, int> left;
   for (std::size_t p = 0; p < patches.size(); ++p)
-    if (!patches[p].partial)
+    if (!patches[p].partial) {
+      const auto held = [&](std::int64_t v) { return in[std::size_t(v)] != 0; };
       left[{patches[p].a, patches[p].b, patches[p].cell}] +=
-          graph.alive[p] && std::any_of(patches[p].voxels.begin(), patches[p].voxels.end(), [&](std::int64_t v) { return in[std::size_t(v)] != 0; });
+          graph.alive[p] && std::any_of(patches[p].voxels.begin(), patches[p].voxels.end(), held);
+    }
   for (const auto& [k, n] : left)
     if (n == 0 && std::get<2>(k) >= 0) out.edges_cut.push_back(edge(std::get<0>(k), std::get<1>(k), std::get<2>(k)));
   for (std::size_t t = 0; t < tubes.size(); ++t)

@@ -91,7 +91,7 @@ struct CellChange {
 struct TopologyControl {
   Betti before{0, 0, 0}, after{0, 0, 0};
   int joins = 0;          ///< contact patches found inside cells
-  int joins_forced = 0;   ///< of them, within one voxel of a real plane everywhere
+  int joins_forced = 0;   ///< of them, none of whose voxels the planes let go (planesAllow)
   int joins_possible = 0; ///< pairs of sections on different faces of a cell (tubes that may be added)
   int mends_possible = 0; ///< gaps to fill and necks to cut found (cell_mends.h)
   int evaluated = 0;      ///< changes tried
