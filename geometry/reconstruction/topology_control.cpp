@@ -441,10 +441,10 @@ class Search {
   bool wanted(std::size_t c, const std::vector<char>& bridge, DisjointSets& parts) const {
     const Betti& b = out_.after;
     const Betti t = goal_.mode == TopologyMode::target ? goal_.target : Betti{1, 0, 0};
-    if (isMend(c)) {  // a mend changes tunnels and cavities only (a change of b0 is not kept)
+    if (isMend(c)) {  // a mend removes tunnels and cavities only (see keepsMend)
       if (goal_.mode == TopologyMode::simplest && goal_.min_feature_mm > 0 && width(c) > goal_.min_feature_mm)
         return false;
-      return b[1] != t[1] || (mend(c).fill ? b[2] > t[2] : b[2] != t[2]);
+      return b[1] > t[1] || b[2] > t[2];
     }
     if (isCut(c)) {
       const Patch& p = patches_[c];
@@ -458,6 +458,15 @@ class Search {
   }
 
   bool removes(std::size_t c) const { return isMend(c) ? !mend(c).fill : isCut(c); }
+
+  /// Whether a mend that leads to Betti numbers `next` may be kept: it changes no component (the
+  /// joins' business) and makes no tunnel or cavity. A mend that makes one makes it about its own
+  /// size: on the genus-2 families a 2-voxel gap filled or a 5-voxel neck cut "made" the missing
+  /// hole as a pinhole; only a join (a tube) may make a tunnel.
+  bool keepsMend(const Betti& next) const {
+    const Betti& b = out_.after;
+    return next[0] == b[0] && next[1] <= b[1] && next[2] <= b[2];
+  }
 
   /// The voxels change c would change now (a mend found on the first solid may be partly done
   /// since; a tube is clipped to what the planes allow).
@@ -578,7 +587,7 @@ class Search {
       if (change.empty() || cannotMove(c, change)) continue;
       std::vector<std::uint8_t> next;
       const Betti nb = apply(c, change, next);
-      if (isMend(c) && nb[0] != out_.after[0]) continue;
+      if (isMend(c) && !keepsMend(nb)) continue;
       if (moves(goal_, out_.after, nb, true)) {
         keep(c, change, next, nb);
         return true;
