@@ -17,8 +17,9 @@
 //    tunnel between two of their contacts (where they cross at a trace, contacts no cut can remove).
 //  - a cell is *mended* (cell_mends.h): a gap that a ball closing of radius 1-3 voxels fills in
 //    the cell is filled (the sections it touches are then joined in the cell), a neck that an
-//    opening removes is cut (a join whose contact it removes whole is cut with it). A mend that
-//    changes b0 is not kept: components are the joins' business.
+//    opening removes is cut (a join whose contact it removes whole is cut with it). A mend only
+//    removes tunnels and cavities: one that changes b0 or makes a tunnel or a cavity is not kept
+//    (components are the joins' business, and a tunnel a mend makes is about a voxel wide).
 // A voxel within one voxel of a real plane changes only to what the plane's sections say at its
 // projection (cell_mends.h, planesAllow), so the cut of the solid by every plane (its sections)
 // is unchanged; a patch none of whose voxels may be removed is forced.
