@@ -264,8 +264,8 @@ TEST(TopologyControlFamilies, SparseToriAndGenusTwoSolidsReachTheTruthsBettiNumb
   std::cout << "topology control: truth reached on " << reached << " of " << configs << " (free: " << freeRight
             << "); refused:" << failures << "\n";
   // Measured: 16 of 16 (15 before cells were mended: genus-2, 30 planes, seed 3 refused). Seeds
-  // 1-8 of bench/topology_family.py: 56 of 57 per method (the refused one: a torus whose only two
-  // sections lie in no common cell, so that no join of a cell can make it one component).
+  // 1-8 of bench/topology_family.py: 56 and 55 of 57 (methods 1, 2; refused: a torus whose only
+  // two sections lie in no common cell, so that no join of a cell can make it one component).
   EXPECT_EQ(reached, configs) << "refused:" << failures;
   EXPECT_GT(reached, freeRight);
 }
