@@ -1,11 +1,11 @@
 // Mends of a cell for topology control (issue 51; see topology_control.h): the gaps a ball
 // closing fills and the necks a ball opening cuts, inside one cell of the arrangement (thesis
 // ch. 1 §1.2), changing no voxel against what a plane next to it says (planesAllow), so that the
-// cut of the solid by every plane stays its sections. They reach what joins cut and added cannot: a ring-shaped gap between the lifts of
-// two sections of one cell that the sections on the cell's other faces hold together (a tunnel
-// of a thin wall between parallel planes: the mug of the contour literature has eight), and the
-// one-voxel pinholes and necks a voxelisation leaves where lifts barely meet (OReX's Elephant has
-// eleven).
+// cut of the solid by every plane stays its sections. They reach what joins cut and added
+// cannot: a ring-shaped gap between the lifts of two sections of one cell that the sections on
+// the cell's other faces hold together (a tunnel of a thin wall between parallel planes: the mug
+// of the contour literature has eight), and the one-voxel pinholes and necks a voxelisation
+// leaves where lifts barely meet (OReX's Elephant has eleven).
 #pragma once
 
 #include <cstdint>
@@ -50,7 +50,7 @@ struct CellMend {
 /// @param inside       1 = in the solid, per voxel of `grid`, with max_radius + 1 voxels of empty
 ///                     margin (ball_morphology.h).
 /// @param source       per voxel, 1 + the flat id of the section its lift comes from (0: none).
-/// Sorted by (fill, radius, first voxel): deterministic.
+/// The gaps first, then the necks; each by radius, then by first voxel: deterministic.
 std::vector<CellMend> cellMends(const std::vector<std::uint8_t>& inside, const std::vector<std::uint16_t>& source,
                                 const GridSpec& grid,
                                 const std::vector<CuttingPlane>& planes, std::size_t real_planes,
