@@ -663,7 +663,9 @@ TopologyControl controlTopology(std::vector<std::uint8_t>& inside, const GridSpe
   // hull of its loop): a third fewer voxels than the search's box.
   const Box tight = solidBox(in, g, 1);
   out.features_voxels = tight.grid.count();
-  if (tight.grid.count() > 0 && tight.grid.count() <= kMaxFeatureVoxels) {
+  if (out.after[1] == 0 && out.after[2] == 0) {
+    out.features_computed = true;  // no tunnel, no cavity: nothing to size
+  } else if (tight.grid.count() > 0 && tight.grid.count() <= kMaxFeatureVoxels) {
     out.features = topologyFeatures(intoBox(in, g, tight), tight.grid);
     out.features_computed = true;
     for (TopologyFeature& f : out.features) {
