@@ -522,8 +522,7 @@ long long eulerCharacteristicChange(const std::vector<std::uint8_t>& in, const G
   if (voxels.empty()) return 0;
   std::array<int, 3> lo{g.dims[0], g.dims[1], g.dims[2]}, hi{-1, -1, -1};
   for (const std::int64_t v : voxels) {
-    const std::array<int, 3> c{int(v % g.dims[0]), int((v / g.dims[0]) % g.dims[1]),
-                               int(v / (std::int64_t(g.dims[0]) * g.dims[1]))};
+    const std::array<int, 3> c = g.coordinates(v);
     for (std::size_t a = 0; a < 3; ++a) lo[a] = std::min(lo[a], c[a]), hi[a] = std::max(hi[a], c[a]);
   }
   // Voxel (i, j, k) is the cube of doubled coordinates [2i, 2i + 2]^3; a lattice cell of doubled

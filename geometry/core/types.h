@@ -85,6 +85,15 @@ struct GridSpec {
     return (std::int64_t(k) * dims[1] + j) * dims[0] + i;
   }
   Vec3 centre(int i, int j, int k) const { return origin + voxel * Vec3(i, j, k); }
+  /// The (i, j, k) of the voxel at `index` (the inverse of index()).
+  std::array<int, 3> coordinates(std::int64_t index) const {
+    return {int(index % dims[0]), int((index / dims[0]) % dims[1]), int(index / (std::int64_t(dims[0]) * dims[1]))};
+  }
+  /// The centre of the voxel at `index`.
+  Vec3 centre(std::int64_t index) const {
+    const std::array<int, 3> c = coordinates(index);
+    return centre(c[0], c[1], c[2]);
+  }
 };
 
 /// Dense scalar field on a GridSpec, x fastest. Negative = inside.

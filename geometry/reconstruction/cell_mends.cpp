@@ -25,14 +25,10 @@ bool planesAllow(const Vec3& x, bool value, const std::vector<CuttingPlane>& pla
 
 namespace {
 
-std::array<int, 3> coordsOf(std::int64_t v, const GridSpec& g) {
-  return {int(v % g.dims[0]), int((v / g.dims[0]) % g.dims[1]), int(v / (std::int64_t(g.dims[0]) * g.dims[1]))};
-}
-
 /// Calls f(w, i, j, k) for each of voxel v's 26 neighbours (and v itself) within the grid.
 template <typename F>
 void forEachNeighbour(std::int64_t v, const GridSpec& g, F f) {
-  const std::array<int, 3> c = coordsOf(v, g);
+  const std::array<int, 3> c = g.coordinates(v);
   for (int dk = -1; dk <= 1; ++dk)
     for (int dj = -1; dj <= 1; ++dj)
       for (int di = -1; di <= 1; ++di) {
@@ -51,7 +47,7 @@ std::vector<CellMend> groupByCell(const std::vector<std::uint8_t>& changed, bool
   std::vector<std::int64_t> order;
   for (std::int64_t v = 0; v < g.count(); ++v) {
     if (!changed[std::size_t(v)]) continue;
-    const std::array<int, 3> c = coordsOf(v, g);
+    const std::array<int, 3> c = g.coordinates(v);
     const Vec3 x = g.centre(c[0], c[1], c[2]);
     if (!planesAllow(x, fill, planes, realPlanes, fields, g.voxel)) continue;
     keyOf.emplace(v, cellKeyAt(arrangement, planes, x));

@@ -98,16 +98,13 @@ struct Patch {
 /// centre normal to its longest axis (the principal direction of its voxels' centres).
 std::vector<Patch> halfPatches(const std::vector<Patch>& patches, const GridSpec& g) {
   std::vector<Patch> halves;
-  const auto centre = [&](std::int64_t v) {
-    return g.centre(int(v % g.dims[0]), int((v / g.dims[0]) % g.dims[1]), int(v / (std::int64_t(g.dims[0]) * g.dims[1])));
-  };
   for (const Patch& p : patches) {
     if (p.voxels.size() < 8 || p.removable.empty()) continue;
     Vec3 mean = Vec3::Zero();
-    for (const std::int64_t v : p.voxels) mean += centre(v);
+    for (const std::int64_t v : p.voxels) mean += g.centre(v);
     mean /= double(p.voxels.size());
     Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    for (const std::int64_t v : p.voxels) cov += (centre(v) - mean) * (centre(v) - mean).transpose();
+    for (const std::int64_t v : p.voxels) cov += (g.centre(v) - mean) * (g.centre(v) - mean).transpose();
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
     const Vec3 axis = eig.eigenvectors().col(2);  // eigenvalues ascending: the longest axis
     Patch h = p;
@@ -115,9 +112,9 @@ std::vector<Patch> halfPatches(const std::vector<Patch>& patches, const GridSpec
     h.voxels.clear();
     h.removable.clear();
     for (const std::int64_t v : p.voxels)
-      if (axis.dot(centre(v) - mean) >= 0) h.voxels.push_back(v);
+      if (axis.dot(g.centre(v) - mean) >= 0) h.voxels.push_back(v);
     for (const std::int64_t v : p.removable)
-      if (axis.dot(centre(v) - mean) >= 0) h.removable.push_back(v);
+      if (axis.dot(g.centre(v) - mean) >= 0) h.removable.push_back(v);
     if (!h.removable.empty() && h.voxels.size() < p.voxels.size()) halves.push_back(std::move(h));
   }
   return halves;
@@ -158,9 +155,6 @@ std::vector<Patch> contactPatches(const std::vector<std::uint8_t>& in, const std
             }
       }
   std::vector<Patch> patches;
-  const auto coords = [&](std::int64_t v) {
-    return std::array<int, 3>{int(v % g.dims[0]), int((v / g.dims[0]) % g.dims[1]), int(v / (std::int64_t(g.dims[0]) * g.dims[1]))};
-  };
   for (auto& [key, list] : contacts) {
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());
@@ -176,7 +170,7 @@ std::vector<Patch> contactPatches(const std::vector<std::uint8_t>& in, const std
       std::vector<std::int64_t> queue{seed};
       patchOf[seed] = int(patches.size());
       for (std::size_t at = 0; at < queue.size(); ++at) {
-        const std::array<int, 3> c = coords(queue[at]);
+        const std::array<int, 3> c = g.coordinates(queue[at]);
         for (int dk = -1; dk <= 1; ++dk)
           for (int dj = -1; dj <= 1; ++dj)
             for (int di = -1; di <= 1; ++di) {
@@ -190,7 +184,7 @@ std::vector<Patch> contactPatches(const std::vector<std::uint8_t>& in, const std
       std::sort(queue.begin(), queue.end());
       p.voxels = queue;
       for (const std::int64_t v : queue) {
-        const std::array<int, 3> c = coords(v);
+        const std::array<int, 3> c = g.coordinates(v);
         if (planesAllow(g.centre(c[0], c[1], c[2]), false, planes, realPlanes, fields, g.voxel)) p.removable.push_back(v);
       }
       patches.push_back(std::move(p));
@@ -349,7 +343,7 @@ bool moves(const TopologyGoal& goal, const Betti& now, const Betti& next, bool s
 Vec3 centreOf(const std::vector<std::int64_t>& voxels, const GridSpec& g) {
   Vec3 sum = Vec3::Zero();
   for (const std::int64_t v : voxels)
-    sum += g.centre(int(v % g.dims[0]), int((v / g.dims[0]) % g.dims[1]), int(v / (std::int64_t(g.dims[0]) * g.dims[1])));
+    sum += g.centre(v);
   return voxels.empty() ? sum : Vec3(sum / double(voxels.size()));
 }
 
@@ -512,7 +506,7 @@ class Search {
       seen[s] = 1;
       for (std::size_t at = 0; at < queue.size(); ++at) {
         const std::int64_t v = voxels[queue[at]];
-        const std::array<int, 3> x{int(v % g_.dims[0]), int((v / g_.dims[0]) % g_.dims[1]), int(v / stride[2])};
+        const std::array<int, 3> x = g_.coordinates(v);
         for (int a = 0; a < 3; ++a)
           for (const int d : {-1, 1}) {
             const int y = x[std::size_t(a)] + d;
