@@ -44,6 +44,7 @@ void applyUltrasoundPreset(const YAML::Node& s, SegmentationParams& p) {
   if (!given("sigma_px") && !given("sigma_mm")) p.sigma_mm = 0.3;
   if (!given("open_radius_px") && !given("open_radius_mm")) p.open_radius_mm = 0.75;
   if (!given("min_area_mm2")) p.min_area_mm2 = 8.0;
+  if (!given("elevation_median_mm")) p.elevation_median_mm = 1.0;
 }
 
 const std::set<std::string> kKnownKeys = {
@@ -53,7 +54,7 @@ const std::set<std::string> kKnownKeys = {
     "segmentation.open_radius_px", "segmentation.close_radius_px", "segmentation.min_area_mm2",
     "segmentation.preset", "segmentation.inside", "segmentation.sigma_mm", "segmentation.open_radius_mm",
     "segmentation.close_radius_mm", "segmentation.speckle_filter_mm", "segmentation.shadows",
-    "segmentation.beam_apex_px",
+    "segmentation.beam_apex_px", "segmentation.elevation_median_mm",
     "segmentation.simplify_mm", "segmentation.merge_labels", "conformity", "conformity.enforce",
     "conformity.mode", "conformity.max_correction_mm", "conformity.band_mm", "conformity.min_angle_deg",
     "conformity.flag_mm", "conformity.drop_flagged", "conformity.pose_smoothing_frames", "conformity.pose_correction",
@@ -177,17 +178,18 @@ void readSegmentation(const YAML::Node& s, const std::string& path, RunConfig& c
   num("simplify_mm", 0, &p.simplify_mm);
   for (const auto& [k, out] : {std::pair{"sigma_mm", &p.sigma_mm}, std::pair{"open_radius_mm", &p.open_radius_mm},
                                std::pair{"close_radius_mm", &p.close_radius_mm},
-                               std::pair{"speckle_filter_mm", &p.speckle_filter_mm}}) {
+                               std::pair{"speckle_filter_mm", &p.speckle_filter_mm},
+                               std::pair{"elevation_median_mm", &p.elevation_median_mm}}) {
     num(k, 0, out);
     if (!std::isfinite(*out))
       throw InputError(path, std::string("segmentation.") + k, "must be finite", yamlLine(s[k]));
   }
   if (p.method == SegmentationMethod::labels) {
-    for (const char* k : {"inside", "shadows", "speckle_filter_mm", "beam_apex_px"})
+    for (const char* k : {"inside", "shadows", "speckle_filter_mm", "beam_apex_px", "elevation_median_mm"})
       if (s[k])
         throw InputError(path, std::string("segmentation.") + k,
-                         "label images are not thresholded: segmentation.inside, shadows, speckle_filter_mm and "
-                         "beam_apex_px apply to grey images only",
+                         "label images are not thresholded: segmentation.inside, shadows, speckle_filter_mm, "
+                         "beam_apex_px and elevation_median_mm apply to grey images only",
                          yamlLine(s[k]));
   }
   // A threshold given with a rule that computes its own is not used: said, not silently dropped.

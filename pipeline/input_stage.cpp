@@ -82,6 +82,10 @@ RunInputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress)
             ? sectionsFromSlices(slices, c.input_path, c.segmentation, c.path, headers, progress.counter())
             : sectionsFromPlusSequence(*in.plus, c.segmentation, c.path, progress.counter());
     in.planes = std::move(series.planes);
+    if (c.segmentation.elevation_median_mm > 0) {  // a grey series' frames vote on each other's regions
+      in.elevation_median = elevationMedian(std::move(in.planes), c.segmentation.elevation_median_mm);
+      in.planes = std::move(in.elevation_median.planes);
+    }
     in.labelled = std::move(series.labelled);
     in.segmentation = series.applied;
     in.warnings.insert(in.warnings.end(), series.warnings.begin(), series.warnings.end());

@@ -16,6 +16,7 @@
 #include "pipeline/commands.h"
 #include "pipeline/progress.h"
 #include "pipeline/stage_clock.h"
+#include "segmentation/elevation_median.h"
 
 namespace xsect {
 
@@ -31,6 +32,8 @@ struct RunInputs {
   std::vector<std::string> warnings;
   int slices = 0;                               ///< planes read (before stage 3 merged or dropped any)
   SegmentationParams segmentation;               ///< as applied to every frame (slices, PLUS input)
+  /// segmentation.elevation_median_mm: what the median changed (its `planes` are moved into `planes`).
+  ElevationMedian elevation_median;
   std::vector<std::vector<Section>> labelled;   ///< segmentation labels: per plane, per label
   ConformityResult conformity;                  ///< stage 3's measurements (conform_stage.h)
   /// The slices as read (input.slices; repeats merged): CuttingPlane::slice indexes them.

@@ -49,8 +49,9 @@ json refinedCellsJson(const std::vector<CellRefinement>& cells) {
 
 /// The segmentation as applied: the method and preset asked for, the threshold and inside side
 /// every frame got (Otsu's and auto resolved for the series), the shadows' rule, and the core's
-/// level when the minimum-error rule set one (SegmentationParams::core_threshold).
-json segmentationJson(const RunConfig& c, const SegmentationParams& applied) {
+/// level when the minimum-error rule set one (SegmentationParams::core_threshold), and what the
+/// elevation median changed when it ran (segmentation/elevation_median.h).
+json segmentationJson(const RunConfig& c, const SegmentationParams& applied, const ElevationMedian& median) {
   json s = {{"method", nameOf(kSegmentationMethods, c.segmentation.method)},
             {"preset", nameOf(kSegmentationPresets, c.segmentation_preset)},
             {"threshold_used", applied.threshold}};
@@ -60,6 +61,11 @@ json segmentationJson(const RunConfig& c, const SegmentationParams& applied) {
     s["shadows"] = nameOf(kShadowRules, c.segmentation.shadows);
   }
   if (!std::isnan(applied.core_threshold)) s["core_threshold_used"] = applied.core_threshold;
+  if (applied.elevation_median_mm > 0)
+    s["elevation_median"] = {{"max_mm", applied.elevation_median_mm},
+                             {"frames_changed", median.frames_changed},
+                             {"area_removed_mm2", median.area_removed_mm2},
+                             {"area_added_mm2", median.area_added_mm2}};
   return s;
 }
 
@@ -271,7 +277,7 @@ json reportJson(const RunResults& r, const StageClock& clock) {
   report["watertight"] = r.diagnosis.topology.watertight;
   report["counts"] = countsJson(r);
   if (c.input_kind == InputKind::slices || c.input_kind == InputKind::plus_sequence)
-    report["segmentation"] = segmentationJson(c, r.inputs.segmentation);
+    report["segmentation"] = segmentationJson(c, r.inputs.segmentation, r.inputs.elevation_median);
   if (r.inputs.plus) report["plus_sequence"] = plusSequenceJson(*r.inputs.plus);
   report["reconstruction"] = reconstructionJson(r);
   report["materials"] = materialsJson(r);

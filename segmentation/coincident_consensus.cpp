@@ -11,130 +11,17 @@
 #include <opencv2/imgproc.hpp>
 
 #include "geometry/core/polygon.h"
-#include "geometry/scene/section_distance_field.h"
 #include "segmentation/iso_contours.h"
+#include "segmentation/section_raster.h"
 
 namespace xsect {
 namespace {
 
-constexpr double kBandSteps = 16.0;         // distances exact within this many raster steps of a contour
-constexpr double kMarginSteps = 18.0;       // raster margin around the sections' bounds
-constexpr double kMaxNodes = 4.0e6;         // the raster's step grows past this many nodes ...
-constexpr double kMaxNodeValues = 6.4e7;    // ... or this many distances held at once (256 MB)
+constexpr double kMaxNodes = 4.0e6;         // the raster's step grows past this many nodes
 constexpr double kMaxRegionNodes = 1.0e6;   // the raster of the merged observed region
 constexpr double kStepsPerExtent = 1024.0;  // raster step for contours without pixels
-constexpr int kShift = 8;                   // fixed-point bits of the polygons given to cv::fillPoly
 
 enum class Reduce { median, least };
-
-/// Nodes origin + step * (i, j), i < nu, j < nv, in the first member's plane coordinates (mm).
-struct Raster {
-  Vec2 origin = Vec2::Zero();
-  double step = 1.0;
-  int nu = 0, nv = 0;
-  Vec2 node(int i, int j) const { return origin + step * Vec2(i, j); }
-  double count() const { return double(nu) * double(nv); }
-  /// q as fixed-point raster coordinates for cv::fillPoly (x = i, y = j).
-  cv::Point fixedPoint(const Vec2& q) const {
-    const Vec2 p = (q - origin) / step * double(1 << kShift);
-    return {int(std::lround(std::clamp(p.x(), -1e9, 1e9))), int(std::lround(std::clamp(p.y(), -1e9, 1e9)))};
-  }
-};
-
-/// A raster over `box` grown by the margin, of step `step` or coarser: at most `maxNodes` nodes, and
-/// at most kMaxNodeValues distances for `layers` values per node. Nodes lie on multiples of the step.
-Raster rasterAround(const Eigen::AlignedBox2d& box, double step, int layers, double maxNodes) {
-  Raster r;
-  r.step = step;
-  for (int attempt = 0; attempt < 64; ++attempt) {
-    const Vec2 lo = box.min() - Vec2::Constant(kMarginSteps * r.step);
-    const Vec2 hi = box.max() + Vec2::Constant(kMarginSteps * r.step);
-    r.origin = Vec2(std::floor(lo.x() / r.step) * r.step, std::floor(lo.y() / r.step) * r.step);
-    r.nu = int(std::ceil((hi.x() - r.origin.x()) / r.step)) + 1;
-    r.nv = int(std::ceil((hi.y() - r.origin.y()) / r.step)) + 1;
-    const double limit = std::min(maxNodes, kMaxNodeValues / std::max(layers, 1));
-    if (r.count() <= limit) return r;
-    r.step *= std::max(1.1, std::sqrt(r.count() / limit));
-  }
-  throw std::runtime_error("coincident planes: no raster fits their sections");
-}
-
-/// A member's point in the first member's plane coordinates (through the world).
-Vec2 toFirst(const CuttingPlane& first, const CuttingPlane& member, const Vec2& p) {
-  return first.plane.toPlane(member.plane.toWorld(p));
-}
-
-/// A member's ring in the first member's frame. A member seen from the other side (opposite
-/// normal) maps by a reflection: its rings are reversed to keep outer rings counter-clockwise.
-Ring ringInFirstFrame(const CuttingPlane& first, const CuttingPlane& member, Ring ring) {
-  for (Vec2& p : ring) p = toFirst(first, member, p);
-  if (first.plane.normal.dot(member.plane.normal) < 0) std::reverse(ring.begin(), ring.end());
-  return ring;
-}
-
-std::vector<Section> sectionsInFirstFrame(const CuttingPlane& first, const CuttingPlane& member,
-                                          std::vector<Section> sections) {
-  for (Section& s : sections) {
-    s.outer = ringInFirstFrame(first, member, std::move(s.outer));
-    for (Ring& h : s.holes) h = ringInFirstFrame(first, member, std::move(h));
-  }
-  return sections;
-}
-
-bool extentIsEmpty(const PlaneRect& e) { return !(e.max.x() > e.min.x() && e.max.y() > e.min.y()); }
-
-std::array<Vec2, 4> corners(const PlaneRect& e) {
-  return {e.min, Vec2(e.max.x(), e.min.y()), e.max, Vec2(e.min.x(), e.max.y())};
-}
-
-/// 1 where `member` observed the plane, on the raster: its image rectangle, narrowed by its field
-/// of view (even-odd, as geometry/arrangement/section_traces.cpp reads it).
-cv::Mat observedMask(const CuttingPlane& first, const CuttingPlane& member, const Raster& r) {
-  if (member.observed_everywhere) return cv::Mat(r.nv, r.nu, CV_8U, cv::Scalar(1));
-  cv::Mat mask(r.nv, r.nu, CV_8U, cv::Scalar(0));
-  if (extentIsEmpty(member.extent)) return mask;
-  std::vector<cv::Point> quad;
-  for (const Vec2& c : corners(member.extent)) quad.push_back(r.fixedPoint(toFirst(first, member, c)));
-  cv::fillConvexPoly(mask, quad, cv::Scalar(1), cv::LINE_8, kShift);
-  if (member.field_of_view.empty()) return mask;
-  std::vector<std::vector<cv::Point>> rings;
-  for (const Ring& ring : member.field_of_view) {
-    rings.emplace_back();
-    for (const Vec2& p : ring) rings.back().push_back(r.fixedPoint(toFirst(first, member, p)));
-  }
-  cv::Mat fov(r.nv, r.nu, CV_8U, cv::Scalar(0));
-  cv::fillPoly(fov, rings, cv::Scalar(1), cv::LINE_8, kShift);
-  return mask & fov;
-}
-
-/// The signed distance (mm, negative inside) to `sections` at every node: exact within the band,
-/// beyond it from a Euclidean distance transform between inside and outside nodes (never less than
-/// the band), so that values far from the contours still order the members correctly.
-cv::Mat signedDistance(const std::vector<Section>& sections, const Raster& r) {
-  const double band = kBandSteps * r.step;
-  const SectionDistanceField f = sectionDistanceField(sections, r.step, band);
-  cv::Mat d(r.nv, r.nu, CV_32F), inside(r.nv, r.nu, CV_8U);
-  for (int j = 0; j < r.nv; ++j)
-    for (int i = 0; i < r.nu; ++i) {
-      const Vec2 q = r.node(i, j);
-      const float v = f.sample(q.x(), q.y());
-      d.at<float>(j, i) = v;
-      inside.at<unsigned char>(j, i) = v < 0 ? 1 : 0;
-    }
-  const int in = cv::countNonZero(inside);
-  if (in == 0 || double(in) == r.count()) return d;  // no node on one side: nothing to measure to
-  cv::Mat toInside, toOutside;
-  cv::distanceTransform(inside == 0, toInside, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-  cv::distanceTransform(inside, toOutside, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-  for (int j = 0; j < r.nv; ++j)
-    for (int i = 0; i < r.nu; ++i) {
-      float& v = d.at<float>(j, i);
-      if (std::abs(v) < band) continue;
-      v = inside.at<unsigned char>(j, i) ? -std::max(float(band), float(r.step) * toOutside.at<float>(j, i))
-                                         : std::max(float(band), float(r.step) * toInside.at<float>(j, i));
-    }
-  return d;
-}
 
 /// The median (the mean of the two middle values for an even count) or the least of the values;
 /// `v` is reordered.
@@ -159,13 +46,13 @@ std::vector<std::size_t> votersOf(const std::vector<std::vector<Section>>& secti
 /// voter without sections here, e.g. without this label, votes outside everywhere). Accumulates the
 /// disagreement where every voter observed.
 cv::Mat consensusField(const std::vector<std::vector<Section>>& sections, const std::vector<std::size_t>& voters,
-                       const std::vector<cv::Mat>& observed, const Raster& r, Reduce how,
+                       const std::vector<cv::Mat>& observed, const SectionRaster& r, Reduce how,
                        CoincidentConsensus* stats) {
-  const float outside = float(kBandSteps * r.step);
+  const float outside = float(kSectionRasterBandSteps * r.step);
   if (stats) stats->voting = int(voters.empty() ? sections.size() : voters.size());
   if (voters.empty()) return cv::Mat(r.nv, r.nu, CV_32F, cv::Scalar(-outside));
   std::vector<cv::Mat> d;
-  for (const std::size_t m : voters) d.push_back(signedDistance(sections[m], r));
+  for (const std::size_t m : voters) d.push_back(signedDistanceOnRaster(sections[m], r));
   cv::Mat field(r.nv, r.nu, CV_32F);
   std::vector<float> seen;
   double disagreeing = 0;
@@ -192,18 +79,6 @@ cv::Mat consensusField(const std::vector<std::vector<Section>>& sections, const 
     }
   if (stats) stats->disagreement_area_mm2 += disagreeing * r.step * r.step;
   return field;
-}
-
-/// Rings of a field (positive inside) as plane coordinates on the raster, split into sections.
-std::vector<Section> sectionsOfRings(std::vector<Ring> rings, const Raster& r, int label) {
-  std::vector<Ring> outers, holes;
-  for (Ring& ring : rings) {
-    for (Vec2& p : ring) p = r.node(0, 0) + r.step * p;
-    (signedArea(ring) > 0 ? outers : holes).push_back(std::move(ring));
-  }
-  std::vector<Section> sections = sectionsFromRings(std::move(outers), std::move(holes));
-  for (Section& s : sections) s.label = label;
-  return sections;
 }
 
 bool sameRing(const Ring& a, const Ring& b, double tol) {
@@ -248,7 +123,7 @@ void observedUnion(const std::vector<CuttingPlane>& planes, const CoincidentGrou
     const CuttingPlane& m = planes[k];
     if (m.pixel_mm > 0 && (pixel == 0.0 || m.pixel_mm < pixel)) pixel = m.pixel_mm;
     if (!extentIsEmpty(m.extent))
-      for (const Vec2& c : corners(m.extent)) box.extend(toFirst(first, m, c));
+      for (const Vec2& c : extentCorners(m.extent)) box.extend(inReferenceFrame(first, m, c));
     if (m.observed_everywhere != first.observed_everywhere ||
         extentIsEmpty(m.extent) != extentIsEmpty(first.extent) ||
         m.field_of_view.size() != first.field_of_view.size()) {
@@ -256,14 +131,14 @@ void observedUnion(const std::vector<CuttingPlane>& planes, const CoincidentGrou
       continue;
     }
     for (int c = 0; c < 4; ++c)
-      same = same && (toFirst(first, m, corners(m.extent)[c]) - corners(first.extent)[c]).norm() <= tol;
+      same = same && (inReferenceFrame(first, m, extentCorners(m.extent)[c]) - extentCorners(first.extent)[c]).norm() <= tol;
     for (std::size_t f = 0; f < m.field_of_view.size(); ++f)
-      same = same && sameRing(ringInFirstFrame(first, m, m.field_of_view[f]), first.field_of_view[f], tol);
+      same = same && sameRing(ringInReferenceFrame(first, m, m.field_of_view[f]), first.field_of_view[f], tol);
   }
   if (same || first.observed_everywhere || box.isEmpty()) return;
   merged.extent = {box.min(), box.max()};
   merged.field_of_view.clear();
-  const Raster r = rasterAround(box, std::max(pixel, box.diagonal().norm() / kStepsPerExtent), 1, kMaxRegionNodes);
+  const SectionRaster r = sectionRasterAround(box, std::max(pixel, box.diagonal().norm() / kStepsPerExtent), 1, kMaxRegionNodes);
   cv::Mat any(r.nv, r.nu, CV_8U, cv::Scalar(0));
   for (const std::size_t k : g.members) any |= observedMask(first, planes[k], r);
   cv::Mat field(r.nv, r.nu, CV_32F);
@@ -294,7 +169,7 @@ CuttingPlane mergeGroup(const std::vector<CuttingPlane>& planes, const Coinciden
   double pixel = 0.0, tol = 0.0;
   for (const std::size_t k : g.members) {
     const CuttingPlane& m = planes[k];
-    sections.push_back(sectionsInFirstFrame(first, m, m.sections));
+    sections.push_back(sectionsInReferenceFrame(first, m, m.sections));
     for (const Section& s : sections.back()) box.extend(ringBounds(s.outer));
     if (m.pixel_mm > 0 && (pixel == 0.0 || m.pixel_mm < pixel)) pixel = m.pixel_mm;
     tol = std::max(tol, coincidenceTolerance(first, m));
@@ -323,13 +198,13 @@ CuttingPlane mergeGroup(const std::vector<CuttingPlane>& planes, const Coinciden
     for (const std::size_t k : g.members)
       for (const Section& s : (*labelled)[k]) labels.insert(s.label);
   layers += int(labels.size()) * int(g.members.size());
-  const Raster r = rasterAround(box, pixel > 0 ? pixel : box.diagonal().norm() / kStepsPerExtent, layers, kMaxNodes);
+  const SectionRaster r = sectionRasterAround(box, pixel > 0 ? pixel : box.diagonal().norm() / kStepsPerExtent, layers, kMaxNodes);
   std::vector<cv::Mat> observed;
   for (const std::size_t k : g.members) observed.push_back(observedMask(first, planes[k], r));
   const int label = first.sections.empty() ? 1 : first.sections.front().label;
   const std::vector<std::size_t> voters = votersOf(sections);
   const cv::Mat unionField = consensusField(sections, voters, observed, r, how, stats);
-  merged.sections = sectionsOfRings(isoContours(unionField), r, label);
+  merged.sections = sectionsOfRasterRings(isoContours(unionField), r, label);
   if (anyLabels) {
     // Each label's consensus field f_L on the same raster. The labels are traced together so that
     // they tile the plane, from g_L = f_L + (U - max_M f_M), U the union's field: the same
@@ -344,7 +219,7 @@ CuttingPlane mergeGroup(const std::vector<CuttingPlane>& planes, const Coinciden
         std::vector<Section> withL;
         for (const Section& s : (*labelled)[k])
           if (s.label == L) withL.push_back(s);
-        ofLabel.push_back(sectionsInFirstFrame(first, planes[k], std::move(withL)));
+        ofLabel.push_back(sectionsInReferenceFrame(first, planes[k], std::move(withL)));
       }
       // The union's voters vote on every label: one that saw the region as another label votes
       // against this one.
@@ -359,7 +234,7 @@ CuttingPlane mergeGroup(const std::vector<CuttingPlane>& planes, const Coinciden
       ringsOf[lr.label].push_back(std::move(lr.ring));
     std::vector<Section> perLabel;
     for (auto& [L, rings] : ringsOf)
-      for (Section& s : sectionsOfRings(std::move(rings), r, L)) perLabel.push_back(std::move(s));
+      for (Section& s : sectionsOfRasterRings(std::move(rings), r, L)) perLabel.push_back(std::move(s));
     (*labelled)[g.members.front()] = std::move(perLabel);
   }
   if (merged.observed_everywhere) {  // a contour plane's extent is its sections' bounds

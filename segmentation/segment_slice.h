@@ -93,6 +93,10 @@ struct SegmentationParams {
   /// threshold (coreThresholdOfClasses, series_threshold.h).
   double core_threshold = std::numeric_limits<double>::quiet_NaN();
   double min_area_mm2 = 0.0;         ///< components and holes smaller than this are removed
+  /// The elevation median of the series (segmentation/elevation_median.h): neighbours in the input's
+  /// order whose planes pass within this distance (mm) vote on a frame's region; 0 = none. Applied
+  /// to the series after every frame is segmented (pipeline/input_stage.cpp), not by segmentSlice.
+  double elevation_median_mm = 0.0;
   double simplify_mm = 0.0;          ///< Douglas-Peucker tolerance on contours, mm (0 = none)
   /// labels: reconstruct the union of all labels as one material (no per-label solids).
   bool merge_labels = false;
