@@ -17,6 +17,10 @@ namespace {
 
 constexpr double kMaxAngleDeg = 10.0;  // neighbours more tilted than this are another view, not the same slab
 constexpr double kMaxNodes = 4.0e6;    // the raster's step grows past this many nodes
+// Distances exact within this many raster steps of a contour. The median of 1-Lipschitz functions
+// is 1-Lipschitz, so at the nodes beside a change of its sign (all isoContours reads) it is within
+// sqrt(2) steps of zero, and it is one of the three values there: exact. Beyond, signs suffice.
+constexpr double kBandSteps = 3.0;
 
 /// 1 where `neighbour`'s plane passes within max_mm of the raster node of `frame`'s plane.
 cv::Mat nearMask(const CuttingPlane& frame, const CuttingPlane& neighbour, const SectionRaster& r, double max_mm) {
@@ -52,8 +56,9 @@ FrameMedian medianOfFrame(const CuttingPlane& before, const CuttingPlane& frame,
   const cv::Mat votes = observedMask(frame, frame, r) & observedMask(frame, before, r) & observedMask(frame, after, r) &
                         nearMask(frame, before, r, max_mm) & nearMask(frame, after, r, max_mm);
   if (cv::countNonZero(votes) == 0) return out;
-  const cv::Mat own = signedDistanceOnRaster(frame.sections, r);
-  const cv::Mat a = signedDistanceOnRaster(previous, r), b = signedDistanceOnRaster(next, r);
+  const cv::Mat own = signedDistanceNearContours(frame.sections, r, kBandSteps);
+  const cv::Mat a = signedDistanceNearContours(previous, r, kBandSteps);
+  const cv::Mat b = signedDistanceNearContours(next, r, kBandSteps);
   cv::Mat field(r.nv, r.nu, CV_32F);  // positive inside, for isoContours
   int removed = 0, added = 0;
   for (int j = 0; j < r.nv; ++j)

@@ -109,6 +109,17 @@ cv::Mat signedDistanceOnRaster(const std::vector<Section>& sections, const Secti
   return d;
 }
 
+cv::Mat signedDistanceNearContours(const std::vector<Section>& sections, const SectionRaster& r, double band_steps) {
+  const SectionDistanceField f = sectionDistanceField(sections, r.step, band_steps * r.step);
+  cv::Mat d(r.nv, r.nu, CV_32F);
+  for (int j = 0; j < r.nv; ++j)
+    for (int i = 0; i < r.nu; ++i) {
+      const Vec2 q = r.node(i, j);
+      d.at<float>(j, i) = f.sample(q.x(), q.y());
+    }
+  return d;
+}
+
 std::vector<Section> sectionsOfRasterRings(std::vector<Ring> rings, const SectionRaster& r, int label) {
   std::vector<Ring> outers, holes;
   for (Ring& ring : rings) {

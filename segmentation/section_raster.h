@@ -66,6 +66,11 @@ cv::Mat observedMask(const CuttingPlane& reference, const CuttingPlane& member, 
 /// everywhere.
 cv::Mat signedDistanceOnRaster(const std::vector<Section>& sections, const SectionRaster& r);
 
+/// The signed distance to `sections` exact within `band_steps` raster steps of a contour and ±that
+/// band beyond (only the sign): all a vote of signs needs, at the cost of the contours' length times
+/// the band's area, not the raster's.
+cv::Mat signedDistanceNearContours(const std::vector<Section>& sections, const SectionRaster& r, double band_steps);
+
 /// Rings of isoContours (raster coordinates) as plane coordinates, split into sections of `label`.
 std::vector<Section> sectionsOfRasterRings(std::vector<Ring> rings, const SectionRaster& r, int label);
 

@@ -214,6 +214,11 @@ TEST(UltrasoundSegmentation, PresetFillsOnlyTheKeysLeftOut) {
   EXPECT_EQ(c.segmentation.open_radius_px, 2);
   EXPECT_EQ(c.segmentation.open_radius_mm, 0);
   EXPECT_EQ(c.segmentation.close_radius_mm, 0);  // no closing: it joins speckle blobs to the object
+  EXPECT_EQ(c.segmentation.elevation_median_mm, 1.0);  // frames within the beam's slab vote
+  EXPECT_EQ(config("{preset: ultrasound, elevation_median_mm: 0}").segmentation.elevation_median_mm, 0.0);
+  EXPECT_EQ(config("{}").segmentation.elevation_median_mm, 0.0);  // not without the preset
+  EXPECT_THROW(config("{elevation_median_mm: -1}"), InputError);
+  EXPECT_THROW(config("{method: labels, elevation_median_mm: 1}"), InputError);
   EXPECT_EQ(config("{preset: ultrasound, close_radius_mm: 0.4}").segmentation.close_radius_mm, 0.4);
   EXPECT_EQ(config("{preset: ultrasound, method: otsu, inside: below}").segmentation.inside, InsideSide::below);
   EXPECT_THROW(config("{sigma_px: 1, sigma_mm: 0.2}"), InputError);
@@ -246,6 +251,7 @@ TEST(UltrasoundSegmentation, PresetFindsTheLumenAndLeavesShadowsOut) {
   const nlohmann::json png = test::run(dir, "png", "");
   EXPECT_EQ(plus["segmentation"]["inside_used"], "below");
   EXPECT_EQ(plus["segmentation"]["shadows"], "unobserved");
+  EXPECT_GT(plus["segmentation"]["elevation_median"]["frames_changed"].get<int>(), 0);  // speckle differs frame to frame
   EXPECT_EQ(plus["betti"], png["betti"]);
   EXPECT_EQ(plus["counts"]["sections"], png["counts"]["sections"]);
   EXPECT_EQ(test::slurp(dir / "plus/mesh.ply"), test::slurp(dir / "png/mesh.ply"));
