@@ -8,6 +8,7 @@
 //   mesh -> diagnose             (mesh_stage.h, stage 7)
 //   sampling                     (sampling_stage.h, stage 7: the sampling conditions, verdict, advice)
 //   write                        (run_outputs.h, stage 8)
+#include <cmath>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -16,6 +17,7 @@
 #include "io/input_error.h"
 #include "pipeline/arrange_stage.h"
 #include "pipeline/commands.h"
+#include "pipeline/confidence_stage.h"
 #include "pipeline/input_stage.h"
 #include "pipeline/json_values.h"
 #include "pipeline/plus_summary.h"
@@ -74,15 +76,23 @@ int runCommand(const RunOptions& o) {
   const SamplingStage sampling = samplingStage(c, *method, scene, arrangement, true);
   clock.end("sampling");
 
+  progress.stage("confidence");
+  const ConfidenceStage confidence = confidenceStage(reconstruction, smoothed, diagnosis.topology.betti, sampling);
+  clock.end("confidence");
+
   progress.stage("write");
-  const RunResults results{in, *method, built, arrangement, reconstruction, smoothed, meshes, diagnosis, sampling};
+  const RunResults results{in, *method, built, arrangement, reconstruction, smoothed, meshes, diagnosis, sampling, confidence};
   writeRunOutputs(results, o, clock);
   progress.finish();
   for (const auto& w : runWarnings(results)) progress.note("warning: " + w);
   // The last lines (issue 21): the sampling verdict, the Betti numbers, the page to look at.
   const Betti& betti = diagnosis.topology.betti;
   progress.note(samplingLine(sampling));
-  progress.note("betti " + std::to_string(betti[0]) + " " + std::to_string(betti[1]) + " " + std::to_string(betti[2]));
+  progress.note("topology: " + std::to_string(betti[0]) + " " + std::to_string(betti[1]) + " " + std::to_string(betti[2]) +
+                ", confidence " + confidenceText(confidence.confidence) +
+                (confidence.confidence.level != ConfidenceLevel::high && !reconstruction.topology
+                     ? " (if you know the answer: reconstruction.topology)"
+                     : ""));
   progress.note("report: " + (outDir / "report.html").string());
   return 0;
 }
@@ -132,7 +142,17 @@ int checkCommand(const RunOptions& o) {
                              {"max_seconds", c.max_seconds}};
     const std::unique_ptr<const Method> method = methodFor(c.reconstruction_method);
     const ArrangeStage arrangement = arrangeStage(c, built.scene, *method);
-    r["sampling"] = samplingSummaryJson(samplingStage(c, *method, built.scene, arrangement, false));
+    const SamplingStage sampling = samplingStage(c, *method, built.scene, arrangement, false);
+    r["sampling"] = samplingSummaryJson(sampling);
+    // What a run's topology confidence can say before the solid exists (issue 52): the scale below
+    // which its features are in doubt (README, "Topology confidence").
+    const double scale = std::max(dataScaleMm(sampling), 2 * built.scene.grid().voxel);
+    r["topology"] = {{"confidence", nullptr},
+                     {"data_scale_mm", scale},
+                     {"text", "not known before the run: features thinner than the run's data scale (half the "
+                              "largest cell height, at least 2 voxels; at most " +
+                                  jsonNumber(std::round(scale * 100) / 100) +
+                                  " mm by the heights bounded here) will be rated medium at best, one voxel thin low"}};
   } else {
     warnings.push_back("no section found in any slice");
   }

@@ -12,6 +12,7 @@
 
 #include "pipeline/arrange_stage.h"
 #include "pipeline/commands.h"
+#include "pipeline/confidence_stage.h"
 #include "pipeline/input_stage.h"
 #include "pipeline/mesh_stage.h"
 #include "pipeline/methods/method.h"
@@ -35,6 +36,7 @@ struct RunResults {
   const MeshStage& meshes;
   const DiagnoseStage& diagnosis;
   const SamplingStage& sampling;
+  const ConfidenceStage& confidence;  ///< topology.confidence (issue 52)
 };
 
 /// The run's warnings, gathered from the stages that found them, in the order they ran: loading

@@ -193,6 +193,37 @@ json smoothingJson(const RunResults& r) {
 /// report.json `topology` (reconstruction.topology other than free, issue 51): the goal, the Betti
 /// numbers before and after, and each change of a cell (a join cut or added: its sections as
 /// graph.json numbers them, its cell, where, its size).
+/// A feature's own level from its size (half the thickness of a handle or the radius of a hole,
+/// topology_features.h): what the probes of topology_confidence.h would say of it alone (an opening
+/// or closing by a ball of radius r unmakes features under r).
+const char* featureLevel(double size_mm, const TopologyConfidence& c) {
+  return nameOf(kConfidenceLevels, size_mm < c.voxel_mm                                   ? ConfidenceLevel::low
+                                   : size_mm < c.probes[1].radius_voxels * c.voxel_mm ? ConfidenceLevel::medium
+                                                                                          : ConfidenceLevel::high);
+}
+
+/// topology.confidence (issue 52): the level, its sentence, the probes and the kinds in doubt.
+json confidenceJson(const TopologyConfidence& c) {
+  json probes = json::array(), kinds = json::array();
+  for (const TopologyProbe& p : c.probes)
+    probes.push_back({{"radius_voxels", p.radius_voxels},
+                      {"radius_mm", p.radius_voxels * c.voxel_mm},
+                      {"scale", &p == &c.probes[0] ? "one voxel" : "half the largest cell height (at least 2 voxels)"},
+                      {"betti_closed", p.closed},
+                      {"betti_opened", p.opened}});
+  for (const FeatureDoubt& f : c.kinds)
+    kinds.push_back({{"kind", f.kind},
+                     {"count", f.count},
+                     {"in_doubt_at_1_voxel", f.in_doubt_1},
+                     {"in_doubt_at_data_scale", f.in_doubt_2},
+                     {"level", nameOf(kConfidenceLevels, f.level)}});
+  return {{"level", nameOf(kConfidenceLevels, c.level)},
+          {"text", confidenceText(c)},
+          {"probes", probes},
+          {"kinds", kinds},
+          {"voxels_probed", c.voxels}};
+}
+
 json topologyJson(const RunResults& r) {
   const TopologyControl& t = *r.reconstruction.topology;
   const TopologyGoal& goal = r.inputs.config.topology;
@@ -219,7 +250,8 @@ json topologyJson(const RunResults& r) {
                         {"born_at_mm", vecJson(f.born_at)},
                         {"dies_at_mm", vecJson(f.dies_at)},
                         {"cells", f.born_in_cell == f.dies_in_cell ? json({f.born_in_cell})
-                                                                   : json({f.born_in_cell, f.dies_in_cell})}});
+                                                                   : json({f.born_in_cell, f.dies_in_cell})},
+                        {"confidence", featureLevel(f.size_mm, r.confidence.confidence)}});
   return {{"mode", goal.mode == TopologyMode::target ? "target" : nameOf(kTopologyModes, goal.mode)},
           {"target", goal.mode == TopologyMode::target ? json(goal.target) : json(nullptr)},
           {"min_feature_mm", goal.mode == TopologyMode::simplest ? json(goal.min_feature_mm) : json(nullptr)},
@@ -291,7 +323,9 @@ json reportJson(const RunResults& r, const StageClock& clock) {
                            {"trace_points_added", a.trace_points},
                            {"sample_spacing_mm", a.sample_spacing_mm}};
   report["graph"] = graphSummaryJson(r);
-  if (r.reconstruction.topology) report["topology"] = topologyJson(r);
+  // topology: the confidence for every run (issue 52); the mode and what topology control changed.
+  report["topology"] = r.reconstruction.topology ? topologyJson(r) : json{{"mode", "free"}};
+  report["topology"]["confidence"] = confidenceJson(r.confidence.confidence);
   if (r.smooth) report["smoothing"] = smoothingJson(r);
   report["topology_repair"] = {{"specks_removed", rec.repair.specks_removed},
                                {"cavities_filled", rec.repair.cavities_filled},

@@ -113,8 +113,8 @@ std::vector<std::string> linesOf(const std::string& text) {
   return lines;
 }
 
-/// The last three lines of `xsect run`: the sampling verdict, the Betti numbers of report.json,
-/// the path of report.html in `out`; plain lines (no bar left on them).
+/// The last three lines of `xsect run`: the sampling verdict, the Betti numbers of report.json with
+/// its topology confidence, the path of report.html in `out`; plain lines (no bar left on them).
 void expectClosingLines(const std::string& err, const fs::path& out) {
   const std::vector<std::string> lines = linesOf(err);
   ASSERT_GE(lines.size(), 3u) << err;
@@ -124,9 +124,10 @@ void expectClosingLines(const std::string& err, const fs::path& out) {
   const nlohmann::json rep = nlohmann::json::parse(xsect::test::slurp(out / "report.json"));
   const std::string name = rep["sampling"]["verdict"].get<std::string>();
   EXPECT_EQ(verdict.rfind("sampling: " + name, 0), 0u) << err;
-  EXPECT_EQ(betti, "betti " + std::to_string(rep["betti"][0].get<int>()) + " " +
-                       std::to_string(rep["betti"][1].get<int>()) + " " + std::to_string(rep["betti"][2].get<int>()))
-      << err;
+  const std::string topology = "topology: " + std::to_string(rep["betti"][0].get<int>()) + " " +
+                               std::to_string(rep["betti"][1].get<int>()) + " " + std::to_string(rep["betti"][2].get<int>()) +
+                               ", confidence " + rep["topology"]["confidence"]["text"].get<std::string>();
+  EXPECT_EQ(betti.rfind(topology, 0), 0u) << err;
   EXPECT_EQ(report, "report: " + (fs::absolute(out) / "report.html").string()) << err;
   for (const std::string* l : {&verdict, &betti, &report})
     EXPECT_EQ(l->find_first_of("\r\033"), std::string::npos) << *l;

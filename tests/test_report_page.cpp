@@ -68,6 +68,7 @@ void checkFiguresAreThoseOfReportJson(const TorusRun& run) {
   const nlohmann::json& r = run.report;
   EXPECT_EQ(textOfId(run.html, "verdict"), r["sampling"]["verdict"].get<std::string>());
   EXPECT_EQ(textOfId(run.html, "betti"), joined(r["betti"]));
+  EXPECT_EQ(textOfId(run.html, "confidence"), r["topology"]["confidence"]["level"].get<std::string>());
   EXPECT_EQ(textOfId(run.html, "mesh-triangles"), r["counts"]["mesh_triangles"].dump());
   EXPECT_EQ(textOfId(run.html, "slices-used"), r["counts"]["slices_used"].dump());
 }

@@ -29,18 +29,32 @@ void requireRadius(double radius) {
 }  // namespace
 
 std::vector<std::uint8_t> ballClosing(const std::vector<std::uint8_t>& set, const GridSpec& grid, double radius) {
-  requireRadius(radius);
-  // Erosion of the dilation = complement of the dilation of its complement.
-  std::vector<std::uint8_t> out = complement(dilate(complement(dilate(set, grid, radius)), grid, radius));
-  for (std::size_t v = 0; v < set.size(); ++v) out[v] |= set[v];  // exact: the closing contains the set
-  return out;
+  return BallMorphology(set, grid).closing(radius);
 }
 
 std::vector<std::uint8_t> ballOpening(const std::vector<std::uint8_t>& set, const GridSpec& grid, double radius) {
+  return BallMorphology(set, grid).opening(radius);
+}
+
+BallMorphology::BallMorphology(const std::vector<std::uint8_t>& set, const GridSpec& grid)
+    : set_(set), grid_(grid), to_set_(squaredDistanceToSet(set, grid)), to_complement_(squaredDistanceToSet(complement(set), grid)) {}
+
+std::vector<std::uint8_t> BallMorphology::closing(double radius) const {
   requireRadius(radius);
-  const std::vector<std::uint8_t> eroded = complement(dilate(complement(set), grid, radius));
-  std::vector<std::uint8_t> out = dilate(eroded, grid, radius);
-  for (std::size_t v = 0; v < set.size(); ++v) out[v] &= set[v];
+  // Erosion of the dilation = complement of the dilation of its complement.
+  std::vector<std::uint8_t> outside(set_.size());  // the complement of the dilation
+  for (std::size_t v = 0; v < set_.size(); ++v) outside[v] = !(double(to_set_[v]) <= radius * radius);
+  std::vector<std::uint8_t> out = complement(dilate(outside, grid_, radius));
+  for (std::size_t v = 0; v < set_.size(); ++v) out[v] |= set_[v];  // exact: the closing contains the set
+  return out;
+}
+
+std::vector<std::uint8_t> BallMorphology::opening(double radius) const {
+  requireRadius(radius);
+  std::vector<std::uint8_t> eroded(set_.size());  // the complement of the complement's dilation
+  for (std::size_t v = 0; v < set_.size(); ++v) eroded[v] = !(double(to_complement_[v]) <= radius * radius);
+  std::vector<std::uint8_t> out = dilate(eroded, grid_, radius);
+  for (std::size_t v = 0; v < set_.size(); ++v) out[v] &= set_[v];
   return out;
 }
 

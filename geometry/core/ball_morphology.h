@@ -21,4 +21,19 @@ std::vector<std::uint8_t> ballClosing(const std::vector<std::uint8_t>& set, cons
 /// @return        the opening (the set eroded by the ball, then dilated by it): a subset of `set`.
 std::vector<std::uint8_t> ballOpening(const std::vector<std::uint8_t>& set, const GridSpec& grid, double radius);
 
+/// Closings and openings of one set by several radii, sharing the distance transforms of the set
+/// and of its complement (the dilations and erosions of every radius read them): six transforms
+/// for two radii instead of eight.
+class BallMorphology {
+ public:
+  BallMorphology(const std::vector<std::uint8_t>& set, const GridSpec& grid);
+  std::vector<std::uint8_t> closing(double radius) const;  ///< ballClosing(set, grid, radius)
+  std::vector<std::uint8_t> opening(double radius) const;  ///< ballOpening(set, grid, radius)
+
+ private:
+  const std::vector<std::uint8_t>& set_;
+  GridSpec grid_;
+  std::vector<float> to_set_, to_complement_;  ///< squared distances, voxels²
+};
+
 }  // namespace xsect

@@ -104,9 +104,10 @@ std::vector<CellMend> cellMends(const std::vector<std::uint8_t>& inside, const s
                                 const SectionArrangement& arrangement, int max_radius) {
   std::vector<CellMend> mends;
   std::set<std::pair<bool, std::vector<std::int64_t>>> found;
+  const BallMorphology morphology(inside, grid);  // every radius reads the same two distance transforms
   for (const bool fill : {true, false})
     for (int r = 1; r <= max_radius; ++r) {
-      std::vector<std::uint8_t> changed = fill ? ballClosing(inside, grid, r) : ballOpening(inside, grid, r);
+      std::vector<std::uint8_t> changed = fill ? morphology.closing(r) : morphology.opening(r);
       for (std::size_t v = 0; v < changed.size(); ++v)
         changed[v] = fill ? changed[v] && !inside[v] : inside[v] && !changed[v];
       const double largestNeck = 4.0 * std::pow(2 * r + 1, 3);

@@ -24,6 +24,10 @@ std::string headlineHtml(const json& report) {
                                   : "undetermined";
   return "sampling verdict <span id=\"verdict\" class=\"verdict-" + htmlEscape(verdict) + "\">" + htmlEscape(verdict) +
          "</span> · Betti numbers <span id=\"betti\">" + cellText(field(report, {"betti"})) +
+         "</span> · topology confidence <span id=\"confidence\">" +
+         htmlEscape(field(report, {"topology", "confidence", "level"}).is_string()
+                        ? field(report, {"topology", "confidence", "level"}).get<std::string>()
+                        : std::string("not computed")) +
          "</span> · mesh of <span id=\"mesh-triangles\">" + cellText(field(report, {"counts", "mesh_triangles"})) +
          "</span> triangles from <span id=\"slices-used\">" + cellText(field(report, {"counts", "slices_used"})) +
          "</span> slices";
@@ -47,6 +51,12 @@ std::string summaryHtml(const json& report, const std::string& samplingLine) {
                              cellText(field(delaunay, {"tetrahedra_components"})) + " component(s); R″ joins " +
                              cellText(field(delaunay, {"connections"})) + " section pairs, G″ has " +
                              cellText(field(delaunay, {"edges_g_double_prime"})) + " edges");
+  if (const json& c = field(report, {"topology", "confidence", "text"}); c.is_string())
+    t += row("topology confidence", htmlEscape(c.get<std::string>()) +
+                                        (field(report, {"topology", "mode"}) == "free" &&
+                                                 field(report, {"topology", "confidence", "level"}) != "high"
+                                             ? " (if you know the object's topology, give it as reconstruction.topology)"
+                                             : ""));
   t += row("solid", "Betti numbers " + cellText(field(report, {"betti"})) + " (voxels: " +
                         cellText(field(report, {"voxel_betti"})) + "), " +
                         (field(report, {"watertight"}) == json(true) ? "watertight" : "<b>not watertight</b>") + ", " +

@@ -31,7 +31,7 @@ std::string featuresHtml(const json& t) {
 
 std::string topologyChangesHtml(const json& report) {
   const json& t = field(report, {"topology"});
-  if (!t.is_object()) return "";
+  if (!t.is_object() || !t.contains("changes")) return "";  // free: only the confidence (the summary shows it)
   std::string h = "<p>reconstruction.topology: " + cellText(t["mode"]) +
                   (t["target"].is_null() ? std::string() : " [" + cellText(t["target"]) + "]") +
                   "; Betti numbers of the method's solid " + cellText(t["betti_before"]) + ", of the solid chosen " +

@@ -1,0 +1,120 @@
+// How much to trust a solid's topology (see topology_confidence.h).
+#include "geometry/reconstruction/topology_confidence.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+#include "geometry/core/ball_morphology.h"
+
+namespace xsect {
+namespace {
+
+/// The solid's voxels in its bounding box grown by `margin` voxels (the box's grid), or an empty grid.
+std::vector<std::uint8_t> croppedSolid(const std::vector<std::uint8_t>& inside, const GridSpec& grid, int margin,
+                                       GridSpec* box) {
+  std::array<int, 3> lo{grid.dims[0], grid.dims[1], grid.dims[2]}, hi{-1, -1, -1};
+  for (int k = 0; k < grid.dims[2]; ++k)
+    for (int j = 0; j < grid.dims[1]; ++j)
+      for (int i = 0; i < grid.dims[0]; ++i)
+        if (inside[std::size_t(grid.index(i, j, k))]) {
+          const std::array<int, 3> v{i, j, k};
+          for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], v[a]), hi[a] = std::max(hi[a], v[a]);
+        }
+  *box = grid;
+  if (hi[0] < 0) {
+    box->dims = {0, 0, 0};
+    return {};
+  }
+  for (int a = 0; a < 3; ++a) {
+    lo[a] -= margin;
+    hi[a] += margin;
+    box->dims[a] = hi[a] - lo[a] + 1;
+  }
+  box->origin = grid.origin + grid.voxel * Vec3(lo[0], lo[1], lo[2]);
+  std::vector<std::uint8_t> out(std::size_t(box->count()), 0);
+  for (int k = 0; k < box->dims[2]; ++k)
+    for (int j = 0; j < box->dims[1]; ++j)
+      for (int i = 0; i < box->dims[0]; ++i) {
+        const int x = i + lo[0], y = j + lo[1], z = k + lo[2];
+        if (x < 0 || y < 0 || z < 0 || x >= grid.dims[0] || y >= grid.dims[1] || z >= grid.dims[2]) continue;
+        out[std::size_t(box->index(i, j, k))] = inside[std::size_t(grid.index(x, y, z))];
+      }
+  return out;
+}
+
+int changes(int now, int closed, int opened) { return std::abs(now - closed) + std::abs(now - opened); }
+
+ConfidenceLevel levelOf(int in_doubt_1, int in_doubt_2) {
+  return in_doubt_1 > 0 ? ConfidenceLevel::low : in_doubt_2 > 0 ? ConfidenceLevel::medium : ConfidenceLevel::high;
+}
+
+std::string number(double v) {
+  std::ostringstream s;
+  s.precision(v < 10 ? 2 : 3);
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+TopologyConfidence topologyConfidence(const std::vector<std::uint8_t>& inside, const GridSpec& grid,
+                                      const Betti& betti, double scale_mm) {
+  TopologyConfidence c;
+  c.betti = betti;
+  c.voxel_mm = grid.voxel;
+  const double scale = std::max(2.0, std::isfinite(scale_mm) ? scale_mm / grid.voxel : 2.0);
+  // Empty voxels kept around the solid, so that the closing means what it means on an unbounded grid.
+  GridSpec box;
+  const std::vector<std::uint8_t> solid = croppedSolid(inside, grid, int(std::ceil(scale)) + 1, &box);
+  c.voxels = box.count();
+  const char* names[3] = {"component", "tunnel", "cavity"};
+  for (int b = 0; b < 3; ++b) {
+    c.kinds[std::size_t(b)].kind = names[b];
+    c.kinds[std::size_t(b)].count = b == 0 ? std::max(betti[0] - 1, 0) : betti[std::size_t(b)];
+  }
+  if (solid.empty()) return c;
+  c.probes[0].radius_voxels = 1.0;
+  c.probes[1].radius_voxels = scale;
+  const BallMorphology morphology(solid, box);
+  tbb::parallel_for(0, 4, [&](int t) {  // four independent probes
+    TopologyProbe& p = c.probes[std::size_t(t / 2)];
+    if (t % 2 == 0) p.closed = voxelBetti(morphology.closing(p.radius_voxels), box);
+    else p.opened = voxelBetti(morphology.opening(p.radius_voxels), box);
+  });
+  for (int b = 0; b < 3; ++b) {
+    FeatureDoubt& f = c.kinds[std::size_t(b)];
+    const std::size_t q = std::size_t(b);
+    const int at1 = changes(betti[q], c.probes[0].closed[q], c.probes[0].opened[q]);
+    const int at2 = changes(betti[q], c.probes[1].closed[q], c.probes[1].opened[q]);
+    f.in_doubt_1 = at1;
+    f.in_doubt_2 = std::max(at2 - at1, 0);
+    f.level = levelOf(f.in_doubt_1, f.in_doubt_2);
+  }
+  int at1 = 0, at2 = 0;
+  for (const FeatureDoubt& f : c.kinds) at1 += f.in_doubt_1, at2 += f.in_doubt_2;
+  c.level = levelOf(at1, at2);
+  return c;
+}
+
+std::string confidenceText(const TopologyConfidence& c) {
+  std::string text = std::string(nameOf(kConfidenceLevels, c.level));
+  const double scale_mm = c.probes[1].radius_voxels * c.voxel_mm;
+  if (c.level == ConfidenceLevel::high)
+    return text + ": no feature made or unmade by closing or opening " + number(scale_mm) +
+           " mm (half the largest cell height, at least 2 voxels)";
+  const bool voxel = c.level == ConfidenceLevel::low;
+  std::string parts;
+  for (const FeatureDoubt& f : c.kinds) {
+    const int n = voxel ? f.in_doubt_1 : f.in_doubt_2;
+    if (n == 0) continue;
+    parts += (parts.empty() ? "" : ", ") + std::to_string(n) + " " + f.kind + (n > 1 ? "s" : "");
+  }
+  return text + ": " + parts + " made or unmade by closing or opening " +
+         (voxel ? "1 voxel (" + number(c.voxel_mm) + " mm)" : number(scale_mm) + " mm (half the largest cell height)");
+}
+
+}  // namespace xsect

@@ -1,0 +1,36 @@
+// The confidence in the run's topology (see confidence_stage.h).
+#include "pipeline/confidence_stage.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "geometry/core/block_grid.h"
+
+namespace xsect {
+
+double dataScaleMm(const SamplingStage& sampling) {
+  double height = 0;
+  for (const CellSampling& c : sampling.diagnosis.cells)
+    if (holdsSections(c) && std::isfinite(c.height_hi_mm)) height = std::max(height, c.height_hi_mm);
+  return 0.5 * height;
+}
+
+ConfidenceStage confidenceStage(const ReconstructStage& reconstruction, const SmoothStage* smooth, const Betti& betti,
+                                const SamplingStage& sampling) {
+  const auto start = std::chrono::steady_clock::now();
+  ConfidenceStage out;
+  const double scale = dataScaleMm(sampling);
+  if (smooth) {
+    std::vector<std::uint8_t> in(smooth->field.values.size());
+    for (std::size_t q = 0; q < in.size(); ++q) in[q] = smooth->field.values[q] < 0;
+    out.confidence = topologyConfidence(in, smooth->field.grid, betti, scale);
+  } else {
+    const BlockGrid<std::uint8_t>& inside = reconstruction.solid.inside;
+    out.confidence = topologyConfidence(denseValues(inside), inside.grid(), betti, scale);
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace xsect

@@ -1,0 +1,139 @@
+// topology.confidence (geometry/reconstruction/topology_confidence.h): a solid whose features are
+// larger than the data's scale is high; a spurious tunnel a voxel thin makes it low; two parts
+// facing each other across less than the scale make it medium.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <random>
+
+#include "geometry/reconstruction/topology_confidence.h"
+#include "phantom_runs.h"
+
+namespace xsect {
+namespace {
+
+GridSpec cube(int n) {
+  GridSpec g;
+  g.voxel = 0.5;
+  g.dims = {n, n, n};
+  return g;
+}
+
+/// The voxels of a torus (major radius R, tube r, in voxels) about the axis `axis`, centred.
+std::vector<std::uint8_t> torus(const GridSpec& g, double R, double r, const Vec3& axis) {
+  const Vec3 c = 0.5 * Vec3(g.dims[0] - 1, g.dims[1] - 1, g.dims[2] - 1);
+  const Vec3 n = axis.normalized();
+  std::vector<std::uint8_t> in(std::size_t(g.count()), 0);
+  for (int k = 0; k < g.dims[2]; ++k)
+    for (int j = 0; j < g.dims[1]; ++j)
+      for (int i = 0; i < g.dims[0]; ++i) {
+        const Vec3 p = Vec3(i, j, k) - c;
+        const double h = p.dot(n), q = (p - h * n).norm() - R;
+        in[std::size_t(g.index(i, j, k))] = std::hypot(q, h) <= r;
+      }
+  return in;
+}
+
+/// A rod one voxel thick along x through the grid's centre row (j, k) from i0 to i1.
+void addRod(std::vector<std::uint8_t>& in, const GridSpec& g, int i0, int i1, int j, int k) {
+  for (int i = i0; i <= i1; ++i) in[std::size_t(g.index(i, j, k))] = 1;
+}
+
+TEST(TopologyConfidence, AThickTorusIsHighAndAVoxelThinRodAcrossItsHoleMakesItLow) {
+  std::mt19937_64 rng(52);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 12; ++trial) {
+    const GridSpec g = cube(48);
+    const double R = 13 + 3 * u(rng), r = 5 + u(rng);  // the hole's radius R - r is at least 4 voxels
+    const Vec3 axis(0.15 * u(rng), 0.15 * u(rng), 1.0);
+    std::vector<std::uint8_t> in = torus(g, R, r, axis);
+    const Betti truth{1, 1, 0};
+    ASSERT_EQ(voxelBetti(in, g), truth) << trial;
+    // The data's scale: 2 voxels (dense planes): the hole (radius R - r > 5 voxels) and the tube
+    // (radius r) are larger.
+    const TopologyConfidence high = topologyConfidence(in, g, truth, 1.0);
+    EXPECT_EQ(high.level, ConfidenceLevel::high) << trial << " " << confidenceText(high);
+    EXPECT_EQ(high.kinds[1].count, 1);
+    // Sparse planes: half the cell height (8 voxels) exceeds the tube: the opening cuts it.
+    const TopologyConfidence sparse = topologyConfidence(in, g, truth, 4.0);
+    EXPECT_EQ(sparse.level, ConfidenceLevel::medium) << trial << " " << confidenceText(sparse);
+    EXPECT_GT(sparse.kinds[1].in_doubt_2, 0);
+    // A rod a voxel thick across the hole: a second tunnel that an opening by one voxel removes.
+    addRod(in, g, int(24 - R), int(24 + R), 24, 24);  // from tube to tube through the centre
+    const Betti withRod = voxelBetti(in, g);
+    ASSERT_EQ(withRod[1], 2) << trial;
+    const TopologyConfidence low = topologyConfidence(in, g, withRod, 1.0);
+    EXPECT_EQ(low.level, ConfidenceLevel::low) << trial << " " << confidenceText(low);
+    EXPECT_GE(low.kinds[1].in_doubt_1, 1);
+    EXPECT_EQ(low.kinds[1].level, ConfidenceLevel::low);
+    EXPECT_EQ(low.kinds[2].level, ConfidenceLevel::high);  // no cavity in doubt
+  }
+}
+
+TEST(TopologyConfidence, TwoSlabsAreMediumWhenNearerThanTheScaleAndLowWhenAVoxelApart) {
+  const GridSpec g = cube(48);
+  for (const int gap : {1, 5, 12}) {  // voxels of empty space between two facing slabs
+    std::vector<std::uint8_t> in(std::size_t(g.count()), 0);
+    const int x0 = 4, x1 = x0 + 12 + gap;  // slabs 12 voxels thick (more than the opening's ball), 24 x 24 across
+    for (int k = 12; k < 36; ++k)
+      for (int j = 12; j < 36; ++j)
+        for (int i = 0; i < 48; ++i)
+          in[std::size_t(g.index(i, j, k))] = (i >= x0 && i < x0 + 12) || (i >= x1 && i < x1 + 12);
+    const Betti b = voxelBetti(in, g);
+    ASSERT_EQ(b[0], 2) << gap;
+    // Scale 2 mm = 4 voxels: the closing joins slabs facing each other across less than 8 voxels.
+    const TopologyConfidence c = topologyConfidence(in, g, b, 2.0);
+    const ConfidenceLevel expected = gap <= 1 ? ConfidenceLevel::low : gap < 8 ? ConfidenceLevel::medium : ConfidenceLevel::high;
+    EXPECT_EQ(c.level, expected) << "gap " << gap << ": " << confidenceText(c);
+    EXPECT_EQ(c.kinds[0].count, 1);  // one component beyond the first
+    EXPECT_EQ(c.kinds[0].level, expected);
+  }
+}
+
+TEST(TopologyConfidence, AnEmptySolidIsHighWithNothingProbed) {
+  const GridSpec g = cube(8);
+  const TopologyConfidence c = topologyConfidence(std::vector<std::uint8_t>(std::size_t(g.count()), 0), g, {0, 0, 0}, 1.0);
+  EXPECT_EQ(c.level, ConfidenceLevel::high);
+  EXPECT_EQ(c.voxels, 0);
+}
+
+// End to end: the dense torus of configs/phantoms/torus-multiaxial.yaml is rated high (its tube and
+// hole are larger than its cells' heights); the same torus cut by 3 planes per axis (cells as high
+// as the tube is thick) is not; `xsect check` gives the data's scale before any run.
+TEST(TopologyConfidence, ARunRatesADenseTorusHighAndASparseOneLower) {
+  const std::string spec =
+      "seed: 2\nshape: {kind: torus, params: {major_radius: 12, minor_radius: 4}, rotation_deg: [20, 10, 0]}\n"
+      "pattern: {kind: multiaxial, count: COUNT}\nimage: {pixel_mm: 0.25}\n"
+      "config: {reconstruction: {voxel_size_mm: 0.4}}\n";
+  for (const int count : {10, 3}) {
+    std::string s = spec;
+    s.replace(s.find("COUNT"), 5, std::to_string(count));
+    const std::filesystem::path dir = test::phantom("confidence-torus-" + std::to_string(count), s);
+    const nlohmann::json r = test::run(dir, "out", "");
+    const nlohmann::json& c = r["topology"]["confidence"];
+    ASSERT_TRUE(c.is_object()) << r["topology"].dump();
+    EXPECT_EQ(r["topology"]["mode"], "free");
+    EXPECT_EQ(c["probes"].size(), 2u);
+    EXPECT_DOUBLE_EQ(c["probes"][0]["radius_mm"].get<double>(), 0.4);
+    if (count == 10) {
+      EXPECT_EQ(r["betti"], nlohmann::json({1, 1, 0}));
+      EXPECT_EQ(c["level"], "high") << c.dump();
+    } else {
+      EXPECT_NE(c["level"], "high") << c.dump();
+      EXPECT_GT(c["probes"][1]["radius_mm"].get<double>(), 2.0) << c.dump();  // cells 4+ mm high
+    }
+    const std::filesystem::path json = dir / "check.json";
+    ASSERT_EQ(std::system((std::string(XSECT_BIN) + " check " + (dir / "ph/config.yaml").string() + " --quiet > " +
+                           json.string()).c_str()),
+              0);
+    const nlohmann::json k = test::readJson(json);
+    EXPECT_TRUE(k["topology"]["confidence"].is_null());
+    EXPECT_GE(k["topology"]["data_scale_mm"].get<double>(), c["probes"][1]["radius_mm"].get<double>() - 1e-9)
+        << "check bounds the heights from above";
+    std::filesystem::remove_all(dir);
+  }
+}
+
+}  // namespace
+}  // namespace xsect
