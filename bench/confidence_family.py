@@ -10,19 +10,15 @@ free`). Prints each run, then the confusion table: per level, the results right 
 
   python3 bench/confidence_family.py --xsect build/xsect --work /tmp/conf [--seeds 1-8] [--methods nearest_plane,section_voronoi] [--json out.json]
 """
-import argparse, glob, json, os, re, subprocess, sys
+import argparse, json, os, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from sparse_comparison import configurations  # noqa: E402
-from topology_family import cup_configurations, ROOT  # noqa: E402
+from topology_family import cup_configurations, rendered, run, ROOT  # noqa: E402
 
 DENSE = ["sphere-multiaxial.yaml", "torus-multiaxial.yaml", "hollow-sphere-multiaxial.yaml", "split-torus-multiaxial.yaml",
          "two-spheres-parallel.yaml", "fig-1-11-notched.yaml", "fig-1-11-twisted.yaml", "genus2-random-200.yaml",
          "vessel-tree-freehand.yaml", "ellipsoid-fan.yaml"]
-
-
-def run(cmd):
-    return subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
 
 def dense_configurations():
@@ -49,17 +45,7 @@ def main():
     for family, name, spec in configs:
         if a.only not in name:
             continue
-        d = os.path.join(a.work, name)
-        os.makedirs(d, exist_ok=True)
-        with open(os.path.join(d, "spec.yaml"), "w") as f:
-            f.write(spec)
-        if not os.path.exists(os.path.join(d, "ph", "truth.yaml")):
-            r = run([a.xsect, "phantom", os.path.join(d, "spec.yaml"), "--out", os.path.join(d, "ph"), "--quiet"])
-            if r.returncode != 0:
-                print(f"{name}: xsect phantom failed: {r.stderr.strip()}")
-                continue
-        truth_text = open(os.path.join(d, "ph", "truth.yaml")).read()
-        truth = [int(x) for x in re.search(r"(?m)^betti: \[([^\]]*)\]", truth_text).group(1).split(",")]
+        d, truth = rendered(a.xsect, a.work, name, spec)
         for method in a.methods.split(","):
             out = os.path.join(d, method)
             r = run([a.xsect, "run", os.path.join(d, "ph", "config.yaml"), "--out", out, "--quiet",

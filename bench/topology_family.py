@@ -34,6 +34,21 @@ def run(cmd):
     return subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
 
+def rendered(xsect, work, name, spec):
+    """The phantom `spec` rendered in WORK/NAME/ph (once: kept for reruns); (its folder, its truth's
+    Betti numbers). Exits if xsect phantom fails."""
+    d = os.path.join(work, name)
+    os.makedirs(d, exist_ok=True)
+    with open(os.path.join(d, "spec.yaml"), "w") as f:
+        f.write(spec)
+    if not os.path.exists(os.path.join(d, "ph", "truth.yaml")):
+        r = run([xsect, "phantom", os.path.join(d, "spec.yaml"), "--out", os.path.join(d, "ph"), "--quiet"])
+        if r.returncode != 0:
+            sys.exit(f"{name}: xsect phantom failed: {r.stderr}")
+    truth_text = open(os.path.join(d, "ph", "truth.yaml")).read()
+    return d, [int(x) for x in re.search(r"(?m)^betti: \[([^\]]*)\]", truth_text).group(1).split(",")]
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--xsect", required=True)
@@ -49,16 +64,7 @@ def main():
     for family, name, spec in list(configurations(seeds)) + list(cup_configurations(seeds)):
         if a.only not in name:
             continue
-        d = os.path.join(a.work, name)
-        os.makedirs(d, exist_ok=True)
-        with open(os.path.join(d, "spec.yaml"), "w") as f:
-            f.write(spec)
-        if not os.path.exists(os.path.join(d, "ph", "truth.yaml")):
-            r = run([a.xsect, "phantom", os.path.join(d, "spec.yaml"), "--out", os.path.join(d, "ph"), "--quiet"])
-            if r.returncode != 0:
-                sys.exit(f"{name}: xsect phantom failed: {r.stderr}")
-        truth_text = open(os.path.join(d, "ph", "truth.yaml")).read()
-        truth = [int(x) for x in re.search(r"(?m)^betti: \[([^\]]*)\]", truth_text).group(1).split(",")]
+        d, truth = rendered(a.xsect, a.work, name, spec)
         for method in METHODS:
             row = {"family": family, "name": name, "method": method, "truth": truth}
             for mode, value in (("free", "free"), ("target", "[{},{},{}]".format(*truth)), ("simplest", "simplest")):

@@ -205,17 +205,19 @@ const char* featureLevel(double size_mm, const TopologyConfidence& c) {
 /// topology.confidence (issue 52): the level, its sentence, the probes and the kinds in doubt.
 json confidenceJson(const TopologyConfidence& c) {
   json probes = json::array(), kinds = json::array();
-  for (const TopologyProbe& p : c.probes)
+  for (const TopologyProbe& p : c.probes) {
+    const bool probed = &p == &c.probes[0] || c.scale_probed;
     probes.push_back({{"radius_voxels", p.radius_voxels},
                       {"radius_mm", p.radius_voxels * c.voxel_mm},
                       {"scale", &p == &c.probes[0] ? "one voxel" : "half the largest cell height (at least 2 voxels)"},
-                      {"betti_closed", p.closed},
-                      {"betti_opened", p.opened}});
+                      {"betti_closed", probed ? json(p.closed) : json(nullptr)},
+                      {"betti_opened", probed ? json(p.opened) : json(nullptr)}});
+  }
   for (const FeatureDoubt& f : c.kinds)
     kinds.push_back({{"kind", f.kind},
                      {"count", f.count},
                      {"in_doubt_at_1_voxel", f.in_doubt_1},
-                     {"in_doubt_at_data_scale", f.in_doubt_2},
+                     {"in_doubt_at_data_scale", c.scale_probed ? json(f.in_doubt_2) : json(nullptr)},
                      {"level", nameOf(kConfidenceLevels, f.level)}});
   return {{"level", nameOf(kConfidenceLevels, c.level)},
           {"text", confidenceText(c)},

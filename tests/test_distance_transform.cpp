@@ -91,4 +91,43 @@ TEST(BallMorphology, OpeningIsHeldByTheSetAndRemovesNecksThinnerThanTheBall) {
   EXPECT_THROW(ballOpening(std::vector<std::uint8_t>(8, 0), grid(2, 2, 2), 0.0), std::invalid_argument);
 }
 
+// The closing and opening by brute force from their definitions (the union of the balls of radius
+// r held by the set or its complement): at r = 1 the ball is the cross (no transform is used), at
+// r = 2 the transforms shared by BallMorphology; both against the definition on random sets.
+TEST(BallMorphology, ClosingAndOpeningEqualTheirDefinitionsAtOneAndTwoVoxels) {
+  for (int seed = 1; seed <= 12; ++seed) {
+    std::mt19937 rng(static_cast<unsigned>(seed));
+    const GridSpec g = grid(9, 8, 7);
+    std::bernoulli_distribution in(0.3 + 0.04 * (seed % 5));
+    std::vector<std::uint8_t> set(std::size_t(g.count()));
+    for (auto& v : set) v = in(rng);
+    const BallMorphology m(set, g);
+    for (const double r : {1.0, 2.0}) {
+      // dilate(A)[v]: a voxel of A within r of v (beyond the grid: not in A).
+      const auto dilate = [&](const std::vector<std::uint8_t>& a) {
+        std::vector<std::uint8_t> out(a.size(), 0);
+        for (int k = 0; k < g.dims[2]; ++k)
+          for (int j = 0; j < g.dims[1]; ++j)
+            for (int i = 0; i < g.dims[0]; ++i)
+              for (int c = 0; c < g.dims[2]; ++c)
+                for (int b = 0; b < g.dims[1]; ++b)
+                  for (int a0 = 0; a0 < g.dims[0]; ++a0)
+                    if (a[std::size_t(g.index(a0, b, c))] && (i - a0) * (i - a0) + (j - b) * (j - b) + (k - c) * (k - c) <= r * r)
+                      out[std::size_t(g.index(i, j, k))] = 1;
+        return out;
+      };
+      const auto complement = [](std::vector<std::uint8_t> a) {
+        for (auto& v : a) v = !v;
+        return a;
+      };
+      std::vector<std::uint8_t> closing = complement(dilate(complement(dilate(set))));
+      std::vector<std::uint8_t> opening = dilate(complement(dilate(complement(set))));
+      for (std::size_t v = 0; v < set.size(); ++v) closing[v] |= set[v], opening[v] &= set[v];
+      EXPECT_EQ(m.closing(r), closing) << "seed " << seed << ", r " << r;
+      EXPECT_EQ(m.opening(r), opening) << "seed " << seed << ", r " << r;
+      EXPECT_EQ(ballClosing(set, g, r), closing);
+    }
+  }
+}
+
 }  // namespace

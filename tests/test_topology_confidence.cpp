@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <random>
+#include <regex>
 
 #include "geometry/reconstruction/topology_confidence.h"
 #include "phantom_runs.h"
@@ -133,6 +134,45 @@ TEST(TopologyConfidence, ARunRatesADenseTorusHighAndASparseOneLower) {
         << "check bounds the heights from above";
     std::filesystem::remove_all(dir);
   }
+}
+
+// The rates README ("Topology confidence") quotes, on a part of the families small enough for CI:
+// the torus and the sphere cut by 6 and 9 random planes and the genus-2 solid by 20, seeds 1-4,
+// method 1 (20 configurations). Every high must have the truth's topology, high must go to at least
+// half of the right results, and low must be wrong at least 70% of the time.
+TEST(TopologyConfidence, OnSparseFamiliesHighIsRightAndLowIsMostlyWrong) {
+  struct Family {
+    const char* base;
+    std::vector<int> counts;
+  };
+  int high = 0, highRight = 0, right = 0, low = 0, lowWrong = 0;
+  std::string rows;
+  for (const Family& f : {Family{"torus-multiaxial.yaml", {6, 9}}, Family{"sphere-multiaxial.yaml", {6, 9}},
+                          Family{"genus2-random.yaml", {20}}})
+    for (const int count : f.counts)
+      for (int seed = 1; seed <= 4; ++seed) {
+        std::string spec = test::slurp(std::filesystem::path(XSECT_SOURCE_DIR) / "configs/phantoms" / f.base);
+        spec = std::regex_replace(spec, std::regex("(^|\n)seed: [^\n]*"), "$1seed: " + std::to_string(seed));
+        spec = std::regex_replace(spec, std::regex("(^|\n)pattern: [^\n]*"),
+                                  "$1pattern: {kind: random, count: " + std::to_string(count) + "}");
+        const std::filesystem::path dir = test::phantom("confidence-family", spec);
+        const std::string truthText = test::slurp(dir / "ph/truth.yaml");
+        std::smatch m;
+        ASSERT_TRUE(std::regex_search(truthText, m, std::regex(R"(\nbetti: \[(\d+), (\d+), (\d+)\])")));
+        const nlohmann::json truth = {std::stoi(m[1]), std::stoi(m[2]), std::stoi(m[3])};
+        const nlohmann::json r = test::run(dir, "out", "");
+        const std::string level = r["topology"]["confidence"]["level"];
+        const bool ok = r["betti"] == truth;
+        right += ok;
+        high += level == "high", highRight += level == "high" && ok;
+        low += level == "low", lowWrong += level == "low" && !ok;
+        rows += std::string(f.base) + " " + std::to_string(count) + " s" + std::to_string(seed) + ": " + r["betti"].dump() +
+                (ok ? " right, " : " wrong, ") + level + "\n";
+        std::filesystem::remove_all(dir);
+      }
+  EXPECT_EQ(highRight, high) << rows;
+  EXPECT_GE(2 * highRight, right) << rows;
+  if (low >= 4) EXPECT_GE(10 * lowWrong, 7 * low) << rows;
 }
 
 }  // namespace

@@ -22,6 +22,29 @@ std::vector<std::uint8_t> complement(std::vector<std::uint8_t> set) {
   return set;
 }
 
+/// Radii under this are the voxel and its six face neighbours (the next voxel centres lie at sqrt(2)).
+constexpr double kCrossRadius = 1.4142135623730951;
+
+/// The dilation by the ball of radius 1 (the voxel and its face neighbours); voxels beyond the grid
+/// are not in the set, as for the distance transform.
+std::vector<std::uint8_t> dilateByCross(const std::vector<std::uint8_t>& set, const GridSpec& grid) {
+  std::vector<std::uint8_t> out(set);
+  const std::int64_t sx = 1, sy = grid.dims[0], sz = std::int64_t(grid.dims[0]) * grid.dims[1];
+  for (int k = 0; k < grid.dims[2]; ++k)
+    for (int j = 0; j < grid.dims[1]; ++j)
+      for (int i = 0; i < grid.dims[0]; ++i) {
+        const std::int64_t v = grid.index(i, j, k);
+        if (!set[std::size_t(v)]) continue;
+        if (i > 0) out[std::size_t(v - sx)] = 1;
+        if (i + 1 < grid.dims[0]) out[std::size_t(v + sx)] = 1;
+        if (j > 0) out[std::size_t(v - sy)] = 1;
+        if (j + 1 < grid.dims[1]) out[std::size_t(v + sy)] = 1;
+        if (k > 0) out[std::size_t(v - sz)] = 1;
+        if (k + 1 < grid.dims[2]) out[std::size_t(v + sz)] = 1;
+      }
+  return out;
+}
+
 void requireRadius(double radius) {
   if (!(radius > 0)) throw std::invalid_argument("ball morphology: the radius must be > 0 voxels");
 }
@@ -36,24 +59,45 @@ std::vector<std::uint8_t> ballOpening(const std::vector<std::uint8_t>& set, cons
   return BallMorphology(set, grid).opening(radius);
 }
 
-BallMorphology::BallMorphology(const std::vector<std::uint8_t>& set, const GridSpec& grid)
-    : set_(set), grid_(grid), to_set_(squaredDistanceToSet(set, grid)), to_complement_(squaredDistanceToSet(complement(set), grid)) {}
+BallMorphology::BallMorphology(const std::vector<std::uint8_t>& set, const GridSpec& grid) : set_(set), grid_(grid) {}
+
+const std::vector<float>& BallMorphology::toSet() const {
+  std::call_once(set_once_, [&] { to_set_ = squaredDistanceToSet(set_, grid_); });
+  return to_set_;
+}
+
+const std::vector<float>& BallMorphology::toComplement() const {
+  std::call_once(complement_once_, [&] { to_complement_ = squaredDistanceToSet(complement(set_), grid_); });
+  return to_complement_;
+}
 
 std::vector<std::uint8_t> BallMorphology::closing(double radius) const {
   requireRadius(radius);
-  // Erosion of the dilation = complement of the dilation of its complement.
-  std::vector<std::uint8_t> outside(set_.size());  // the complement of the dilation
-  for (std::size_t v = 0; v < set_.size(); ++v) outside[v] = !(double(to_set_[v]) <= radius * radius);
-  std::vector<std::uint8_t> out = complement(dilate(outside, grid_, radius));
+  std::vector<std::uint8_t> out;
+  if (radius < kCrossRadius) {  // the ball is the cross: no transform
+    out = complement(dilateByCross(complement(dilateByCross(set_, grid_)), grid_));
+  } else {
+    // Erosion of the dilation = complement of the dilation of its complement.
+    const std::vector<float>& d = toSet();
+    std::vector<std::uint8_t> outside(set_.size());  // the complement of the dilation
+    for (std::size_t v = 0; v < set_.size(); ++v) outside[v] = !(double(d[v]) <= radius * radius);
+    out = complement(dilate(outside, grid_, radius));
+  }
   for (std::size_t v = 0; v < set_.size(); ++v) out[v] |= set_[v];  // exact: the closing contains the set
   return out;
 }
 
 std::vector<std::uint8_t> BallMorphology::opening(double radius) const {
   requireRadius(radius);
-  std::vector<std::uint8_t> eroded(set_.size());  // the complement of the complement's dilation
-  for (std::size_t v = 0; v < set_.size(); ++v) eroded[v] = !(double(to_complement_[v]) <= radius * radius);
-  std::vector<std::uint8_t> out = dilate(eroded, grid_, radius);
+  std::vector<std::uint8_t> out;
+  if (radius < kCrossRadius) {
+    out = dilateByCross(complement(dilateByCross(complement(set_), grid_)), grid_);
+  } else {
+    const std::vector<float>& d = toComplement();
+    std::vector<std::uint8_t> eroded(set_.size());  // the complement of the complement's dilation
+    for (std::size_t v = 0; v < set_.size(); ++v) eroded[v] = !(double(d[v]) <= radius * radius);
+    out = dilate(eroded, grid_, radius);
+  }
   for (std::size_t v = 0; v < set_.size(); ++v) out[v] &= set_[v];
   return out;
 }

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <mutex>
 #include <vector>
 
 #include "geometry/core/types.h"
@@ -22,8 +23,10 @@ std::vector<std::uint8_t> ballClosing(const std::vector<std::uint8_t>& set, cons
 std::vector<std::uint8_t> ballOpening(const std::vector<std::uint8_t>& set, const GridSpec& grid, double radius);
 
 /// Closings and openings of one set by several radii, sharing the distance transforms of the set
-/// and of its complement (the dilations and erosions of every radius read them): six transforms
-/// for two radii instead of eight.
+/// and of its complement (the dilations and erosions of every radius read them, computed once on
+/// first need): six transforms for two radii instead of eight. A radius under sqrt(2) voxels is a
+/// ball of the voxel and its six face neighbours, applied directly without a transform. Safe to
+/// call from several threads at once.
 class BallMorphology {
  public:
   BallMorphology(const std::vector<std::uint8_t>& set, const GridSpec& grid);
@@ -31,9 +34,12 @@ class BallMorphology {
   std::vector<std::uint8_t> opening(double radius) const;  ///< ballOpening(set, grid, radius)
 
  private:
+  const std::vector<float>& toSet() const;
+  const std::vector<float>& toComplement() const;
   const std::vector<std::uint8_t>& set_;
   GridSpec grid_;
-  std::vector<float> to_set_, to_complement_;  ///< squared distances, voxels²
+  mutable std::once_flag set_once_, complement_once_;
+  mutable std::vector<float> to_set_, to_complement_;  ///< squared distances, voxels²
 };
 
 }  // namespace xsect

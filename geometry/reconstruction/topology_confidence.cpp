@@ -80,22 +80,29 @@ TopologyConfidence topologyConfidence(const std::vector<std::uint8_t>& inside, c
   c.probes[0].radius_voxels = 1.0;
   c.probes[1].radius_voxels = scale;
   const BallMorphology morphology(solid, box);
-  tbb::parallel_for(0, 4, [&](int t) {  // four independent probes
-    TopologyProbe& p = c.probes[std::size_t(t / 2)];
-    if (t % 2 == 0) p.closed = voxelBetti(morphology.closing(p.radius_voxels), box);
-    else p.opened = voxelBetti(morphology.opening(p.radius_voxels), box);
-  });
+  // The probe at one voxel first (no distance transform); the data's scale only when it leaves
+  // the level open: a result in doubt at one voxel is low whatever the larger ball says.
+  const auto probe = [&](TopologyProbe& p) {
+    tbb::parallel_for(0, 2, [&](int t) {
+      if (t == 0) p.closed = voxelBetti(morphology.closing(p.radius_voxels), box);
+      else p.opened = voxelBetti(morphology.opening(p.radius_voxels), box);
+    });
+  };
+  probe(c.probes[0]);
+  int at1 = 0;
+  for (std::size_t q = 0; q < 3; ++q) at1 += changes(betti[q], c.probes[0].closed[q], c.probes[0].opened[q]);
+  c.scale_probed = at1 == 0;
+  if (c.scale_probed) probe(c.probes[1]);
   for (int b = 0; b < 3; ++b) {
     FeatureDoubt& f = c.kinds[std::size_t(b)];
     const std::size_t q = std::size_t(b);
-    const int at1 = changes(betti[q], c.probes[0].closed[q], c.probes[0].opened[q]);
-    const int at2 = changes(betti[q], c.probes[1].closed[q], c.probes[1].opened[q]);
-    f.in_doubt_1 = at1;
-    f.in_doubt_2 = std::max(at2 - at1, 0);
+    f.in_doubt_1 = changes(betti[q], c.probes[0].closed[q], c.probes[0].opened[q]);
+    if (c.scale_probed)
+      f.in_doubt_2 = std::max(changes(betti[q], c.probes[1].closed[q], c.probes[1].opened[q]) - f.in_doubt_1, 0);
     f.level = levelOf(f.in_doubt_1, f.in_doubt_2);
   }
-  int at1 = 0, at2 = 0;
-  for (const FeatureDoubt& f : c.kinds) at1 += f.in_doubt_1, at2 += f.in_doubt_2;
+  int at2 = 0;
+  for (const FeatureDoubt& f : c.kinds) at2 += f.in_doubt_2;
   c.level = levelOf(at1, at2);
   return c;
 }

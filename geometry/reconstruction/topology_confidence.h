@@ -20,7 +20,8 @@
 //    by the sections: the thesis' density condition C1 asks the reach to exceed the heights for
 //    the topology to be right.
 // The level:
-//  - low: something is in doubt at 1 voxel;
+//  - low: something is in doubt at 1 voxel (the data's scale is then not probed: it cannot raise
+//    the level);
 //  - medium: nothing at 1 voxel, something at the data's scale;
 //  - high: nothing at either.
 // What each level has meant in measured rates is in README ("Topology confidence").
@@ -65,6 +66,9 @@ struct TopologyConfidence {
   ConfidenceLevel level = ConfidenceLevel::high;
   Betti betti{0, 0, 0};
   std::array<TopologyProbe, 2> probes{};       ///< 1 voxel and the data's scale
+  /// Whether the data's scale was probed: not when the voxel's probe already made the result low
+  /// (its Betti numbers and in_doubt_2 are then not known).
+  bool scale_probed = false;
   std::array<FeatureDoubt, 3> kinds{};         ///< components, tunnels, cavities
   std::int64_t voxels = 0;                     ///< the probed box's voxels
   double voxel_mm = 0;                         ///< the grid's voxel
