@@ -9,42 +9,10 @@
 #include <sstream>
 
 #include "geometry/core/ball_morphology.h"
+#include "geometry/core/solid_box.h"
 
 namespace xsect {
 namespace {
-
-/// The solid's voxels in its bounding box grown by `margin` voxels (the box's grid), or an empty grid.
-std::vector<std::uint8_t> croppedSolid(const std::vector<std::uint8_t>& inside, const GridSpec& grid, int margin,
-                                       GridSpec* box) {
-  std::array<int, 3> lo{grid.dims[0], grid.dims[1], grid.dims[2]}, hi{-1, -1, -1};
-  for (int k = 0; k < grid.dims[2]; ++k)
-    for (int j = 0; j < grid.dims[1]; ++j)
-      for (int i = 0; i < grid.dims[0]; ++i)
-        if (inside[std::size_t(grid.index(i, j, k))]) {
-          const std::array<int, 3> v{i, j, k};
-          for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], v[a]), hi[a] = std::max(hi[a], v[a]);
-        }
-  *box = grid;
-  if (hi[0] < 0) {
-    box->dims = {0, 0, 0};
-    return {};
-  }
-  for (int a = 0; a < 3; ++a) {
-    lo[a] -= margin;
-    hi[a] += margin;
-    box->dims[a] = hi[a] - lo[a] + 1;
-  }
-  box->origin = grid.origin + grid.voxel * Vec3(lo[0], lo[1], lo[2]);
-  std::vector<std::uint8_t> out(std::size_t(box->count()), 0);
-  for (int k = 0; k < box->dims[2]; ++k)
-    for (int j = 0; j < box->dims[1]; ++j)
-      for (int i = 0; i < box->dims[0]; ++i) {
-        const int x = i + lo[0], y = j + lo[1], z = k + lo[2];
-        if (x < 0 || y < 0 || z < 0 || x >= grid.dims[0] || y >= grid.dims[1] || z >= grid.dims[2]) continue;
-        out[std::size_t(box->index(i, j, k))] = inside[std::size_t(grid.index(x, y, z))];
-      }
-  return out;
-}
 
 int changes(int now, int closed, int opened) { return std::abs(now - closed) + std::abs(now - opened); }
 
@@ -68,8 +36,9 @@ TopologyConfidence topologyConfidence(const std::vector<std::uint8_t>& inside, c
   c.voxel_mm = grid.voxel;
   const double scale = std::max(2.0, std::isfinite(scale_mm) ? scale_mm / grid.voxel : 2.0);
   // Empty voxels kept around the solid, so that the closing means what it means on an unbounded grid.
-  GridSpec box;
-  const std::vector<std::uint8_t> solid = croppedSolid(inside, grid, int(std::ceil(scale)) + 1, &box);
+  const SolidBox cropped = solidBox(inside, grid, int(std::ceil(scale)) + 1);
+  const GridSpec& box = cropped.grid;
+  const std::vector<std::uint8_t> solid = intoBox(inside, grid, cropped);
   c.voxels = box.count();
   const char* names[3] = {"component", "tunnel", "cavity"};
   for (int b = 0; b < 3; ++b) {

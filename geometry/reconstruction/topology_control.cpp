@@ -15,6 +15,7 @@
 
 #include "geometry/core/disjoint_sets.h"
 #include "geometry/core/section_ids.h"
+#include "geometry/core/solid_box.h"
 #include "geometry/reconstruction/cell_mends.h"
 
 namespace xsect {
@@ -27,49 +28,7 @@ namespace {
 /// b1 = 5, 6 does no better than 5).
 constexpr int kMendRadius = 5;
 
-/// The solid's box with a margin of empty voxels (so that well-composing and the Betti numbers
-/// see the same solid as on the whole grid): the work is bounded by the solid, not the grid.
-struct Box {
-  GridSpec grid;                 ///< the box as a grid of its own
-  std::array<int, 3> lo{0, 0, 0};  ///< its first voxel on the whole grid
-};
-
-Box solidBox(const std::vector<std::uint8_t>& inside, const GridSpec& g, int margin) {
-  std::array<int, 3> lo{g.dims[0], g.dims[1], g.dims[2]}, hi{-1, -1, -1};
-  for (int k = 0; k < g.dims[2]; ++k)
-    for (int j = 0; j < g.dims[1]; ++j)
-      for (int i = 0; i < g.dims[0]; ++i)
-        if (inside[std::size_t(g.index(i, j, k))]) {
-          const std::array<int, 3> v{i, j, k};
-          for (int a = 0; a < 3; ++a) lo[std::size_t(a)] = std::min(lo[std::size_t(a)], v[std::size_t(a)]),
-                                      hi[std::size_t(a)] = std::max(hi[std::size_t(a)], v[std::size_t(a)]);
-        }
-  Box b;
-  b.grid.voxel = g.voxel;
-  if (hi[0] < 0) return b;
-  for (int a = 0; a < 3; ++a) {
-    b.lo[std::size_t(a)] = lo[std::size_t(a)] - margin;
-    b.grid.dims[std::size_t(a)] = hi[std::size_t(a)] - lo[std::size_t(a)] + 1 + 2 * margin;
-  }
-  b.grid.origin = g.centre(b.lo[0], b.lo[1], b.lo[2]);
-  return b;
-}
-
-/// `values` on the whole grid copied into the box (voxels beyond the grid: T{}), or back.
-template <typename T>
-std::vector<T> intoBox(const std::vector<T>& values, const GridSpec& g, const Box& b) {
-  std::vector<T> out(std::size_t(b.grid.count()), T{});
-  for (int k = 0; k < b.grid.dims[2]; ++k)
-    for (int j = 0; j < b.grid.dims[1]; ++j)
-      for (int i = 0; i < b.grid.dims[0]; ++i) {
-        const int gi = i + b.lo[0], gj = j + b.lo[1], gk = k + b.lo[2];
-        if (gi < 0 || gj < 0 || gk < 0 || gi >= g.dims[0] || gj >= g.dims[1] || gk >= g.dims[2]) continue;
-        out[std::size_t(b.grid.index(i, j, k))] = values[std::size_t(g.index(gi, gj, gk))];
-      }
-  return out;
-}
-
-void outOfBox(const std::vector<std::uint8_t>& box, const Box& b, std::vector<std::uint8_t>& values, const GridSpec& g) {
+void outOfBox(const std::vector<std::uint8_t>& box, const SolidBox& b, std::vector<std::uint8_t>& values, const GridSpec& g) {
   std::fill(values.begin(), values.end(), std::uint8_t(0));
   for (int k = 0; k < b.grid.dims[2]; ++k)
     for (int j = 0; j < b.grid.dims[1]; ++j)
@@ -632,7 +591,7 @@ TopologyControl controlTopology(std::vector<std::uint8_t>& inside, const GridSpe
   if (inside.size() != std::size_t(grid.count()) || source.size() != inside.size() || fields.size() != planes.size())
     throw std::invalid_argument("controlTopology: the solid, its sources, the grid and the planes differ in size");
   TopologyControl out;
-  const Box box = solidBox(inside, grid, kMendRadius + 1);
+  const SolidBox box = solidBox(inside, grid, kMendRadius + 1);
   std::vector<std::uint8_t> in = intoBox(inside, grid, box);
   const GridSpec& g = box.grid;
   out.before = out.after = voxelBetti(in, g);
@@ -655,7 +614,7 @@ TopologyControl controlTopology(std::vector<std::uint8_t>& inside, const GridSpe
   out.reached = goal.mode != TopologyMode::target || out.after == goal.target;
   // The features on the solid's own box, with one voxel of margin (a tunnel's hole lies in the
   // hull of its loop): a third fewer voxels than the search's box.
-  const Box tight = solidBox(in, g, 1);
+  const SolidBox tight = solidBox(in, g, 1);
   out.features_voxels = tight.grid.count();
   if (out.after[1] == 0 && out.after[2] == 0) {
     out.features_computed = true;  // no tunnel, no cavity: nothing to size
