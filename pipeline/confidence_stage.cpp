@@ -2,7 +2,6 @@
 #include "pipeline/confidence_stage.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include "geometry/core/block_grid.h"
@@ -18,7 +17,6 @@ double dataScaleMm(const SamplingStage& sampling) {
 
 ConfidenceStage confidenceStage(const ReconstructStage& reconstruction, const SmoothStage* smooth, const Betti& betti,
                                 const SamplingStage& sampling) {
-  const auto start = std::chrono::steady_clock::now();
   ConfidenceStage out;
   const double scale = dataScaleMm(sampling);
   if (smooth) {
@@ -29,7 +27,6 @@ ConfidenceStage confidenceStage(const ReconstructStage& reconstruction, const Sm
     const BlockGrid<std::uint8_t>& inside = reconstruction.solid.inside;
     out.confidence = topologyConfidence(denseValues(inside), inside.grid(), betti, scale);
   }
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
 

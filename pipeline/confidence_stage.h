@@ -12,7 +12,6 @@ namespace xsect {
 
 struct ConfidenceStage {
   TopologyConfidence confidence;
-  double seconds = 0;  ///< wall time of the probes
 };
 
 /// The data's scale (mm): half the largest height h_C of a cell holding sections (0 without such a

@@ -7,6 +7,7 @@
 //   smooth                       (smooth_stage.h, stage 6, optional)
 //   mesh -> diagnose             (mesh_stage.h, stage 7)
 //   sampling                     (sampling_stage.h, stage 7: the sampling conditions, verdict, advice)
+//   confidence                   (confidence_stage.h: how far the topology is to be trusted, issue 52)
 //   write                        (run_outputs.h, stage 8)
 #include <cmath>
 #include <iostream>
@@ -85,7 +86,8 @@ int runCommand(const RunOptions& o) {
   writeRunOutputs(results, o, clock);
   progress.finish();
   for (const auto& w : runWarnings(results)) progress.note("warning: " + w);
-  // The last lines (issue 21): the sampling verdict, the Betti numbers, the page to look at.
+  // The last lines (issue 21): the sampling verdict, the Betti numbers with their confidence
+  // (issue 52), the page to look at.
   const Betti& betti = diagnosis.topology.betti;
   progress.note(samplingLine(sampling));
   progress.note("topology: " + std::to_string(betti[0]) + " " + std::to_string(betti[1]) + " " + std::to_string(betti[2]) +
