@@ -91,6 +91,23 @@ TEST(BallMorphology, OpeningIsHeldByTheSetAndRemovesNecksThinnerThanTheBall) {
   EXPECT_THROW(ballOpening(std::vector<std::uint8_t>(8, 0), grid(2, 2, 2), 0.0), std::invalid_argument);
 }
 
+// With a reach, the distances within it are the exact ones and the others are no nearer.
+TEST(DistanceTransform, WithAReachTheNearDistancesAreExactAndTheFarOnesNoNearer) {
+  for (int seed = 1; seed <= 20; ++seed) {
+    std::mt19937 rng(static_cast<unsigned>(seed));
+    const GridSpec g = grid(11 + seed % 5, 9 + seed % 7, 8 + seed % 3);
+    std::bernoulli_distribution in(0.01 + 0.01 * (seed % 4));
+    std::vector<std::uint8_t> set(std::size_t(g.count()));
+    for (auto& v : set) v = in(rng);
+    const double reach = 1.0 + seed % 4;
+    const std::vector<float> exact = squaredDistanceToSet(set, g), near = squaredDistanceToSet(set, g, reach);
+    for (std::size_t v = 0; v < set.size(); ++v) {
+      if (exact[v] <= reach * reach) EXPECT_EQ(near[v], exact[v]) << "seed " << seed << ", voxel " << v;
+      else EXPECT_GT(near[v], reach * reach) << "seed " << seed << ", voxel " << v;
+    }
+  }
+}
+
 // The closing and opening by brute force from their definitions (the union of the balls of radius
 // r held by the set or its complement): at r = 1 the ball is the cross (no transform is used), at
 // r = 2 the transforms shared by BallMorphology; both against the definition on random sets.
@@ -126,6 +143,9 @@ TEST(BallMorphology, ClosingAndOpeningEqualTheirDefinitionsAtOneAndTwoVoxels) {
       EXPECT_EQ(m.closing(r), closing) << "seed " << seed << ", r " << r;
       EXPECT_EQ(m.opening(r), opening) << "seed " << seed << ", r " << r;
       EXPECT_EQ(ballClosing(set, g, r), closing);
+      const BallMorphology reaching(set, g, 2.0);  // transforms that reach only as far as asked
+      EXPECT_EQ(reaching.closing(r), closing);
+      EXPECT_EQ(reaching.opening(r), opening);
     }
   }
 }

@@ -11,7 +11,7 @@ namespace {
 
 /// The voxels within `radius` of the set (dilation by the ball).
 std::vector<std::uint8_t> dilate(const std::vector<std::uint8_t>& set, const GridSpec& grid, double radius) {
-  const std::vector<float> d = squaredDistanceToSet(set, grid);
+  const std::vector<float> d = squaredDistanceToSet(set, grid, radius);
   std::vector<std::uint8_t> out(set.size());
   for (std::size_t v = 0; v < set.size(); ++v) out[v] = double(d[v]) <= radius * radius;
   return out;
@@ -59,20 +59,22 @@ std::vector<std::uint8_t> ballOpening(const std::vector<std::uint8_t>& set, cons
   return BallMorphology(set, grid).opening(radius);
 }
 
-BallMorphology::BallMorphology(const std::vector<std::uint8_t>& set, const GridSpec& grid) : set_(set), grid_(grid) {}
+BallMorphology::BallMorphology(const std::vector<std::uint8_t>& set, const GridSpec& grid, double max_radius)
+    : set_(set), grid_(grid), max_radius_(max_radius) {}
 
 const std::vector<float>& BallMorphology::toSet() const {
-  std::call_once(set_once_, [&] { to_set_ = squaredDistanceToSet(set_, grid_); });
+  std::call_once(set_once_, [&] { to_set_ = squaredDistanceToSet(set_, grid_, max_radius_); });
   return to_set_;
 }
 
 const std::vector<float>& BallMorphology::toComplement() const {
-  std::call_once(complement_once_, [&] { to_complement_ = squaredDistanceToSet(complement(set_), grid_); });
+  std::call_once(complement_once_, [&] { to_complement_ = squaredDistanceToSet(complement(set_), grid_, max_radius_); });
   return to_complement_;
 }
 
 std::vector<std::uint8_t> BallMorphology::closing(double radius) const {
   requireRadius(radius);
+  if (radius > max_radius_) throw std::invalid_argument("BallMorphology: a radius beyond the one it was made for");
   std::vector<std::uint8_t> out;
   if (radius < kCrossRadius) {  // the ball is the cross: no transform
     out = complement(dilateByCross(complement(dilateByCross(set_, grid_)), grid_));
@@ -89,6 +91,7 @@ std::vector<std::uint8_t> BallMorphology::closing(double radius) const {
 
 std::vector<std::uint8_t> BallMorphology::opening(double radius) const {
   requireRadius(radius);
+  if (radius > max_radius_) throw std::invalid_argument("BallMorphology: a radius beyond the one it was made for");
   std::vector<std::uint8_t> out;
   if (radius < kCrossRadius) {
     out = dilateByCross(complement(dilateByCross(complement(set_), grid_)), grid_);

@@ -29,7 +29,8 @@ std::vector<std::uint8_t> ballOpening(const std::vector<std::uint8_t>& set, cons
 /// call from several threads at once.
 class BallMorphology {
  public:
-  BallMorphology(const std::vector<std::uint8_t>& set, const GridSpec& grid);
+  /// @param max_radius  the largest radius asked for (voxels): the transforms need reach no farther.
+  BallMorphology(const std::vector<std::uint8_t>& set, const GridSpec& grid, double max_radius = 1e30);
   std::vector<std::uint8_t> closing(double radius) const;  ///< ballClosing(set, grid, radius)
   std::vector<std::uint8_t> opening(double radius) const;  ///< ballOpening(set, grid, radius)
 
@@ -38,6 +39,7 @@ class BallMorphology {
   const std::vector<float>& toComplement() const;
   const std::vector<std::uint8_t>& set_;
   GridSpec grid_;
+  double max_radius_;
   mutable std::once_flag set_once_, complement_once_;
   mutable std::vector<float> to_set_, to_complement_;  ///< squared distances, voxels²
 };

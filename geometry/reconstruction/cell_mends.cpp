@@ -104,7 +104,7 @@ std::vector<CellMend> cellMends(const std::vector<std::uint8_t>& inside, const s
                                 const SectionArrangement& arrangement, int max_radius) {
   std::vector<CellMend> mends;
   std::set<std::pair<bool, std::vector<std::int64_t>>> found;
-  const BallMorphology morphology(inside, grid);  // every radius reads the same two distance transforms
+  const BallMorphology morphology(inside, grid, max_radius);  // every radius reads the same two distance transforms
   for (const bool fill : {true, false})
     for (int r = 1; r <= max_radius; ++r) {
       std::vector<std::uint8_t> changed = fill ? morphology.closing(r) : morphology.opening(r);

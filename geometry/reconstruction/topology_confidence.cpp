@@ -48,7 +48,7 @@ TopologyConfidence topologyConfidence(const std::vector<std::uint8_t>& inside, c
   if (solid.empty()) return c;
   c.probes[0].radius_voxels = 1.0;
   c.probes[1].radius_voxels = scale;
-  const BallMorphology morphology(solid, box);
+  const BallMorphology morphology(solid, box, scale);
   // The probe at one voxel first (no distance transform); the data's scale only when it leaves
   // the level open: a result in doubt at one voxel is low whatever the larger ball says.
   const auto probe = [&](TopologyProbe& p) {
