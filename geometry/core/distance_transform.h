@@ -15,7 +15,8 @@ namespace xsect {
 /// @param reach distances up to this (voxels) are exact; a voxel farther from the set may get
 ///              kNoVoxel instead. A dilation by a ball of radius r needs only r: the first pass
 ///              then keeps only the samples within r along x, and the envelopes of the other two
-///              passes hold only those (measured: 1.5x faster on the confidence's probes).
+///              passes hold only those (measured on multiaxial-jitter-rigid's confidence probes:
+///              the transforms' share of the run's CPU went from 15-17% to 11%).
 /// @return      per voxel, the squared distance (voxels²) to the nearest voxel of the set: 0 on the
 ///              set; kNoVoxel when the set is empty (or, with a reach, farther than it).
 /// Throws std::invalid_argument when `set` does not hold one value per voxel.
