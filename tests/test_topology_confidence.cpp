@@ -3,6 +3,7 @@
 // facing each other across less than the scale make it medium.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <random>
@@ -173,6 +174,36 @@ TEST(TopologyConfidence, OnSparseFamiliesHighIsRightAndLowIsMostlyWrong) {
   EXPECT_EQ(highRight, high) << rows;
   EXPECT_GE(2 * highRight, right) << rows;
   if (low >= 4) EXPECT_GE(10 * lowWrong, 7 * low) << rows;
+}
+
+// Real sections (../shared/data, skipped when absent), methods 1 and 2: OReX's eight (truth
+// (1, 2, 0), met) is high; the hand (truth (1, 1, 0), met) is not low; OReX's Elephant (truth
+// (1, 0, 0); 11 and 13 tunnels) and the mug (truth (1, 1, 0); 9 and 7) are low.
+TEST(TopologyConfidence, RealSectionsAreRatedAsTheirResultsDeserve) {
+  const std::filesystem::path data = std::filesystem::path(XSECT_SOURCE_DIR) / "../shared/data";
+  struct RealSet {
+    std::string name, input;
+    std::vector<std::string> allowed;  ///< the levels the result deserves
+  };
+  const std::vector<RealSet> sets{{"eight", "csl: " + (data / "orex/eight_15.csl").string(), {"high"}},
+                                  {"hand", "csl: " + (data / "orex/hand_ok.csl").string(), {"high", "medium"}},
+                                  {"elephant", "csl: " + (data / "orex/Elephant.csl").string(), {"low"}},
+                                  {"mug", "contour: " + (data / "contour/mug.contour").string(), {"low"}}};
+  for (const RealSet& set : sets) {
+    const std::string file = set.input.substr(set.input.find(' ') + 1);
+    if (!std::filesystem::exists(file)) GTEST_SKIP() << "no " << file;
+    for (const std::string method : {"nearest_plane", "section_voronoi"}) {
+      const std::filesystem::path dir = test::freshDir("confidence-" + set.name);
+      test::writeFile(dir / "config.yaml", "input:\n  " + set.input + "\nreconstruction:\n  method: " + method + "\n");
+      const auto r = test::runXsect("run " + (dir / "config.yaml").string() + " --out " + (dir / "out").string() + " --quiet");
+      ASSERT_EQ(r.code, 0) << r.err;
+      const nlohmann::json rep = test::readJson(dir / "out/report.json");
+      const std::string level = rep["topology"]["confidence"]["level"];
+      EXPECT_NE(std::find(set.allowed.begin(), set.allowed.end(), level), set.allowed.end())
+          << set.name << " " << method << ": " << rep["betti"].dump() << " " << rep["topology"]["confidence"]["text"];
+      std::filesystem::remove_all(dir);
+    }
+  }
 }
 
 }  // namespace
