@@ -125,7 +125,7 @@ struct DenseCase {
   const char* surface_from;
 };
 
-const char* kGenus2 =
+const char* kGenus2Dense =
     "shape:\n  kind: genus2\n  params: {disk_radius: 20, hole_radius: 5, hole_offset: 8, "
     "offset_radius: 2.5}\n  rotation_deg: [30, 0, 15]\nimage: {pixel_mm: 0.2}\n"
     "config: {reconstruction: {voxel_size_mm: 0.3}}\n";
@@ -137,9 +137,9 @@ TEST(AcceptanceShepard, DenselySlicedPhantomsHaveTheirBettiNumbersAndHalveMethod
        "image: {pixel_mm: 0.1}\nconfig: {reconstruction: {voxel_size_mm: 0.25}}\n",
        0.5, "shepard"},
       {"torus-multiaxial", kTorusMultiaxial, 0.5, "shepard"},
-      {"genus2-parallel", std::string("seed: 4\npattern: {kind: parallel, count: 40}\n") + kGenus2, 0.5,
+      {"genus2-parallel", std::string("seed: 4\npattern: {kind: parallel, count: 40}\n") + kGenus2Dense, 0.5,
        "shepard"},
-      {"genus2-random", std::string("seed: 4\npattern: {kind: random, count: 120}\n") + kGenus2, 1.0,
+      {"genus2-random", std::string("seed: 4\npattern: {kind: random, count: 120}\n") + kGenus2Dense, 1.0,
        "shepard"},
   };
   for (const DenseCase& c : cases) {

@@ -232,7 +232,7 @@ std::vector<std::string> imageSources(const std::string& html) {
   return srcs;
 }
 
-size_t count(const std::string& s, const std::string& what) {
+size_t occurrences(const std::string& s, const std::string& what) {
   size_t n = 0;
   for (size_t p = s.find(what); p != std::string::npos; p = s.find(what, p + 1)) ++n;
   return n;
@@ -374,7 +374,7 @@ TEST(ReportBrowser, PhantomReportOpensOfflineDrawsTheMeshAndMatchesReportJson) {
 
   const std::string plots = sectionOf(run.dom, "slice-plots"), graph = sectionOf(run.dom, "graph"),
                     frames = sectionOf(run.dom, "frames");
-  EXPECT_GE(count(plots, "<svg"), 1u) << "no inline SVG plot in #slice-plots";
+  EXPECT_GE(occurrences(plots, "<svg"), 1u) << "no inline SVG plot in #slice-plots";
   EXPECT_TRUE(graph.find("<svg") != std::string::npos || graph.find("graph-fallback") != std::string::npos)
       << "#graph holds neither an inline SVG nor .graph-fallback";
   const auto frameSources = imageSources(frames);
