@@ -100,6 +100,26 @@ TEST(TopologyConfidence, AnEmptySolidIsHighWithNothingProbed) {
   EXPECT_EQ(c.voxels, 0);
 }
 
+// Pinholes a voxel wide inside a block (cavities a closing by one voxel fills) make it low, and
+// the text counts them in words ("2 cavities", "1 cavity").
+TEST(TopologyConfidence, VoxelCavitiesAreLowAndCountedInWords) {
+  const GridSpec g = cube(20);
+  for (const int holes : {1, 2, 3}) {
+    std::vector<std::uint8_t> in(std::size_t(g.count()), 0);
+    for (int k = 4; k < 16; ++k)
+      for (int j = 4; j < 16; ++j)
+        for (int i = 4; i < 16; ++i) in[std::size_t(g.index(i, j, k))] = 1;
+    for (int h = 0; h < holes; ++h) in[std::size_t(g.index(7 + 3 * h, 10, 10))] = 0;
+    const Betti betti = voxelBetti(in, g);
+    ASSERT_EQ(betti, (Betti{1, 0, holes}));
+    const TopologyConfidence c = topologyConfidence(in, g, betti, 1.0);
+    EXPECT_EQ(c.level, ConfidenceLevel::low);
+    EXPECT_EQ(c.kinds[2].in_doubt_1, holes);
+    const std::string words = std::to_string(holes) + (holes == 1 ? " cavity " : " cavities ");
+    EXPECT_NE(confidenceText(c).find(words), std::string::npos) << confidenceText(c);
+  }
+}
+
 // End to end: the dense torus of configs/phantoms/torus-multiaxial.yaml is rated high (its tube and
 // hole are larger than its cells' heights); the same torus cut by 3 planes per axis (cells as high
 // as the tube is thick) is not; `xsect check` gives the data's scale before any run.

@@ -87,7 +87,9 @@ std::string confidenceText(const TopologyConfidence& c) {
   for (const FeatureDoubt& f : c.kinds) {
     const int n = voxel ? f.in_doubt_1 : f.in_doubt_2;
     if (n == 0) continue;
-    parts += (parts.empty() ? "" : ", ") + std::to_string(n) + " " + f.kind + (n > 1 ? "s" : "");
+    const std::string kind = f.kind;
+    const std::string plural = kind == "cavity" ? "cavities" : kind + "s";
+    parts += (parts.empty() ? "" : ", ") + std::to_string(n) + " " + (n > 1 ? plural : kind);
   }
   return text + ": " + parts + " made or unmade by closing or opening " +
          (voxel ? "1 voxel (" + number(c.voxel_mm) + " mm)" : number(scale_mm) + " mm (half the largest cell height)");
