@@ -22,7 +22,10 @@
 //  3. in rigid mode the first round solves translations only (coarse to fine);
 //  4. outlier slices (a tracker glitch: the median of its pairs' largest endpoint mismatch above 3
 //     times the typical slice's and the gate) are left out of the rounds above, then corrected in
-//     rounds of their own against the others held fixed: they cannot drag their partners;
+//     rounds of their own against the others held fixed: they cannot drag their partners; so are
+//     slices the rounds above left stranded (the median of their piercing distances above the
+//     noise and 3 times the typical one, or a correction beyond 5 prior deviations), from their
+//     recorded poses;
 //  rounds repeat until the moves left are below noise / 10: a round's largest move of a point
 //  within the median slice radius of its pivot, or the rest of the geometric decrease of the last
 //  two rounds' moves when it halves at least (at most max_rounds per stage).
@@ -37,9 +40,11 @@
 // conditional on the other slices' poses (the largest standard deviation over directions).
 //
 // Units: noise is half the median pixel size (1e-3 of the sections' extent for contours given
-// without pixels); sigma_mm, when not given, is the median over pairs of the largest endpoint
-// mismatch on the recorded poses (at least noise), and sigma_deg that over the slices' median
-// radius: the data's own scale, in whatever units they come.
+// without pixels); sigma_mm, when not given, is the robust spread of the recorded piercing
+// distances over √2 (at least noise; the piercings gated at 3 times the median pair's largest
+// endpoint mismatch + 4 noise, which is also the fit's gate), and sigma_deg that over the larger of
+// the sections' median radius and the slices' median half-diagonal (at most 10°): the data's own
+// scale, in whatever units they come.
 #pragma once
 
 #include <optional>
