@@ -7,6 +7,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <limits>
 #include <array>
 #include <cmath>
 #include <memory>
@@ -334,7 +335,33 @@ class PoseFit {
       converged = converged && stageConverged;
       if (stage == 0 && !anyOutlier_) anyOutlier_ = findStranded();
     }
+    keepBetterOfTwoFits();
     return converged;
+  }
+
+  /// A stranded slice keeps its refit only where the refit brought its piercings nearer (their
+  /// RMS distance, which counts the far ones the median would hide); elsewhere it goes back to where the first stage left it, and is no outlier.
+  /// Measured: a plane along a vessel tree's branch, refitted alone, turned 9° and ended with a
+  /// median of 1.3 mm where the first stage had left it consistent with its partners.
+  void keepBetterOfTwoFits() {
+    if (stranded_.empty()) return;
+    const std::vector<double> now = sliceRms();
+    for (const StrandedSlice& s : stranded_) {
+      if (now[s.index] < s.rms) continue;
+      planes_[s.index] = s.plane;
+      R_[s.index] = s.R;
+      T_[s.index] = s.T;
+      outlier_[s.index] = 0;
+    }
+  }
+
+  /// Per slice, the RMS distance of its piercings at the current poses (infinity: none).
+  std::vector<double> sliceRms() const {
+    const GapStats gaps = gapStats(contourPiercings(planes_, commonRegions(recordedPairs_, planes_), cp_), n_);
+    std::vector<double> m(n_, std::numeric_limits<double>::infinity());
+    for (std::size_t i = 0; i < n_; ++i)
+      if (!gaps.per_slice[i].empty()) m[i] = rms(gaps.per_slice[i]);
+    return m;
   }
 
   /// Slices left behind by the first stage (a local minimum: their crossings matched to another
@@ -360,6 +387,9 @@ class PoseFit {
       if (!apart && !(prior > 5)) continue;
       outlier_[i] = 1;
       any = true;
+      stranded_.push_back({i, planes_[i], R_[i], T_[i],
+                           gaps.per_slice[i].empty() ? std::numeric_limits<double>::infinity()
+                                                     : rms(gaps.per_slice[i])});
       planes_[i] = input_[i];
       R_[i] = Eigen::Matrix3d::Identity();
       T_[i] = Vec3::Zero();
@@ -561,6 +591,15 @@ class PoseFit {
   std::vector<Vec3> T_;               ///< and translation
   std::vector<std::array<double, 3>> w_, t_;  ///< one round's correction (Ceres' parameter blocks)
   double radius_ = 0, lever_ = 0, sigmaRad_ = 0, tieScale_ = 1;
+  /// A slice findStranded sent back to its recorded pose, with where the first stage had left it.
+  struct StrandedSlice {
+    std::size_t index;
+    CuttingPlane plane;
+    Eigen::Matrix3d R;
+    Vec3 T;
+    double rms;  ///< its piercings' RMS distance there, mm (infinity: none)
+  };
+  std::vector<StrandedSlice> stranded_;
   PiercingParams cp_;
   std::vector<std::pair<std::size_t, std::size_t>> ties_;
   std::vector<char> outlier_;
