@@ -70,6 +70,9 @@ struct RunConfig {
     /// the typical slice's is flagged.
     double flag_mm = 3.0;
     bool drop_flagged = false;        ///< flagged slices are left out of the reconstruction
+    /// With pose correction: slices whose sections meet other slices' but whose every motion no
+    /// crossing constrains (left at the recorded pose, with the tracker's error) are left out.
+    bool drop_unplaced = true;
     /// Tracked sweeps: the poses are smoothed over this many frames on each side, in the slices'
     /// order (geometry/conformity/pose_smoothing.h); 0 = off.
     int pose_smoothing_frames = 0;

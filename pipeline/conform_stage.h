@@ -48,6 +48,7 @@ struct SliceConformity {
   double pose_shift_mm = 0, pose_rotation_deg = 0, pose_weight = 1;
   SliceCorrection correction;           ///< pose correction (when conformity.pose_correction)
   bool flagged = false, dropped = false;
+  bool unplaced = false;                ///< pose correction could not move it in any direction
 };
 
 struct PoseSmoothingSummary {
@@ -89,6 +90,7 @@ struct ConformityResult {
   std::vector<WorstPair> worst;         ///< the five worst pairs, before dropping
   double typical_mismatch_mm = 0, flagged_above_mm = 0;
   std::vector<int> flagged_slices, dropped_slices;
+  std::vector<int> unplaced_slices;     ///< SliceConformity::unplaced, in slice order
   std::vector<SliceConformity> slices;
   std::vector<int> slice_of_plane;      ///< CuttingPlane::slice of each kept plane (search's indices)
   // Enforcement (when conformity.enforce).

@@ -130,6 +130,7 @@ json slicesJson(const ConformityResult& r) {
                       {"pose_weight", s.pose_weight},
                       {"pose_correction", r.correction.applied ? correctionJson(s.correction) : json(nullptr)},
                       {"flagged", s.flagged},
+                      {"unplaced", s.unplaced},
                       {"dropped", s.dropped}});
   return slices;
 }
@@ -195,6 +196,7 @@ json conformitySummaryJson(const RunConfig::Conformity& settings, const Conformi
           {"typical_slice_mismatch_mm", r.typical_mismatch_mm},
           {"flagged_above_mm", r.flagged_above_mm},
           {"drop_flagged", settings.drop_flagged},
+          {"drop_unplaced", settings.drop_unplaced},
           {"pairs_measured", r.pairs_measured},
           {"pairs", r.search.pairs.size()},
           {"pairs_near_parallel", r.search.pairs_near_parallel},
@@ -215,6 +217,7 @@ json conformitySummaryJson(const RunConfig::Conformity& settings, const Conformi
           {"max_edit_half_width_mm", en.max_half_width_mm},
           {"slices_not_editable", slicesNotEditable(r)},
           {"flagged_slices", r.flagged_slices},
+          {"unplaced_slices", r.unplaced_slices},
           {"dropped_slices", r.dropped_slices},
           {"worst_pairs", worst}};
 }
@@ -281,20 +284,36 @@ std::vector<std::string> conformityWarnings(const RunConfig::Conformity& setting
     w.push_back(std::to_string(r.flagged_slices.size()) + " slice(s) disagree with the slices they cross by " +
                 mm(r.flagged_above_mm) + " or more (median over their pairs; conformity.flag_mm or " +
                 "3 times the typical slice's): probable tracking or segmentation failures: slice " + list +
-                (settings.drop_flagged ? " (dropped)" : " (set conformity.drop_flagged: true to leave them out)"));
+                (settings.drop_flagged || std::all_of(r.flagged_slices.begin(), r.flagged_slices.end(), [&](int f) {
+                   return std::find(r.dropped_slices.begin(), r.dropped_slices.end(), f) != r.dropped_slices.end();
+                 })
+                     ? " (dropped)"
+                     : " (set conformity.drop_flagged: true to leave them out)"));
   }
   if (r.correction.applied) {
-    std::string outliers, unobservable;
+    std::string outliers, unplaced;
+    std::vector<int> partly;  // slices with some motion no crossing constrains
     for (const SliceConformity& s : r.slices) {
       if (s.correction.outlier) outliers += (outliers.empty() ? "" : ", ") + std::to_string(s.slice);
-      if (!s.correction.unobservable.empty()) unobservable += (unobservable.empty() ? "" : ", ") + std::to_string(s.slice);
+      if (!s.correction.unobservable.empty()) partly.push_back(s.slice);
+      if (s.unplaced) unplaced += (unplaced.empty() ? "" : ", ") + std::to_string(s.slice);
     }
+    std::string unobservable;
+    for (std::size_t k = 0; k < partly.size() && k < 8; ++k) unobservable += (k ? ", " : "") + std::to_string(partly[k]);
+    if (partly.size() > 8) unobservable += ", ...";
+    if (!partly.empty())
+      unobservable = std::to_string(partly.size()) + " of " + std::to_string(r.slices.size()) + " slices (" + unobservable + ")";
+    if (!partly.empty()) unobservable += ": those were left uncorrected (conformity.json slices[].pose_correction.unobservable)";
+    if (!unplaced.empty())
+      unobservable += "; every motion of slice " + unplaced +
+                      ", whose sections meet others' with no usable crossing: " +
+                      (settings.drop_unplaced ? "left out (conformity.drop_unplaced: false keeps them, at the recorded pose)"
+                                              : "left at the recorded pose (conformity.drop_unplaced: true leaves them out)");
     if (!outliers.empty())
       w.push_back("pose correction: slice " + outliers +
                   " disagreed with the slices it crosses far more than the others (probable tracking glitch or segmentation failure): corrected against them with theirs held, so that it moves none of them");
     if (!unobservable.empty())
-      w.push_back("pose correction: no crossing constrains some motions of slice " + unobservable +
-                  " (conformity.json slices[].pose_correction.unobservable); those were left uncorrected");
+      w.push_back("pose correction: no crossing constrains some motions of " + unobservable);
     if (!r.correction.fit.converged)
       w.push_back("pose correction did not converge in " + std::to_string(r.correction.fit.rounds) + " rounds");
   }
