@@ -302,8 +302,8 @@ std::vector<std::string> conformityWarnings(const RunConfig::Conformity& setting
     for (std::size_t k = 0; k < partly.size() && k < 8; ++k) unobservable += (k ? ", " : "") + std::to_string(partly[k]);
     if (partly.size() > 8) unobservable += ", ...";
     if (!partly.empty())
-      unobservable = std::to_string(partly.size()) + " of " + std::to_string(r.slices.size()) + " slices (" + unobservable + ")";
-    if (!partly.empty()) unobservable += ": those were left uncorrected (conformity.json slices[].pose_correction.unobservable)";
+      unobservable = std::to_string(partly.size()) + " of " + std::to_string(r.slices.size()) + " slices (" +
+                     unobservable + "): those were left uncorrected (conformity.json slices[].pose_correction.unobservable)";
     if (!unplaced.empty())
       unobservable += "; every motion of slice " + unplaced +
                       ", whose sections meet others' with no usable crossing: " +

@@ -7,9 +7,9 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
-#include <limits>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -262,7 +262,6 @@ class PoseFit {
     int round = 0;
     bool converged = true;  // every stage
     for (int stage = 0; stage < (anyOutlier_ ? 2 : 1); ++stage) {
-      if (stage == 1 && !anyOutlier_) break;
       // free[i]: slice i's correction is estimated in this stage; an observation counts when it
       // involves a free slice and, in stage 1, no outlier.
       std::vector<char> free(n);
@@ -340,9 +339,9 @@ class PoseFit {
   }
 
   /// A stranded slice keeps its refit only where the refit brought its piercings nearer (their
-  /// RMS distance, which counts the far ones the median would hide); elsewhere it goes back to where the first stage left it, and is no outlier.
-  /// Measured: a plane along a vessel tree's branch, refitted alone, turned 9° and ended with a
-  /// median of 1.3 mm where the first stage had left it consistent with its partners.
+  /// RMS distance, which counts the far ones a median would hide); elsewhere it goes back to
+  /// where the first stage left it, and is no outlier: a refit from the recorded pose may settle
+  /// in another wrong minimum, and the slice keeps whichever pose its partners agree with better.
   void keepBetterOfTwoFits() {
     if (stranded_.empty()) return;
     const std::vector<double> now = sliceRms();
@@ -368,7 +367,7 @@ class PoseFit {
   /// section's contour, as on a vessel tree whose branches lie a jitter apart): the median
   /// distance of their piercings at the solution above the noise and 3 times the typical
   /// piercing's (at least 3 piercings), or a correction beyond 5 prior deviations (|τ|/σ_mm and
-  /// |ω|/σ_rad together). Measured on a vessel tree (radii 1.5-4 mm) cut by 63 planes, jittered
+  /// |ω|/σ_rad together). Measured on a vessel tree (radii 2.5-4 mm) cut by 63 planes, jittered
   /// by 1 mm / 1°: one slice moved 3.6 mm and turned 5° the wrong way (median 0.15 mm where the
   /// others' are below 0.05), another ran 14 mm along its normal, past every crossing (its
   /// correction then unobservable, undone). They go back to their recorded poses and are fitted
