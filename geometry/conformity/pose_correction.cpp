@@ -225,9 +225,9 @@ class PoseFit {
   double piercingSpread(double wide) {
     PiercingParams gated = cp_;
     gated.gate_mm = 3 * wide + 4 * out_.noise_mm;
+    recordedPiercings_ = contourPiercings(planes_, recordedPairs_, gated);  // round 0's, at the same gate
     std::vector<double> distances;
-    for (const ContourPiercing& o : contourPiercings(planes_, recordedPairs_, gated))
-      distances.push_back(std::abs(piercingDistance(o)));
+    for (const ContourPiercing& o : recordedPiercings_) distances.push_back(std::abs(piercingDistance(o)));
     return distances.empty() ? wide : 1.4826 * upperMedian(distances) / std::sqrt(2.0);
   }
 
@@ -273,9 +273,11 @@ class PoseFit {
       bool stageConverged = false;
       double previousMove = 0;  // the last full round's largest move (0: none yet)
       for (int stageRound = 0; stageRound < params.max_rounds; ++stageRound, ++round) {
-        const std::vector<PlanePairTraces> pairs =
-            round == 0 ? recordedPairs_ : commonRegions(recordedPairs_, planes_);
-        const std::vector<ContourPiercing> observations = contourPiercings(planes_, pairs, cp_);
+        // Round 0 on the recorded poses: the piercings the automatic prior measured at this gate.
+        const std::vector<ContourPiercing> observations =
+            round == 0 && !recordedPiercings_.empty() ? std::move(recordedPiercings_)
+            : round == 0 ? contourPiercings(planes_, recordedPairs_, cp_)
+                         : contourPiercings(planes_, commonRegions(recordedPairs_, planes_), cp_);
         const GapStats gaps = gapStats(observations, n);
         if (round == 0) {
           out.crossings_before = int(observations.size());
@@ -599,6 +601,8 @@ class PoseFit {
     double rms;  ///< its piercings' RMS distance there, mm (infinity: none)
   };
   std::vector<StrandedSlice> stranded_;
+  /// The recorded poses' piercings at the automatic gate (piercingSpread), for round 0.
+  std::vector<ContourPiercing> recordedPiercings_;
   PiercingParams cp_;
   std::vector<std::pair<std::size_t, std::size_t>> ties_;
   std::vector<char> outlier_;
