@@ -1,4 +1,4 @@
-// Slice images: 8- or 16-bit single-channel PNG/TIFF (GUIDE.md), read with OpenCV and validated.
+// Slice images: 8- or 16-bit single-channel PNG/TIFF (docs/methods.md), read with OpenCV and validated.
 #pragma once
 
 #include <cstdint>

@@ -1,5 +1,5 @@
 // The error raised where input enters: names the file, the field (and line where known) and what
-// is wrong. The command line turns it into exit code 2 (GUIDE.md, command-line contract).
+// is wrong. The command line turns it into exit code 2 (docs/commands.md).
 #pragma once
 
 #include <stdexcept>
@@ -11,9 +11,11 @@ class InputError : public std::runtime_error {
  public:
   InputError(std::string file, std::string field, std::string what, int line = -1)
       : std::runtime_error(format(file, field, what, line)),
-        file_(std::move(file)), field_(std::move(field)), line_(line) {}
+        file_(std::move(file)), field_(std::move(field)), reason_(std::move(what)), line_(line) {}
   const std::string& file() const { return file_; }
   const std::string& field() const { return field_; }
+  /// What is wrong, without the file, line and field.
+  const std::string& reason() const { return reason_; }
   int line() const { return line_; }
 
  private:
@@ -24,7 +26,7 @@ class InputError : public std::runtime_error {
     if (!field.empty()) s += ": " + field;
     return s + ": " + what;
   }
-  std::string file_, field_;
+  std::string file_, field_, reason_;
   int line_;
 };
 

@@ -1,4 +1,4 @@
-// Label volumes as NRRD files that 3D Slicer loads as label maps (GUIDE.md stage 8, "how users
+// Label volumes as NRRD files that 3D Slicer loads as label maps (docs/methods.md stage 8, "how users
 // load results"): one unsigned 16-bit label per voxel of a GridSpec, gzip-compressed, with the
 // grid's geometry in the header (sizes, space directions, space origin).
 //

@@ -1,4 +1,4 @@
-// Narrow-band level sets as OpenVDB files (.vdb; GUIDE.md stage 8, `level_set.vdb`): one
+// Narrow-band level sets as OpenVDB files (.vdb; docs/methods.md stage 8, `level_set.vdb`): one
 // openvdb::FloatGrid of grid class "level set" holding signed distances in mm, negative inside,
 // at the active voxels of the band; every other voxel is ±background (the band's half-width),
 // negative where the surface encloses it (OpenVDB's signed flood fill), as level-set tools expect.

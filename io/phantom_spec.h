@@ -1,4 +1,4 @@
-// The phantom specification SPEC.yaml read by `xsect phantom` (GUIDE.md, Phantoms), validated
+// The phantom specification SPEC.yaml read by `xsect phantom` (docs/inputs.md, phantoms), validated
 // where it enters: every problem is an InputError naming the spec file, the key and the line.
 //
 // Format (lengths in mm, angles in degrees; keys in [] are optional, with their defaults):

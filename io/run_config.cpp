@@ -1,5 +1,5 @@
 // Run configuration reader (see run_config.h). The accepted keys and their types are listed once,
-// in kSchema; everything else is warned about.
+// in kKnownKeys; any other key is refused before the work starts.
 #include "io/run_config.h"
 
 #include <cmath>
@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "io/closest_name.h"
 #include "io/file_checks.h"
 #include "io/input_error.h"
 #include "io/yaml_fields.h"
@@ -34,7 +35,7 @@ namespace {
 /// one; Hausdorff 1.06-2.90 mm -> 0.80-2.74 mm). Not 1 mm: 16-17 of 18, but on the 200-frame
 /// sweep of configs/phantoms/torus-ultrasound-plus.yaml a blob the opening cut off a lumen became
 /// a 2-voxel component of its own. Structures under 1.5 mm across go with it.
-/// README, "Ultrasound", says how to tune them.
+/// docs/ultrasound.md, says how to tune them.
 void applyUltrasoundPreset(const YAML::Node& s, SegmentationParams& p) {
   const auto given = [&](const char* k) { return bool(s[k]); };
   p.method = SegmentationMethod::min_error;
@@ -68,18 +69,85 @@ const std::set<std::string> kKnownKeys = {
     "sampling.reach_interior_mm", "sampling.reach_exterior_mm", "sampling.max_angle_deg", "sampling.advice_count",
     "output", "output.dir", "output.mesh", "run", "run.max_seconds"};
 
-void collectUnknown(const YAML::Node& n, const std::string& prefix, const std::string& file,
-                    std::vector<std::string>& warnings) {
+/// The key an override `--set key=value` set, or "" for keys of the file.
+struct Override {
+  std::string key, text;
+};
+
+/// The override that gave `field` (the key itself, a key below it, or a map it created), if any.
+const Override* overrideOf(const std::string& field, const std::vector<Override>& overrides) {
+  const auto below = [](const std::string& a, const std::string& b) {
+    return a.size() > b.size() && a.compare(0, b.size(), b) == 0 && (a[b.size()] == '.' || a[b.size()] == '[');
+  };
+  // The last override of a key is the one in force.
+  for (auto it = overrides.rbegin(); it != overrides.rend(); ++it)
+    if (field == it->key || below(field, it->key) || below(it->key, field)) return &*it;
+  return nullptr;
+}
+
+/// An error about `field` (file `file`, line `line`) as the user wrote it: in the file, or in the
+/// --set option that gave it.
+InputError keyError(const std::string& file, const std::string& field, const std::string& what, int line,
+                    const std::vector<Override>& overrides) {
+  if (const Override* o = overrideOf(field, overrides))
+    return InputError("--set " + o->text, field == o->key ? "" : field, what);
+  return InputError(file, field, what, line);
+}
+
+/// The known key an unknown `key` was most likely meant to be: a sibling spelled alike, else a key
+/// of another section with the same or a like-spelled last name (`voxel_size_mm` at the top level).
+std::string suggestionFor(const std::string& key) {
+  const auto dot = key.rfind('.');
+  const std::string prefix = dot == std::string::npos ? "" : key.substr(0, dot + 1);
+  const std::string leaf = key.substr(prefix.size());
+  std::vector<std::string> siblings, leaves, elsewhere;
+  for (const std::string& k : kKnownKeys) {
+    const auto d = k.rfind('.');
+    const std::string kp = d == std::string::npos ? "" : k.substr(0, d + 1);
+    if (kp == prefix) siblings.push_back(k.substr(kp.size()));
+    else {
+      leaves.push_back(k.substr(kp.size()));
+      elsewhere.push_back(k);
+    }
+  }
+  if (const auto s = closestName(leaf, siblings)) return prefix + *s;
+  for (std::size_t i = 0; i < leaves.size(); ++i)
+    if (leaves[i] == leaf) return elsewhere[i];
+  if (const auto s = closestName(leaf, leaves))
+    for (std::size_t i = 0; i < leaves.size(); ++i)
+      if (leaves[i] == *s) return elsewhere[i];
+  return "";
+}
+
+/// Every key of `n` below `prefix` that the configuration does not know, with its line.
+void collectUnknown(const YAML::Node& n, const std::string& prefix, std::vector<std::pair<std::string, int>>& unknown) {
   if (!n.IsMap()) return;
   for (const auto& kv : n) {
     const std::string key = prefix.empty() ? kv.first.Scalar() : prefix + "." + kv.first.Scalar();
     if (!kKnownKeys.count(key)) {
-      warnings.push_back(file + ":" + std::to_string(yamlLine(kv.first)) + ": unknown key '" +
-                         key + "' ignored");
+      unknown.emplace_back(key, yamlLine(kv.first));
       continue;
     }
-    collectUnknown(kv.second, key, file, warnings);
+    collectUnknown(kv.second, key, unknown);
   }
+}
+
+/// Unknown keys are refused before any work (a typo would otherwise run at a default), each with
+/// the key it was likely meant to be.
+void refuseUnknownKeys(const YAML::Node& root, const std::string& file, const std::vector<Override>& overrides) {
+  std::vector<std::pair<std::string, int>> unknown;
+  collectUnknown(root, "", unknown);
+  if (unknown.empty()) return;
+  const auto describe = [](const std::string& key) {
+    const std::string s = suggestionFor(key);
+    return s.empty() ? std::string() : " (did you mean '" + s + "'?)";
+  };
+  std::string what = "unknown key" + describe(unknown[0].first);
+  for (std::size_t i = 1; i < unknown.size(); ++i)
+    what += "; also unknown: '" + unknown[i].first + "'" +
+            (unknown[i].second > 0 ? " (line " + std::to_string(unknown[i].second) + ")" : "") +
+            describe(unknown[i].first);
+  throw keyError(file, unknown[0].first, what, unknown[0].second, overrides);
 }
 
 void applyOverride(YAML::Node& root, const std::string& text, const std::string& file) {
@@ -460,16 +528,8 @@ void readOutput(const YAML::Node& s, const fs::path& base, const std::string& pa
   }
 }
 
-}  // namespace
-
-RunConfig readRunConfig(const std::string& path, const std::vector<std::string>& overrides) {
-  RunConfig c;
-  c.path = fs::absolute(path).lexically_normal().string();
-  if (!isRegularFile(path)) throw InputError(path, "", "configuration file not found");
-  YAML::Node root = loadYamlFile(path);
-  if (!root.IsMap()) throw InputError(path, "", "top level must be a map");
-  for (const auto& o : overrides) applyOverride(root, o, path);
-  collectUnknown(root, "", path, c.warnings);
+/// The keys of `root` into c (its sections in the order they depend on each other).
+void readKnownKeys(const YAML::Node& root, const std::string& path, RunConfig& c) {
   const fs::path base = fs::path(c.path).parent_path();
   const auto section = [&](const char* name) -> YAML::Node {
     YAML::Node n = root[name];
@@ -500,10 +560,35 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
                        (c.input_kind == InputKind::slices || c.input_kind == InputKind::plus_sequence)
                    ? PlaneExtent::observed
                    : PlaneExtent::whole;
+}
+
+}  // namespace
+
+const std::set<std::string>& runConfigKeys() { return kKnownKeys; }
+
+RunConfig readRunConfig(const std::string& path, const std::vector<std::string>& overrides) {
+  RunConfig c;
+  c.path = fs::absolute(path).lexically_normal().string();
+  if (!isRegularFile(path)) throw InputError(path, "", "configuration file not found");
+  YAML::Node root = loadYamlFile(path);
+  if (!root.IsMap()) throw InputError(path, "", "top level must be a map");
+  std::vector<Override> given;
+  for (const auto& o : overrides) {
+    applyOverride(root, o, path);
+    given.push_back({o.substr(0, o.find('=')), o});
+  }
+  refuseUnknownKeys(root, path, given);
+  try {
+    readKnownKeys(root, path, c);
+  } catch (const InputError& e) {
+    if (e.file() != path) throw;
+    throw keyError(path, e.field(), e.reason(), e.line(), given);
+  }
   YAML::Emitter em;
   em << root;
   c.resolved_yaml = em.c_str();
   return c;
 }
+
 
 }  // namespace xsect

@@ -1,8 +1,10 @@
-// config.yaml, the run configuration (GUIDE.md): read, overridden with --set key.path=value,
-// validated, paths resolved against the file that names them. Unknown keys produce warnings.
+// config.yaml, the run configuration (docs/methods.md): read, overridden with --set key.path=value,
+// validated, paths resolved against the file that names them. Unknown keys are input errors, with the
+// key a typo was likely meant to be.
 #pragma once
 
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -26,7 +28,7 @@ constexpr std::array<NamedChoice<InputKind>, 4> kInputKinds{{
     {InputKind::plus_sequence, "plus_sequence"},
 }};
 
-/// `smoothing.method`: the surface output besides the method's solid (GUIDE.md stage 6).
+/// `smoothing.method`: the surface output besides the method's solid (docs/methods.md stage 6).
 enum class SmoothingMethod { none, shepard, level_set };
 constexpr std::array<NamedChoice<SmoothingMethod>, 3> kSmoothingMethods{{
     {SmoothingMethod::none, "none"},
@@ -35,7 +37,7 @@ constexpr std::array<NamedChoice<SmoothingMethod>, 3> kSmoothingMethods{{
 }};
 
 /// segmentation.preset: starting values for a kind of image, under the keys the configuration
-/// leaves out (run_config.cpp applySegmentationPreset; README, "Ultrasound").
+/// leaves out (run_config.cpp applySegmentationPreset; docs/ultrasound.md).
 enum class SegmentationPreset { none, ultrasound };
 constexpr std::array<NamedChoice<SegmentationPreset>, 2> kSegmentationPresets{{
     {SegmentationPreset::none, "none"},
@@ -127,6 +129,10 @@ struct RunConfig {
   std::vector<std::string> warnings;  ///< unknown keys and similar
   std::string resolved_yaml;        ///< the configuration after overrides, as YAML text
 };
+
+/// Every key a run configuration accepts, as dotted paths ("reconstruction.voxel_size_mm"), the
+/// sections included ("reconstruction"): the list docs/configuration.md documents.
+const std::set<std::string>& runConfigKeys();
 
 /// @param overrides "key.path=value" strings; the value is parsed as YAML (number, bool, list...).
 /// Throws InputError (file, key, line) on any invalid content.

@@ -1,4 +1,4 @@
-// Reader and writer of slices.yaml (GUIDE.md, input contract), validated where the file enters.
+// Reader and writer of slices.yaml (docs/inputs.md), validated where the file enters.
 #include "io/slices_file.h"
 
 #include <filesystem>
@@ -80,7 +80,7 @@ std::vector<SliceRecord> readSlicesFile(const std::string& path, std::vector<std
       const std::string k = kv.first.Scalar();
       if (k != "image" && k != "image_to_world" && k != "fov" && warnings)
         warnings->push_back(path + ":" + std::to_string(yamlLine(kv.first)) + ": unknown key '" +
-                            key + "." + k + "' ignored");
+                            key + "." + k + "' ignored" + didYouMean(k, {"image", "image_to_world", "fov"}));
     }
     SliceRecord r;
     if (!s["image"]) throw InputError(path, key + ".image", "missing", yamlLine(s));

@@ -1,4 +1,4 @@
-// slices.yaml (GUIDE.md, input contract): a list of slices, each an image, its 4x4
+// slices.yaml (docs/inputs.md): a list of slices, each an image, its 4x4
 // image_to_world pose (pixel (i, j, 0, 1) -> mm) and an optional field-of-view mask.
 #pragma once
 

@@ -1,4 +1,4 @@
-// An output folder that appears complete or not at all (GUIDE.md: "never half written"), and only
+// An output folder that appears complete or not at all (docs/outputs.md: "never half written"), and only
 // where xsect may write one (io/output_destination.h: never over a user's files or inputs).
 // Files are written into a hidden staging folder beside the destination; commit() renames it into
 // place (replacing an older output folder of xsect of the same name); destruction without

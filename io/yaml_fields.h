@@ -9,8 +9,10 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "geometry/core/named_choice.h"
+#include "io/closest_name.h"
 #include "io/input_error.h"
 #include "io/yaml_duplicate_keys.h"
 
@@ -79,7 +81,11 @@ E yamlChoice(const YAML::Node& n, const std::string& file, const std::string& ke
              const std::array<NamedChoice<E>, N>& table, const std::string& noun) {
   const std::string name = yamlString(n, file, key);
   if (const std::optional<E> v = choiceNamed(table, name)) return *v;
-  throw InputError(file, key, "unknown " + noun + " '" + name + "' (" + choiceNames(table) + ")", yamlLine(n));
+  std::vector<std::string> names;
+  for (const NamedChoice<E>& c : table) names.push_back(c.name);
+  throw InputError(file, key,
+                   "unknown " + noun + " '" + name + "'" + didYouMean(name, names) + " (" + choiceNames(table) + ")",
+                   yamlLine(n));
 }
 
 inline bool yamlBool(const YAML::Node& n, const std::string& file, const std::string& key) {

@@ -1,4 +1,4 @@
-// Stage 4 of `xsect run` (GUIDE.md): the arrangement of the scene's planes (the real cutting planes
+// Stage 4 of `xsect run` (docs/methods.md): the arrangement of the scene's planes (the real cutting planes
 // and the end planes), its cells and the sub-sections on their faces (thesis ch. 1 §1.2), and the
 // connectivity graphs between the sections that the lifts induce: G (method 1, ch. 1 §3), G'
 // (methods 2 and 3, ch. 2 §2, Def. 30) and, for method 3, the branching diagram of every cell's

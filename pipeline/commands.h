@@ -1,4 +1,4 @@
-// The commands of the command-line contract (GUIDE.md): run, check, phantom, eval, and slice.
+// The commands of the command line (docs/commands.md): run, check, phantom, eval, and slice.
 // Each returns the process exit code; invalid input is reported by throwing InputError (exit 2).
 #pragma once
 
@@ -12,6 +12,7 @@ struct RunOptions {
   std::string out;                     ///< --out: overrides output.dir
   std::vector<std::string> overrides;  ///< --set key.path=value
   bool quiet = false;
+  bool json = false;                   ///< check: print the whole diagnosis as JSON, not the summary
   int threads = 0;                     ///< 0 = all cores
 };
 int runCommand(const RunOptions& options);

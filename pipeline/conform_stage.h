@@ -1,4 +1,4 @@
-// Stage 3 (GUIDE.md), conformity along plane intersections (thesis Introduction §3.1, ch. 2 §5):
+// Stage 3 (docs/methods.md), conformity along plane intersections (thesis Introduction §3.1, ch. 2 §5):
 // observations of one plane merged (segmentation/coincident_consensus.h); a tracked sweep's poses
 // smoothed (geometry/conformity/pose_smoothing.h); then measured, for every pair of slices whose
 // observed regions meet, how their sections' traces on the common line disagree; slices whose

@@ -1,6 +1,7 @@
-// `xsect eval` (GUIDE.md, command-line contract): accuracy of a reconstructed mesh against a
+// `xsect eval` (docs/commands.md): accuracy of a reconstructed mesh against a
 // phantom's analytic truth (truth.yaml) or a reference mesh, and optionally its conformity with
-// the input sections (slices.yaml). Writes one JSON object, atomically, with:
+// the input sections (slices.yaml). Prints the headline numbers (evalHeadline) and,
+// with --json, writes one JSON object, atomically, with:
 //   hausdorff_mm, mean_distance_mm                    symmetric surface distances, mm
 //   mesh_to_truth_{max,mean}_mm, truth_to_mesh_{max,mean}_mm   one-sided ("truth" = the reference
 //                                                     mesh when --reference is given)
@@ -23,6 +24,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <optional>
 #include <sstream>
 #include <unistd.h>
@@ -186,10 +188,44 @@ json separationCondition(const PhantomShape& shape, const MeshDistance& meshQuer
   return s;
 }
 
+/// Three or four plain lines of what `out` measured: the solid's topology against the truth's,
+/// the distances and the overlap, the conformity with the sections when measured.
+std::string evalHeadline(const json& out) {
+  const auto fixed = [](double v, int digits) {
+    std::ostringstream s;
+    s.setf(std::ios::fixed);
+    s.precision(digits);
+    s << v;
+    return s.str();
+  };
+  const auto triple = [](const json& b) {
+    return std::to_string(b[0].get<int>()) + " " + std::to_string(b[1].get<int>()) + " " +
+           std::to_string(b[2].get<int>());
+  };
+  std::ostringstream s;
+  s << "topology: " << triple(out["betti"]);
+  if (out.contains("truth_betti"))
+    s << " (truth " << triple(out["truth_betti"]) << ": " << (out["betti"] == out["truth_betti"] ? "right" : "WRONG")
+      << ")";
+  s << (out["watertight"].get<bool>() ? ", watertight" : ", NOT watertight (the topology and Dice are unreliable)")
+    << "\n";
+  s << "distance to the " << (out.contains("truth") ? "truth" : "reference") << ": Hausdorff "
+    << fixed(out["hausdorff_mm"].get<double>(), 3) << " mm, mean " << fixed(out["mean_distance_mm"].get<double>(), 3)
+    << " mm\n";
+  s << "overlap: Dice " << fixed(out["dice"].get<double>(), 4) << " on " << fixed(out["voxel_mm"].get<double>(), 3)
+    << " mm voxels\n";
+  if (out.contains("conformity_iou_min")) {
+    s << "conformity with the slices: ";
+    if (out["conformity_iou_min"].is_null()) s << "no slice holds a section\n";
+    else s << "IoU at least " << fixed(out["conformity_iou_min"].get<double>(), 4) << " over "
+           << out["conformity"].size() << " slices\n";
+  }
+  return s.str();
+}
+
 }  // namespace
 
 int evalCommand(const EvalOptions& options) {
-  if (options.json.empty()) throw InputError("", "--json", "an output path is required");
   if (!std::isfinite(options.voxel_mm) || options.voxel_mm < 0)
     throw InputError("", "--voxel", "must be a finite voxel size >= 0 mm (0 = automatic)");
   if (options.truth.empty() == options.reference.empty())
@@ -202,7 +238,7 @@ int evalCommand(const EvalOptions& options) {
       inputs.push_back(s.image_resolved);
       if (s.fov_resolved) inputs.push_back(*s.fov_resolved);
     }
-  checkOutputFile(options.json, {inputs, "command line", "--json"});
+  if (!options.json.empty()) checkOutputFile(options.json, {inputs, "command line", "--json"});
   Progress progress(options.quiet);
 
   // Read every input before any long computation.
@@ -275,16 +311,12 @@ int evalCommand(const EvalOptions& options) {
   }
   progress.finish();
 
-  writeTextFileAtomically(options.json, out.dump(2) + "\n");
+  if (!options.json.empty()) writeTextFileAtomically(options.json, out.dump(2) + "\n");
   // The run's page beside the mesh, when there is one, shows these figures too (issue 21).
   const bool paged = addAccuracyToReportPage(options.mesh, out);
-  if (!options.quiet) {
-    std::ostringstream s;
-    s << "eval: hausdorff " << dist.hausdorffMm() << " mm, mean " << dist.meanMm()
-      << " mm, dice " << overlap.dice() << " -> " << options.json;
-    if (paged) s << " (and " << (std::filesystem::path(options.mesh).parent_path() / "report.html").string() << ")";
-    progress.note(s.str());
-  }
+  std::cout << evalHeadline(out);
+  if (!options.json.empty()) std::cout << "json: " << options.json << "\n";
+  if (paged) std::cout << "report: " << (fs::path(options.mesh).parent_path() / "report.html").string() << "\n";
   return 0;
 }
 

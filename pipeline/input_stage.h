@@ -1,4 +1,4 @@
-// Stages 1-3 of `xsect run` and `xsect check` (GUIDE.md): load the configuration and its input,
+// Stages 1-3 of `xsect run` and `xsect check` (docs/methods.md): load the configuration and its input,
 // segment the slices into sections (thesis ch. 1 §1.1: the sections S_i = O ∩ P_i), and conform
 // them along the planes' common lines (Introduction §3.1; pipeline/conform_stage.h).
 #pragma once

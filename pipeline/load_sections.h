@@ -1,4 +1,4 @@
-// Stages 1-2 (GUIDE.md): slice records -> cutting planes with their sections (segmentation of each
+// Stages 1-2 (docs/methods.md): slice records -> cutting planes with their sections (segmentation of each
 // image in its plane's (u, v) mm frame), deterministically. The frames are read as a stream, in
 // parallel: each decoded, segmented and released by one task (issue 17: loading holds the
 // sections, not the series' images).

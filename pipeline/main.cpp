@@ -1,4 +1,4 @@
-// xsect command line: run | check | phantom | eval (GUIDE.md, command-line contract).
+// xsect command line: run | check | phantom | eval | slice, and --version (docs/commands.md).
 // Exit codes: 0 success, 2 invalid input or configuration, 1 any other failure.
 #include <CLI/CLI.hpp>
 #include <iostream>
@@ -8,6 +8,7 @@
 #include "io/input_error.h"
 #include "pipeline/allocator_tuning.h"
 #include "pipeline/commands.h"
+#include "pipeline/library_versions.h"
 
 int main(int argc, char** argv) {
   using namespace xsect;
@@ -15,6 +16,11 @@ int main(int argc, char** argv) {
   keepFreedMemoryForReuse();
   CLI::App app{"xsect: 3D shapes from pose-tagged 2D slices, with topological guarantees"};
   app.require_subcommand(1);
+  // `xsect --version`: the release, then the libraries it was built with (as manifest.json lists them).
+  std::string version = std::string("xsect ") + XSECT_VERSION;
+  for (const auto& [name, v] : libraryVersions())
+    if (name != "xsect") version += "\n  " + name + " " + v;
+  app.set_version_flag("--version", version, "print the version of xsect and of its libraries");
   int threads = 0;
   app.add_option("--threads", threads, "worker threads (0 = all cores)");
 
@@ -31,6 +37,7 @@ int main(int argc, char** argv) {
   checkCmd->add_option("config", check.config, "config.yaml")->required();
   checkCmd->add_option("--set", check.overrides, "override a key: key.path=value")->take_all();
   checkCmd->add_flag("--quiet,-q", check.quiet, "no progress on stderr");
+  checkCmd->add_flag("--json", check.json, "print the whole diagnosis as JSON instead of a summary");
 
   PhantomOptions phantom;
   auto* phantomCmd = app.add_subcommand("phantom", "render a synthetic phantom");
@@ -47,7 +54,7 @@ int main(int argc, char** argv) {
   evalCmd->add_option("--slices", eval.slices, "slices.yaml: conformity with the input sections");
   evalCmd->add_option("--threshold", eval.threshold, "grey threshold for --slices images");
   evalCmd->add_option("--voxel", eval.voxel_mm, "voxel size in mm for Dice/IoU (0 = auto)");
-  evalCmd->add_option("--json", eval.json, "output JSON")->required();
+  evalCmd->add_option("--json", eval.json, "also write every measure to this JSON file");
   evalCmd->add_flag("--quiet,-q", eval.quiet, "no progress on stderr");
 
   SliceOptions slice;

@@ -1,7 +1,6 @@
 // Stage 7: meshes, materials, and their check (see mesh_stage.h).
 #include "pipeline/mesh_stage.h"
 
-#include <algorithm>
 #include <stdexcept>
 
 #include "geometry/meshing/volume_mesher.h"

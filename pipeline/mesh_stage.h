@@ -1,4 +1,4 @@
-// Stage 7 of `xsect run` (GUIDE.md): the meshes and their check. The method's own mesh
+// Stage 7 of `xsect run` (docs/methods.md): the meshes and their check. The method's own mesh
 // (pipeline/methods/: methods 1 and 2 mesh their solid and cut it along the planes onto the section
 // contours; method 3 gives ∂R'' itself, conformal to the contours by construction, or its voxels'
 // mesh where no voxel set has its topology) or the smooth surface (stage 6); per material, each

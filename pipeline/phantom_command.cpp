@@ -1,4 +1,4 @@
-// `xsect phantom SPEC.yaml --out DIR` (GUIDE.md, command-line contract): renders a synthetic
+// `xsect phantom SPEC.yaml --out DIR` (docs/commands.md): renders a synthetic
 // phantom into DIR, written through StagedOutput so that DIR appears complete or not at all:
 //   images/NNN.png     8-bit slice images (NNN = frame index; dropped frames are not written);
 //                      two-label phantoms (shape.label_split): label images, pixel = 0, 1 or 2

@@ -1,4 +1,4 @@
-// Rendering of one phantom slice (GUIDE.md, Phantoms): the image an ideal scanner would record on
+// Rendering of one phantom slice (docs/inputs.md, phantoms): the image an ideal scanner would record on
 // a plane through an analytic shape, then the degradations of real data. A pixel (i, j) at world
 // point p gets I = clamp(127.5 * (1 - sdf(p) / pixel_mm), 0, 255): an anti-aliased edge whose
 // 127.5 iso-line is the section boundary sdf = 0 (exactly, before degradations and rounding).
@@ -21,7 +21,7 @@ struct RenderedSlice {
 };
 
 /// @param shape    the phantom (world placement included)
-/// @param pose     true image_to_world (GUIDE convention); pixel size = norm of column 0, mm
+/// @param pose     true image_to_world (docs/inputs.md convention); pixel size = norm of column 0, mm
 /// @param width    image size, pixels
 /// @param height
 /// @param fov      empty, or CV_8UC1 height x width mask: pixels where it is 0 are set to 0

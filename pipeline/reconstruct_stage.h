@@ -1,4 +1,4 @@
-// Stage 5 of `xsect run` (GUIDE.md): the run's method reconstructs its solid on the scene's grid
+// Stage 5 of `xsect run` (docs/methods.md): the run's method reconstructs its solid on the scene's grid
 // (pipeline/methods/: methods 1 and 2 sampled and repaired, method 3's R'' with its tetrahedra
 // sampled), and the solid's components are checked against the method's connectivity graph from
 // stage 4, globally and cell by cell (the thesis: R_C's components are the classes of S_C that the

@@ -1,4 +1,4 @@
-// `xsect run` and `xsect check` (GUIDE.md, command-line contract): the stages in the order they
+// `xsect run` and `xsect check` (docs/commands.md): the stages in the order they
 // run, each a function of the results before it (pipeline/*_stage.h), and the one writer.
 //   load -> segment -> conform   (input_stage.h, stages 1-3)
 //   the scene                    (scene_stage.h: planes and end planes, rasters, grid; built once)
@@ -17,6 +17,7 @@
 
 #include "io/input_error.h"
 #include "pipeline/arrange_stage.h"
+#include "pipeline/check_summary.h"
 #include "pipeline/commands.h"
 #include "pipeline/confidence_stage.h"
 #include "pipeline/input_stage.h"
@@ -83,11 +84,11 @@ int runCommand(const RunOptions& o) {
 
   progress.stage("write");
   const RunResults results{in, *method, built, arrangement, reconstruction, smoothed, meshes, diagnosis, sampling, confidence};
-  writeRunOutputs(results, o, clock);
+  const json report = writeRunOutputs(results, o, clock);
   progress.finish();
   for (const auto& w : runWarnings(results)) progress.note("warning: " + w);
   // The last lines (issue 21): the sampling verdict, the Betti numbers with their confidence
-  // (issue 52), the page to look at.
+  // (issue 52), what the two mean for this result in plain words, the page to look at.
   const Betti& betti = diagnosis.topology.betti;
   progress.note(samplingLine(sampling));
   progress.note("topology: " + std::to_string(betti[0]) + " " + std::to_string(betti[1]) + " " + std::to_string(betti[2]) +
@@ -95,6 +96,7 @@ int runCommand(const RunOptions& o) {
                 (confidence.confidence.level != ConfidenceLevel::high && !reconstruction.topology
                      ? " (if you know the answer: reconstruction.topology)"
                      : ""));
+  progress.note(report["in_plain_words"].get<std::string>());
   progress.note("report: " + (outDir / "report.html").string());
   return 0;
 }
@@ -107,6 +109,7 @@ int checkCommand(const RunOptions& o) {
   int sections = 0;
   for (const auto& p : in.planes) sections += int(p.sections.size());
   json r;
+  std::string verdict;
   r["config"] = in.config.path;
   r["valid"] = true;
   r["counts"] = {{"slices", in.slices}, {"sections", sections}};
@@ -146,8 +149,9 @@ int checkCommand(const RunOptions& o) {
     const ArrangeStage arrangement = arrangeStage(c, built.scene, *method);
     const SamplingStage sampling = samplingStage(c, *method, built.scene, arrangement, false);
     r["sampling"] = samplingSummaryJson(sampling);
+    verdict = samplingLine(sampling);
     // What a run's topology confidence can say before the solid exists (issue 52): the scale below
-    // which its features are in doubt (README, "Topology confidence").
+    // which its features are in doubt (docs/topology.md, "Topology confidence").
     const double scale = std::max(dataScaleMm(sampling), 2 * built.scene.grid().voxel);
     r["topology"] = {{"confidence", nullptr},
                      {"data_scale_mm", scale},
@@ -160,7 +164,8 @@ int checkCommand(const RunOptions& o) {
   }
   progress.finish();
   r["warnings"] = warnings;
-  std::cout << r.dump(2) << "\n";
+  if (o.json) std::cout << r.dump(2) << "\n";
+  else std::cout << checkSummary(r, verdict);
   return 0;
 }
 

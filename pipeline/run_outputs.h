@@ -1,4 +1,4 @@
-// The one writer of `xsect run` (GUIDE.md stage 8): the stages' typed results turned into the
+// The one writer of `xsect run` (docs/methods.md stage 8): the stages' typed results turned into the
 // output folder, which appears complete or not at all (io/staged_output.h): mesh.<fmt> (and
 // mesh_unsmoothed, mesh_label_L), level_set.vdb, labels.nrrd, graph.json and graph.dot,
 // conformity.json, sampling.json, sampling.nrrd, advice.yaml (when slices are advised),
@@ -58,6 +58,7 @@ nlohmann::ordered_json reportJson(const RunResults& r, const StageClock& clock);
 
 /// Writes every output into r.inputs.output_dir (replacing an older output folder of xsect there,
 /// never anything else: io/staged_output.h).
-void writeRunOutputs(const RunResults& r, const RunOptions& options, const StageClock& clock);
+/// Returns report.json as written.
+nlohmann::ordered_json writeRunOutputs(const RunResults& r, const RunOptions& options, const StageClock& clock);
 
 }  // namespace xsect

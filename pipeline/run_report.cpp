@@ -1,4 +1,4 @@
-// report.json of `xsect run` (GUIDE.md, "report.json"): the topology of the result, the counts,
+// report.json of `xsect run` (docs/outputs.md): the topology of the result, the counts,
 // each stage's parameters and measurements, timings, peak memory and the warnings.
 #include <algorithm>
 #include <cmath>
@@ -6,6 +6,7 @@
 #include "pipeline/json_values.h"
 #include "pipeline/plus_summary.h"
 #include "pipeline/run_outputs.h"
+#include "report/run/verdict_sentence.h"
 
 namespace xsect {
 
@@ -340,6 +341,9 @@ json reportJson(const RunResults& r, const StageClock& clock) {
   report["throughput"] = throughputJson(r);
   report["warnings"] = runWarnings(r);
   r.method.addToReport(r, report);
+  // What the sampling verdict and the topology confidence mean for this result, in one sentence
+  // (the run's last lines and report.html's headline say the same).
+  report["in_plain_words"] = verdictSentence(report);
   return report;
 }
 

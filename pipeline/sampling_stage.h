@@ -1,4 +1,4 @@
-// The sampling diagnosis of `xsect run` and `xsect check` (GUIDE.md stage 7; issue 18): the
+// The sampling diagnosis of `xsect run` and `xsect check` (docs/methods.md stage 7; issue 18): the
 // thesis' sampling conditions per cell of the arrangement with a verdict
 // (geometry/sampling/sampling_conditions.h) and, when the verdict is not `satisfied`, the slices to
 // add (geometry/sampling/slice_advice.h). Reads the scene and the arrangement; needs no solid, so

@@ -1,4 +1,4 @@
-// After stage 3 of `xsect run` (GUIDE.md), the scene every later stage reads, built once
+// After stage 3 of `xsect run` (docs/methods.md), the scene every later stage reads, built once
 // (geometry/scene/section_scene.h): the voxel size resolved (automatic_voxel_size.h) and checked
 // against the sections' widths and this machine's memory, the grid and end margin, the six virtual
 // end planes that close the arrangement's open cells (thesis ch. 1 §1.2), and each plane's f_P

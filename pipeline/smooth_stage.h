@@ -1,4 +1,4 @@
-// Stage 6 (GUIDE.md, thesis ch. 1 §1.1): the smooth surface. Shepard's interpolant of the sections'
+// Stage 6 (docs/methods.md, thesis ch. 1 §1.1): the smooth surface. Shepard's interpolant of the sections'
 // distance functions evaluated on a grid, renormalised into an OpenVDB narrow-band level set and
 // meshed; its connectivity between the sections compared with the method's graph (cell by cell,
 // the cells the grid cannot decide re-decided on finer lattices: cell_refinement.h); and, when

@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
-# Configures and builds xsect (Release) into ${XSECT_BUILD_DIR:-build}.
+# Configures and builds xsect (Release) into ${XSECT_BUILD_DIR:-build}: every target, or the ones
+# named (scripts/build.sh xsect: the tool alone, as scripts/demo.sh does). Ninja shows its progress.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${XSECT_BUILD_DIR:-$root/build}"
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$build" --parallel "$(nproc)"
+targets=()
+for t in "$@"; do targets+=(--target "$t"); done
+cmake --build "$build" --parallel "$(nproc)" "${targets[@]}"

@@ -1,4 +1,4 @@
-// The field of view of a slice as polygons (GUIDE.md stage 2): the region of a field-of-view mask
+// The field of view of a slice as polygons (docs/methods.md stage 2): the region of a field-of-view mask
 // (non-zero = observed), as rings in the plane's (u, v) mm frame, so that conformity (stage 3) can
 // compare two slices' sections only where both were observed (thesis §3.1).
 #pragma once

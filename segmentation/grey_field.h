@@ -1,4 +1,4 @@
-// The grey field a threshold is applied to (GUIDE.md stage 2): the image with its speckle reduced
+// The grey field a threshold is applied to (docs/methods.md stage 2): the image with its speckle reduced
 // by a median filter (ultrasound: the grain of coherent imaging, which a Gaussian only blurs into
 // blobs that a threshold still splits), then Gaussian-smoothed. Shared by the segmentation of a
 // frame and the series' histograms (Otsu's threshold, the inside side), so that both read the

@@ -1,4 +1,4 @@
-// Segmentation of one slice image into sections (GUIDE.md stage 2): Gaussian smoothing, fixed or
+// Segmentation of one slice image into sections (docs/methods.md stage 2): Gaussian smoothing, fixed or
 // Otsu threshold (or given label masks), field-of-view masking, morphological open/close,
 // removal of small components, then sub-pixel section-contours (the iso-line of the smoothed image
 // at the threshold) turned into polygons with holes in the plane's (u, v) mm frame.

@@ -1,4 +1,4 @@
-// Helpers for tests that run the xsect binary: temporary folders, exit codes, captured stderr.
+// Helpers for tests that run the xsect binary: temporary folders, exit codes, captured stdout and stderr.
 #pragma once
 
 #include <cstdlib>
@@ -18,22 +18,28 @@ inline std::filesystem::path freshDir(const std::string& tag) {
 struct CliResult {
   int code = -1;
   std::string err;
+  std::string out;
 };
 
-/// Runs `xsect ARGS`, stdout discarded, stderr captured; with timeout_s > 0 it is killed after that
+/// Runs `xsect ARGS`, stdout and stderr captured; with timeout_s > 0 it is killed after that
 /// many seconds (exit code 124, coreutils' timeout).
 inline CliResult runXsect(const std::string& args, int timeout_s = 0) {
-  const auto errFile = freshDir("stderr") / "err.txt";
+  const auto folder = freshDir("stderr");
   const std::string cmd = (timeout_s > 0 ? "timeout " + std::to_string(timeout_s) + " " : std::string()) +
-                          std::string(XSECT_BIN) + " " + args + " >/dev/null 2>" + errFile.string();
+                          std::string(XSECT_BIN) + " " + args + " >" + (folder / "out.txt").string() + " 2>" +
+                          (folder / "err.txt").string();
   const int status = std::system(cmd.c_str());
   CliResult r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream f(errFile);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  r.err = ss.str();
-  std::filesystem::remove_all(errFile.parent_path());
+  const auto read = [](const std::filesystem::path& p) {
+    std::ifstream f(p);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+  };
+  r.err = read(folder / "err.txt");
+  r.out = read(folder / "out.txt");
+  std::filesystem::remove_all(folder);
   return r;
 }
 

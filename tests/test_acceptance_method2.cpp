@@ -3,6 +3,8 @@
 // splits it, method 2 keeps it whole, and each graph groups the sections as its voxel solid does),
 // and the phantom families of method 1 (phantom_families.h) within Thm 20's bound.
 #include <gtest/gtest.h>
+
+#include <sstream>
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
@@ -77,6 +79,19 @@ TEST(AcceptanceMethod2, SmoothVesselTreeMeetingWeakDensityKeepsTopologyWithinThe
   EXPECT_EQ(rep["betti"], json::array({1, 0, 0}));
   EXPECT_EQ(ev["betti"], json::array({1, 0, 0}));
   EXPECT_LE(ev["hausdorff_mm"].get<double>(), lift + 0.12);
+  // The headline eval prints, with or without --json: the same numbers, the topology judged.
+  std::ostringstream hausdorff;
+  hausdorff.setf(std::ios::fixed);
+  hausdorff.precision(3);
+  hausdorff << ev["hausdorff_mm"].get<double>();
+  EXPECT_NE(r.out.find("topology: 1 0 0 (truth 1 0 0: right), watertight\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Hausdorff " + hausdorff.str() + " mm"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("json: " + (dir / "eval.json").string()), std::string::npos) << r.out;
+  r = test::runXsect("eval --mesh " + (dir / "m2/mesh.ply").string() + " --truth " + (dir / "ph/truth.yaml").string() +
+                     " --voxel 0.04 --quiet");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("Hausdorff " + hausdorff.str() + " mm"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("json:"), std::string::npos) << r.out;
   fs::remove_all(dir);
 }
 

@@ -326,7 +326,7 @@ TEST(AcceptanceMethod3, FourHundredRandomPlanesGiveAClosedMesh) {
 // closed as flat faces. 200 planes, seed 2: a sliver tetrahedron (four points on different planes
 // but nearly coplanar, 3e-8 mm thick) that the pinch handling parted from the solid made a second
 // surface of no volume; now dropped. Both: one closed surface, no cavity. (Their b1 is 3, not the
-// truth's 2: the sampling verdict is "violated" on both; see the README on method 3.)
+// truth's 2: the sampling verdict is "violated" on both; see docs/methods.md on method 3.)
 TEST(AcceptanceMethod3, RandomPlaneSetsGiveOneClosedSurface) {
   const std::string spec = test::slurp(fs::path(XSECT_SOURCE_DIR) / "configs/phantoms/genus2-random-200.yaml");
   for (const auto& [count, seed] : {std::pair{300, 1}, std::pair{200, 2}}) {

@@ -56,7 +56,7 @@ Truth truthOf(const fs::path& dir) {
 /// The prior, and whole planes: the phantoms' images cover the object's bounding sphere, so each
 /// plane beyond its image is empty of the object, which is what the thesis' conditions assume of a
 /// plane. (On the observed pieces, the default for images, the end planes' box reaches beyond the
-/// images of a fan, and its cells are joined there: README "Observed pieces".)
+/// images of a fan, and its cells are joined there: docs/methods.md, "Observed pieces".)
 std::string priorSets(const Truth& t, bool angleZero) {
   std::ostringstream s;
   s << "--set reconstruction.planes=whole";
@@ -379,7 +379,7 @@ TEST(AcceptanceSampling, CheckDiagnosesAndBadPriorsAreInputErrors) {
                                                    "pattern: {kind: random, count: 8}\n" + image(0.5, 0.5));
   const fs::path out = d / "check.json";
   const int code = std::system((std::string(XSECT_BIN) + " check " + (d / "ph/config.yaml").string() +
-                                " --quiet --set sampling.reach_mm=4 > " + out.string())
+                                " --quiet --json --set sampling.reach_mm=4 > " + out.string())
                                    .c_str());
   ASSERT_EQ(code, 0);
   const nlohmann::json c = readJson(out);

@@ -1,4 +1,4 @@
-// A slice stack written by hand in the GUIDE format (testdata/hand_stack) runs end to end.
+// A slice stack written by hand in the slices.yaml format of docs/inputs.md (testdata/hand_stack) runs end to end.
 // The images are disks drawn with OpenCV (16x supersampled, area-averaged): not the phantom tool.
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>

@@ -80,6 +80,16 @@ TEST(Inputs, ConfigErrorsNameTheKey) {
       {"input:\n  slices: slices.yaml\noutput:\n  mesh: [vtk]\n  dir: out\n", "output.mesh"},
       {"input:\n  slices: slices.yaml\n  csl: x.csl\n", "input"},
       {"input:\n  slices: slices.yaml\nreconstruction: 3\n", "reconstruction"},
+      // Typos stop the run before any work, at the key's line, with the key they were meant to be.
+      {"input:\n  slices: slices.yaml\nreconstruction:\n  voxle_size_mm: 0.5\n",
+       "config.yaml:4: reconstruction.voxle_size_mm: unknown key (did you mean 'reconstruction.voxel_size_mm'?)"},
+      {"input:\n  slices: slices.yaml\nvoxel_size_mm: 0.5\n",
+       "unknown key (did you mean 'reconstruction.voxel_size_mm'?)"},
+      {"input:\n  slices: slices.yaml\nsegmentaton:\n  threshold: 3\n", "did you mean 'segmentation'?"},
+      {"input:\n  slices: slices.yaml\nreconstruction:\n  method: nearest_plan\n", "did you mean 'nearest_plane'?"},
+      {"input:\n  slices: slices.yaml\nsmoothing:\n  methd: shepard\n  exponant: 2\n",
+       "also unknown: 'smoothing.exponant' (line 5) (did you mean 'smoothing.exponent'?)"},
+      {"input:\n  slices: slices.yaml\ncolour: blue\n", "colour: unknown key"},
   };
   for (const auto& c : cases) {
     const fs::path d = validInput();
@@ -95,15 +105,17 @@ TEST(Inputs, ConfigErrorsNameTheKey) {
 
 TEST(Inputs, SetOverridesAreValidatedToo) {
   const fs::path d = validInput();
-  expectRejected(d, "reconstruction.voxel_size_mm", "--set reconstruction.voxel_size_mm=0");
+  // An error in a --set value names the option as typed, not a line of config.yaml.
+  expectRejected(d, "error: --set reconstruction.voxel_size_mm=0: must be", "--set reconstruction.voxel_size_mm=0");
   expectRejected(d, "--set", "--set novalue");
+  expectRejected(d, "error: --set extra.key=1: extra: unknown key", "--set extra.key=1");
+  expectRejected(d, "error: --set reconstruction.voxle_size_mm=1: unknown key (did you mean "
+                    "'reconstruction.voxel_size_mm'?)", "--set reconstruction.voxle_size_mm=1");
   const RunConfig c = readRunConfig((d / "config.yaml").string(),
-                                    {"reconstruction.voxel_size_mm=0.75", "segmentation.threshold=90",
-                                     "extra.key=1"});
+                                    {"reconstruction.voxel_size_mm=0.75", "segmentation.threshold=90"});
   EXPECT_DOUBLE_EQ(c.voxel_size_mm, 0.75);
   EXPECT_DOUBLE_EQ(c.segmentation.threshold, 90);
-  ASSERT_EQ(c.warnings.size(), 1u);  // unknown keys are warned about, not fatal
-  EXPECT_NE(c.warnings[0].find("extra"), std::string::npos);
+  EXPECT_TRUE(c.warnings.empty());
   EXPECT_EQ(c.input_path, (d / "slices.yaml").lexically_normal().string());
   // Method 3's choice of what to do with tunnels within a cell (cell_tunnels.h): read, no warning.
   EXPECT_EQ(readRunConfig((d / "config.yaml").string(), {}).cell_tunnels, CellTunnels::cut);
@@ -255,10 +267,17 @@ TEST(Inputs, CheckValidatesWithoutWriting) {
   const fs::path d = validInput();
   const fs::path out = d / "check.json";
   const int status = std::system((std::string(XSECT_BIN) + " check " + (d / "config.yaml").string() +
-                                  " --quiet > " + out.string()).c_str());
+                                  " --quiet --json > " + out.string()).c_str());
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 0);
   const auto j = nlohmann::json::parse(std::ifstream(out));
+  // Without --json, a few lines a reader takes in at a glance, from the same diagnosis.
+  const auto summary = test::runXsect("check " + (d / "config.yaml").string() + " --quiet");
+  EXPECT_EQ(summary.code, 0) << summary.err;
+  for (const std::string says : {"config.yaml: valid\n", "input: 2 slices, 2 sections\n", "grid: 0.5000 mm voxels (configured)",
+                                 "estimated: ", "sampling: ", "--json\n"})
+    EXPECT_NE(summary.out.find(says), std::string::npos) << says << " in\n" << summary.out;
+  EXPECT_LT(std::count(summary.out.begin(), summary.out.end(), '\n'), 12) << summary.out;
   EXPECT_TRUE(j["valid"].get<bool>());
   EXPECT_EQ(j["counts"]["slices"], 2);
   EXPECT_EQ(j["counts"]["sections"], 2);

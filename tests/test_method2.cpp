@@ -332,7 +332,7 @@ void expectObservedMethod2AsDefined(const std::vector<CuttingPlane>& planes, con
 
 }  // namespace
 
-// Method 2 on observed pieces (README "Observed pieces"): every voxel as the definition says,
+// Method 2 on observed pieces (docs/methods.md, "Observed pieces"): every voxel as the definition says,
 // R'_Ω = R_Ω ∪ {x ∈ R' : the lift's foot observed, and within B(x, h(x)) every plane observed or
 // no section point but the foot}, with R' and R_Ω evaluated on their own. Shells cut by planes cut
 // down to random image rectangles keep lifts by either condition, drop lifts and add method 1's

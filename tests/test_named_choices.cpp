@@ -49,11 +49,11 @@ TEST(NamedChoices, AnUnknownChoiceIsRefusedWithTheNames) {
   test::writeFile(dir / "s.csl", "CSLC\n1 1\n1 3 1 0 0 1 0\n0 0 0\n1 0 0\n0 1 0\n3 1 0 1 2\n");
   test::writeFile(dir / "c.yaml", "input: {csl: s.csl}\n");
   const struct { const char* set; const char* says; } cases[] = {
-      {"smoothing.method=gauss", "smoothing.method: unknown method 'gauss' (none | shepard | level_set)"},
-      {"reconstruction.method=poisson", "reconstruction.method: unknown method 'poisson' (nearest_plane | section_voronoi | delaunay)"},
-      {"conformity.mode=mean", "conformity.mode: unknown mode 'mean' (intersection | union | average)"},
-      {"segmentation.method=kmeans", "segmentation.method: unknown method 'kmeans' (threshold | otsu | min_error | labels)"},
-      {"segmentation.inside=dark", "segmentation.inside: unknown side 'dark' (above | below | auto)"},
+      {"smoothing.method=gauss", "--set smoothing.method=gauss: unknown method 'gauss' (none | shepard | level_set)"},
+      {"reconstruction.method=poisson", "--set reconstruction.method=poisson: unknown method 'poisson' (nearest_plane | section_voronoi | delaunay)"},
+      {"conformity.mode=mean", "--set conformity.mode=mean: unknown mode 'mean' (intersection | union | average)"},
+      {"segmentation.method=kmeans", "--set segmentation.method=kmeans: unknown method 'kmeans' (threshold | otsu | min_error | labels)"},
+      {"segmentation.inside=dark", "--set segmentation.inside=dark: unknown side 'dark' (above | below | auto)"},
   };
   for (const auto& c : cases) {
     const auto r = test::runXsect("check " + (dir / "c.yaml").string() + " --set " + c.set);

@@ -1,4 +1,4 @@
-// Observed pieces (issue 20, README "Observed pieces"): a slice cuts space only where it was
+// Observed pieces (issue 20, docs/methods.md, "Observed pieces"): a slice cuts space only where it was
 // observed. A ball larger than every image, seen by two sweeps whose images each cover part of it,
 // is one ball with `observed` and is carved with `whole`; images that cover the object give the
 // same result either way; the setting is validated.
@@ -124,7 +124,7 @@ TEST_P(ObservedPiecesOfABallLargerThanEveryImage, IsOneBallWithObservedPiecesAnd
   EXPECT_GT(s["smoothing"]["voxels_decided_by_observed_pieces"].get<std::int64_t>(), 0);
   EXPECT_EQ(s["smoothing"]["surface_from"], "shepard");
   EXPECT_EQ(s["betti"], (std::vector<int>{1, 0, 0}));
-  // Method 2 on the pieces (README "Observed pieces": R'_Ω); on whole planes its lifts stop at the
+  // Method 2 on the pieces (docs/methods.md, "Observed pieces": R'_Ω); on whole planes its lifts stop at the
   // planes beyond the images and the ball is carved.
   const nlohmann::json m2 = ballOnPiecesCarvedOnWholePlanes("m2", "--set reconstruction.method=section_voronoi");
   const nlohmann::json& counts = m2["reconstruction"]["observed_pieces"];
@@ -177,7 +177,7 @@ TEST(ObservedPieces, ImagesThatCoverTheObjectGiveTheWholePlanesResult) {
     const nlohmann::json r2 =
         test::run(dir, "m2observed", "--set reconstruction.method=section_voronoi --set reconstruction.planes=observed");
     // Lifts towards another section through an unobserved part of a plane: none on images that
-    // cover the object (what lets Shepard run on method 2's solid, README "Observed pieces").
+    // cover the object (what lets Shepard run on method 2's solid, docs/methods.md, "Observed pieces").
     EXPECT_EQ(r2["reconstruction"]["observed_pieces"]["lift_voxels_dropped"], 0) << r2["reconstruction"]["observed_pieces"];
     test::run(dir, "m2whole", "--set reconstruction.method=section_voronoi --set reconstruction.planes=whole");
     const nlohmann::json mo = test::eval(dir, "m2observed"), mw = test::eval(dir, "m2whole");

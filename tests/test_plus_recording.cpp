@@ -70,7 +70,7 @@ TEST(PlusRecording, FramesPosesAndSpacingAreTheFilesOnes) {
   // xsect check reports them; the pixel spacing is the calibration's (its columns' norms).
   const auto dir = freshDir("plus_check");
   const auto out = dir / "check.json";
-  const std::string cmd = std::string(XSECT_BIN) + " check " + writeConfig(dir, "").string() + " --quiet > " + out.string();
+  const std::string cmd = std::string(XSECT_BIN) + " check " + writeConfig(dir, "").string() + " --quiet --json > " + out.string();
   ASSERT_EQ(std::system(cmd.c_str()), 0);
   const nlohmann::json c = test::readJson(out)["plus_sequence"];
   EXPECT_EQ(c["frames"], 97);

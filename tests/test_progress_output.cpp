@@ -113,13 +113,15 @@ std::vector<std::string> linesOf(const std::string& text) {
   return lines;
 }
 
-/// The last three lines of `xsect run`: the sampling verdict, the Betti numbers of report.json with
-/// its topology confidence, the path of report.html in `out`; plain lines (no bar left on them).
+/// The last four lines of `xsect run`: the sampling verdict, the Betti numbers of report.json with
+/// its topology confidence, what they mean in plain words (report.json in_plain_words), the path of
+/// report.html in `out`; plain lines (no bar left on them).
 void expectClosingLines(const std::string& err, const fs::path& out) {
   const std::vector<std::string> lines = linesOf(err);
-  ASSERT_GE(lines.size(), 3u) << err;
-  const std::string& verdict = lines[lines.size() - 3];
-  const std::string& betti = lines[lines.size() - 2];
+  ASSERT_GE(lines.size(), 4u) << err;
+  const std::string& verdict = lines[lines.size() - 4];
+  const std::string& betti = lines[lines.size() - 3];
+  const std::string& meaning = lines[lines.size() - 2];
   const std::string& report = lines[lines.size() - 1];
   const nlohmann::json rep = nlohmann::json::parse(xsect::test::slurp(out / "report.json"));
   const std::string name = rep["sampling"]["verdict"].get<std::string>();
@@ -128,8 +130,9 @@ void expectClosingLines(const std::string& err, const fs::path& out) {
                                std::to_string(rep["betti"][1].get<int>()) + " " + std::to_string(rep["betti"][2].get<int>()) +
                                ", confidence " + rep["topology"]["confidence"]["text"].get<std::string>();
   EXPECT_EQ(betti.rfind(topology, 0), 0u) << err;
+  EXPECT_EQ(meaning, rep["in_plain_words"].get<std::string>()) << err;
   EXPECT_EQ(report, "report: " + (fs::absolute(out) / "report.html").string()) << err;
-  for (const std::string* l : {&verdict, &betti, &report})
+  for (const std::string* l : {&verdict, &betti, &meaning, &report})
     EXPECT_EQ(l->find_first_of("\r\033"), std::string::npos) << *l;
 }
 

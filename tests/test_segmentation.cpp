@@ -1,4 +1,4 @@
-// Segmentation (GUIDE.md stage 2): sub-pixel contours, holes and islands, thresholds, field of
+// Segmentation (docs/methods.md stage 2): sub-pixel contours, holes and islands, thresholds, field of
 // view, morphology, small components, simplification, bit depths, labels, anisotropic pixels;
 // several materials: one label per pixel value, contours shared where labels touch, labels tiling.
 #include <gtest/gtest.h>

@@ -89,7 +89,7 @@ TEST(SettingRefusals, CheckAndRunRefuseTheSameTimeAndMemory) {
   EXPECT_EQ(messages[0], messages[1]);
   // check's estimate is in its JSON.
   const fs::path json = dir / "check.json";
-  ASSERT_EQ(std::system((std::string(XSECT_BIN) + " check " + cfg + " --quiet > " + json.string()).c_str()), 0);
+  ASSERT_EQ(std::system((std::string(XSECT_BIN) + " check " + cfg + " --quiet --json > " + json.string()).c_str()), 0);
   const nlohmann::json c = test::readJson(json);
   EXPECT_GT(c["estimated_seconds"].get<double>(), 0.0);
   EXPECT_EQ(c["estimated_time_s"]["max_seconds"], 86400.0);

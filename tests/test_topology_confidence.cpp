@@ -146,7 +146,7 @@ TEST(TopologyConfidence, ARunRatesADenseTorusHighAndASparseOneLower) {
       EXPECT_GT(c["probes"][1]["radius_mm"].get<double>(), 2.0) << c.dump();  // cells 4+ mm high
     }
     const std::filesystem::path json = dir / "check.json";
-    ASSERT_EQ(std::system((std::string(XSECT_BIN) + " check " + (dir / "ph/config.yaml").string() + " --quiet > " +
+    ASSERT_EQ(std::system((std::string(XSECT_BIN) + " check " + (dir / "ph/config.yaml").string() + " --quiet --json > " +
                            json.string()).c_str()),
               0);
     const nlohmann::json k = test::readJson(json);
@@ -157,7 +157,7 @@ TEST(TopologyConfidence, ARunRatesADenseTorusHighAndASparseOneLower) {
   }
 }
 
-// The rates README ("Topology confidence") quotes, on a part of the families small enough for CI,
+// The rates docs/topology.md ("Topology confidence") quotes, on a part of the families small enough for CI,
 // on seeds 5-8, which the radii were not chosen on (seeds 1-4 chose them): the torus and the sphere
 // cut by 6 and 9 random planes, the genus-2 solid by 20, the cup by its 5 mixed planes (tilted as
 // bench/topology_family.py tilts it), method 1 (24 configurations). Every high must have the truth's

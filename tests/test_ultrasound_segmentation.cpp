@@ -233,7 +233,7 @@ TEST(UltrasoundSegmentation, PresetFillsOnlyTheKeysLeftOut) {
 // (inside: below), leaves the shadows out of the view, and gives the sections the clean phantom
 // gives; the PLUS recording and the PNG frames (the apex given in the configuration) give the same
 // solid. Measured topology over the family is in the note (not yet the truth on every
-// seed: see README, "Ultrasound").
+// seed: see docs/ultrasound.md).
 TEST(UltrasoundSegmentation, PresetFindsTheLumenAndLeavesShadowsOut) {
   const std::string spec =
       "seed: 3\n"

@@ -9,7 +9,7 @@
 //    into the lift of a section B of another plane.
 // A connection narrower than the sample spacing can be missed; both graphs are sampled on the same
 // points, and G's edges are exact at those points.
-// Observed pieces (issue 20, README "Observed pieces"; the scene's pieces, when some is partial):
+// Observed pieces (issue 20, docs/methods.md, "Observed pieces"; the scene's pieces, when some is partial):
 // method 1 on the pieces decides x by the nearest point of the union of the pieces, so G_Ω's lift
 // of a ends at the first t where d(a + t n, Ω_Q) = t for another plane Q (a root of a
 // non-increasing function, bracketed by the whole plane's root), and A joins the section B of Q

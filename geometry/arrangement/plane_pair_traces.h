@@ -1,5 +1,5 @@
 // The pairs of cutting planes whose observed regions meet, with both planes' section traces on
-// their common line (thesis Introduction §3.1: conformity of the sections along P ∩ Q; GUIDE.md
+// their common line (thesis Introduction §3.1: conformity of the sections along P ∩ Q; docs/methods.md
 // stage 3). The measurement half of the conform stage: what each pair disagrees on, in mm.
 #pragma once
 

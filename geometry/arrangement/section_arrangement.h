@@ -1,4 +1,4 @@
-// Stage 4 (GUIDE.md; thesis ch. 2 §5.1): which cells of the arrangement of the cutting planes the
+// Stage 4 (docs/methods.md; thesis ch. 2 §5.1): which cells of the arrangement of the cutting planes the
 // sections bound, without building the arrangement (cells holding no section are never met).
 // Every section point gets its sign vector against all planes (an exact predicate on its double
 // coordinates: CGAL's filtered orientation); the point bounds the cell with that sign vector on

@@ -1,5 +1,5 @@
 // Enforced conformity along plane intersections (thesis Introduction §3.1 and ch. 2 §5 assume
-// that the sections of two intersecting planes agree on their common line; GUIDE.md stage 3).
+// that the sections of two intersecting planes agree on their common line; docs/methods.md stage 3).
 // For every pair of planes whose traces disagree, a consensus trace of their common line is
 // chosen, and both planes' sections are edited so that their traces equal it:
 //  - locally, and keeping the sections' topology where it can: an endpoint that only moves

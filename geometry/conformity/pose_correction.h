@@ -1,4 +1,4 @@
-// Pose correction (GUIDE.md stage 3; thesis Introduction §3.1 assumes that the sections of two
+// Pose correction (docs/methods.md stage 3; thesis Introduction §3.1 assumes that the sections of two
 // intersecting planes agree on their common line): each slice's recorded pose is corrected by
 // one rigid motion (or translation) so that, over all common lines, every point where a slice's
 // contour crosses the line lies on the other slice's contours (geometry/conformity/

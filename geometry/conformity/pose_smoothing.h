@@ -1,4 +1,4 @@
-// Smoothing the recorded pose trajectory of a tracked sweep (the conform stage, GUIDE.md stage 3;
+// Smoothing the recorded pose trajectory of a tracked sweep (the conform stage, docs/methods.md stage 3;
 // thesis Introduction §3.1 assumes sections that agree, and a tracker's per-frame jitter moves
 // each section by its own small rigid error). A probe moves smoothly between frames a few hundredths
 // of a millimetre apart; its tracker reports each pose with independent noise (optical trackers:

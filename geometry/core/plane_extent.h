@@ -1,7 +1,7 @@
 // `reconstruction.planes`: how far a cutting plane cuts space (issue 20). The thesis' planes are
 // whole planes; a tracked image observed only its piece of the plane (image rectangle ∩ field of
 // view). With `observed`, every definition that reads "the cutting plane P" reads "the observed
-// piece of P" instead (README, "Observed pieces"); with every piece a whole plane both agree.
+// piece of P" instead (docs/methods.md, "Observed pieces"); with every piece a whole plane both agree.
 #pragma once
 
 #include "geometry/core/named_choice.h"

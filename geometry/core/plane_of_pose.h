@@ -1,4 +1,4 @@
-// The cutting plane of a slice from its image_to_world pose (GUIDE.md conventions): origin is the
+// The cutting plane of a slice from its image_to_world pose (docs/inputs.md, conventions): origin is the
 // centre of pixel (0, 0); u and v the normalised first two columns; normal = u x v. And a plane
 // through a point with a given normal, with a frame completing it.
 #pragma once

@@ -1,4 +1,4 @@
-// Analytic phantom shapes (GUIDE.md, Phantoms): exact signed distance (negative inside), Betti
+// Analytic phantom shapes (docs/inputs.md, phantoms): exact signed distance (negative inside), Betti
 // numbers, reach (thesis Def. 5 / Def. 21: distance of the boundary to its medial axis) and bounds.
 #pragma once
 

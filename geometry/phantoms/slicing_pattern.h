@@ -1,6 +1,6 @@
-// Slicing patterns of the phantom generator (GUIDE.md, Phantoms): the true image_to_world poses
+// Slicing patterns of the phantom generator (docs/inputs.md, phantoms): the true image_to_world poses
 // of the slices that cut a shape, from its bounds and a seed. Pure functions, deterministic.
-// Poses follow the GUIDE convention: column 0 = u * pixel_mm, column 1 = v * pixel_mm, column 2 =
+// Poses follow the docs/inputs.md convention: column 0 = u * pixel_mm, column 1 = v * pixel_mm, column 2 =
 // normal * pixel_mm, column 3 = world position of the centre of pixel (0, 0).
 #pragma once
 

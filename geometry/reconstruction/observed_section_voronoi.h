@@ -1,4 +1,4 @@
-// Method 2 (thesis ch. 2 §2, Def. 27-28) on observed pieces (issue 20; README "Observed pieces").
+// Method 2 (thesis ch. 2 §2, Def. 27-28) on observed pieces (issue 20; docs/methods.md, "Observed pieces").
 // A slice's plane P was seen only on its piece Ω_P (observed_piece.h). Method 2 decides a point x
 // of a cell C by the sections visible from x on ∂C: with pieces, ∂C is made of pieces, and where a
 // plane was not observed the cell, and so x's lift, is not known from the data. The definition

@@ -1,4 +1,4 @@
-// Stage 5 (GUIDE.md) on the scene's voxel grid (section_scene.h: the planes, the end planes that
+// Stage 5 (docs/methods.md) on the scene's voxel grid (section_scene.h: the planes, the end planes that
 // close open cells, the sections' distance rasters): the evaluation of R (method 1, nearest_plane_reconstruction.h) or
 // R' (method 2, section_voronoi_reconstruction.h), and the repair that gives the sampled solid the
 // topology of the continuous one (digital_topology.h). The field returned is negative exactly on

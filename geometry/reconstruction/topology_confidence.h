@@ -24,7 +24,7 @@
 //    the level);
 //  - medium: nothing at 1 voxel, something at the data's scale;
 //  - high: nothing at either.
-// What each level has meant in measured rates is in README ("Topology confidence").
+// What each level has meant in measured rates is in docs/topology.md ("Topology confidence").
 #pragma once
 
 #include <array>

@@ -1,5 +1,5 @@
 // The cells of the arrangement when each cutting plane P is replaced by its observed piece Ω_P
-// (issue 20; README "Observed pieces"): the Ω-cells are the connected components of the box less
+// (issue 20; docs/methods.md, "Observed pieces"): the Ω-cells are the connected components of the box less
 // the union of the pieces. An Ω-cell is a union of cells of the whole planes' arrangement (thesis
 // ch. 1 §2) joined across the parts of their faces that no slice observed, so it need not be
 // convex. With every piece whole, the Ω-cells are the thesis' cells.

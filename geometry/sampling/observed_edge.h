@@ -1,4 +1,4 @@
-// Where a plane was observed only in part (an image's rectangle, a probe's sector: GUIDE.md field
+// Where a plane was observed only in part (an image's rectangle, a probe's sector: docs/inputs.md: field
 // of view), a section's contour may run along the border of what was seen rather than along the
 // object. The sampling diagnosis (issue 18) leaves contour points near that border out of what
 // it measures on the object's surface.

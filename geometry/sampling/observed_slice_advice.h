@@ -1,4 +1,4 @@
-// Where to add slices when the cells are the observed pieces' (README "Observed pieces";
+// Where to add slices when the cells are the observed pieces' (docs/methods.md, "Observed pieces";
 // observed_cells.h): the greedy of slice_advice.h on the Ω-cells, read on the diagnosis' lattice.
 // An advised slice is an image over the end planes' box (the stage writes it so, two pixels wider:
 // its piece is eroded by one), so it lowers every lattice point's distance to the pieces to

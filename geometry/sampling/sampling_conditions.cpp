@@ -150,7 +150,7 @@ void evaluate(CellSampling& c, ReconstructionMethod method, const SamplingPrior&
     // An Ω-cell of several cells is not convex. Of the thesis' results, Lemma 3 and Thm 3 (the
     // sections joined as in O) rest on balls only and hold on it; Prop. 2 (a piece may lie inside
     // O, its section without contour: method 2's C'1 through Thm 21) and the topological theorems
-    // (Thm 14-16, Lemma 6; Thm 23-24) use convex cells with whole faces and fail on it (README
+    // (Thm 14-16, Lemma 6; Thm 23-24) use convex cells with whole faces and fail on it (docs/methods.md,
     // "Observed pieces"). So only method 1's C1 may be shown there; violations stand (a condition
     // not met shows nothing either way). An Ω-cell without sections keeps its one condition: a
     // component of O inside it would hold a ball of radius reach_i touching no piece, whatever

@@ -1,5 +1,5 @@
 // The thesis' sampling conditions checked per cell of the arrangement, and a verdict (issue 18;
-// GUIDE.md stage 7). Method 1 (ch. 1 §2.3, §4.5): the Density Condition (C1) h_C < reach_C(O)
+// docs/methods.md stage 7). Method 1 (ch. 1 §2.3, §4.5): the Density Condition (C1) h_C < reach_C(O)
 // (Lemma 3: the Separation Condition, so the sections are joined as in O, Thm 3) and the
 // Transversality Condition (C2) h_C < ½(1 − sin α_C)·reach_C(O) (Thm 15: with C1, R is homotopy
 // equivalent, homeomorphic and isotopic to O). Method 2 (ch. 2 §3): the Weak Density Condition
@@ -32,7 +32,7 @@
 //    every condition holds there trivially: the nearest point on ∂C of any x in C is outside O), or
 //    a component of O lies inside C (Prop. 2), holding a medial ball of radius ≥ reach_i. Their one
 //    condition is h_C < reach_i (nothing missed), reported as both density and transversality.
-//  - Observed pieces (README "Observed pieces"): the cells are the Ω-cells (observed_cells.h), each
+//  - Observed pieces (docs/methods.md, "Observed pieces"): the cells are the Ω-cells (observed_cells.h), each
 //    cell taking its Ω-cell's height and data. On an Ω-cell joining several cells (not convex) and
 //    holding sections only Lemma 3 and Thm 3 hold, so only method 1's C1 may be shown there.
 #pragma once

@@ -1,4 +1,4 @@
-// The observed piece Ω_P of a cutting plane (issue 20; README "Observed pieces"): the part of P
+// The observed piece Ω_P of a cutting plane (issue 20; docs/methods.md, "Observed pieces"): the part of P
 // where its slice was seen, its image rectangle ∩ its field of view, eroded by one pixel (the
 // outermost pixels are where a segmentation's contour follows the image's edge, not the object's:
 // on the eroded piece a section that runs out of the image is still a section, by a pixel, where

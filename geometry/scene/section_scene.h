@@ -1,4 +1,4 @@
-// The section scene: what every stage after conformity (GUIDE.md stages 4-7) reads, built once.
+// The section scene: what every stage after conformity (docs/methods.md stages 4-7) reads, built once.
 //  - the cutting planes with their sections, the real ones in input order, then the six virtual
 //    end planes with empty sections that close the arrangement's open cells (end_planes.h; thesis
 //    ch. 1 §1.2: R of an unbounded cell would be an infinite prism);

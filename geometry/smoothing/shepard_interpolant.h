@@ -19,7 +19,7 @@
 // plane, where the visible set changes and f jumps (a plane that stops being visible is never the
 // nearest, so the jump shrinks as p grows).
 //
-// On observed pieces (issue 20, README "Observed pieces"; geometry/scene/observed_piece.h) each
+// On observed pieces (issue 20, docs/methods.md, "Observed pieces"; geometry/scene/observed_piece.h) each
 // plane P_i is replaced by its piece Ω_i, as methods 1 and 2 do:
 //     x_i = the point of Ω_i nearest x (x's projection when Ω_i holds it), t_i = |x - x_i|,
 //     P_i sees x when no other piece meets the segment [x, x_i] inside it: no plane P_j, j ≠ i,

@@ -61,13 +61,17 @@ std::string reportPageHtml(const ReportPage& page) {
           "window.addEventListener('error',bump);window.addEventListener('unhandledrejection',bump);"
           "var e=console.error;console.error=function(){bump();return e.apply(console,arguments);};"
           "window.xsectErrors=function(){return n;};})();\n</script>\n</head>\n<body data-errors=\"0\">\n";
-  html += "<header>\n<h1>" + htmlEscape(page.title) + "</h1>\n<p class=\"headline\">" + page.headline_html + "</p>\n</header>\n<main>\n";
+  html += "<header>\n<h1>" + htmlEscape(page.title) + "</h1>\n<p class=\"headline\">" + page.headline_html + "</p>\n" +
+          (page.headline_note.empty() ? std::string()
+                                      : "<p class=\"meaning\" id=\"verdict-meaning\">" + htmlEscape(page.headline_note) + "</p>\n") +
+          "</header>\n<main>\n";
   if (!page.view_json.empty()) {
     html += "<section id=\"view\">\n<h2>Shape and slices</h2>\n"
             "<div class=\"view-controls\">colour <select id=\"view-colour\">"
             "<option value=\"uniform\">uniform</option><option value=\"sampling\">sampling verdict</option>"
             "<option value=\"material\">material</option></select>\n"
-            "<label><input type=\"checkbox\" id=\"view-slices\" checked> slices</label>\n"
+            "slices <select id=\"view-slices\"><option value=\"few\">a few</option><option value=\"all\">all</option>"
+            "<option value=\"none\">none</option></select>\n"
             "<label><input type=\"checkbox\" id=\"view-contours\" checked> contours</label>\n"
             "<label><input type=\"checkbox\" id=\"view-mesh\" checked> mesh</label>\n"
             "<span id=\"view-legend\"></span></div>\n"

@@ -24,6 +24,7 @@ struct ReportPageSection {
 struct ReportPage {
   std::string title;                      ///< the document's title (plain text)
   std::string headline_html;              ///< shown under the title
+  std::string headline_note;              ///< one plain sentence under the headline (plain text)
   std::string view_json;                  ///< the 3D view's data (report_page.js); empty: no view
   std::vector<ReportPageSection> sections;  ///< below the 3D view, in order
   std::string eval_html;                  ///< the accuracy block (xsect eval); a hint when empty

@@ -35,7 +35,9 @@
   var radius = Math.max(1e-9, 0.5 * Math.sqrt(Math.pow(hi[0] - lo[0], 2) + Math.pow(hi[1] - lo[1], 2) + Math.pow(hi[2] - lo[2], 2)));
   var camera = new THREE.PerspectiveCamera(35, 2, radius / 100, radius * 100);
   camera.up.set(0, 0, 1);
-  camera.position.set(centre.x + 1.9 * radius, centre.y - 2.6 * radius, centre.z + 1.5 * radius);
+  // The direction the object is first seen from (from the front right, above).
+  var viewDirection = new THREE.Vector3(1.9, -2.6, 1.2).normalize();
+  camera.position.copy(centre).addScaledVector(viewDirection, 2.5 * radius);
   camera.lookAt(centre);
   scene.add(new THREE.AmbientLight(0xffffff, 0.45));
   var light = new THREE.DirectionalLight(0xffffff, 0.75);
@@ -92,37 +94,53 @@
     else legend.innerHTML = '';
   }
 
-  // The slices: translucent observed rectangles with outlines (flagged ones orange), and contours.
-  var slices = new THREE.Group(), contours = new THREE.Group();
+  // The slices: light translucent observed rectangles with outlines (flagged ones orange). A few of
+  // them by default (an even choice, and every flagged one), so that the mesh stays in sight; all on
+  // demand.
+  var fewSlices = new THREE.Group(), allSlices = new THREE.Group(), contours = new THREE.Group();
   var quads = floats(data.slices.quads), flagged = {};
   (data.slices.flagged || []).forEach(function (q) { flagged[q] = true; });
-  var nQuads = quads.length / 12;
-  if (nQuads > 0) {
-    var triangles = new Float32Array(nQuads * 18), colours = new Float32Array(nQuads * 18);
-    var edges = new Float32Array(nQuads * 24);
-    var normal = new THREE.Color('#5b8def'), warn = new THREE.Color('#f59e0b');
+  var nQuads = quads.length / 12, fewCount = Math.min(nQuads, 8);
+  function sliceGroup(chosen) {
+    var group = new THREE.Group(), n = chosen.length;
+    if (n === 0) return group;
+    var triangles = new Float32Array(n * 18), colours = new Float32Array(n * 18), edges = new Float32Array(n * 24);
+    var normal = new THREE.Color('#8fa3c7'), warn = new THREE.Color('#f59e0b');
     var order = [0, 1, 2, 0, 2, 3], ring = [0, 1, 1, 2, 2, 3, 3, 0];
-    for (var q = 0; q < nQuads; ++q) {
+    chosen.forEach(function (q, k) {
       var col = flagged[q] ? warn : normal;
       for (var t = 0; t < 6; ++t)
         for (var a = 0; a < 3; ++a) {
-          triangles[18 * q + 3 * t + a] = quads[12 * q + 3 * order[t] + a];
-          colours[18 * q + 3 * t + a] = a === 0 ? col.r : (a === 1 ? col.g : col.b);
+          triangles[18 * k + 3 * t + a] = quads[12 * q + 3 * order[t] + a];
+          colours[18 * k + 3 * t + a] = a === 0 ? col.r : (a === 1 ? col.g : col.b);
         }
       for (var e = 0; e < 8; ++e)
-        for (var b = 0; b < 3; ++b) edges[24 * q + 3 * e + b] = quads[12 * q + 3 * ring[e] + b];
-    }
+        for (var b = 0; b < 3; ++b) edges[24 * k + 3 * e + b] = quads[12 * q + 3 * ring[e] + b];
+    });
     var planeGeometry = new THREE.BufferGeometry();
     planeGeometry.setAttribute('position', new THREE.BufferAttribute(triangles, 3));
     planeGeometry.setAttribute('color', new THREE.BufferAttribute(colours, 3));
-    slices.add(new THREE.Mesh(planeGeometry, new THREE.MeshBasicMaterial({
-      vertexColors: THREE.VertexColors, transparent: true, opacity: Math.max(0.02, Math.min(0.12, 1.5 / nQuads)),
+    group.add(new THREE.Mesh(planeGeometry, new THREE.MeshBasicMaterial({
+      vertexColors: THREE.VertexColors, transparent: true, opacity: Math.max(0.015, Math.min(0.06, 0.5 / n)),
       side: THREE.DoubleSide, depthWrite: false })));
     var edgeGeometry = new THREE.BufferGeometry();
     edgeGeometry.setAttribute('position', new THREE.BufferAttribute(edges, 3));
-    slices.add(new THREE.LineSegments(edgeGeometry, new THREE.LineBasicMaterial({
-      color: 0x5b8def, transparent: true, opacity: Math.max(0.08, Math.min(0.5, 10 / nQuads)) })));
+    group.add(new THREE.LineSegments(edgeGeometry, new THREE.LineBasicMaterial({
+      color: 0x8fa3c7, transparent: true, opacity: Math.max(0.06, Math.min(0.35, 4 / n)) })));
+    return group;
   }
+  var every = [], few = [];
+  for (var q = 0; q < nQuads; ++q) {
+    every.push(q);
+    if (flagged[q]) few.push(q);
+  }
+  for (var f = 0; f < fewCount; ++f) {
+    var pick = Math.floor((f + 0.5) * nQuads / fewCount);
+    if (few.indexOf(pick) < 0) few.push(pick);
+  }
+  fewSlices.add(sliceGroup(few));
+  allSlices.add(sliceGroup(every));
+  allSlices.visible = false;
   var segments = floats(data.contours.segments), segmentLabels = shorts(data.contours.labels);
   if (segments.length > 0) {
     var segmentColours = new Float32Array(segments.length);
@@ -138,8 +156,41 @@
     contourGeometry.setAttribute('color', new THREE.BufferAttribute(segmentColours, 3));
     contours.add(new THREE.LineSegments(contourGeometry, new THREE.LineBasicMaterial({ vertexColors: THREE.VertexColors })));
   }
-  scene.add(slices);
+  scene.add(fewSlices);
+  scene.add(allSlices);
   scene.add(contours);
+
+  // The camera framed on the mesh (or, without one, on the slices): the nearest distance from which
+  // every point of the mesh, seen from viewDirection in perspective, lies within 94% of the view.
+  var framed = positions.length >= 3 ? positions : floats(data.slices.quads);
+  function frame() {
+    if (framed.length < 3) return;
+    var w = Math.max(1, canvas.clientWidth), h = Math.max(1, canvas.clientHeight);
+    var back = viewDirection;  // from the target towards the camera
+    var right = new THREE.Vector3().crossVectors(back.clone().negate(), camera.up).normalize();
+    var up = new THREE.Vector3().crossVectors(right, back.clone().negate()).normalize();
+    var n = framed.length / 3, xs = new Float64Array(n), ys = new Float64Array(n), zs = new Float64Array(n);
+    var lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity], p = new THREE.Vector3();
+    for (var i = 0; i < n; ++i) {
+      p.set(framed[3 * i], framed[3 * i + 1], framed[3 * i + 2]);
+      xs[i] = p.dot(right); ys[i] = p.dot(up); zs[i] = p.dot(back);
+      var c = [xs[i], ys[i], zs[i]];
+      for (var a = 0; a < 3; ++a) { lo[a] = Math.min(lo[a], c[a]); hi[a] = Math.max(hi[a], c[a]); }
+    }
+    var mx = (lo[0] + hi[0]) / 2, my = (lo[1] + hi[1]) / 2, mz = (lo[2] + hi[2]) / 2;
+    var tanV = 0.94 * Math.tan(camera.fov * Math.PI / 360), tanH = tanV * w / h;
+    var distance = 1e-9;
+    for (var k = 0; k < n; ++k)
+      distance = Math.max(distance, zs[k] - mz + Math.max(Math.abs(xs[k] - mx) / tanH, Math.abs(ys[k] - my) / tanV));
+    var target = new THREE.Vector3().addScaledVector(right, mx).addScaledVector(up, my).addScaledVector(back, mz);
+    var extent = Math.max(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-6);
+    camera.position.copy(target).addScaledVector(back, distance);
+    camera.near = Math.max(distance / 1000, 1e-6);
+    camera.far = distance + 100 * extent;
+    camera.lookAt(target);
+    centre.copy(target);
+  }
+  frame();
 
   var controls = new THREE.OrbitControls(camera, canvas);
   controls.target.copy(centre);
@@ -164,11 +215,17 @@
     var box = document.getElementById(id);
     box.addEventListener('change', function () { object.visible = box.checked; render(); });
   }
-  toggle('view-slices', slices);
+  var sliceSelect = document.getElementById('view-slices');
+  function showSlices(which) {
+    fewSlices.visible = which === 'few';
+    allSlices.visible = which === 'all';
+  }
+  sliceSelect.addEventListener('change', function () { showSlices(sliceSelect.value); render(); });
   toggle('view-contours', contours);
   if (mesh) toggle('view-mesh', mesh);
   if (window.location.hash === '#mesh-only') {  // the mesh alone (tests/test_report_browser.cpp)
-    document.getElementById('view-slices').checked = slices.visible = false;
+    sliceSelect.value = 'none';
+    showSlices('none');
     document.getElementById('view-contours').checked = contours.visible = false;
   }
 
@@ -177,8 +234,9 @@
   var texts = [];
   if (m.triangles_shown < m.triangles)
     texts.push('mesh decimated for the browser: ' + m.triangles_shown + ' of ' + m.triangles + ' triangles');
-  if (data.slices.shown < data.slices.total)
-    texts.push(data.slices.shown + ' of ' + data.slices.total + ' slices drawn');
+  if (few.length < nQuads)
+    texts.push('slices: ' + few.length + ' of ' + data.slices.total + ' shown (choose "all" to see ' +
+               (data.slices.shown < data.slices.total ? data.slices.shown + ', an even choice' : 'every one') + ')');
   texts.push('drag to turn, scroll to zoom, right-drag to pan');
   note.textContent = texts.join('; ') + '.';
 

@@ -7,6 +7,7 @@
 #include <map>
 
 #include "geometry/core/plane_of_pose.h"
+#include "geometry/core/polygon.h"
 #include "io/base64.h"
 #include "io/image_io.h"
 #include "io/meta_image.h"
@@ -30,7 +31,7 @@ struct Chosen {
   std::string why;      ///< the caption's reason
 };
 
-/// The planes to show: first with sections, worst disagreement, flagged; no repeats.
+/// The planes to show: the largest sections, the worst disagreement, the flagged; no repeats.
 std::vector<Chosen> chooseFrames(const RunInputs& in, std::size_t maxFrames) {
   std::map<int, std::size_t> planeOfSlice;
   for (std::size_t i = 0; i < in.planes.size(); ++i)
@@ -46,11 +47,17 @@ std::vector<Chosen> chooseFrames(const RunInputs& in, std::size_t maxFrames) {
       }
     chosen.push_back({it->second, why});
   };
-  for (const CuttingPlane& p : in.planes)
-    if (!p.is_virtual && !p.sections.empty()) {
-      add(p.slice, "the first slice holding sections");
-      break;
-    }
+  // The slice that shows most of the object: the largest area of sections (the first of equals).
+  const CuttingPlane* largest = nullptr;
+  double largestArea = 0;
+  for (const CuttingPlane& p : in.planes) {
+    if (p.is_virtual || p.sections.empty()) continue;
+    double area = 0;
+    for (const Section& s : p.sections) area += sectionArea(s);
+    if (!largest || area > largestArea) largest = &p, largestArea = area;
+  }
+  if (largest)
+    add(largest->slice, "holds the largest sections (" + shortNumber(largestArea) + " mm²)");
   const SliceConformity* worst = nullptr;
   for (const SliceConformity& s : in.conformity.slices)
     if (!s.dropped && s.before.pairs > 0 && (!worst || s.before.median_mismatch_mm > worst->before.median_mismatch_mm))
@@ -123,9 +130,9 @@ std::string figure(const cv::Mat& shown, const std::string& caption) {
 
 std::string frameOverlaysHtml(const RunInputs& in, int maxSidePx, std::size_t maxFrames) {
   if (in.slice_records.empty() && !in.plus)
-    return "<p>This input gives contours, not images: there are no frames to show.</p>";
+    return "";  // contours, not images: no frame to show
   const std::vector<Chosen> chosen = chooseFrames(in, maxFrames);
-  if (chosen.empty()) return "<p>No slice to show.</p>";
+  if (chosen.empty()) return "";
   // The images, read once each (a PLUS recording is streamed up to the last frame needed).
   std::vector<cv::Mat> images(chosen.size());
   std::vector<Mat4> poses(chosen.size());

@@ -1,5 +1,5 @@
 // report.html's frames (issue 21): a few slices' images with the contours segmented from them
-// drawn over (the first slice holding sections, the slice that disagrees most with those it
+// drawn over (the slice holding the largest sections, the slice that disagrees most with those it
 // crosses, the flagged ones and pose correction's outliers), as inline PNG.
 #pragma once
 

@@ -52,7 +52,11 @@ std::string sectionGraphHtml(const SectionGraph& graph, std::size_t maxNodes, st
                       ", " + std::to_string(componentOf.size()) +
                       " connected component(s). A node is <i>slice:section</i>; colours tell the components apart.</p>\n";
   if (n == 0) return intro;
-  if (n <= maxNodes && cellsOfPair.size() <= maxEdges) {
+  // Drawn when it can be read: a sweep's chain of sections or a sparse set (at most two pairs per
+  // section on average). Denser graphs (a multi-axial torus: 36 sections, 177 pairs) draw as a
+  // tangle whatever the layout; their components are listed.
+  const bool readable = cellsOfPair.size() <= 2 * n;
+  if (n <= maxNodes && cellsOfPair.size() <= maxEdges && readable) {
     std::string dot = "graph sections {\n  graph [layout=neato, start=1, overlap=false, splines=false, outputorder=edgesfirst, "
                       "size=\"10,7\", fontname=\"Helvetica\"];\n  node [shape=ellipse, style=filled, fontsize=9, margin=\"0.03,0.01\", "
                       "width=0.3, height=0.2, fontname=\"Helvetica\"];\n"
@@ -74,7 +78,7 @@ std::string sectionGraphHtml(const SectionGraph& graph, std::size_t maxNodes, st
              "the components are listed instead.</p>\n";
   } else {
     intro += "<p class=\"hint\">Too many sections or pairs to draw readably: the components are listed (graph.json and "
-             "graph.dot hold the whole graph).</p>\n";
+             "graph.dot hold the whole graph; <code>dot -Tsvg graph.dot</code> draws it).</p>\n";
   }
   // The fallback: each component with its size and slices, largest first.
   std::vector<std::vector<std::size_t>> members(componentOf.size());

@@ -2,7 +2,8 @@
 // graph joins them (G for method 1, G' ⊇ G for method 2, G'' ⊇ G' for method 3; thesis Defs. 29-30
 // and 44; graph.json), coloured
 // by connected component, drawn by Graphviz into inline SVG; a table of the components instead when
-// the graph is too large to read or Graphviz is missing.
+// the graph is too large or too dense to read (more than two joined pairs per section) or Graphviz
+// is missing.
 #pragma once
 
 #include <cstddef>

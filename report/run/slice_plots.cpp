@@ -77,15 +77,20 @@ std::string measuredName(const json& conformity) {
   return field(conformity, {"summary", "pose_correction"}).is_null() ? "measured" : "measured after pose correction";
 }
 
+/// The chart with its caption, or nothing when no series holds a value other than zero (a plot
+/// flat at zero, or empty, shows nothing).
 std::string plot(const std::string& what, SliceChart chart) {
-  return "<p>" + htmlEscape(what) + "</p>\n" + svgSliceChart(chart) + "\n";
+  const bool shows = std::any_of(chart.series.begin(), chart.series.end(), [](const ChartSeries& s) {
+    return std::any_of(s.values.begin(), s.values.end(), [](double v) { return std::isfinite(v) && v != 0; });
+  });
+  return shows ? "<p>" + htmlEscape(what) + "</p>\n" + svgSliceChart(chart) + "\n" : std::string();
 }
 
 }  // namespace
 
 std::string slicePlotsHtml(const json& conformity) {
   const Rows r = rowsOf(conformity);
-  if (r.rows.empty()) return "<p>No slice was measured against another (no pair of slices crosses with sections).</p>";
+  if (r.rows.empty()) return "";  // no pair of slices crosses with sections
   std::string html;
 
   SliceChart disagreement = chartOf(r, "plot-disagreement", "Disagreement with the slices each slice crosses",

@@ -39,9 +39,14 @@ std::string summaryHtml(const json& report, const std::string& samplingLine) {
   std::string t = "<table>\n";
   t += row("slices", cellText(field(counts, {"slices_used"})) + " used of " + cellText(field(counts, {"slices"})) + " read; " +
            cellText(field(counts, {"planes_with_sections"})) + " hold " + cellText(field(counts, {"sections"})) + " sections");
+  // The arrangement's cells (the sampling diagnosis reads each) and those bounded by sections (the
+  // ones a method joins sections in): two counts, each named, so that the sampling row's agree.
+  const json& allCells = field(report, {"sampling", "cells", "total"});
   t += row("reconstruction", cellText(field(rec, {"method"})) + " on " + cellText(field(rec, {"planes"})) + " planes, voxel " +
-                                 mm(field(rec, {"voxel_size_mm"})) + ", " + cellText(field(counts, {"cells"})) +
-                                 " cells of the arrangement");
+                                 mm(field(rec, {"voxel_size_mm"})) + ", " +
+                                 (allCells.is_number() ? cellText(allCells) + " cells of the arrangement, " +
+                                                             cellText(field(counts, {"cells"})) + " of them bounded by sections"
+                                                       : cellText(field(counts, {"cells"})) + " cells bounded by sections"));
   const json& delaunay = field(rec, {"delaunay"});
   if (delaunay.is_object())  // method 3: R'' is a union of tetrahedra, its mesh ∂R''
     t += row("method 3", cellText(field(delaunay, {"d3"})) + " tetrahedra kept of " +
@@ -66,9 +71,10 @@ std::string summaryHtml(const json& report, const std::string& samplingLine) {
   for (const auto& [name, state] : field(sampling, {"conditions"}).items())
     conditions += (conditions.empty() ? "" : "; ") + htmlEscape(name) + ": " + cellText(state);
   const json& cells = field(sampling, {"cells"});
-  t += row("sampling", "<b>" + cellText(field(sampling, {"verdict"})) + "</b> (" + conditions + "); cells " +
-                           cellText(field(cells, {"satisfied"})) + " satisfied, " + cellText(field(cells, {"violated"})) +
-                           " violated, " + cellText(field(cells, {"undetermined"})) + " undetermined<br><span class=\"hint\">" +
+  t += row("sampling", "<b>" + cellText(field(sampling, {"verdict"})) + "</b> (" + conditions + "); of the " +
+                           cellText(field(cells, {"total"})) + " cells, " + cellText(field(cells, {"satisfied"})) +
+                           " satisfied, " + cellText(field(cells, {"violated"})) + " violated, " +
+                           cellText(field(cells, {"undetermined"})) + " undetermined<br><span class=\"hint\">" +
                            htmlEscape(samplingLine) + "</span>");
   std::string guarantees;
   for (const auto& g : field(sampling, {"guarantees"})) guarantees += (guarantees.empty() ? "" : "; ") + cellText(g);

@@ -15,11 +15,11 @@ struct Rule {
 };
 
 constexpr Rule kRules[] = {
-    {"open ends closed by",
-     "No slice closes the object at its ends, so xsect closes it with empty virtual planes just beyond the "
-     "outermost sections.",
-     "Nothing, if the object ends between the outermost slices. If it goes on, add slices beyond its ends or "
-     "set reconstruction.end_margin_mm."},
+    {"open ends:",
+     "The outermost slices on some side still cut the object: no slice saw where it ends there, and the solid "
+     "goes on past them until the virtual empty planes that close every reconstruction, its shape extrapolated.",
+     "Nothing, if the object ends just beyond the outermost slices. If it goes on, add slices beyond its ends, "
+     "or set reconstruction.end_margin_mm to how far it goes."},
     {"only one plane holds sections",
      "Only one slice saw the object: its shape across that slice is unknown and the result is that section "
      "extruded.",
@@ -34,8 +34,8 @@ constexpr Rule kRules[] = {
     {"frames skipped",
      "Some frames of the recording had an image or tracking status other than OK and were left out.",
      "Nothing if they are few. Many skipped frames mean tracking dropouts: check the tracker's line of sight."},
-    {"unknown key", "The configuration holds a key xsect does not know; it was ignored.",
-     "Check its spelling against the configuration keys in GUIDE.md."},
+    {"unknown key", "slices.yaml holds a key xsect does not know; it was ignored.",
+     "Check its spelling against the slices.yaml format in docs/inputs.md."},
     {"has no area", "A contour of the input is a point or a segment; it was dropped.",
      "Check the contour file where the warning says."},
     {"observe one plane", "Several slices lie on the same plane; their sections were combined into one.",
@@ -111,7 +111,7 @@ WarningAdvice warningAdvice(const std::string& warning) {
 }
 
 std::string warningsHtml(const std::vector<std::string>& warnings) {
-  if (warnings.empty()) return "<p>No warnings.</p>";
+  if (warnings.empty()) return "";
   std::string html;
   for (const std::string& w : warnings) {
     const WarningAdvice a = warningAdvice(w);
