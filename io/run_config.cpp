@@ -35,7 +35,7 @@ namespace {
 /// one; Hausdorff 1.06-2.90 mm -> 0.80-2.74 mm). Not 1 mm: 16-17 of 18, but on the 200-frame
 /// sweep of configs/phantoms/torus-ultrasound-plus.yaml a blob the opening cut off a lumen became
 /// a 2-voxel component of its own. Structures under 1.5 mm across go with it.
-/// docs/ultrasound.md, says how to tune them.
+/// docs/ultrasound.md says how to tune them.
 void applyUltrasoundPreset(const YAML::Node& s, SegmentationParams& p) {
   const auto given = [&](const char* k) { return bool(s[k]); };
   p.method = SegmentationMethod::min_error;
@@ -69,7 +69,7 @@ const std::set<std::string> kKnownKeys = {
     "sampling.reach_interior_mm", "sampling.reach_exterior_mm", "sampling.max_angle_deg", "sampling.advice_count",
     "output", "output.dir", "output.mesh", "run", "run.max_seconds"};
 
-/// The key an override `--set key=value` set, or "" for keys of the file.
+/// An override `--set key=value`: the key it sets and the option as typed.
 struct Override {
   std::string key, text;
 };
