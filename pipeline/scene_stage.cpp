@@ -137,7 +137,7 @@ SceneStage sceneStage(const RunInputs& in, bool quiet, double elapsed_s, bool wa
     for (std::size_t k = 0; k < ends.size() && k < 4; ++k) named += (k ? ", " : "") + std::to_string(ends[k]);
     if (ends.size() > 4) named += " and " + std::to_string(ends.size() - 4) + " more";
     s.warnings.push_back("open ends: slice" + std::string(ends.size() > 1 ? "s " : " ") + named +
-                         " hold sections beyond every other slice's, where the object is cut open: past them the "
+                         (ends.size() > 1 ? " hold" : " holds") + " sections beyond every other slice's, where the object is cut open: past them the "
                          "solid is extrapolated up to the virtual empty planes " + std::to_string(L.end_margin_mm) +
                          " mm beyond" + (L.end_margin_auto ? " (automatic margin)" : ""));
   }
