@@ -87,6 +87,19 @@ void checkViewHoldsTheWholeMeshAndEverySlice(const TorusRun& run) {
   EXPECT_EQ(view["slices"]["total"].get<int>(), (run.report)["counts"]["slices_used"].get<int>());
   EXPECT_EQ(base64Bytes(view["slices"]["quads"]), view["slices"]["shown"].get<std::size_t>() * 12 * 4);
   EXPECT_GT(base64Bytes(view["contours"]["segments"]), 0u);
+  // Per drawn plane its rectangle and its count of contour segments, so that the page can show a
+  // few planes with their own contours: every rectangle once, every segment counted once.
+  const auto& planeQuads = view["slices"]["plane_quads"];
+  const auto& planeSegments = view["contours"]["plane_segments"];
+  ASSERT_EQ(planeQuads.size(), view["slices"]["shown"].get<std::size_t>());
+  ASSERT_EQ(planeSegments.size(), planeQuads.size());
+  std::size_t segments = 0;
+  for (std::size_t p = 0; p < planeQuads.size(); ++p) {
+    EXPECT_EQ(planeQuads[p].get<int>(), int(p));  // every torus slice has its rectangle, in order
+    segments += planeSegments[p].get<std::size_t>();
+  }
+  EXPECT_EQ(segments * 6 * 4, base64Bytes(view["contours"]["segments"]));
+  EXPECT_EQ(segments * 2, base64Bytes(view["contours"]["labels"]));
   // The view's bounds hold the torus (R = 12, r = 4 mm): about 32 mm across.
   const auto& lo = view["bounds"][0];
   const auto& hi = view["bounds"][1];

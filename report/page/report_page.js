@@ -94,13 +94,18 @@
     else legend.innerHTML = '';
   }
 
-  // The slices: light translucent observed rectangles with outlines (flagged ones orange). A few of
-  // them by default (an even choice, and every flagged one), so that the mesh stays in sight; all on
-  // demand.
-  var fewSlices = new THREE.Group(), allSlices = new THREE.Group(), contours = new THREE.Group();
+  // The slices: light translucent observed rectangles with outlines (flagged ones orange), and the
+  // sections' contours on them. A few slices by default (an even choice of 8, and every flagged
+  // one) with their contours, so that the mesh stays in sight; all of them on demand; with none,
+  // the contours of every slice on the mesh alone.
+  var fewSlices = new THREE.Group(), allSlices = new THREE.Group(), fewContours = new THREE.Group(),
+      allContours = new THREE.Group(), contours = new THREE.Group();
+  contours.add(fewContours);
+  contours.add(allContours);
   var quads = floats(data.slices.quads), flagged = {};
   (data.slices.flagged || []).forEach(function (q) { flagged[q] = true; });
-  var nQuads = quads.length / 12, fewCount = Math.min(nQuads, 8);
+  var planeQuads = data.slices.plane_quads || [], planeSegments = data.contours.plane_segments || [];
+  var nQuads = quads.length / 12, nPlanes = planeQuads.length;
   function sliceGroup(chosen) {
     var group = new THREE.Group(), n = chosen.length;
     if (n === 0) return group;
@@ -129,33 +134,50 @@
       color: 0x8fa3c7, transparent: true, opacity: Math.max(0.06, Math.min(0.35, 4 / n)) })));
     return group;
   }
+  // The planes shown by default: an even choice of 8 and every flagged one, in the planes' order.
+  var fewPlanes = {}, fewCount = Math.min(nPlanes, 8);
+  for (var f = 0; f < fewCount; ++f) fewPlanes[Math.floor((f + 0.5) * nPlanes / fewCount)] = true;
+  for (var p0 = 0; p0 < nPlanes; ++p0)
+    if (planeQuads[p0] >= 0 && flagged[planeQuads[p0]]) fewPlanes[p0] = true;
   var every = [], few = [];
-  for (var q = 0; q < nQuads; ++q) {
-    every.push(q);
-    if (flagged[q]) few.push(q);
-  }
-  for (var f = 0; f < fewCount; ++f) {
-    var pick = Math.floor((f + 0.5) * nQuads / fewCount);
-    if (few.indexOf(pick) < 0) few.push(pick);
-  }
+  for (var q = 0; q < nQuads; ++q) every.push(q);
+  for (var p1 = 0; p1 < nPlanes; ++p1)
+    if (fewPlanes[p1] && planeQuads[p1] >= 0) few.push(planeQuads[p1]);
   fewSlices.add(sliceGroup(few));
   allSlices.add(sliceGroup(every));
   allSlices.visible = false;
+
+  // The contours, coloured by material, darker than the mesh: every plane's, and the few planes'.
   var segments = floats(data.contours.segments), segmentLabels = shorts(data.contours.labels);
-  if (segments.length > 0) {
-    var segmentColours = new Float32Array(segments.length);
-    for (var s = 0; s < segments.length / 6; ++s) {
-      var lc = labelColour(segmentLabels.length ? segmentLabels[s] : 1);
+  function contourLines(keep) {
+    var n = 0, s = 0, start = [];
+    for (var p2 = 0; p2 < nPlanes; ++p2) { start.push(s); s += planeSegments[p2]; if (keep(p2)) n += planeSegments[p2]; }
+    if (nPlanes === 0) n = segments.length / 6;  // no per-plane counts: everything
+    var pos = new Float32Array(6 * n), col = new Float32Array(6 * n), k = 0;
+    function add(sIndex) {
+      var lc = labelColour(segmentLabels.length ? segmentLabels[sIndex] : 1);
       lc.offsetHSL(0, 0, -0.18);
-      for (var k = 0; k < 2; ++k) {
-        segmentColours[6 * s + 3 * k] = lc.r; segmentColours[6 * s + 3 * k + 1] = lc.g; segmentColours[6 * s + 3 * k + 2] = lc.b;
+      for (var c = 0; c < 6; ++c) {
+        pos[6 * k + c] = segments[6 * sIndex + c];
+        col[6 * k + c] = c % 3 === 0 ? lc.r : (c % 3 === 1 ? lc.g : lc.b);
       }
+      ++k;
     }
-    var contourGeometry = new THREE.BufferGeometry();
-    contourGeometry.setAttribute('position', new THREE.BufferAttribute(segments, 3));
-    contourGeometry.setAttribute('color', new THREE.BufferAttribute(segmentColours, 3));
-    contours.add(new THREE.LineSegments(contourGeometry, new THREE.LineBasicMaterial({ vertexColors: THREE.VertexColors })));
+    if (nPlanes === 0) { for (var a = 0; a < n; ++a) add(a); }
+    else
+      for (var p3 = 0; p3 < nPlanes; ++p3)
+        if (keep(p3)) for (var b = 0; b < planeSegments[p3]; ++b) add(start[p3] + b);
+    var group = new THREE.Group();
+    if (n === 0) return group;
+    var geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.BufferAttribute(pos, 3));
+    geometry.setAttribute('color', new THREE.BufferAttribute(col, 3));
+    group.add(new THREE.LineSegments(geometry, new THREE.LineBasicMaterial({ vertexColors: THREE.VertexColors })));
+    return group;
   }
+  allContours.add(contourLines(function () { return true; }));
+  fewContours.add(contourLines(function (p) { return fewPlanes[p] === true; }));
+  allContours.visible = false;
   scene.add(fewSlices);
   scene.add(allSlices);
   scene.add(contours);
@@ -217,8 +239,9 @@
   }
   var sliceSelect = document.getElementById('view-slices');
   function showSlices(which) {
-    fewSlices.visible = which === 'few';
+    fewSlices.visible = fewContours.visible = which === 'few';
     allSlices.visible = which === 'all';
+    allContours.visible = which !== 'few';
   }
   sliceSelect.addEventListener('change', function () { showSlices(sliceSelect.value); render(); });
   toggle('view-contours', contours);
@@ -234,9 +257,11 @@
   var texts = [];
   if (m.triangles_shown < m.triangles)
     texts.push('mesh decimated for the browser: ' + m.triangles_shown + ' of ' + m.triangles + ' triangles');
-  if (few.length < nQuads)
-    texts.push('slices: ' + few.length + ' of ' + data.slices.total + ' shown (choose "all" to see ' +
-               (data.slices.shown < data.slices.total ? data.slices.shown + ', an even choice' : 'every one') + ')');
+  var fewShown = Object.keys(fewPlanes).length;
+  if (fewShown < nPlanes)
+    texts.push('slices: ' + fewShown + ' of ' + data.slices.total + ' shown with their contours (choose "all" to see ' +
+               (data.slices.shown < data.slices.total ? data.slices.shown + ', an even choice' : 'every one') +
+               ', "none" for every contour on the mesh alone)');
   texts.push('drag to turn, scroll to zoom, right-drag to pan');
   note.textContent = texts.join('; ') + '.';
 

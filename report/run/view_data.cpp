@@ -134,19 +134,29 @@ json viewDataJson(const RunResults& r, const ViewBudget& budget) {
       hi = hi.cwiseMax(kept[v]);
     }
   };
+  // Per drawn plane, its rectangle (index into quads, or -1) and how many contour segments it
+  // added: the page shows a few planes' rectangles and contours, or all.
+  json planeQuads = json::array(), planeSegments = json::array();
   for (const std::size_t i : drawn) {
     const CuttingPlane& p = planes[i];
+    const std::size_t segmentsBefore = segmentLabels.size();
     if (p.extent.max != p.extent.min || p.observed_everywhere) {
       if (flaggedSlices.count(p.slice)) flagged.push_back(quads.size() / 12);
+      planeQuads.push_back(quads.size() / 12);
       for (const Vec3& c : observedQuad(p)) pushPoint(quads, c);
+    } else {
+      planeQuads.push_back(-1);
     }
     for (const Section& s : sectionsOf(i)) {
       addRing(p.plane, s.outer, s.label);
       for (const Ring& h : s.holes) addRing(p.plane, h, s.label);
     }
+    planeSegments.push_back(segmentLabels.size() - segmentsBefore);
   }
-  view["slices"] = {{"total", total}, {"shown", drawn.size()}, {"quads", base64Of(quads)}, {"flagged", flagged}};
-  view["contours"] = {{"segments", base64Of(segments)}, {"labels", base64Of(segmentLabels)}, {"stride", stride}};
+  view["slices"] = {{"total", total}, {"shown", drawn.size()}, {"quads", base64Of(quads)}, {"flagged", flagged},
+                    {"plane_quads", planeQuads}};
+  view["contours"] = {{"segments", base64Of(segments)}, {"labels", base64Of(segmentLabels)}, {"stride", stride},
+                      {"plane_segments", planeSegments}};
   json materials = json::array();
   for (const Material& m : r.meshes.materials) materials.push_back(m.label);
   if (materials.empty()) materials.push_back(1);
