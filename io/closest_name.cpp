@@ -36,9 +36,12 @@ std::optional<std::string> closestName(const std::string& word, const std::vecto
   return best;
 }
 
+std::string didYouMeanText(const std::string& suggestion) {
+  return suggestion.empty() ? "" : " (did you mean '" + suggestion + "'?)";
+}
+
 std::string didYouMean(const std::string& word, const std::vector<std::string>& candidates) {
-  const std::optional<std::string> c = closestName(word, candidates);
-  return c ? " (did you mean '" + *c + "'?)" : "";
+  return didYouMeanText(closestName(word, candidates).value_or(""));
 }
 
 }  // namespace xsect

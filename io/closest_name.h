@@ -19,4 +19,7 @@ std::optional<std::string> closestName(const std::string& word, const std::vecto
 /// " (did you mean 'x'?)" for the closest candidate, or "" when none is close.
 std::string didYouMean(const std::string& word, const std::vector<std::string>& candidates);
 
+/// " (did you mean 'suggestion'?)", or "" for an empty suggestion.
+std::string didYouMeanText(const std::string& suggestion);
+
 }  // namespace xsect

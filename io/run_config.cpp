@@ -138,10 +138,7 @@ void refuseUnknownKeys(const YAML::Node& root, const std::string& file, const st
   std::vector<std::pair<std::string, int>> unknown;
   collectUnknown(root, "", unknown);
   if (unknown.empty()) return;
-  const auto describe = [](const std::string& key) {
-    const std::string s = suggestionFor(key);
-    return s.empty() ? std::string() : " (did you mean '" + s + "'?)";
-  };
+  const auto describe = [](const std::string& key) { return didYouMeanText(suggestionFor(key)); };
   std::string what = "unknown key" + describe(unknown[0].first);
   for (std::size_t i = 1; i < unknown.size(); ++i)
     what += "; also unknown: '" + unknown[i].first + "'" +

@@ -4,23 +4,17 @@
 #include <cmath>
 #include <sstream>
 
+#include "pipeline/json_values.h"
+
 namespace xsect {
 
 namespace {
 
-std::string fixed(double v, int digits) {
-  std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(digits);
-  s << v;
-  return s.str();
-}
-
 /// A duration in the unit a reader takes in at a glance.
 std::string duration(double seconds) {
-  if (seconds < 90) return fixed(seconds, seconds < 10 ? 1 : 0) + " s";
-  if (seconds < 5400) return fixed(seconds / 60, 0) + " min";
-  return fixed(seconds / 3600, 1) + " h";
+  if (seconds < 90) return fixedText(seconds, seconds < 10 ? 1 : 0) + " s";
+  if (seconds < 5400) return fixedText(seconds / 60, 0) + " min";
+  return fixedText(seconds / 3600, 1) + " h";
 }
 
 }  // namespace
@@ -39,10 +33,10 @@ std::string checkSummary(const nlohmann::ordered_json& r, const std::string& sam
   if (r.contains("grid_dims")) {
     const auto& v = r["voxel_size"];
     const auto& d = r["grid_dims"];
-    s << "grid: " << fixed(v["voxel_size_mm"].get<double>(), 4) << " mm voxels ("
+    s << "grid: " << fixedText(v["voxel_size_mm"].get<double>(), 4) << " mm voxels ("
       << (v["auto"].get<bool>() ? "auto, limited by " + v["limited_by"].get<std::string>() : std::string("configured"))
       << "), " << d[0].get<long>() << " x " << d[1].get<long>() << " x " << d[2].get<long>() << "\n";
-    s << "estimated: " << fixed(r["estimated_memory_mb"].get<double>(), 0) << " MB, "
+    s << "estimated: " << fixedText(r["estimated_memory_mb"].get<double>(), 0) << " MB, "
       << duration(r["estimated_seconds"].get<double>()) << "\n";
   }
   if (!samplingLine.empty()) s << samplingLine << "\n";

@@ -43,6 +43,7 @@
 #include "geometry/evaluation/medial_axis_samples.h"
 #include "pipeline/commands.h"
 #include "pipeline/eval_metrics.h"
+#include "pipeline/json_values.h"
 #include "pipeline/load_sections.h"
 #include "pipeline/progress.h"
 #include "report/run/accuracy_block.h"
@@ -191,13 +192,6 @@ json separationCondition(const PhantomShape& shape, const MeshDistance& meshQuer
 /// Three or four plain lines of what `out` measured: the solid's topology against the truth's,
 /// the distances and the overlap, the conformity with the sections when measured.
 std::string evalHeadline(const json& out) {
-  const auto fixed = [](double v, int digits) {
-    std::ostringstream s;
-    s.setf(std::ios::fixed);
-    s.precision(digits);
-    s << v;
-    return s.str();
-  };
   const auto triple = [](const json& b) {
     return std::to_string(b[0].get<int>()) + " " + std::to_string(b[1].get<int>()) + " " +
            std::to_string(b[2].get<int>());
@@ -210,14 +204,14 @@ std::string evalHeadline(const json& out) {
   s << (out["watertight"].get<bool>() ? ", watertight" : ", NOT watertight (the topology and Dice are unreliable)")
     << "\n";
   s << "distance to the " << (out.contains("truth") ? "truth" : "reference") << ": Hausdorff "
-    << fixed(out["hausdorff_mm"].get<double>(), 3) << " mm, mean " << fixed(out["mean_distance_mm"].get<double>(), 3)
+    << fixedText(out["hausdorff_mm"].get<double>(), 3) << " mm, mean " << fixedText(out["mean_distance_mm"].get<double>(), 3)
     << " mm\n";
-  s << "overlap: Dice " << fixed(out["dice"].get<double>(), 4) << " on " << fixed(out["voxel_mm"].get<double>(), 3)
+  s << "overlap: Dice " << fixedText(out["dice"].get<double>(), 4) << " on " << fixedText(out["voxel_mm"].get<double>(), 3)
     << " mm voxels\n";
   if (out.contains("conformity_iou_min")) {
     s << "conformity with the slices: ";
     if (out["conformity_iou_min"].is_null()) s << "no slice holds a section\n";
-    else s << "IoU at least " << fixed(out["conformity_iou_min"].get<double>(), 4) << " over "
+    else s << "IoU at least " << fixedText(out["conformity_iou_min"].get<double>(), 4) << " over "
            << out["conformity"].size() << " slices\n";
   }
   return s.str();

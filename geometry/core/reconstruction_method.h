@@ -16,4 +16,10 @@ constexpr std::array<NamedChoice<ReconstructionMethod>, 3> kReconstructionMethod
     {ReconstructionMethod::delaunay, "delaunay"},
 }};
 
+/// The method's number in the thesis' order (1, 2, 3).
+constexpr int methodNumber(ReconstructionMethod m) { return int(m) + 1; }
+static_assert(methodNumber(ReconstructionMethod::nearest_plane) == 1 &&
+              methodNumber(ReconstructionMethod::section_voronoi) == 2 &&
+              methodNumber(ReconstructionMethod::delaunay) == 3);
+
 }  // namespace xsect

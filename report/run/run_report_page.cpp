@@ -39,10 +39,8 @@ std::string inputName(const RunConfig& c) {
 ReportPage runReportPage(const RunResults& r, const json& report, const json& conformity, const SectionGraph& graph) {
   ReportPage page;
   const RunConfig& c = r.inputs.config;
-  const int method = c.reconstruction_method == ReconstructionMethod::nearest_plane     ? 1
-                     : c.reconstruction_method == ReconstructionMethod::section_voronoi ? 2
-                                                                                        : 3;
-  page.title = inputName(c) + " — reconstructed by xsect, method " + std::to_string(method) + " (" +
+  page.title = inputName(c) + " — reconstructed by xsect, method " +
+               std::to_string(methodNumber(c.reconstruction_method)) + " (" +
                nameOf(kReconstructionMethods, c.reconstruction_method) + ")";
   page.headline_html = headlineHtml(report);
   page.headline_note = field(report, {"in_plain_words"}).is_string() ? field(report, {"in_plain_words"}).get<std::string>() : "";
