@@ -312,7 +312,12 @@ std::vector<PhantomShape> blendedTrees() {
   const Vec3 c(1, 2, 3), e(10, -20, 30);
   return {make("vessel_tree", {{"length", 10}, {"radius", 1}, {"levels", 3}}, c, e),
           make("vessel_tree", {{"length", 20}, {"radius", 1.5}, {"levels", 2},
-                               {"branch_angle_deg", 45}, {"blend_mm", 2}}, c, e)};
+                               {"branch_angle_deg", 45}, {"blend_mm", 2}}, c, e),
+          // A fillet 12 times thinner than the tubes: sampling it at blend_mm / 6 would take
+          // about 480,000 points a junction, past the bound the reach's search keeps to
+          // (vessel_tree.cpp, kJunctionStartBudget); its bounds must hold all the same.
+          make("vessel_tree", {{"length", 10}, {"radius", 1}, {"levels", 1},
+                               {"branch_angle_deg", 40}, {"blend_mm", 0.08}}, c, e)};
 }
 
 /// Boundary points near the junctions (where the blends act): nearest boundary points of random
