@@ -24,8 +24,7 @@ ConfidenceStage confidenceStage(const ReconstructStage& reconstruction, const Sm
     for (std::size_t q = 0; q < in.size(); ++q) in[q] = smooth->field.values[q] < 0;
     out.confidence = topologyConfidence(in, smooth->field.grid, betti, scale);
   } else {
-    const BlockGrid<std::uint8_t>& inside = reconstruction.solid.inside;
-    out.confidence = topologyConfidence(denseValues(inside), inside.grid(), betti, scale);
+    out.confidence = topologyConfidence(reconstruction.solid.inside, betti, scale);
   }
   return out;
 }

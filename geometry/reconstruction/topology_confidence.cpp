@@ -1,15 +1,12 @@
 // How much to trust a solid's topology (see topology_confidence.h).
 #include "geometry/reconstruction/topology_confidence.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
 
-#include "geometry/core/ball_morphology.h"
-#include "geometry/core/solid_box.h"
+#include "geometry/core/block_ball_morphology.h"
 
 namespace xsect {
 namespace {
@@ -29,33 +26,35 @@ std::string number(double v) {
 
 }  // namespace
 
-TopologyConfidence topologyConfidence(const std::vector<std::uint8_t>& inside, const GridSpec& grid,
-                                      const Betti& betti, double scale_mm) {
+TopologyConfidence topologyConfidence(const BlockGrid<std::uint8_t>& inside, const Betti& betti, double scale_mm) {
   TopologyConfidence c;
   c.betti = betti;
+  const GridSpec& grid = inside.grid();
   c.voxel_mm = grid.voxel;
   const double scale = std::max(2.0, std::isfinite(scale_mm) ? scale_mm / grid.voxel : 2.0);
-  // Empty voxels kept around the solid, so that the closing means what it means on an unbounded grid.
-  const SolidBox cropped = solidBox(inside, grid, int(std::ceil(scale)) + 1);
-  const GridSpec& box = cropped.grid;
-  const std::vector<std::uint8_t> solid = intoBox(inside, grid, cropped);
-  c.voxels = box.count();
   const char* names[3] = {"component", "tunnel", "cavity"};
   for (int b = 0; b < 3; ++b) {
     c.kinds[std::size_t(b)].kind = names[b];
     c.kinds[std::size_t(b)].count = b == 0 ? std::max(betti[0] - 1, 0) : betti[std::size_t(b)];
   }
-  if (solid.empty()) return c;
+  // The solid's bounding box grown by the margin the closing needs (the voxels a dense probe would
+  // have held; report.json's voxels_probed).
+  const int margin = int(std::ceil(scale)) + 1;
+  const std::optional<VoxelBox> box = setBoundingBox(inside);
+  if (!box) return c;
+  c.voxels = 1;
+  for (std::size_t a = 0; a < 3; ++a) c.voxels *= std::int64_t(box->hi[a] - box->lo[a] + 1 + 2 * margin);
+  // Empty voxels around the solid, so that the closing means what it means on an unbounded grid.
+  const BlockGrid<std::uint8_t> solid =
+      paddedBlockGrid(inside, (margin + BlockGrid<std::uint8_t>::kSide - 1) / BlockGrid<std::uint8_t>::kSide);
   c.probes[0].radius_voxels = 1.0;
   c.probes[1].radius_voxels = scale;
-  const BallMorphology morphology(solid, box, scale);
-  // The probe at one voxel first (no distance transform); the data's scale only when it leaves
-  // the level open: a result in doubt at one voxel is low whatever the larger ball says.
+  // The probe at one voxel first; the data's scale only when it leaves the level open: a result in
+  // doubt at one voxel is low whatever the larger ball says. The closing and the opening one after
+  // the other (each window's loop is parallel): the run's peak memory holds one of them at a time.
   const auto probe = [&](TopologyProbe& p) {
-    tbb::parallel_for(0, 2, [&](int t) {
-      if (t == 0) p.closed = voxelBetti(morphology.closing(p.radius_voxels), box);
-      else p.opened = voxelBetti(morphology.opening(p.radius_voxels), box);
-    });
+    p.closed = voxelBetti(blockBallClosing(solid, p.radius_voxels));
+    p.opened = voxelBetti(blockBallOpening(solid, p.radius_voxels));
   };
   probe(c.probes[0]);
   int at1 = 0;
@@ -74,6 +73,11 @@ TopologyConfidence topologyConfidence(const std::vector<std::uint8_t>& inside, c
   for (const FeatureDoubt& f : c.kinds) at2 += f.in_doubt_2;
   c.level = levelOf(at1, at2);
   return c;
+}
+
+TopologyConfidence topologyConfidence(const std::vector<std::uint8_t>& inside, const GridSpec& grid,
+                                      const Betti& betti, double scale_mm) {
+  return topologyConfidence(blockValues(inside, grid), betti, scale_mm);
 }
 
 std::string confidenceText(const TopologyConfidence& c) {

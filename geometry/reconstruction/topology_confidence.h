@@ -8,7 +8,7 @@
 // B • Ball(r) fills the gaps, holes and cavities narrower than 2r and joins parts facing each other
 // across less than that (walls; two convex parts join only where no ball of radius r passes between);
 // the opening B ∘ Ball(r) cuts the necks and handles thinner than 2r and removes specks
-// (geometry/core/ball_morphology.h). A feature "in doubt at r" is a change of a Betti number by
+// (geometry/core/block_ball_morphology.h, window by window). A feature "in doubt at r" is a change of a Betti number by
 // either, counted per kind (components beyond the first, tunnels b1, cavities b2):
 // |b - b(closing)| + |b - b(opening)|. A feature the closing would make counts too: two parts
 // within 2r of each other may be one tunnel or one component that the sections missed.
@@ -31,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/core/block_grid.h"
 #include "geometry/core/digital_topology.h"
 #include "geometry/core/named_choice.h"
 #include "geometry/core/types.h"
@@ -70,14 +71,17 @@ struct TopologyConfidence {
   /// (its Betti numbers and in_doubt_2 are then not known).
   bool scale_probed = false;
   std::array<FeatureDoubt, 3> kinds{};         ///< components, tunnels, cavities
-  std::int64_t voxels = 0;                     ///< the probed box's voxels
+  std::int64_t voxels = 0;                     ///< the solid's voxels
   double voxel_mm = 0;                         ///< the grid's voxel
 };
 
-/// @param inside  the solid, one byte per voxel of `grid` (1 = in).
+/// @param inside  the solid (1 = in).
 /// @param betti   its Betti numbers (voxelBetti's), as the report gives them.
 /// @param scale_mm  the data's scale (half the largest cell height, mm); the second probe's radius
 ///                  is the larger of it and 2 voxels.
+TopologyConfidence topologyConfidence(const BlockGrid<std::uint8_t>& inside, const Betti& betti, double scale_mm);
+
+/// The same for a solid given as one byte per voxel of `grid`.
 TopologyConfidence topologyConfidence(const std::vector<std::uint8_t>& inside, const GridSpec& grid,
                                       const Betti& betti, double scale_mm);
 
