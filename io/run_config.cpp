@@ -535,8 +535,15 @@ void readKnownKeys(const YAML::Node& root, const std::string& path, RunConfig& c
   };
 
   const YAML::Node input = section("input");
-  if (!input) throw InputError(path, "input", "missing (input.slices, input.csl, ...)");
-  readInput(input, base, path, c);
+  if (c.sections_in_memory) {
+    // Sections handed over in memory (the Python module's reconstruct): contours as a contour
+    // file's (input_kind csl), masks as images (slices); set by the caller.
+    if (input) throw InputError(path, "input", "not used: the sections are given in memory", yamlLine(input));
+    c.input_path.clear();
+  } else {
+    if (!input) throw InputError(path, "input", "missing (input.slices, input.csl, ...)");
+    readInput(input, base, path, c);
+  }
   if (const YAML::Node s = section("segmentation")) readSegmentation(s, path, c);
   if (const YAML::Node s = section("conformity")) readConformity(s, path, c);
   if (const YAML::Node s = section("reconstruction")) readReconstruction(s, path, c);
@@ -563,11 +570,14 @@ void readKnownKeys(const YAML::Node& root, const std::string& path, RunConfig& c
 
 const std::set<std::string>& runConfigKeys() { return kKnownKeys; }
 
-RunConfig readRunConfig(const std::string& path, const std::vector<std::string>& overrides) {
+namespace {
+
+RunConfig configOf(YAML::Node root, const std::string& path, const std::vector<std::string>& overrides,
+                   std::optional<InputKind> sections_given_as) {
   RunConfig c;
   c.path = fs::absolute(path).lexically_normal().string();
-  if (!isRegularFile(path)) throw InputError(path, "", "configuration file not found");
-  YAML::Node root = loadYamlFile(path);
+  c.sections_in_memory = sections_given_as.has_value();
+  if (sections_given_as) c.input_kind = *sections_given_as;
   if (!root.IsMap()) throw InputError(path, "", "top level must be a map");
   std::vector<Override> given;
   for (const auto& o : overrides) {
@@ -585,6 +595,18 @@ RunConfig readRunConfig(const std::string& path, const std::vector<std::string>&
   em << root;
   c.resolved_yaml = em.c_str();
   return c;
+}
+
+}  // namespace
+
+RunConfig readRunConfig(const std::string& path, const std::vector<std::string>& overrides) {
+  if (!isRegularFile(path)) throw InputError(path, "", "configuration file not found");
+  return configOf(loadYamlFile(path), path, overrides, std::nullopt);
+}
+
+RunConfig readRunConfigText(const std::string& text, const std::string& path, const std::vector<std::string>& overrides,
+                            std::optional<InputKind> sections_given_as) {
+  return configOf(loadYamlText(text, path), path, overrides, sections_given_as);
 }
 
 

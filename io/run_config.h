@@ -49,6 +49,7 @@ struct RunConfig {
   // input (exactly one)
   InputKind input_kind = InputKind::slices;
   std::string input_path;           ///< resolved against the configuration file
+  bool sections_in_memory = false;  ///< readRunConfigText's sections_given_as: no input file
   std::string plus_config_path;     ///< input.plus_config: the PLUS device-set XML (plus_sequence)
   /// input.reference_frame: the frame poses map into; empty: the device set's
   /// ReferenceCoordinateFrame, or `Reference`.
@@ -137,5 +138,13 @@ const std::set<std::string>& runConfigKeys();
 /// @param overrides "key.path=value" strings; the value is parsed as YAML (number, bool, list...).
 /// Throws InputError (file, key, line) on any invalid content.
 RunConfig readRunConfig(const std::string& path, const std::vector<std::string>& overrides = {});
+
+/// The same from YAML text (the Python module's configurations given as dicts). `path` names the
+/// text in messages and need not exist; relative paths start from its folder. With
+/// `sections_given_as` the configuration has no `input`: the sections come from the caller, read as
+/// that kind of input's (csl: contours, slices: images), with no input_path.
+RunConfig readRunConfigText(const std::string& text, const std::string& path,
+                            const std::vector<std::string>& overrides = {},
+                            std::optional<InputKind> sections_given_as = std::nullopt);
 
 }  // namespace xsect

@@ -6,6 +6,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "geometry/core/plane_of_pose.h"
 #include "io/file_checks.h"
 #include "io/coordinate_limit.h"
 #include "io/input_error.h"
@@ -34,17 +35,7 @@ Mat4 readPose(const YAML::Node& n, const std::string& file, const std::string& k
       if (std::abs(m(r, c)) > kMaxCoordinate) throw InputError(file, ck, coordinateRangeMessage(m(r, c)), yamlLine(row[c]));
     }
   }
-  const int line = yamlLine(n);
-  if ((m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-9)
-    throw InputError(file, key, "last row must be [0, 0, 0, 1] (an affine pose)", line);
-  const Vec3 c0 = m.block<3, 1>(0, 0), c1 = m.block<3, 1>(0, 1);
-  if (c0.norm() < 1e-12 || c1.norm() < 1e-12)
-    throw InputError(file, key, "zero pixel spacing: the first two columns must be non-zero", line);
-  if (c0.cross(c1).norm() < 1e-9 * c0.norm() * c1.norm())
-    throw InputError(file, key, "singular pose: the pixel axes (first two columns) are parallel",
-                     line);
-  if (std::abs(c0.dot(c1)) > 1e-3 * c0.norm() * c1.norm())
-    throw InputError(file, key, "pixel axes (first two columns) are not orthogonal", line);
+  if (const std::string problem = poseProblem(m); !problem.empty()) throw InputError(file, key, problem, yamlLine(n));
   return m;
 }
 

@@ -8,7 +8,8 @@
 namespace xsect {
 
 struct RunOptions {
-  std::string config;                  ///< path of config.yaml
+  std::string config;                  ///< path of config.yaml (with config_text: its name)
+  std::string config_text;             ///< the configuration's YAML, when not read from `config`
   std::string out;                     ///< --out: overrides output.dir
   std::vector<std::string> overrides;  ///< --set key.path=value
   bool quiet = false;

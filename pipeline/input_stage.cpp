@@ -2,8 +2,11 @@
 #include "pipeline/input_stage.h"
 
 #include "geometry/core/plane_of_pose.h"
+#include "geometry/core/polygon.h"
 #include "io/contour_file.h"
+#include "io/contour_repair.h"
 #include "io/csl_file.h"
+#include "io/file_checks.h"
 #include "io/input_error.h"
 #include "io/slices_file.h"
 #include "pipeline/load_sections.h"
@@ -23,13 +26,31 @@ double pixelsToSegment(const std::vector<ImageHeader>& headers, const std::optio
 
 }  // namespace
 
+namespace {
+
+/// Stage 3 on the loaded sections (conform_stage.h), its warnings and its line.
+void conform(RunInputs& in, StageClock& clock, Progress& progress) {
+  const RunConfig& c = in.config;
+  progress.stage("conform", "pairs");
+  ConformStage conform = conformStage(c.conformity, std::move(in.planes), std::move(in.labelled), progress.counter());
+  in.planes = std::move(conform.planes);
+  in.labelled = std::move(conform.labelled);
+  in.conformity = std::move(conform.result);
+  const std::vector<std::string> warnings = conformityWarnings(c.conformity, in.conformity);
+  in.warnings.insert(in.warnings.end(), warnings.begin(), warnings.end());
+  clock.end("conform");
+  progress.note(conformityTerminalSummary(c.conformity, in.conformity));
+}
+
+}  // namespace
+
 RunInputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress) {
   RunInputs in;
   progress.stage("load");
-  in.config = readRunConfig(o.config, o.overrides);
+  in.config = o.config_text.empty() ? readRunConfig(o.config, o.overrides) : readRunConfigText(o.config_text, o.config, o.overrides);
   in.warnings = in.config.warnings;
   const RunConfig& c = in.config;
-  in.input_files.push_back(c.path);
+  if (isRegularFile(c.path)) in.input_files.push_back(c.path);  // not a dict given to the Python module
   in.input_files.push_back(c.input_path);
   std::vector<SliceRecord> slices;
   if (c.input_kind == InputKind::slices) {
@@ -93,15 +114,50 @@ RunInputs loadInputs(const RunOptions& o, StageClock& clock, Progress& progress)
   in.slices = int(in.planes.size());
   clock.end("segment");
   in.slice_records = std::move(slices);
-  progress.stage("conform", "pairs");
-  ConformStage conform = conformStage(c.conformity, std::move(in.planes), std::move(in.labelled), progress.counter());
-  in.planes = std::move(conform.planes);
-  in.labelled = std::move(conform.labelled);
-  in.conformity = std::move(conform.result);
-  const std::vector<std::string> warnings = conformityWarnings(c.conformity, in.conformity);
-  in.warnings.insert(in.warnings.end(), warnings.begin(), warnings.end());
-  clock.end("conform");
-  progress.note(conformityTerminalSummary(c.conformity, in.conformity));
+  conform(in, clock, progress);
+  return in;
+}
+
+RunInputs inputsFromSections(const RunOptions& o, SectionsInMemory given, StageClock& clock, Progress& progress) {
+  RunInputs in;
+  progress.stage("load");
+  const bool masks = !given.masks.empty();
+  if (masks && !given.contours.empty())
+    throw InputError("sections", "sections", "give every plane contours, or every plane a mask, not both");
+  in.config = readRunConfigText(o.config_text, o.config, o.overrides, masks ? InputKind::slices : InputKind::csl);
+  in.warnings = in.config.warnings;
+  std::vector<CuttingPlane> planes = std::move(given.contours);
+  if (masks) {
+    progress.stage("segment", "frames");
+    SegmentedSeries series = sectionsFromMasks(given.masks, in.config.segmentation, in.config.path);
+    planes = std::move(series.planes);
+    in.segmentation = series.applied;
+    in.warnings.insert(in.warnings.end(), series.warnings.begin(), series.warnings.end());
+  }
+  for (std::size_t p = 0; p < planes.size() && !masks; ++p) {  // contours: the reader's checks
+    CuttingPlane& cp = planes[p];
+    cp.slice = int(p);
+    if (!in.config.repair_contours) continue;
+    // Crossing rings made simple, as a contour file's (input.repair_contours).
+    std::vector<Ring> outers, holes;
+    for (const Section& sec : cp.sections) {
+      outers.push_back(sec.outer);
+      holes.insert(holes.end(), sec.holes.begin(), sec.holes.end());
+    }
+    const RingRepair fixed = repairedOrRefused(outers, holes, "sections", "sections[" + std::to_string(p) + "]", -1);
+    if (!fixed.changed) continue;
+    in.warnings.push_back(repairWarning("sections[" + std::to_string(p) + "]", fixed));
+    cp.sections = sectionsFromRings(fixed.outers, fixed.holes);
+  }
+  in.planes = std::move(planes);
+  in.slices = int(in.planes.size());
+  if (!o.out.empty()) {
+    in.output_dir = std::filesystem::absolute(o.out).lexically_normal();
+    in.output_guard = {in.input_files, "the caller", "out"};
+    checkOutputDestination(in.output_dir, in.output_guard);
+  }
+  clock.end("load");
+  conform(in, clock, progress);
   return in;
 }
 

@@ -13,6 +13,7 @@
 #include "io/run_config.h"
 #include "io/slices_file.h"
 #include "pipeline/conform_stage.h"
+#include "pipeline/load_sections.h"
 #include "pipeline/commands.h"
 #include "pipeline/progress.h"
 #include "pipeline/stage_clock.h"
@@ -46,5 +47,18 @@ struct RunInputs {
 /// checks the output folder against the inputs (run and check refuse the same destinations),
 /// segments and conforms. Invalid input throws InputError.
 RunInputs loadInputs(const RunOptions& options, StageClock& clock, Progress& progress);
+
+/// Sections given in memory: contours on planes, or masks (one of the two).
+struct SectionsInMemory {
+  std::vector<CuttingPlane> contours;  ///< as a contour file's planes: observed everywhere
+  std::vector<PosedMask> masks;        ///< as image slices: observed within their rectangles
+};
+
+/// The inputs of sections given in memory (the Python module's reconstruct): the configuration
+/// from options.config_text (named options.config, no `input`), then the contours as a contour
+/// file's (crossing rings repaired as input.repair_contours says; `slice` set to their place) or
+/// the masks segmented (load_sections.h sectionsFromMasks), then stage 3. The output folder only
+/// when options.out names one.
+RunInputs inputsFromSections(const RunOptions& options, SectionsInMemory given, StageClock& clock, Progress& progress);
 
 }  // namespace xsect

@@ -466,6 +466,32 @@ SegmentedSeries sectionsFromSlices(const std::vector<SliceRecord>& slices, const
   return out;
 }
 
+SegmentedSeries sectionsFromMasks(const std::vector<PosedMask>& masks, const SegmentationParams& params,
+                                  const std::string& settings_file) {
+  SegmentedSeries out;
+  // A mask is 0 outside and 1 (any non-zero) inside: segmented at 0.5 with every other setting
+  // the configuration's (smoothing, opening, closing, minimum area, simplification).
+  SegmentationParams perSlice = params;
+  perSlice.method = SegmentationMethod::threshold;
+  perSlice.threshold = 0.5;
+  perSlice.inside = InsideSide::above;
+  out.applied = perSlice;
+  out.planes.resize(masks.size());
+  out.labelled.assign(masks.size(), {});
+  std::vector<char> touches(masks.size(), 0);
+  for (std::size_t i = 0; i < masks.size(); ++i) {
+    Frame frame;
+    frame.image = cv::Mat(masks[i].mask.size(), CV_8U);
+    frame.image.setTo(0);
+    frame.image.setTo(1, masks[i].mask != 0);
+    planeOfPose(masks[i].image_to_world, &frame.spacing);
+    out.planes[i] = planeOfFrame(int(i), "mask " + std::to_string(i), masks[i].image_to_world, frame, nullptr,
+                                 perSlice, settings_file, nullptr, &touches[i]);
+  }
+  touchingWarning(touches, out.warnings);
+  return out;
+}
+
 namespace {
 
 /// Runs work(k, frame) for every kept frame k of a PLUS sequence (k indexes seq.frames). The

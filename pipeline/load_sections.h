@@ -55,6 +55,19 @@ struct SegmentedSeries {
 /// @param progress      optional, called with the frames done and the frames in all, from the
 ///                      threads that segment them, concurrently (with Otsu's method the series is
 ///                      read twice: a frame counts when both its readings are done, on average).
+/// A binary image given in memory (the Python module's reconstruct): non-zero = inside, rows j,
+/// columns i, and its pose (pixel (i, j, 0, 1) -> mm, as slices.yaml's image_to_world).
+struct PosedMask {
+  Mat4 image_to_world;
+  cv::Mat mask;  ///< CV_8U
+};
+
+/// The sections of masks (stage 2), each segmented as an image slice at 0.5 with the other
+/// settings of `params` (smoothing, opening, closing, minimum area): each plane observed within its
+/// image's rectangle.
+SegmentedSeries sectionsFromMasks(const std::vector<PosedMask>& masks, const SegmentationParams& params,
+                                  const std::string& settings_file);
+
 SegmentedSeries sectionsFromSlices(const std::vector<SliceRecord>& slices, const std::string& listing_file,
                                    const SegmentationParams& params, const std::string& settings_file,
                                    std::vector<ImageHeader> headers,

@@ -57,6 +57,7 @@ Progress::~Progress() {
 
 void Progress::stage(const std::string& name, const std::string& unit) {
   finish();
+  if (listener_) listener_(name);
   std::lock_guard<std::mutex> lock(draw_);
   open_ = true;
   name_ = name;

@@ -44,6 +44,11 @@ class Progress {
   /// Ends the current stage: its line. stage(), note() and finish() are called by the thread that
   /// runs the stages, between parallel loops.
   void finish();
+  /// Whether nothing is written (--quiet).
+  bool quiet() const { return quiet_; }
+  /// Also tells `listener` the name of every stage as it starts, whether quiet or not (the Python
+  /// module's progress= callback), from the thread that calls stage().
+  void onStage(std::function<void(const std::string&)> listener) { listener_ = std::move(listener); }
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -60,6 +65,7 @@ class Progress {
   std::atomic<bool> counted_{false};        ///< counts reported (else fractions, or nothing)
   std::atomic<std::int64_t> last_draw_ns_{0};  ///< since start_
   std::string drawn_;                       ///< the bar on screen (empty: none)
+  std::function<void(const std::string&)> listener_;
 };
 
 }  // namespace xsect

@@ -1,14 +1,5 @@
-// `xsect run` and `xsect check` (docs/commands.md): the stages in the order they
-// run, each a function of the results before it (pipeline/*_stage.h), and the one writer.
-//   load -> segment -> conform   (input_stage.h, stages 1-3)
-//   the scene                    (scene_stage.h: planes and end planes, rasters, grid; built once)
-//   arrange                      (arrange_stage.h, stage 4: cells, sub-sections, graphs G / G' / G'')
-//   reconstruct                  (reconstruct_stage.h, stage 5: the solid, checked against the graph)
-//   smooth                       (smooth_stage.h, stage 6, optional)
-//   mesh -> diagnose             (mesh_stage.h, stage 7)
-//   sampling                     (sampling_stage.h, stage 7: the sampling conditions, verdict, advice)
-//   confidence                   (confidence_stage.h: how far the topology is to be trusted, issue 52)
-//   write                        (run_outputs.h, stage 8)
+// `xsect run` and `xsect check` (docs/commands.md). run: the stages (run_stages.h), then the one
+// writer (run_outputs.h, stage 8) and the last lines. check: the stages that need no solid.
 #include <cmath>
 #include <iostream>
 #include <memory>
@@ -26,6 +17,7 @@
 #include "pipeline/mesh_stage.h"
 #include "pipeline/reconstruct_stage.h"
 #include "pipeline/run_outputs.h"
+#include "pipeline/run_stages.h"
 #include "pipeline/sampling_stage.h"
 #include "pipeline/scene_stage.h"
 #include "pipeline/smooth_stage.h"
@@ -37,67 +29,24 @@ using json = nlohmann::ordered_json;
 
 int runCommand(const RunOptions& o) {
   Progress progress(o.quiet);
-  StageClock clock;
-  const RunInputs in = loadInputs(o, clock, progress);
-  const RunConfig& c = in.config;
-  const fs::path& outDir = in.output_dir;
-
-  progress.stage("scene");
-  const SceneStage built = sceneStage(in, o.quiet, clock.total());
-  const SectionScene& scene = built.scene;
-  clock.end("scene");
-
-  // The method the configuration names (pipeline/methods/): no stage asks which it is.
-  const std::unique_ptr<const Method> method = methodFor(c.reconstruction_method);
-
-  progress.stage("arrange");
-  const ArrangeStage arrangement = arrangeStage(c, scene, *method);
-  clock.end("arrange");
-
-  progress.stage("reconstruct", method->progressUnit());
-  const ReconstructStage reconstruction = reconstructStage(in, built, arrangement, *method, progress);
-  clock.end("reconstruct");
-
-  std::optional<SmoothStage> smooth;
-  if (c.smoothing_method != SmoothingMethod::none) {
-    progress.stage("smooth", "blocks");
-    smooth = smoothStage(c, scene, arrangement, reconstruction, progress.counter());
-    clock.end("smooth");
-  }
-  const SmoothStage* smoothed = smooth ? &*smooth : nullptr;
-
-  progress.stage("mesh");
-  const MeshStage meshes = meshStage(in, scene, *method, reconstruction, smoothed);
-  clock.end("mesh");
-
-  progress.stage("diagnose");
-  const DiagnoseStage diagnosis = diagnoseStage(*method, reconstruction, smoothed, meshes);
-  clock.end("diagnose");
-
-  progress.stage("sampling");
-  const SamplingStage sampling = samplingStage(c, *method, scene, arrangement, true);
-  clock.end("sampling");
-
-  progress.stage("confidence");
-  const ConfidenceStage confidence = confidenceStage(reconstruction, smoothed, diagnosis.topology.betti, sampling);
-  clock.end("confidence");
-
-  progress.stage("write");
-  const RunResults results{in, *method, built, arrangement, reconstruction, smoothed, meshes, diagnosis, sampling, confidence};
-  const json report = writeRunOutputs(results, o, clock);
-  progress.finish();
-  for (const auto& w : runWarnings(results)) progress.note("warning: " + w);
-  // The last lines (issue 21): the sampling verdict, the Betti numbers with their confidence
-  // (issue 52), what the two mean for this result in plain words, the page to look at.
-  const Betti& betti = diagnosis.topology.betti;
-  progress.note(samplingLine(sampling));
-  progress.note("topology: " + std::to_string(betti[0]) + " " + std::to_string(betti[1]) + " " + std::to_string(betti[2]) +
-                ", confidence " + confidenceText(confidence.confidence) +
-                (confidence.confidence.level != ConfidenceLevel::high && !reconstruction.topology
-                     ? " (if you know the answer: reconstruction.topology)"
-                     : ""));
-  progress.note(report["in_plain_words"].get<std::string>());
-  progress.note("report: " + (outDir / "report.html").string());
+  runStages(o, progress, [&](const RunResults& results, StageClock& clock) {
+    progress.stage("write");
+    const json report = writeRunOutputs(results, o, clock);
+    progress.finish();
+    for (const auto& w : runWarnings(results)) progress.note("warning: " + w);
+    // The last lines (issue 21): the sampling verdict, the Betti numbers with their confidence
+    // (issue 52), what the two mean for this result in plain words, the page to look at.
+    const Betti& betti = results.diagnosis.topology.betti;
+    const TopologyConfidence& confidence = results.confidence.confidence;
+    progress.note(samplingLine(results.sampling));
+    progress.note("topology: " + std::to_string(betti[0]) + " " + std::to_string(betti[1]) + " " +
+                  std::to_string(betti[2]) + ", confidence " + confidenceText(confidence) +
+                  (confidence.level != ConfidenceLevel::high && !results.reconstruction.topology
+                       ? " (if you know the answer: reconstruction.topology)"
+                       : ""));
+    progress.note(report["in_plain_words"].get<std::string>());
+    progress.note("report: " + (results.inputs.output_dir / "report.html").string());
+  });
   return 0;
 }
 

@@ -18,7 +18,9 @@ PKGS=(build-essential cmake ninja-build pkg-config libcgal-dev libopencv-dev lib
       libgudhi-dev  # persistence of handles and cavities (geometry/reconstruction/topology_features)
       libjs-three  # three.js, inlined into report.html's 3D view
       graphviz  # dot: the connectivity graph as inline SVG in report.html
-      clang libclang-rt-dev)  # clang + its runtimes: libFuzzer, ASan, UBSan (scripts/fuzz.sh)
+      clang libclang-rt-dev  # clang + its runtimes: libFuzzer, ASan, UBSan (scripts/fuzz.sh)
+      pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module (pipeline/python/)
+      snakemake)  # the cohort workflow (workflows/cohort/)
 if [ "$browser" -eq 1 ]; then PKGS+=(chromium); fi  # headless browser test of report.html
 missing=()
 for p in "${PKGS[@]}"; do

@@ -4,10 +4,24 @@
 #pragma once
 
 #include <cmath>
+#include <string>
 
 #include "geometry/core/types.h"
 
 namespace xsect {
+
+/// What makes `image_to_world` no pose a plane can be read from (empty when it is one): a last row
+/// other than [0, 0, 0, 1], a zero or parallel or non-orthogonal first two columns.
+inline std::string poseProblem(const Mat4& m) {
+  if ((m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-9)
+    return "last row must be [0, 0, 0, 1] (an affine pose)";
+  const Vec3 c0 = m.block<3, 1>(0, 0), c1 = m.block<3, 1>(0, 1);
+  if (c0.norm() < 1e-12 || c1.norm() < 1e-12) return "zero pixel spacing: the first two columns must be non-zero";
+  if (c0.cross(c1).norm() < 1e-9 * c0.norm() * c1.norm())
+    return "singular pose: the pixel axes (first two columns) are parallel";
+  if (std::abs(c0.dot(c1)) > 1e-3 * c0.norm() * c1.norm()) return "pixel axes (first two columns) are not orthogonal";
+  return "";
+}
 
 /// @param image_to_world 4x4, column vector (i, j, 0, 1) -> mm.
 /// @param spacing        out: mm per pixel along i and j (the column norms).
