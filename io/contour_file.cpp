@@ -226,16 +226,6 @@ std::vector<Section> sectionsOfLoops(const std::vector<std::vector<long>>& loops
   return sections;
 }
 
-/// The sections' bounds in plane coordinates (mm); a zero rectangle without sections.
-PlaneRect sectionBounds(const std::vector<Section>& sections) {
-  PlaneRect r;
-  if (sections.empty()) return r;
-  Vec2 emin = Vec2::Constant(1e300), emax = -emin;
-  for (const auto& s : sections)
-    for (const auto& q : s.outer) emin = emin.cwiseMin(q), emax = emax.cwiseMax(q);
-  return {emin, emax};
-}
-
 }  // namespace
 
 ContourFile readContourFile(const std::string& path, std::vector<std::string>* warnings, bool repair) {

@@ -140,12 +140,7 @@ std::vector<CuttingPlane> readCslFile(const std::string& path, std::vector<std::
     }
     cp.sections = sectionsFromRings(std::move(r.outers), std::move(r.holes));
     cp.observed_everywhere = true;  // a contour file gives all of O ∩ P on each plane
-    if (!cp.sections.empty()) {
-      Vec2 emin = Vec2::Constant(1e300), emax = -emin;
-      for (const auto& s : cp.sections)
-        for (const auto& q : s.outer) emin = emin.cwiseMin(q), emax = emax.cwiseMax(q);
-      cp.extent = {emin, emax};
-    }
+    cp.extent = sectionBounds(cp.sections);
   }
   return planes;
 }

@@ -18,6 +18,15 @@ double signedArea(const Ring& r) {
   return 0.5 * a;
 }
 
+PlaneRect sectionBounds(const std::vector<Section>& sections) {
+  PlaneRect r;
+  if (sections.empty()) return r;
+  Vec2 lo = Vec2::Constant(1e300), hi = -lo;
+  for (const auto& s : sections)
+    for (const auto& q : s.outer) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+  return {lo, hi};
+}
+
 Eigen::AlignedBox2d ringBounds(const Ring& ring) {
   Eigen::AlignedBox2d box;  // empty
   for (const Vec2& v : ring) box.extend(v);

@@ -14,6 +14,10 @@ double signedArea(const Ring& ring);
 double ringLength(const Ring& ring);
 /// Axis-aligned bounds of a ring's vertices (of a section: of its outer ring).
 Eigen::AlignedBox2d ringBounds(const Ring& ring);
+
+/// The sections' bounds in plane coordinates (mm): a contour file's observed extent; a zero
+/// rectangle without sections.
+PlaneRect sectionBounds(const std::vector<Section>& sections);
 /// Area of a section: outer minus holes, mm².
 double sectionArea(const Section& s);
 /// Point strictly inside the ring (even-odd crossing rule; boundary points undecided).

@@ -298,13 +298,12 @@ std::vector<Vec3> junctionSampleStarts(const std::vector<JunctionMember>& member
 /// a sphere around the junction point) at spacing h, then a local maximisation from the 12
 /// largest values of each side.
 /// The start points are bounded: h grows past the requested spacing when the sampled area would
-/// need more than kJunctionStartBudget of them (a fillet much thinner than the tubes, e.g.
-/// blend_mm = 0.001 on 0.6 mm tubes, asked for 10^8 starts and 28 s; the project's phantoms need
-/// at most 14,000), and the scan for where the blends stop uses at most 1024 steps per tube.
-/// Above that bound the coarse pass may land farther from a curvature peak; the local
-/// maximisation (refineCurvatureMax, down to h / 128) still climbs to it from the best starts.
-constexpr double kJunctionStartBudget = 60000;
-CurvatureMax sampleJunctionCurvature(const PhantomShape& s, int ji, double h) {
+/// need more than `budget` of them (vesselTreeReach's share of kTreeStartBudget; a fillet much
+/// thinner than the tubes, e.g. blend_mm = 0.001 on 0.6 mm tubes, asked for 10^8 starts and 28 s),
+/// and the scan for where the blends stop uses at most 1024 steps per tube. Above that bound the
+/// coarse pass may land farther from a curvature peak; the local maximisation
+/// (refineCurvatureMax, down to h / 128) still climbs to it from the best starts.
+CurvatureMax sampleJunctionCurvature(const PhantomShape& s, int ji, double h, double budget) {
   const double k = blendOf(s);
   const Junction& J = s.junctions[ji];
   const Vec3 c = s.tubes[J.parent].b;
@@ -344,7 +343,7 @@ CurvatureMax sampleJunctionCurvature(const PhantomShape& s, int ji, double h) {
   }
   double area = 4 * M_PI * (rmax + 0.5 * dJ) * (rmax + 0.5 * dJ);
   for (const auto& u : members) area += 2 * u.extent * 2 * M_PI * (u.radius + dJ);
-  h = std::max(h, std::sqrt(area / kJunctionStartBudget));
+  h = std::max(h, std::sqrt(area / budget));
   double R = 0.0;
   for (const auto& u : members) R = std::max(R, std::hypot(u.extent, u.radius + dJ));
   R += dJ + h;
@@ -604,9 +603,17 @@ VesselReach vesselTreeReach(const PhantomShape& shape) {
   }
   const double h = std::min(rmin, k) / 6.0;
   constexpr double kMargin = 0.9;
+  // The curvature search's start points, for the whole tree: 60,000 a junction at most, 120,000 in
+  // all (a junction of the project's phantoms asks for 14,000-22,000 at h, the blend-6 tree's one
+  // junction 182,000; a blended tree of five levels, 31 junctions, took 24 s under the fuzzer's
+  // sanitizers before the tree's bound).
+  constexpr double kJunctionStartBudget = 60000, kTreeStartBudget = 120000;
+  int branching = 0;
+  for (const auto& J : shape.junctions) branching += !J.children.empty();
+  const double budget = std::min(kJunctionStartBudget, kTreeStartBudget / std::max(branching, 1));
   for (std::size_t ji = 0; ji < shape.junctions.size(); ++ji) {
     if (shape.junctions[ji].children.empty()) continue;
-    const CurvatureMax c = sampleJunctionCurvature(shape, int(ji), h);
+    const CurvatureMax c = sampleJunctionCurvature(shape, int(ji), h, budget);
     if (c.convex > 0) r.interior = std::min(r.interior, kMargin / c.convex);
     if (c.concave > 0) r.exterior = std::min(r.exterior, kMargin / c.concave);
   }

@@ -13,6 +13,7 @@
 #include <tbb/global_control.h>
 
 #include <cstring>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -112,24 +113,38 @@ py::dict toPython(Outcome&& o) {
   return out;
 }
 
-/// xsect._xsect.run: a configuration read from `config` (a path), or from `config_text` (its
-/// YAML; `config` then names it and is the folder relative paths start from).
-py::dict run(const std::string& config, const std::string& config_text, const std::string& out,
-             const std::vector<std::string>& overrides, const py::object& progress, int threads) {
+RunOptions optionsOf(const std::string& config, const std::string& config_text, const std::string& out,
+                     const std::vector<std::string>& overrides) {
   RunOptions o;
   o.config = config;
   o.config_text = config_text;
   o.out = out;
   o.overrides = overrides;
+  return o;
+}
+
+/// The stages `start` runs (handing their results to the consumer it is given), without the GIL,
+/// their results copied into arrays.
+py::dict stagesToPython(const RunOptions& o, const py::object& progress, int threads,
+                        const std::function<void(Progress&, const RunConsumer&)>& start) {
   PythonProgress p(progress);
   Outcome outcome;
   {
     py::gil_scoped_release release;
     const auto limit = threadLimit(threads);
-    runStages(o, *p.progress_, [&](const RunResults& r, StageClock& clock) { outcome = outcomeOf(r, clock, o); });
+    start(*p.progress_, [&](const RunResults& r, StageClock& clock) { outcome = outcomeOf(r, clock, o); });
     p.progress_->finish();
   }
   return toPython(std::move(outcome));
+}
+
+/// xsect._xsect.run: a configuration read from `config` (a path), or from `config_text` (its
+/// YAML; `config` then names it and is the folder relative paths start from).
+py::dict run(const std::string& config, const std::string& config_text, const std::string& out,
+             const std::vector<std::string>& overrides, const py::object& progress, int threads) {
+  const RunOptions o = optionsOf(config, config_text, out, overrides);
+  return stagesToPython(o, progress, threads,
+                        [&](Progress& p, const RunConsumer& consume) { runStages(o, p, consume); });
 }
 
 using Ring2 = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;
@@ -188,12 +203,7 @@ CuttingPlane cuttingPlaneOf(const GivenPlane& g, std::size_t index) {
   };
   cp.sections = sectionsFromRings(rings(g.outers, "contours"), rings(g.holes, "holes"));
   cp.observed_everywhere = true;  // as a contour file: all of O ∩ P on each plane
-  if (!cp.sections.empty()) {
-    Vec2 lo = Vec2::Constant(1e300), hi = -lo;
-    for (const auto& s : cp.sections)
-      for (const auto& q : s.outer) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
-    cp.extent = {lo, hi};
-  }
+  cp.extent = sectionBounds(cp.sections);
   return cp;
 }
 
@@ -207,22 +217,12 @@ py::dict reconstruct(const std::vector<GivenPlane>& planes, const std::string& n
     if (planes[p].mask) given.masks.push_back(posedMaskOf(planes[p], p));
     else given.contours.push_back(cuttingPlaneOf(planes[p], p));
   }
-  RunOptions o;
-  o.config = name;
-  o.config_text = config_text;
-  o.out = out;
-  o.overrides = overrides;
-  PythonProgress p(progress);
-  Outcome outcome;
-  {
-    py::gil_scoped_release release;
-    const auto limit = threadLimit(threads);
+  const RunOptions o = optionsOf(name, config_text, out, overrides);
+  return stagesToPython(o, progress, threads, [&](Progress& p, const RunConsumer& consume) {
     StageClock clock;
-    const RunInputs in = inputsFromSections(o, std::move(given), clock, *p.progress_);
-    runStages(in, *p.progress_, clock, [&](const RunResults& r, StageClock& c) { outcome = outcomeOf(r, c, o); });
-    p.progress_->finish();
-  }
-  return toPython(std::move(outcome));
+    const RunInputs in = inputsFromSections(o, std::move(given), clock, p);
+    runStages(in, p, clock, consume);
+  });
 }
 
 /// xsect._xsect.slice: the sections of a closed mesh on planes given by their poses; per plane a
