@@ -126,6 +126,13 @@ RunInputs inputsFromSections(const RunOptions& o, SectionsInMemory given, StageC
     throw InputError("sections", "sections", "give every plane contours, or every plane a mask, not both");
   in.config = readRunConfigText(o.config_text, o.config, o.overrides, masks ? InputKind::slices : InputKind::csl);
   in.warnings = in.config.warnings;
+  // Before any long work: the output folder, when one is named, is checked as the command line's.
+  if (!o.out.empty()) {
+    in.output_dir = std::filesystem::absolute(o.out).lexically_normal();
+    in.output_guard = {in.input_files, "the caller", "out"};
+    checkOutputDestination(in.output_dir, in.output_guard);
+  }
+  clock.end("load");
   std::vector<CuttingPlane> planes = std::move(given.contours);
   if (masks) {
     progress.stage("segment", "frames");
@@ -133,6 +140,7 @@ RunInputs inputsFromSections(const RunOptions& o, SectionsInMemory given, StageC
     planes = std::move(series.planes);
     in.segmentation = series.applied;
     in.warnings.insert(in.warnings.end(), series.warnings.begin(), series.warnings.end());
+    clock.end("segment");
   }
   for (std::size_t p = 0; p < planes.size() && !masks; ++p) {  // contours: the reader's checks
     CuttingPlane& cp = planes[p];
@@ -151,12 +159,6 @@ RunInputs inputsFromSections(const RunOptions& o, SectionsInMemory given, StageC
   }
   in.planes = std::move(planes);
   in.slices = int(in.planes.size());
-  if (!o.out.empty()) {
-    in.output_dir = std::filesystem::absolute(o.out).lexically_normal();
-    in.output_guard = {in.input_files, "the caller", "out"};
-    checkOutputDestination(in.output_dir, in.output_guard);
-  }
-  clock.end("load");
   conform(in, clock, progress);
   return in;
 }
