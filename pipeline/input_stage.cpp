@@ -142,11 +142,12 @@ RunInputs inputsFromSections(const RunOptions& o, SectionsInMemory given, StageC
     in.warnings.insert(in.warnings.end(), series.warnings.begin(), series.warnings.end());
     clock.end("segment");
   }
-  for (std::size_t p = 0; p < planes.size() && !masks; ++p) {  // contours: the reader's checks
+  // Contours: the plane's place, and crossing rings made simple as a contour file's
+  // (input.repair_contours). Masks were segmented, and their rings made simple, above.
+  for (std::size_t p = 0; p < planes.size() && !masks; ++p) {
     CuttingPlane& cp = planes[p];
     cp.slice = int(p);
     if (!in.config.repair_contours) continue;
-    // Crossing rings made simple, as a contour file's (input.repair_contours).
     std::vector<Ring> outers, holes;
     for (const Section& sec : cp.sections) {
       outers.push_back(sec.outer);

@@ -88,17 +88,25 @@ std::unique_ptr<tbb::global_control> threadLimit(int threads) {
                      : nullptr;
 }
 
+/// A vector handed to numpy without a copy: the array owns it through a capsule (a 2000-frame
+/// sweep's labels are 143 MB; a copy would hold them twice).
+template <typename T>
+py::array_t<T> arrayOwning(std::vector<T>&& values, std::vector<py::ssize_t> shape, std::vector<py::ssize_t> strides) {
+  auto* owned = new std::vector<T>(std::move(values));
+  const py::capsule owner(owned, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  return py::array_t<T>(std::move(shape), std::move(strides), owned->data(), owner);
+}
+
 py::dict toPython(Outcome&& o) {
   const py::ssize_t nv = py::ssize_t(o.vertices.size() / 3), nf = py::ssize_t(o.faces.size() / 3);
-  py::array_t<double> vertices({nv, py::ssize_t(3)});
-  std::memcpy(vertices.mutable_data(), o.vertices.data(), o.vertices.size() * sizeof(double));
-  py::array_t<std::int32_t> faces({nf, py::ssize_t(3)});
-  std::memcpy(faces.mutable_data(), o.faces.data(), o.faces.size() * sizeof(std::int32_t));
-  // labels[i, j, k] is voxel (i, j, k): x fastest in memory, as nibabel and SimpleITK's arrays of
-  // an (i, j, k) affine read them.
-  const auto& d = o.grid.dims;
-  py::array_t<std::uint16_t, py::array::f_style> labels({py::ssize_t(d[0]), py::ssize_t(d[1]), py::ssize_t(d[2])});
-  std::memcpy(labels.mutable_data(), o.labels.data(), o.labels.size() * sizeof(std::uint16_t));
+  const py::ssize_t d = sizeof(double), i = sizeof(std::int32_t), u = sizeof(std::uint16_t);
+  py::array_t<double> vertices = arrayOwning(std::move(o.vertices), {nv, 3}, {3 * d, d});
+  py::array_t<std::int32_t> faces = arrayOwning(std::move(o.faces), {nf, 3}, {3 * i, i});
+  // labels[i, j, k] is voxel (i, j, k): x fastest in memory (Fortran order), as nibabel and
+  // SimpleITK's arrays of an (i, j, k) affine read them.
+  const auto& n = o.grid.dims;
+  py::array_t<std::uint16_t> labels = arrayOwning(std::move(o.labels), {n[0], n[1], n[2]},
+                                                  {u, u * n[0], u * n[0] * py::ssize_t(n[1])});
   py::array_t<double> affine({py::ssize_t(4), py::ssize_t(4)});
   auto A = affine.mutable_unchecked<2>();
   for (py::ssize_t r = 0; r < 4; ++r)

@@ -69,6 +69,7 @@ def test_run_gives_the_command_lines_solid_and_writes_nothing_unless_asked(torus
     # One solid: the label volume holds the mesh's volume (within the voxels cut by the surface).
     voxel = r.affine[0, 0]
     assert r.labels.dtype == np.uint16 and r.labels.ndim == 3
+    assert r.labels.flags["F_CONTIGUOUS"]  # x fastest, as labels.nrrd
     labelled = float((r.labels > 0).sum()) * voxel ** 3
     volume = mesh_volume(r.vertices, r.faces)
     assert volume == pytest.approx(2 * math.pi ** 2 * 12 * 4 ** 2, rel=0.06)
