@@ -125,10 +125,10 @@ SurfaceDistances compareSurfaces(const TriangleMesh& mesh, const MeshDistance& m
     dist = distancesToImplicit(mesh, meshQuery, sdf, tlo - pad, thi + pad, sampling, exact);
     *lo = lo->cwiseMin(tlo);
     *hi = hi->cwiseMax(thi);
-    *truthInside = [&shape](const std::vector<Vec3>& pts) {
-      std::vector<std::uint8_t> in(pts.size());
-      tbb::parallel_for(std::size_t(0), pts.size(),
-                        [&](std::size_t i) { in[i] = signedDistance(shape, pts[i]) < 0; });
+    *truthInside = [&shape](const PointRows& rows) {
+      std::vector<std::uint8_t> in(rows.size());
+      tbb::parallel_for(std::size_t(0), rows.size(),
+                        [&](std::size_t i) { in[i] = signedDistance(shape, rows.at(i)) < 0; });
       return in;
     };
     out["truth_betti"] = bettiNumbers(shape);
@@ -140,7 +140,7 @@ SurfaceDistances compareSurfaces(const TriangleMesh& mesh, const MeshDistance& m
     meshBounds(*reference, &rlo, &rhi);
     *lo = lo->cwiseMin(rlo);
     *hi = hi->cwiseMax(rhi);
-    *truthInside = [&referenceQuery](const std::vector<Vec3>& pts) { return referenceQuery->inside(pts); };
+    *truthInside = [&referenceQuery](const PointRows& rows) { return referenceQuery->insideRows(rows); };
     const MeshTopology refTopo = meshTopology(*reference);
     if (refTopo.watertight) out["truth_betti"] = refTopo.betti;
   }
@@ -284,9 +284,7 @@ int evalCommand(const EvalOptions& options) {
                   " mm to keep the grid under 8M voxels");
   progress.stage("eval: dice on " + std::to_string(grid.dims[0]) + "x" +
                  std::to_string(grid.dims[1]) + "x" + std::to_string(grid.dims[2]) + " voxels");
-  const InsideFn meshInside = [&meshQuery](const std::vector<Vec3>& pts) {
-    return meshQuery.inside(pts);
-  };
+  const InsideFn meshInside = [&meshQuery](const PointRows& rows) { return meshQuery.insideRows(rows); };
   const VolumeOverlap overlap = volumeOverlap(meshInside, truthInside, grid);
   out["dice"] = overlap.dice();
   out["iou"] = overlap.iou();

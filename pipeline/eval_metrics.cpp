@@ -167,12 +167,13 @@ GridSpec overlapGrid(const Vec3& lo, const Vec3& hi, double voxel_mm, std::int64
 
 VolumeOverlap volumeOverlap(const InsideFn& a, const InsideFn& b, const GridSpec& grid) {
   VolumeOverlap v;
-  // One z-layer at a time keeps memory bounded by a layer of points.
-  std::vector<Vec3> layer(std::size_t(grid.dims[0]) * grid.dims[1]);
+  // One z-layer at a time keeps memory bounded by a layer of points; its rows run along x.
+  PointRows layer;
+  layer.step = Vec3(grid.voxel, 0, 0);
+  layer.count = grid.dims[0];
+  layer.starts.resize(std::size_t(grid.dims[1]));
   for (int k = 0; k < grid.dims[2]; ++k) {
-    for (int j = 0; j < grid.dims[1]; ++j)
-      for (int i = 0; i < grid.dims[0]; ++i)
-        layer[std::size_t(j) * grid.dims[0] + i] = grid.centre(i, j, k);
+    for (int j = 0; j < grid.dims[1]; ++j) layer.starts[std::size_t(j)] = grid.centre(0, j, k);
     const std::vector<std::uint8_t> ina = a(layer), inb = b(layer);
     for (std::size_t n = 0; n < layer.size(); ++n) {
       v.a += ina[n];

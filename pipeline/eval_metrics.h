@@ -16,8 +16,9 @@ namespace xsect {
 
 /// Signed distance (mm) of a world point (mm) to a surface, negative inside; must be thread-safe.
 using SignedDistanceFn = std::function<double(const Vec3&)>;
-/// For a batch of world points (mm): 1 inside the solid, 0 outside; must be thread-safe.
-using InsideFn = std::function<std::vector<std::uint8_t>(const std::vector<Vec3>&)>;
+/// For rows of world points (mm; a grid's layer, mesh_distance.h): 1 inside the solid, 0 outside,
+/// in the rows' order; must be thread-safe.
+using InsideFn = std::function<std::vector<std::uint8_t>(const PointRows&)>;
 
 /// Distances from the points of one surface to the other surface (mm).
 struct OneSidedDistance {

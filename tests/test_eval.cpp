@@ -93,6 +93,55 @@ TEST(EvalMeshDistance, InsideMatchesAnalyticSphereForManyPoints) {
   EXPECT_NEAR(d[1], 3.0, 0.05);
 }
 
+// insideRows answers as inside() point by point: on voxel solids whose faces, edges and vertices
+// the rows run through, along and in (rows on integer and half-integer lines, steps of half a
+// voxel), and on a sphere and a torus along rows of random starts and directions.
+TEST(EvalMeshDistance, InsideRowsAnswersAsInsidePointByPoint) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::size_t rowsChecked = 0;
+  const auto check = [&](const TriangleMesh& mesh, const PointRows& rows) {
+    const MeshDistance q(mesh);
+    std::vector<Vec3> points(rows.size());
+    for (std::size_t n = 0; n < rows.size(); ++n) points[n] = rows.at(n);
+    const std::vector<std::uint8_t> each = q.inside(points), byRows = q.insideRows(rows);
+    ASSERT_EQ(byRows.size(), each.size());
+    for (std::size_t n = 0; n < each.size(); ++n)
+      ASSERT_EQ(int(byRows[n]), int(each[n])) << "point " << points[n].transpose();
+    rowsChecked += rows.starts.size();
+  };
+  for (int trial = 0; trial < 12; ++trial) {
+    std::set<std::tuple<int, int, int>> voxels;
+    std::uniform_int_distribution<int> c(0, 4);
+    for (int v = 0; v < 30; ++v) voxels.insert({c(rng), c(rng), c(rng)});
+    const TriangleMesh mesh = test::voxelBoundary(voxels);
+    for (int axis = 0; axis < 3; ++axis) {
+      PointRows rows;
+      rows.step = Vec3::Zero();
+      rows.step[axis] = 0.5;
+      rows.count = 14;
+      for (double a = -0.5; a <= 5.5; a += 0.5)
+        for (double b = -0.5; b <= 5.5; b += 0.5) {
+          Vec3 s = Vec3::Constant(-0.5);
+          s[(axis + 1) % 3] = a;
+          s[(axis + 2) % 3] = b;
+          rows.starts.push_back(s);
+        }
+      check(mesh, rows);
+    }
+  }
+  for (const TriangleMesh& mesh : {test::icosphere(6, 3), test::torusMesh(6, 2, 48, 24)}) {
+    for (int trial = 0; trial < 20; ++trial) {
+      PointRows rows;
+      rows.step = 0.37 * Vec3(u(rng), u(rng), u(rng)).normalized();
+      rows.count = 60;
+      for (int r = 0; r < 40; ++r) rows.starts.push_back(Vec3(8 * u(rng), 8 * u(rng), 8 * u(rng)) - 11 * rows.step);
+      check(mesh, rows);
+    }
+  }
+  EXPECT_EQ(rowsChecked, 12u * 3 * 169 + 2 * 20 * 40);
+}
+
 TEST(EvalMeshDistance, NonManifoldSoupStillClassifies) {
   // Two unit voxels sharing only an edge: four triangles meet there (not a manifold mesh).
   const TriangleMesh m = test::voxelBoundary({{0, 0, 0}, {1, 1, 0}});
@@ -265,10 +314,10 @@ TEST(Eval, DiceOfNestedSpheresMatchesVolumes) {
   const TriangleMesh mesh = test::icosphere(10, 4);
   const MeshDistance q(mesh);
   const double Vm = meshTopology(mesh).volume_mm3, Vs = 4.0 / 3.0 * M_PI * 7 * 7 * 7;
-  const InsideFn inMesh = [&q](const std::vector<Vec3>& p) { return q.inside(p); };
-  const InsideFn inSphere = [](const std::vector<Vec3>& p) {
+  const InsideFn inMesh = [&q](const PointRows& p) { return q.insideRows(p); };
+  const InsideFn inSphere = [](const PointRows& p) {
     std::vector<std::uint8_t> r(p.size());
-    for (std::size_t i = 0; i < p.size(); ++i) r[i] = p[i].norm() < 7;
+    for (std::size_t i = 0; i < p.size(); ++i) r[i] = p.at(i).norm() < 7;
     return r;
   };
   const GridSpec grid = overlapGrid(Vec3::Constant(-10), Vec3::Constant(10), 0.3);

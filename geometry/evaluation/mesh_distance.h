@@ -12,6 +12,16 @@
 
 namespace xsect {
 
+/// Rows of equally spaced points (a grid's layer): row r holds starts[r] + i * step for i in
+/// [0, count), in that order (world mm).
+struct PointRows {
+  std::vector<Vec3> starts;
+  Vec3 step = Vec3::Zero();
+  int count = 0;
+  std::size_t size() const { return starts.size() * std::size_t(count < 0 ? 0 : count); }
+  Vec3 at(std::size_t n) const { return starts[n / std::size_t(count)] + double(n % std::size_t(count)) * step; }
+};
+
 /// An immutable search structure (an AABB tree over the triangles) built once for a mesh;
 /// queries are thread-safe. Copies share the structure.
 class MeshDistance {
@@ -30,6 +40,13 @@ class MeshDistance {
   std::vector<Vec3> closestPoints(const std::vector<Vec3>& points) const;
   /// 1 where the point is inside the solid or on its boundary, 0 outside.
   std::vector<std::uint8_t> inside(const std::vector<Vec3>& points) const;
+  /// inside() of every point of `rows`, row by row, the same answers at a fraction of the cost:
+  /// one segment query per row finds the surface's crossings (the triangles it meets are found by
+  /// exact predicates), and one side test answers for every point of a stretch between two
+  /// crossings (no surface lies between them). Points within 1e-6 of a step of a crossing are
+  /// tested one by one. A grid of 71x68x39 points: 2,652 segment queries and about 8,000 side
+  /// tests instead of 188,000 side tests (each a ray through the tree).
+  std::vector<std::uint8_t> insideRows(const PointRows& rows) const;
 
  private:
   struct Impl;
