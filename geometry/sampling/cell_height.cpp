@@ -16,7 +16,7 @@ namespace {
 /// The Chebyshev ball of the cell within [lo, hi] (bounding_planes and open left empty); height 0
 /// and `feasible` false when the cell does not meet the box.
 CellHeight chebyshevBall(const std::vector<Plane>& planes, const std::vector<int>& sides, const Vec3& lo,
-                         const Vec3& hi, bool* feasible) {
+                         const Vec3& hi, const std::vector<int>& first, bool* feasible) {
   using Program = CGAL::Quadratic_program<double>;
   using Solution = CGAL::Quadratic_program_solution<CGAL::Gmpzf>;
   // Variables x, y, z (0-2) and r (3); rows A v <= b. Maximise r: minimise -r, with r >= 0.
@@ -35,6 +35,13 @@ CellHeight chebyshevBall(const std::vector<Plane>& planes, const std::vector<int
     addRow(Vec3::Unit(k), hi[k]);
   }
   std::vector<char> used(planes.size(), 0);
+  const auto addPlane = [&](std::size_t j) {
+    used[j] = 1;
+    const Plane& P = planes[j];
+    addRow(-double(sides[j]) * P.normal, -double(sides[j]) * P.normal.dot(P.origin));
+  };
+  for (const int j : first)
+    if (j >= 0 && std::size_t(j) < planes.size() && !used[std::size_t(j)]) addPlane(std::size_t(j));
   CellHeight out;
   const double scale = (hi - lo).norm();
   for (;;) {
@@ -54,22 +61,20 @@ CellHeight chebyshevBall(const std::vector<Plane>& planes, const std::vector<int
       if (depth > deepest) deepest = depth, worst = j;
     }
     if (worst == planes.size()) return out;
-    used[worst] = 1;
-    const Plane& P = planes[worst];
-    addRow(-double(sides[worst]) * P.normal, -double(sides[worst]) * P.normal.dot(P.origin));
+    addPlane(worst);
   }
 }
 
 }  // namespace
 
 CellHeight cellHeight(const std::vector<Plane>& planes, const std::vector<int>& sides, const Vec3& lo,
-                      const Vec3& hi, bool check_open) {
+                      const Vec3& hi, bool check_open, const std::vector<int>& first) {
   if (sides.size() != planes.size()) throw std::invalid_argument("cellHeight: one side per plane");
   if (!(lo.array() < hi.array()).all()) throw std::invalid_argument("cellHeight: empty box");
   for (const Plane& p : planes)
     if (std::abs(p.normal.norm() - 1) > 1e-9) throw std::invalid_argument("cellHeight: plane normals must be unit");
   bool feasible = false;
-  CellHeight out = chebyshevBall(planes, sides, lo, hi, &feasible);
+  CellHeight out = chebyshevBall(planes, sides, lo, hi, first, &feasible);
   const double scale = (hi - lo).norm();
   if (!feasible) {  // the cell does not meet the box: nothing is shown for it
     out.open = true;
@@ -81,7 +86,7 @@ CellHeight cellHeight(const std::vector<Plane>& planes, const std::vector<int>& 
   if (check_open) {
     bool grown = false;
     const Vec3 d = Vec3::Constant(scale);
-    out.open = chebyshevBall(planes, sides, lo - d, hi + d, &grown).height > out.height + 1e-9 * scale;
+    out.open = chebyshevBall(planes, sides, lo - d, hi + d, first, &grown).height > out.height + 1e-9 * scale;
   }
   const double touch = 1e-9 * scale;
   for (std::size_t j = 0; j < planes.size(); ++j)

@@ -36,7 +36,12 @@ struct CellHeight {
 /// few others.
 /// @param check_open  false: skip the second program that decides `open` (left false), for callers
 ///                    whose planes close every cell within the box (the end planes).
+/// @param first       planes (indices) the program holds from the start, in this order: a guess at
+///                    the facets (a neighbouring cell's bounding planes) saves the rounds that would
+///                    find them. The height is the program's optimum whatever rows it holds (to the
+///                    1e-12 of the box by which a ball may cross a plane it did not add); the
+///                    centre, when several balls are largest, may depend on them.
 CellHeight cellHeight(const std::vector<Plane>& planes, const std::vector<int>& sides, const Vec3& lo,
-                      const Vec3& hi, bool check_open = true);
+                      const Vec3& hi, bool check_open = true, const std::vector<int>& first = {});
 
 }  // namespace xsect

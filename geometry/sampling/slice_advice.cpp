@@ -77,7 +77,11 @@ Plane halvingPlane(const std::vector<Plane>& ps, const Followed& target, const s
     local.push_back(planeThrough(c, dirs[h / 2]));
     std::vector<int> sides = target.sides;
     sides.push_back(h % 2 ? 1 : -1);
-    halves[h] = cellHeight(local, sides, lo, hi, false).height;
+    // The target's facets from the start (its ball's bounding planes, then the new one): only the
+    // heights are compared, and they do not depend on the rows a program starts with.
+    std::vector<int> first = target.height.bounding_planes;
+    first.push_back(int(ps.size()));
+    halves[h] = cellHeight(local, sides, lo, hi, false, first).height;
   });
   std::size_t best = 0;
   for (std::size_t k = 0; k < dirs.size(); ++k)
