@@ -1,11 +1,11 @@
 """Thin structures with tracking error (issue 53): a torus with a 10 mm tube (R = 12, r = 5 mm) or a
-vessel tree (radii 2.5-4 mm), cut by 63 multi-axial planes or by two crossing sweeps of 60 frames,
+vessel tree (radii 2.5-4 mm, or 1.5-4 mm: vessel_thin), cut by 63 multi-axial planes or by two crossing sweeps of 60 frames,
 at 0.4 mm voxels, poses jittered by 0.5-1 mm and 0.5-1 degrees (drawn per seed), reconstructed
 without correction, with `conformity.pose_correction: rigid`, and with the truth's Betti numbers
 given as well. One line per seed: the jitter, then per run the Betti numbers, the mean distance to
 the truth (mm) and the prior's spreads the fit chose.
 
-  python3 bench/thin_pose_family.py --xsect build/xsect --shape torus|vessel
+  python3 bench/thin_pose_family.py --xsect build/xsect --shape torus|vessel|vessel_thin
                                     [--pattern multiaxial|sweeps] [--seeds 1-10] [--work DIR]
 """
 import argparse
@@ -18,7 +18,7 @@ import subprocess
 
 # Two crossing sweeps: a freehand sweep of 60 frames along z and 60 planes across it along x
 # (tilting by up to 3 degrees), over the shape's extent (x from -half to half, around z = centre).
-SWEEP_EXTENT = {"torus": (17.5, 0.0), "vessel": (13.0, 18.0)}
+SWEEP_EXTENT = {"torus": (17.5, 0.0), "vessel": (13.0, 18.0), "vessel_thin": (13.0, 18.0)}
 
 
 def pattern(name, shape):
@@ -39,6 +39,9 @@ SHAPES = {
               "[1,1,0]"),
     "vessel": ("shape: {kind: vessel_tree, params: {length: 14, radius: 4, levels: 3, branch_angle_deg: 35, "
                "seed: 2, blend_mm: 0}}", "[1,0,0]"),
+    # Radii 4, 2.88, 2.07 and 1.49 mm: down to the issue's thinnest vessels.
+    "vessel_thin": ("shape: {kind: vessel_tree, params: {length: 14, radius: 4, levels: 3, branch_angle_deg: 35, "
+                    "radius_ratio: 0.72, seed: 2, blend_mm: 0}}", "[1,0,0]"),
 }
 
 

@@ -58,7 +58,7 @@ const std::set<std::string> kKnownKeys = {
     "segmentation.beam_apex_px", "segmentation.elevation_median_mm",
     "segmentation.simplify_mm", "segmentation.merge_labels", "conformity", "conformity.enforce",
     "conformity.mode", "conformity.max_correction_mm", "conformity.band_mm", "conformity.min_angle_deg",
-    "conformity.flag_mm", "conformity.drop_flagged", "conformity.drop_unplaced", "conformity.pose_smoothing_frames",
+    "conformity.flag_mm", "conformity.drop_flagged", "conformity.drop_unplaced", "conformity.drop_unreconciled", "conformity.pose_smoothing_frames",
     "conformity.pose_correction",
     "conformity.pose_sigma_mm", "conformity.pose_sigma_deg", "reconstruction",
     "reconstruction.method", "reconstruction.voxel_size_mm", "reconstruction.voxel_budget", "reconstruction.end_margin_mm",
@@ -322,6 +322,8 @@ void readConformity(const YAML::Node& s, const std::string& path, RunConfig& c) 
   if (s["enforce"]) f.enforce = yamlBool(s["enforce"], path, "conformity.enforce");
   if (s["drop_flagged"]) f.drop_flagged = yamlBool(s["drop_flagged"], path, "conformity.drop_flagged");
   if (s["drop_unplaced"]) f.drop_unplaced = yamlBool(s["drop_unplaced"], path, "conformity.drop_unplaced");
+  if (s["drop_unreconciled"])
+    f.drop_unreconciled = yamlBool(s["drop_unreconciled"], path, "conformity.drop_unreconciled");
   if (s["mode"]) {
     f.mode = yamlChoice(s["mode"], path, "conformity.mode", kConsensusModes, "mode");
   }

@@ -76,6 +76,9 @@ struct RunConfig {
     /// With pose correction: slices whose sections meet other slices' but whose every motion no
     /// crossing constrains (left at the recorded pose, with the tracker's error) are left out.
     bool drop_unplaced = true;
+    /// With pose correction: slices whose sections still disagree with the slices they cross after
+    /// the fit (pipeline/conform_stage.cpp, findUnreconciled) are left out.
+    bool drop_unreconciled = true;
     /// Tracked sweeps: the poses are smoothed over this many frames on each side, in the slices'
     /// order (geometry/conformity/pose_smoothing.h); 0 = off.
     int pose_smoothing_frames = 0;

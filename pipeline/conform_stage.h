@@ -49,6 +49,7 @@ struct SliceConformity {
   SliceCorrection correction;           ///< pose correction (when conformity.pose_correction)
   bool flagged = false, dropped = false;
   bool unplaced = false;                ///< pose correction could not move it in any direction
+  bool unreconciled = false;            ///< after pose correction it still disagrees with its partners
 };
 
 struct PoseSmoothingSummary {
@@ -91,6 +92,8 @@ struct ConformityResult {
   double typical_mismatch_mm = 0, flagged_above_mm = 0;
   std::vector<int> flagged_slices, dropped_slices;
   std::vector<int> unplaced_slices;     ///< SliceConformity::unplaced, in slice order
+  std::vector<int> unreconciled_slices;  ///< SliceConformity::unreconciled, in slice order
+  double unreconciled_above_mm = 0;     ///< the median disagreement beyond which a slice is unreconciled
   std::vector<SliceConformity> slices;
   std::vector<int> slice_of_plane;      ///< CuttingPlane::slice of each kept plane (search's indices)
   // Enforcement (when conformity.enforce).

@@ -131,6 +131,7 @@ json slicesJson(const ConformityResult& r) {
                       {"pose_correction", r.correction.applied ? correctionJson(s.correction) : json(nullptr)},
                       {"flagged", s.flagged},
                       {"unplaced", s.unplaced},
+                      {"unreconciled", s.unreconciled},
                       {"dropped", s.dropped}});
   return slices;
 }
@@ -197,6 +198,8 @@ json conformitySummaryJson(const RunConfig::Conformity& settings, const Conformi
           {"flagged_above_mm", r.flagged_above_mm},
           {"drop_flagged", settings.drop_flagged},
           {"drop_unplaced", settings.drop_unplaced},
+          {"drop_unreconciled", settings.drop_unreconciled},
+          {"unreconciled_above_mm", r.correction.applied ? json(r.unreconciled_above_mm) : json(nullptr)},
           {"pairs_measured", r.pairs_measured},
           {"pairs", r.search.pairs.size()},
           {"pairs_near_parallel", r.search.pairs_near_parallel},
@@ -218,6 +221,7 @@ json conformitySummaryJson(const RunConfig::Conformity& settings, const Conformi
           {"slices_not_editable", slicesNotEditable(r)},
           {"flagged_slices", r.flagged_slices},
           {"unplaced_slices", r.unplaced_slices},
+          {"unreconciled_slices", r.unreconciled_slices},
           {"dropped_slices", r.dropped_slices},
           {"worst_pairs", worst}};
 }
@@ -314,6 +318,18 @@ std::vector<std::string> conformityWarnings(const RunConfig::Conformity& setting
                   " disagreed with the slices it crosses far more than the others (probable tracking glitch or segmentation failure): corrected against them with theirs held, so that it moves none of them");
     if (!unobservable.empty())
       w.push_back("pose correction: no crossing constrains some motions of " + unobservable);
+    if (!r.unreconciled_slices.empty()) {
+      std::string list;
+      for (const int s : r.unreconciled_slices) list += (list.empty() ? "" : ", ") + std::to_string(s);
+      const bool one = r.unreconciled_slices.size() == 1;
+      w.push_back(std::string("pose correction: ") + (one ? "slice " : "slices ") + list +
+                  (one ? " still disagrees" : " still disagree") + " with the slices crossing " + (one ? "it" : "them") +
+                  " after the fit (median over " + (one ? "its" : "their") + " pairs above " +
+                  mm(r.unreconciled_above_mm) + ", where the typical slice's is " + mm(r.typical_mismatch_mm) + "): " +
+                  (settings.drop_unreconciled
+                       ? "left out (conformity.drop_unreconciled: false keeps them, at their corrected poses)"
+                       : "kept at their corrected poses (conformity.drop_unreconciled: true leaves them out)"));
+    }
     if (!r.correction.fit.converged)
       w.push_back("pose correction did not converge in " + std::to_string(r.correction.fit.rounds) + " rounds");
   }

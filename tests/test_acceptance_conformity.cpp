@@ -152,7 +152,8 @@ TEST(AcceptanceConformity, RejectsInvalidSettings) {
   const fs::path dir = phantom("conform-bad", torusSpec(1, false));
   for (const char* bad : {"conformity.mode=mean", "conformity.max_correction_mm=0", "conformity.band_mm=-1",
                           "conformity.flag_mm=.nan", "conformity.min_angle_deg=90", "conformity.enforce=maybe",
-                          "conformity.drop_flagged=3", "conformity.drop_unplaced=2", "conformity.pose_smoothing_frames=-1",
+                          "conformity.drop_flagged=3", "conformity.drop_unplaced=2", "conformity.drop_unreconciled=maybe",
+                          "conformity.pose_smoothing_frames=-1",
                           "conformity.pose_smoothing_frames=2.5"}) {
     test::expectRefused(dir, bad);
   }

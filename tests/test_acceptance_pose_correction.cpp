@@ -16,6 +16,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
+#include <iomanip>
+#include <sstream>
 #include <random>
 #include <regex>
 
@@ -118,36 +121,41 @@ TEST(AcceptancePoseCorrection, JitteredTorusSeedsOneToTen) {
   EXPECT_GE(rightTopology, 9);
 }
 
-// Thin structures (issue 53): a torus with a 10 mm tube (R = 12, r = 5 mm) and a vessel tree
-// (radii 2.5-4 mm), each cut by 63 multi-axial planes at 0.4 mm voxels, poses jittered by 0.5-1 mm
-// and 0.5-1° (drawn per seed), seeds 1-10 of each, every one counted. Asked: with `rigid` the
-// truth's Betti numbers on at least 9 of 10 per family, the mesh's mean distance to the truth at
-// most 0.6 times the uncorrected one, and 10 of 10 with the truth's Betti numbers given as well.
-// Measured here: the torus 10 of 10, the vessel tree 9 of 10, as many with the target; distances
-// 0.2-0.35 times the uncorrected. bench/thin_pose_family.py (other jitter draws): multi-axial
-// torus 10, vessel tree 9 of 10; two crossing sweeps of 60 frames: torus 10, vessel tree 8 of 10
-// (before the prior from the piercings, the refit of stranded slices and leaving out unplaced
-// slices: multi-axial 9 and 2 of 10, slices turned by up to 27°; sweeps on the torus 6 of 10).
-// What is left, on the vessel tree: a plane settles 3-4 mm along a branch even when fitted alone
-// from its recorded pose (seed 10 here), and topology control cannot undo the pinholes it leaves
-// within a voxel of the plane. The run with the target is made where `rigid` alone is wrong
-// (elsewhere the solid already has it, and topology control leaves it as it is).
-TEST(AcceptancePoseCorrection, ThinTubesAndVesselTreesJitteredHalfToOneMillimetre) {
+namespace {
+
+// Thin structures (issue 53): a torus with a 10 mm tube (R = 12, r = 5 mm) and a vessel tree of
+// radii 1.5-4 mm (4, 2.88, 2.07 and 1.49 mm), each cut by 63 multi-axial planes or by two crossing
+// sweeps of 60 frames, at 0.4 mm voxels, poses jittered by 0.5-1 mm and 0.5-1° (drawn per seed),
+// seeds 1-10 of each, every one counted. Asked: with `rigid` the truth's Betti numbers on at least
+// 9 of 10 per family, the mesh's mean distance to the truth at most 0.6 times the uncorrected one,
+// and 10 of 10 with the truth's Betti numbers given as well. Measured here: 10 of 10 in every
+// family with the target; without it 10 of 10 on the multi-axial planes and 9 of 10 on the sweeps
+// (the test below). bench/thin_pose_family.py (other jitter draws): 10 of 10 for
+// the torus, the vessel tree of radii 2.5-4 mm and the one of radii 1.5-4 mm, with either pattern.
+// Before unreconciled slices were left out (a plane beside a branch settled 3-4 mm along it even
+// when fitted again alone, and left pinholes within a voxel of it that topology control cannot
+// undo): the vessel tree 9 of 10 (multi-axial) and 8 of 10 (sweeps); before the prior from the
+// piercings, the refit of stranded slices and leaving out unplaced slices: 2 of 10, slices turned
+// by up to 27°. The run with the target is made where `rigid` alone is wrong (elsewhere the solid
+// already has it, and topology control leaves it as it is).
+void thinStructureFamilies(const std::string& name, const std::function<std::string(int family)>& pattern,
+                           int measuredRight) {
   const char* shapes[2] = {
       "shape: {kind: torus, params: {major_radius: 12, minor_radius: 5}, rotation_deg: [20, 10, 0]}\n",
-      "shape: {kind: vessel_tree, params: {length: 14, radius: 4, levels: 3, branch_angle_deg: 35, seed: 2, blend_mm: 0}}\n"};
+      "shape: {kind: vessel_tree, params: {length: 14, radius: 4, levels: 3, branch_angle_deg: 35, radius_ratio: 0.72, "
+      "seed: 2, blend_mm: 0}}\n"};
   const char* targets[2] = {"[1,1,0]", "[1,0,0]"};
   for (int family = 0; family < 2; ++family) {
     int right = 0, rightWithTarget = 0;
-    bool keptOnce = false;
+    bool keptOnce = false, keptUnreconciledOnce = false;
     for (int seed = 1; seed <= 10; ++seed) {
-      const std::string tag = std::string(family == 0 ? "thin-torus-" : "vessel-tree-") + std::to_string(seed);
+      const std::string tag = std::string(family == 0 ? "thin-torus-" : "vessel-tree-") + name + "-" + std::to_string(seed);
       SCOPED_TRACE(tag);
       std::mt19937 rng{std::uint32_t(seed)};
       std::uniform_real_distribution<double> jitter(0.5, 1.0);
       const double mm = jitter(rng), deg = jitter(rng);
-      const fs::path dir = phantom(tag, "seed: " + std::to_string(seed) + "\n" + shapes[family] +
-                                            "pattern: {kind: multiaxial, count: 21}\nimage: {pixel_mm: 0.2}\n"
+      const fs::path dir = phantom(tag, "seed: " + std::to_string(seed) + "\n" + shapes[family] + pattern(family) +
+                                            "image: {pixel_mm: 0.2}\n"
                                             "degradations: {pose_jitter_mm: " + std::to_string(mm) +
                                             ", pose_jitter_deg: " + std::to_string(deg) +
                                             "}\nconfig: {reconstruction: {voxel_size_mm: 0.4}}\n");
@@ -172,12 +180,43 @@ TEST(AcceptancePoseCorrection, ThinTubesAndVesselTreesJitteredHalfToOneMillimetr
           EXPECT_NE(std::find(dropped.begin(), dropped.end(), sl["slice"]), dropped.end()) << n;
         }
       EXPECT_EQ(rigid["conformity"]["unplaced_slices"].size(), std::size_t(unplaced));
+      // A slice whose sections still disagree with its partners' after the fit (unreconciled: its
+      // median mismatch above half a pixel and 10 times the typical slice's) is left out as well.
+      int unreconciled = 0;
+      const double above = conformity["summary"]["unreconciled_above_mm"];
+      for (const auto& sl : conformity["slices"])
+        if (sl["pairs"].get<int>() >= 3 && !sl["unplaced"].get<bool>() &&
+            sl["before"]["median_mismatch_mm"].get<double>() > above) {
+          ++unreconciled;
+          EXPECT_TRUE(sl["unreconciled"].get<bool>());
+          const std::string n = std::to_string(sl["slice"].get<int>());
+          EXPECT_TRUE(std::regex_search(warnings, std::regex("slices? [0-9, ]*\\b" + n + "\\b[0-9, ]* still disagree")))
+              << n << "\n" << warnings;
+          EXPECT_NE(std::find(dropped.begin(), dropped.end(), sl["slice"]), dropped.end()) << n;
+        }
+      EXPECT_EQ(rigid["conformity"]["unreconciled_slices"].size(), std::size_t(unreconciled));
+      if (unreconciled > 0 && !keptUnreconciledOnce) {
+        keptUnreconciledOnce = true;
+        const json kept =
+            run(dir, "kept-unreconciled", "--set conformity.pose_correction=rigid --set conformity.drop_unreconciled=false");
+        EXPECT_EQ(kept["conformity"]["unreconciled_slices"], rigid["conformity"]["unreconciled_slices"]);
+        for (const auto& sl : kept["conformity"]["unreconciled_slices"])
+          EXPECT_EQ(std::find(kept["conformity"]["dropped_slices"].begin(), kept["conformity"]["dropped_slices"].end(), sl),
+                    kept["conformity"]["dropped_slices"].end());
+        std::string keptWarnings;
+        for (const auto& w : kept["warnings"]) keptWarnings += w.get<std::string>() + "\n";
+        EXPECT_NE(keptWarnings.find("kept at their corrected poses (conformity.drop_unreconciled: true leaves them out)"),
+                  std::string::npos)
+            << keptWarnings;
+      }
       // conformity.drop_unplaced: false keeps them at their recorded poses (once per family).
       if (unplaced > 0 && !keptOnce) {
         keptOnce = true;
         const json kept = run(dir, "kept", "--set conformity.pose_correction=rigid --set conformity.drop_unplaced=false");
         EXPECT_EQ(kept["conformity"]["unplaced_slices"], rigid["conformity"]["unplaced_slices"]);
-        EXPECT_TRUE(kept["conformity"]["dropped_slices"].empty());
+        const json& keptDropped = kept["conformity"]["dropped_slices"];
+        for (const auto& sl : kept["conformity"]["unplaced_slices"])
+          EXPECT_EQ(std::find(keptDropped.begin(), keptDropped.end(), sl), keptDropped.end()) << sl;
         std::string keptWarnings;
         for (const auto& w : kept["warnings"]) keptWarnings += w.get<std::string>() + "\n";
         EXPECT_NE(keptWarnings.find("left at the recorded pose (conformity.drop_unplaced: true leaves them out)"),
@@ -204,10 +243,38 @@ TEST(AcceptancePoseCorrection, ThinTubesAndVesselTreesJitteredHalfToOneMillimetr
                 << rigid["conformity"]["pose_correction"]["sigma_mm"] << " mm / "
                 << rigid["conformity"]["pose_correction"]["sigma_deg"] << " deg\n";
     }
-    EXPECT_GE(right, 9) << targets[family];
-    // With the truth's Betti numbers given: asked 10 of 10; measured 10 (torus) and 9 (vessel tree).
-    EXPECT_GE(rightWithTarget, family == 0 ? 10 : 9) << targets[family];
+    // Asked: 9 of 10 with `rigid` alone, 10 of 10 with the target.
+    EXPECT_GE(right, measuredRight) << targets[family];
+    EXPECT_GE(rightWithTarget, 10) << targets[family];
   }
+}
+
+}  // namespace
+
+TEST(AcceptancePoseCorrection, ThinTubesAndVesselTreesJitteredHalfToOneMillimetre) {
+  // Measured: 10 of 10 in both families, with and without the target.
+  thinStructureFamilies("multiaxial", [](int) { return std::string("pattern: {kind: multiaxial, count: 21}\n"); }, 10);
+}
+
+// The same families cut by two crossing freehand sweeps (bench/thin_pose_family.py --pattern
+// sweeps): 60 frames along z tilting by up to 3° with a 0.5 mm drift, and 60 planes across them
+// along x, tilting by up to 3°, over the shape's extent. Measured: 9 of 10 in both families with
+// `rigid` alone (the torus' seed 3 with a second tunnel, the vessel tree's seed 5 with one, both
+// rated low), 10 of 10 with the target.
+TEST(AcceptancePoseCorrection, ThinTubesAndVesselTreesCutByTwoCrossingSweeps) {
+  thinStructureFamilies("sweeps", [](int family) {
+    const double half = family == 0 ? 17.5 : 13.0, zc = family == 0 ? 0.0 : 18.0;
+    std::ostringstream p;
+    p << "pattern:\n  kind: freehand\n  count: 60\n  direction: [0, 0, 1]\n  tilt_deg: 3\n  drift_mm: 0.5\n"
+         "  extra_planes:\n";
+    p.setf(std::ios::fixed);
+    for (int k = 0; k < 60; ++k) {
+      const double x = -half + 2 * half * (k + 0.5) / 60, a = 3 * M_PI / 180 * std::sin(M_PI * (k + 0.5) / 60);
+      p << std::setprecision(4) << "    - {point: [" << x << ", 0, " << zc << "], normal: [" << std::setprecision(6)
+        << std::cos(a) << ", 0, " << std::sin(a) << "]}\n";
+    }
+    return p.str();
+  }, 9);
 }
 
 // A breath-hold cardiac MRI series: an ellipsoid of 90 x 50 x 45 mm (tilted 10°) cut by a short-axis
