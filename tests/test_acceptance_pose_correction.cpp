@@ -168,32 +168,35 @@ void thinStructureFamilies(const std::string& name, const std::function<std::str
       std::string warnings;
       for (const auto& w : rigid["warnings"]) warnings += w.get<std::string>() + "\n";
       const json& dropped = rigid["conformity"]["dropped_slices"];
-      int unplaced = 0;
       const json conformity = readJson(dir / "rigid/conformity.json");
-      for (const auto& sl : conformity["slices"])
-        if (sl["pairs"].get<int>() > 0 && sl["pose_correction"]["unobservable"].size() == 6) {
-          ++unplaced;
-          EXPECT_TRUE(sl["unplaced"].get<bool>());
+      // The slices of `conformity` for which `is` holds: each marked `key`, named in the warning
+      // `named` finds (with its number for N) and dropped; their count.
+      const auto leftOut = [&](const std::function<bool(const json&)>& is, const char* key, const std::string& named) {
+        int count = 0;
+        for (const auto& sl : conformity["slices"]) {
+          if (!is(sl)) continue;
+          ++count;
+          EXPECT_TRUE(sl[key].get<bool>());
           const std::string n = std::to_string(sl["slice"].get<int>());
-          EXPECT_TRUE(std::regex_search(warnings, std::regex("every motion of slice [0-9, ]*\\b" + n + "\\b")))
+          EXPECT_TRUE(std::regex_search(warnings, std::regex(std::regex_replace(named, std::regex("N"), n))))
               << n << "\n" << warnings;
           EXPECT_NE(std::find(dropped.begin(), dropped.end(), sl["slice"]), dropped.end()) << n;
         }
+        return count;
+      };
+      const int unplaced = leftOut(
+          [](const json& sl) { return sl["pairs"].get<int>() > 0 && sl["pose_correction"]["unobservable"].size() == 6; },
+          "unplaced", "every motion of slice [0-9, ]*\\bN\\b");
       EXPECT_EQ(rigid["conformity"]["unplaced_slices"].size(), std::size_t(unplaced));
       // A slice whose sections still disagree with its partners' after the fit (unreconciled: its
       // median mismatch above half a pixel and 10 times the typical slice's) is left out as well.
-      int unreconciled = 0;
       const double above = conformity["summary"]["unreconciled_above_mm"];
-      for (const auto& sl : conformity["slices"])
-        if (sl["pairs"].get<int>() >= 3 && !sl["unplaced"].get<bool>() &&
-            sl["before"]["median_mismatch_mm"].get<double>() > above) {
-          ++unreconciled;
-          EXPECT_TRUE(sl["unreconciled"].get<bool>());
-          const std::string n = std::to_string(sl["slice"].get<int>());
-          EXPECT_TRUE(std::regex_search(warnings, std::regex("slices? [0-9, ]*\\b" + n + "\\b[0-9, ]* still disagree")))
-              << n << "\n" << warnings;
-          EXPECT_NE(std::find(dropped.begin(), dropped.end(), sl["slice"]), dropped.end()) << n;
-        }
+      const int unreconciled = leftOut(
+          [&](const json& sl) {
+            return sl["pairs"].get<int>() >= 3 && !sl["unplaced"].get<bool>() &&
+                   sl["before"]["median_mismatch_mm"].get<double>() > above;
+          },
+          "unreconciled", "slices? [0-9, ]*\\bN\\b[0-9, ]* still disagree");
       EXPECT_EQ(rigid["conformity"]["unreconciled_slices"].size(), std::size_t(unreconciled));
       if (unreconciled > 0 && !keptUnreconciledOnce) {
         keptUnreconciledOnce = true;
