@@ -1,14 +1,13 @@
 // Distance, side and sampling queries on a triangle mesh (see mesh_distance.h).
 // One CGAL AABB tree (Epick kernel) over the mesh's triangles as a soup answers both the distance
 // queries (with CGAL's internal KD-tree hint built up front, so that concurrent queries never
-// trigger a lazy build) and the ray-parity side test of CGAL::Side_of_triangle_mesh (the vertical ray
-// cast it runs on its tree, here on ours: its retry rays come from a fixed seed, so answers are
-// deterministic). Ray
-// parity and distances depend on neither the faces' orientation nor their connectivity, so the
-// soup is used as it is: no Surface_mesh is built (its manifold check and conversion took a fifth
-// of `xsect eval` on a 430,000-triangle mesh). Each triangle keeps its vertices' order, and its
-// reference point is its first vertex, as CGAL's face-graph primitive had them on the soup's
-// conversion: the same tree, the same answers.
+// trigger a lazy build) and the ray-parity side test of CGAL::Side_of_triangle_mesh (the vertical
+// ray cast it runs on its tree, here on ours: its retry rays come from a fixed seed, so answers
+// are deterministic). Ray parity and distances depend on neither the faces' orientation nor their
+// connectivity, so the soup is used as it is: no Surface_mesh is built (its manifold check and
+// conversion took a fifth of `xsect eval` on a 430,000-triangle mesh). Each triangle keeps its
+// vertices' order, and its reference point is its first vertex, as CGAL's face-graph primitive
+// had them on the soup's conversion: the same tree, the same answers.
 #include "geometry/evaluation/mesh_distance.h"
 
 #include <CGAL/AABB_traits.h>
@@ -104,7 +103,8 @@ std::vector<Vec3> MeshDistance::closestPoints(const std::vector<Vec3>& points) c
 std::vector<std::uint8_t> MeshDistance::inside(const std::vector<Vec3>& points) const {
   std::vector<std::uint8_t> out(points.size());
   const Impl& m = *impl_;
-  forEachIndex(points.size(), [&](std::size_t i) { out[i] = m.side(toPoint(points[i])) != CGAL::ON_UNBOUNDED_SIDE ? 1 : 0; });
+  forEachIndex(points.size(),
+               [&](std::size_t i) { out[i] = m.side(toPoint(points[i])) != CGAL::ON_UNBOUNDED_SIDE ? 1 : 0; });
   return out;
 }
 
@@ -152,7 +152,8 @@ std::vector<std::uint8_t> MeshDistance::insideRows(const PointRows& rows) const 
       std::uint8_t knownSide = 0;
       for (std::size_t i = 0; i < count; ++i) {
         const double t = double(i);
-        while (next < crossings.size() && crossings[next].first <= t + kMargin) reach = std::max(reach, crossings[next++].second);
+        while (next < crossings.size() && crossings[next].first <= t + kMargin)
+          reach = std::max(reach, crossings[next++].second);
         if (reach >= t - kMargin) {  // on or next to the surface: tested alone
           row[i] = std::uint8_t(sideAt(s + t * rows.step));
           continue;
