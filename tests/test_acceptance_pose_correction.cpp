@@ -123,6 +123,46 @@ TEST(AcceptancePoseCorrection, JitteredTorusSeedsOneToTen) {
 
 namespace {
 
+/// The run's warnings, one per line.
+std::string warningsOf(const json& report) {
+  std::string text;
+  for (const auto& w : report["warnings"]) text += w.get<std::string>() + "\n";
+  return text;
+}
+
+/// The slices of a pose-corrected run's conformity.json for which `is` holds: each must be marked
+/// `key` (unplaced, unreconciled), named in a warning `named` finds (N: its number), dropped, and
+/// listed in report.json's `<key>_slices`. Returns their count.
+int expectLeftOut(const json& report, const json& conformity, const std::function<bool(const json&)>& is,
+                  const std::string& key, const std::string& named) {
+  const std::string warnings = warningsOf(report);
+  const json& dropped = report["conformity"]["dropped_slices"];
+  int count = 0;
+  for (const auto& sl : conformity["slices"]) {
+    if (!is(sl)) continue;
+    ++count;
+    EXPECT_TRUE(sl[key].get<bool>());
+    const std::string n = std::to_string(sl["slice"].get<int>());
+    EXPECT_TRUE(std::regex_search(warnings, std::regex(std::regex_replace(named, std::regex("N"), n))))
+        << n << "\n" << warnings;
+    EXPECT_NE(std::find(dropped.begin(), dropped.end(), sl["slice"]), dropped.end()) << n;
+  }
+  EXPECT_EQ(report["conformity"][key + "_slices"].size(), std::size_t(count));
+  return count;
+}
+
+/// conformity.drop_<key>: false, run again: the same `<key>_slices`, none of them dropped, and the
+/// warning says what was done with them (`said`).
+void expectKeptWhenAsked(const fs::path& dir, const json& report, const std::string& key, const std::string& said) {
+  const json kept = run(dir, "kept-" + key, "--set conformity.pose_correction=rigid --set conformity.drop_" + key + "=false");
+  EXPECT_EQ(kept["conformity"][key + "_slices"], report["conformity"][key + "_slices"]);
+  const json& keptDropped = kept["conformity"]["dropped_slices"];
+  for (const auto& sl : kept["conformity"][key + "_slices"])
+    EXPECT_EQ(std::find(keptDropped.begin(), keptDropped.end(), sl), keptDropped.end()) << sl;
+  const std::string keptWarnings = warningsOf(kept);
+  EXPECT_NE(keptWarnings.find(said), std::string::npos) << keptWarnings;
+}
+
 // Thin structures (issue 53): a torus with a 10 mm tube (R = 12, r = 5 mm) and a vessel tree of
 // radii 1.5-4 mm (4, 2.88, 2.07 and 1.49 mm), each cut by 63 multi-axial planes or by two crossing
 // sweeps of 60 frames, at 0.4 mm voxels, poses jittered by 0.5-1 mm and 0.5-1° (drawn per seed),
@@ -165,66 +205,32 @@ void thinStructureFamilies(const std::string& name, const std::function<std::str
       const bool isRight = e["betti"] == e["truth_betti"];
       // A slice whose sections meet others' but whose every motion is unconstrained (unplaced) is
       // left out by default, and the run's warning names it.
-      std::string warnings;
-      for (const auto& w : rigid["warnings"]) warnings += w.get<std::string>() + "\n";
-      const json& dropped = rigid["conformity"]["dropped_slices"];
       const json conformity = readJson(dir / "rigid/conformity.json");
-      // The slices of `conformity` for which `is` holds: each marked `key`, named in the warning
-      // `named` finds (with its number for N) and dropped; their count.
-      const auto leftOut = [&](const std::function<bool(const json&)>& is, const char* key, const std::string& named) {
-        int count = 0;
-        for (const auto& sl : conformity["slices"]) {
-          if (!is(sl)) continue;
-          ++count;
-          EXPECT_TRUE(sl[key].get<bool>());
-          const std::string n = std::to_string(sl["slice"].get<int>());
-          EXPECT_TRUE(std::regex_search(warnings, std::regex(std::regex_replace(named, std::regex("N"), n))))
-              << n << "\n" << warnings;
-          EXPECT_NE(std::find(dropped.begin(), dropped.end(), sl["slice"]), dropped.end()) << n;
-        }
-        return count;
-      };
-      const int unplaced = leftOut(
+      const int unplaced = expectLeftOut(
+          rigid, conformity,
           [](const json& sl) { return sl["pairs"].get<int>() > 0 && sl["pose_correction"]["unobservable"].size() == 6; },
           "unplaced", "every motion of slice [0-9, ]*\\bN\\b");
-      EXPECT_EQ(rigid["conformity"]["unplaced_slices"].size(), std::size_t(unplaced));
       // A slice whose sections still disagree with its partners' after the fit (unreconciled: its
       // median mismatch above half a pixel and 10 times the typical slice's) is left out as well.
       const double above = conformity["summary"]["unreconciled_above_mm"];
-      const int unreconciled = leftOut(
+      const int unreconciled = expectLeftOut(
+          rigid, conformity,
           [&](const json& sl) {
             return sl["pairs"].get<int>() >= 3 && !sl["unplaced"].get<bool>() &&
                    sl["before"]["median_mismatch_mm"].get<double>() > above;
           },
           "unreconciled", "slices? [0-9, ]*\\bN\\b[0-9, ]* still disagree");
-      EXPECT_EQ(rigid["conformity"]["unreconciled_slices"].size(), std::size_t(unreconciled));
+      // Their settings set to false keep them (once per family): unplaced slices at their
+      // recorded poses, unreconciled ones at their corrected poses.
       if (unreconciled > 0 && !keptUnreconciledOnce) {
         keptUnreconciledOnce = true;
-        const json kept =
-            run(dir, "kept-unreconciled", "--set conformity.pose_correction=rigid --set conformity.drop_unreconciled=false");
-        EXPECT_EQ(kept["conformity"]["unreconciled_slices"], rigid["conformity"]["unreconciled_slices"]);
-        for (const auto& sl : kept["conformity"]["unreconciled_slices"])
-          EXPECT_EQ(std::find(kept["conformity"]["dropped_slices"].begin(), kept["conformity"]["dropped_slices"].end(), sl),
-                    kept["conformity"]["dropped_slices"].end());
-        std::string keptWarnings;
-        for (const auto& w : kept["warnings"]) keptWarnings += w.get<std::string>() + "\n";
-        EXPECT_NE(keptWarnings.find("kept at their corrected poses (conformity.drop_unreconciled: true leaves them out)"),
-                  std::string::npos)
-            << keptWarnings;
+        expectKeptWhenAsked(dir, rigid, "unreconciled",
+                            "kept at their corrected poses (conformity.drop_unreconciled: true leaves them out)");
       }
-      // conformity.drop_unplaced: false keeps them at their recorded poses (once per family).
       if (unplaced > 0 && !keptOnce) {
         keptOnce = true;
-        const json kept = run(dir, "kept", "--set conformity.pose_correction=rigid --set conformity.drop_unplaced=false");
-        EXPECT_EQ(kept["conformity"]["unplaced_slices"], rigid["conformity"]["unplaced_slices"]);
-        const json& keptDropped = kept["conformity"]["dropped_slices"];
-        for (const auto& sl : kept["conformity"]["unplaced_slices"])
-          EXPECT_EQ(std::find(keptDropped.begin(), keptDropped.end(), sl), keptDropped.end()) << sl;
-        std::string keptWarnings;
-        for (const auto& w : kept["warnings"]) keptWarnings += w.get<std::string>() + "\n";
-        EXPECT_NE(keptWarnings.find("left at the recorded pose (conformity.drop_unplaced: true leaves them out)"),
-                  std::string::npos)
-            << keptWarnings;
+        expectKeptWhenAsked(dir, rigid, "unplaced",
+                            "left at the recorded pose (conformity.drop_unplaced: true leaves them out)");
       }
       right += isRight;
       const double plain = eval(dir, "plain")["mean_distance_mm"], corrected = e["mean_distance_mm"];
